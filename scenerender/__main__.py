@@ -1,0 +1,3 @@
+from scenerender.cli import main
+
+main()

@@ -1,0 +1,63 @@
+"""The in-memory triangle mesh every loader and primitive produces.
+
+Arrays are plain NumPy so the scene model and tests never need a GL context.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class MeshGroup:
+    """A run of triangles drawn with one material.
+
+    ``first`` and ``count`` count triangles (rows of ``MeshData.indices``), not indices.
+    ``material`` is the MTL material name, or None for "the object's material".
+    """
+
+    material: str | None
+    first: int
+    count: int
+
+
+@dataclass
+class MeshData:
+    """An indexed triangle mesh.
+
+    positions: (N, 3) float32, object space.
+    normals:   (N, 3) float32, unit length (never NaN; degenerate areas get a finite normal).
+    uvs:       (N, 2) float32, or None when the source has no texture coordinates.
+    indices:   (M, 3) uint32, counter-clockwise triangles seen from the outside.
+    groups:    triangle ranges by material, covering 0..M in order.
+    materials: MTL materials by name (``scenerender.mesh.mtl.MtlMaterial``), empty when none.
+    source:    a human-readable origin ("models/duck.obj", "primitive sphere").
+    """
+
+    positions: np.ndarray
+    normals: np.ndarray
+    uvs: np.ndarray | None
+    indices: np.ndarray
+    groups: list[MeshGroup] = field(default_factory=list)
+    materials: dict = field(default_factory=dict)
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.groups:
+            self.groups = [MeshGroup(None, 0, len(self.indices))]
+
+    @property
+    def triangle_count(self) -> int:
+        return int(len(self.indices))
+
+    @property
+    def vertex_count(self) -> int:
+        return int(len(self.positions))
+
+    def bounds(self) -> np.ndarray:
+        """(2, 3) float64: the min and max corners of the positions."""
+        if len(self.positions) == 0:
+            return np.zeros((2, 3))
+        p = self.positions.astype(np.float64)
+        return np.stack([p.min(axis=0), p.max(axis=0)])
