@@ -1,0 +1,4 @@
+"""Keyframe tracks: every animatable value in a scene is a ``Track``."""
+from scenerender.animation.tracks import INTERPOLATIONS, Track
+
+__all__ = ["INTERPOLATIONS", "Track"]

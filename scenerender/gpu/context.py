@@ -1,0 +1,47 @@
+"""Create the one OpenGL context a run uses: moderngl standalone over EGL.
+
+EGL gives a context without a display: Mesa's llvmpipe on a CPU-only machine, the vendor
+driver where a GPU is present. ``SCENERENDER_GL_BACKEND`` may name another glcontext
+backend (e.g. "x11") for machines without EGL.
+"""
+from __future__ import annotations
+
+import os
+
+from scenerender.errors import EnvironmentProblem
+
+REQUIRED_VERSION = 430  # storage buffers for lights and shadow views
+
+INSTALL_HINT = ("install an EGL driver: on Debian/Ubuntu 'apt-get install libegl1 libgl1-mesa-dri' "
+                "(Mesa, software rendering), or the NVIDIA driver on a GPU machine")
+
+
+def create_context():
+    """A moderngl Context; raises EnvironmentProblem with an install hint if none can be made."""
+    import moderngl
+
+    backend = os.environ.get("SCENERENDER_GL_BACKEND", "egl")
+    try:
+        ctx = moderngl.create_context(standalone=True, backend=backend, require=REQUIRED_VERSION)
+    except Exception as exc:  # glcontext raises plain Exceptions with driver text
+        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise EnvironmentProblem(f"cannot create an OpenGL {REQUIRED_VERSION // 100}.{REQUIRED_VERSION % 100 // 10} "
+                                 f"context over {backend.upper()} ({reason}); {INSTALL_HINT}") from None
+    return ctx
+
+
+def gl_info(ctx) -> dict:
+    """Renderer, version and the limits that matter to scenerender."""
+    info = ctx.info
+    keys = ("GL_VENDOR", "GL_RENDERER", "GL_VERSION", "GL_MAX_SAMPLES", "GL_MAX_TEXTURE_SIZE",
+            "GL_MAX_TEXTURE_IMAGE_UNITS", "GL_MAX_SHADER_STORAGE_BLOCK_SIZE", "GL_MAX_UNIFORM_BLOCK_SIZE",
+            "GL_MAX_FRAGMENT_UNIFORM_COMPONENTS", "GL_MAX_VIEWPORT_DIMS")
+    result = {k: info.get(k) for k in keys if k in info}
+    result["max_anisotropy"] = ctx.max_anisotropy
+    result["version_code"] = ctx.version_code
+    return result
+
+
+def is_software(ctx) -> bool:
+    renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
+    return any(word in renderer for word in ("llvmpipe", "softpipe", "swrast"))

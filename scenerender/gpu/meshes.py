@@ -1,0 +1,60 @@
+"""Mesh data on the GPU: one vertex and index buffer per distinct mesh, shared by every
+object that uses it, and one instance buffer per object."""
+from __future__ import annotations
+
+import numpy as np
+
+from scenerender.mesh import MeshData, tangents
+
+INSTANCE_FLOATS = 16 + 9  # camera-relative model matrix, normal matrix
+
+
+class GpuMesh:
+    """Interleaved position/normal/uv (8 float32), uint32 indices, optional tangents."""
+
+    def __init__(self, ctx, mesh: MeshData, with_tangents: bool):
+        uvs = mesh.uvs if mesh.uvs is not None else np.zeros((mesh.vertex_count, 2), dtype=np.float32)
+        interleaved = np.hstack([mesh.positions, mesh.normals, uvs]).astype(np.float32)
+        self.vertices = ctx.buffer(interleaved.tobytes())
+        self.indices = ctx.buffer(np.ascontiguousarray(mesh.indices, dtype=np.uint32).tobytes())
+        self.tangents = None
+        if with_tangents:
+            self.tangents = ctx.buffer(np.ascontiguousarray(tangents(mesh), dtype=np.float32).tobytes())
+        self.mesh = mesh
+        self.index_count = int(mesh.indices.size)
+
+    def content(self, program, instances) -> list:
+        """moderngl vertex_array content for ``program`` with an instance buffer."""
+        names = set(program)
+        # Attributes a program does not use must be skipped in the format ("x" = padding).
+        fmt, attrs = [], []
+        for size, name in ((3, "in_position"), (3, "in_normal"), (2, "in_uv")):
+            if name in names:
+                fmt.append(f"{size}f")
+                attrs.append(name)
+            else:
+                fmt.append(f"{size * 4}x")
+        layout = [(self.vertices, " ".join(fmt), *attrs)]
+        if self.tangents is not None and "in_tangent" in names:
+            layout.append((self.tangents, "4f", "in_tangent"))
+        inst_fmt, inst_attrs = [], []
+        for size, name in ((16, "in_model"), (9, "in_normal_matrix")):
+            if name in names:
+                inst_fmt.append(f"{size}f")
+                inst_attrs.append(name)
+            else:
+                inst_fmt.append(f"{size * 4}x")
+        layout.append((instances, " ".join(inst_fmt) + "/i", *inst_attrs))
+        return layout
+
+
+def instance_bytes(models_rel: np.ndarray, normals: np.ndarray) -> bytes:
+    """Per-instance attributes: (K, 4, 4) and (K, 3, 3) float32 -> K * 25 floats.
+
+    GLSL matrices are column-major, so each matrix is written transposed.
+    """
+    k = len(models_rel)
+    data = np.empty((k, INSTANCE_FLOATS), dtype=np.float32)
+    data[:, :16] = np.swapaxes(models_rel, 1, 2).reshape(k, 16)
+    data[:, 16:] = np.swapaxes(normals, 1, 2).reshape(k, 9)
+    return data.tobytes()

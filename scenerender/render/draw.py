@@ -1,0 +1,83 @@
+"""Drawing scene meshes: which (object, group) pairs to draw and how to bind a material."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.gpu.uniforms import set_uniforms
+from scenerender.render.features import TEXTURE_UNITS
+
+
+@dataclass(frozen=True)
+class DrawItem:
+    object_index: int
+    group_index: int
+    material: object  # world.materials.Material
+
+
+def opaque_items(world, frame) -> list[DrawItem]:
+    """Visible groups whose material is opaque, in scene order."""
+    return [item for item in _items(world, frame) if not item.material.transparent]
+
+
+def transparent_items(world, frame) -> list[DrawItem]:
+    """Visible transparent groups, farthest object first (drawn back to front)."""
+    items = [item for item in _items(world, frame) if item.material.transparent]
+    distance = {i: float(np.linalg.norm(frame.objects[i].center - frame.camera.position)) for i in
+                {item.object_index for item in items}}
+    return sorted(items, key=lambda item: -distance[item.object_index])
+
+
+def _items(world, frame):
+    for index, obj in enumerate(world.objects):
+        if not frame.objects[index].visible:
+            continue
+        for group_index, material in enumerate(obj.materials):
+            if obj.mesh.groups[group_index].count > 0:
+                yield DrawItem(index, group_index, material)
+
+
+def bind_texture_units(program) -> None:
+    """Point each sampler uniform at its fixed texture unit."""
+    for name, unit in TEXTURE_UNITS.items():
+        member = program.get(name, None)
+        if member is not None:
+            member.value = unit
+
+
+def bind_material(ctx, program, material) -> None:
+    """Material uniforms (this frame's values) and its texture maps."""
+    values = ctx.frame.materials[id(material)]
+    set_uniforms(program, u_ka=values["ambient"], u_kd=values["diffuse"], u_ks=values["specular"],
+                 u_ke=values["emissive"], u_shininess=values["shininess"], u_opacity=values["opacity"])
+    for key, source in material.maps.items():
+        texture = ctx.scene.textures.texture_2d(source.path, source.srgb)
+        _sampler_state(texture, material, source)
+        texture.use(TEXTURE_UNITS[f"u_{key}"])
+        set_uniforms(program, **{f"u_{key}_st": (*source.uv_scale, *source.uv_offset)})
+        if key == "normal_map":
+            set_uniforms(program, u_normal_strength=source.strength)
+
+
+def _sampler_state(texture, material, source) -> None:
+    import moderngl
+
+    if source.is_placeholder:
+        return
+    texture.repeat_x = texture.repeat_y = material.wrap != "clamp"
+    if material.filter == "nearest":
+        texture.filter = (moderngl.NEAREST_MIPMAP_NEAREST, moderngl.NEAREST)
+    else:
+        texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+
+
+def draw_item(ctx, program, item: DrawItem, mode=None) -> None:
+    """Draw one group of one object, all its instances, with ``program``."""
+    import moderngl
+
+    obj = ctx.world.objects[item.object_index]
+    group = obj.mesh.groups[item.group_index]
+    vao = ctx.scene.vertex_array(program, item.object_index)
+    vao.render(mode if mode is not None else moderngl.TRIANGLES, vertices=group.count * 3,
+               first=group.first * 3, instances=obj.instances.count)

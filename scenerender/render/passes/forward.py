@@ -1,0 +1,261 @@
+"""Forward passes from the camera: opaque meshes, skybox, outlines, transparent meshes and
+the wireframe overlay, all into the (multisampled) HDR colour target."""
+from __future__ import annotations
+
+import numpy as np
+
+from scenerender.graph import ResourceDesc, RenderPass
+from scenerender.gpu.uniforms import set_uniforms
+from scenerender.render.draw import (
+    bind_material, bind_texture_units, draw_item, opaque_items, transparent_items,
+)
+from scenerender.render.features import TEXTURE_UNITS
+
+MESH_VERTEX = "mesh/mesh.vert"
+FORWARD_FRAGMENT = "mesh/forward.frag"
+
+
+def _camera_uniforms(ctx, program) -> None:
+    set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative(), u_ambient=ctx.frame.ambient)
+
+
+def _fog_uniforms(ctx, program) -> None:
+    fog = ctx.world.render.fog
+    if fog is not None:
+        set_uniforms(program, u_fog_color=ctx.frame.fog_color, u_fog_density=ctx.frame.fog_density,
+                     u_fog_range=(fog.start, fog.end))
+
+
+def _bind_shared_inputs(ctx, atlas, ao) -> None:
+    import moderngl
+
+    if atlas is not None:
+        texture = ctx.resource(atlas)
+        texture.compare_func = "<="
+        texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        texture.use(TEXTURE_UNITS["u_shadow_atlas"])
+    if ao is not None:
+        ctx.resource(ao).use(TEXTURE_UNITS["u_ao"])
+
+
+def forward_program(ctx, material, with_ao: bool):
+    program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, ctx.features.forward_defines(material, with_ao))
+    bind_texture_units(program)
+    return program
+
+
+def draw_shaded(ctx, items, with_ao: bool, mode=None) -> None:
+    """Shade ``items`` with each material's program variant."""
+    for item in items:
+        program = forward_program(ctx, item.material, with_ao)
+        _camera_uniforms(ctx, program)
+        _fog_uniforms(ctx, program)
+        bind_material(ctx, program, item.material)
+        draw_item(ctx, program, item, mode)
+
+
+class OpaquePass(RenderPass):
+    """Clears to the background and draws every opaque surface, lit and shadowed.
+
+    ``fill``: "solid", or "wireframe" / "points" for those render modes.
+    """
+
+    name = "opaque"
+
+    def __init__(self, size, samples: int, atlas=None, ao=None, fill: str = "solid", dynamic: bool = True):
+        self.size = size
+        self.samples = samples
+        self.atlas = atlas
+        self.ao = ao
+        self.fill = fill
+        self.dynamic = dynamic
+
+    def setup(self, builder):
+        for handle in (self.atlas, self.ao):
+            if handle is not None:
+                builder.read(handle)
+        samples = self.samples if self.samples > 1 else 0
+        self.color = builder.create("hdr_color", ResourceDesc("color", self.size, "rgba16f", samples))
+        self.depth = builder.create("depth", ResourceDesc("depth", self.size, "depth24", samples))
+        return self.color, self.depth
+
+    def describe(self) -> str:
+        extras = [f"{self.samples}x MSAA" if self.samples > 1 else "no MSAA"]
+        if self.fill != "solid":
+            extras.append(self.fill)
+        if self.atlas is not None:
+            extras.append("shadows")
+        if self.ao is not None:
+            extras.append("AO")
+        return ", ".join(extras)
+
+    def execute(self, ctx) -> None:
+        import moderngl
+
+        gl = ctx.gl
+        fbo = ctx.framebuffer([self.color], self.depth)
+        fbo.use()
+        background = ctx.frame.background
+        fbo.clear(*background[:3], 1.0, depth=1.0)
+        gl.enable(moderngl.DEPTH_TEST)
+        gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
+        gl.depth_func = "<"
+        _bind_shared_inputs(ctx, self.atlas, self.ao)
+        mode = None
+        if self.fill == "wireframe":
+            gl.wireframe = True
+        elif self.fill == "points":
+            mode = moderngl.POINTS
+            gl.point_size = ctx.world.render.point_size
+        gl.line_width = ctx.world.render.line_width
+        try:
+            draw_shaded(ctx, opaque_items(ctx.world, ctx.frame), self.ao is not None, mode)
+        finally:
+            gl.wireframe = False
+
+
+class SkyboxPass(RenderPass):
+    """Draws the cube-map sky where nothing else was drawn (depth still at the far plane)."""
+
+    name = "skybox"
+
+    def __init__(self, color, depth, dynamic: bool = True):
+        self.color_in, self.depth_in = color, depth
+        self.dynamic = dynamic
+
+    def setup(self, builder):
+        builder.read(self.depth_in)
+        self.color = builder.write(self.color_in)
+        return self.color
+
+    def execute(self, ctx) -> None:
+        import moderngl
+
+        gl = ctx.gl
+        fbo = ctx.framebuffer([self.color], self.depth_in)
+        fbo.use()
+        gl.enable(moderngl.DEPTH_TEST)
+        gl.depth_func = "<="
+        program = ctx.programs.get("skybox/skybox.vert", "skybox/skybox.frag")
+        bind_texture_units(program)
+        set_uniforms(program, u_inverse_view_proj=np.linalg.inv(ctx.frame.camera.view_proj_relative()))
+        ctx.scene.skybox.use(TEXTURE_UNITS["u_skybox"])
+        fullscreen(ctx, program)
+        gl.depth_func = "<"
+
+
+class OutlinePass(RenderPass):
+    """Selection outlines: each outlined object's back faces, pushed out along the normals
+    and drawn in a flat colour; the object itself hides all but the rim."""
+
+    name = "outline"
+
+    def __init__(self, color, depth, dynamic: bool = True):
+        self.color_in, self.depth_in = color, depth
+        self.dynamic = dynamic
+
+    def setup(self, builder):
+        builder.read(self.depth_in)
+        self.color = builder.write(self.color_in)
+        return self.color
+
+    def execute(self, ctx) -> None:
+        import moderngl
+
+        gl = ctx.gl
+        ctx.framebuffer([self.color], self.depth_in).use()
+        program = ctx.programs.get(MESH_VERTEX, "mesh/solid_color.frag", {"OUTLINE": True})
+        gl.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+        gl.disable(moderngl.BLEND)
+        gl.cull_face = "front"
+        set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative())
+        for index, obj in enumerate(ctx.world.objects):
+            if obj.outline is None or not ctx.frame.objects[index].visible:
+                continue
+            set_uniforms(program, u_color=np.asarray(obj.outline.color(ctx.frame.time)),
+                         u_outline_width=obj.outline.width)
+            vao = ctx.scene.vertex_array(program, index)
+            vao.render(moderngl.TRIANGLES, vertices=obj.mesh.triangle_count * 3, instances=obj.instances.count)
+        gl.disable(moderngl.CULL_FACE)
+        gl.cull_face = "back"
+
+
+class TransparentPass(RenderPass):
+    """Transparent surfaces after everything opaque, sorted far to near, blended, with depth
+    test but no depth writes. Each object draws its back faces first, then its front faces,
+    which orders a convex object's own surfaces correctly."""
+
+    name = "transparent"
+
+    def __init__(self, color, depth, atlas=None, ao=None, dynamic: bool = True):
+        self.color_in, self.depth_in = color, depth
+        self.atlas, self.ao = atlas, ao
+        self.dynamic = dynamic
+
+    def setup(self, builder):
+        for handle in (self.depth_in, self.atlas, self.ao):
+            if handle is not None:
+                builder.read(handle)
+        self.color = builder.write(self.color_in)
+        return self.color
+
+    def execute(self, ctx) -> None:
+        import moderngl
+
+        gl = ctx.gl
+        fbo = ctx.framebuffer([self.color], self.depth_in)
+        fbo.use()
+        fbo.depth_mask = False
+        gl.enable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
+        gl.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        _bind_shared_inputs(ctx, self.atlas, self.ao)
+        try:
+            for item in transparent_items(ctx.world, ctx.frame):
+                for side in ("front", "back"):  # cull front = draw back faces first
+                    gl.cull_face = side
+                    draw_shaded(ctx, [item], self.ao is not None)
+        finally:
+            fbo.depth_mask = True
+            gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
+            gl.cull_face = "back"
+
+
+class WireframeOverlayPass(RenderPass):
+    """Mesh edges drawn over the shaded image (``render.wireframe_overlay``)."""
+
+    name = "wireframe_overlay"
+
+    def __init__(self, color, depth, dynamic: bool = True):
+        self.color_in, self.depth_in = color, depth
+        self.dynamic = dynamic
+
+    def setup(self, builder):
+        builder.read(self.depth_in)
+        self.color = builder.write(self.color_in)
+        return self.color
+
+    def execute(self, ctx) -> None:
+        import moderngl
+
+        gl = ctx.gl
+        ctx.framebuffer([self.color], self.depth_in).use()
+        program = ctx.programs.get(MESH_VERTEX, "mesh/solid_color.frag", {"DEPTH_NUDGE": True})
+        gl.enable(moderngl.DEPTH_TEST)
+        gl.depth_func = "<="
+        gl.wireframe = True
+        gl.line_width = ctx.world.render.line_width
+        set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative(), u_color=(0.0, 0.0, 0.0, 1.0))
+        try:
+            for index, obj in enumerate(ctx.world.objects):
+                if ctx.frame.objects[index].visible:
+                    vao = ctx.scene.vertex_array(program, index)
+                    vao.render(moderngl.TRIANGLES, vertices=obj.mesh.triangle_count * 3,
+                               instances=obj.instances.count)
+        finally:
+            gl.wireframe = False
+            gl.depth_func = "<"
+
+
+def fullscreen(ctx, program) -> None:
+    """Draw one viewport-covering triangle with ``program`` (no vertex buffers)."""
+    ctx.scene.fullscreen_array(program).render(vertices=3)

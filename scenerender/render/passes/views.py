@@ -1,0 +1,145 @@
+"""The data render modes: depth, normals, ambient_occlusion, shadow and light_depth.
+Each writes plain values (no output transform) into an 8-bit image."""
+from __future__ import annotations
+
+import numpy as np
+
+from scenerender.graph import ResourceDesc, RenderPass
+from scenerender.gpu.uniforms import set_uniforms
+from scenerender.render.draw import bind_texture_units
+from scenerender.render.features import TEXTURE_UNITS
+from scenerender.render.passes.forward import MESH_VERTEX, fullscreen
+
+
+class _FullscreenView(RenderPass):
+    """A full-screen pass from one input texture into an rgba8 image."""
+
+    fragment = ""
+    input_unit = ""
+
+    def __init__(self, source, size, dynamic: bool = True):
+        self.source = source
+        self.size = size
+        self.dynamic = dynamic
+
+    def setup(self, builder):
+        builder.read(self.source)
+        self.ldr = builder.create("view", ResourceDesc("color", self.size, "rgba8"))
+        return self.ldr
+
+    def uniforms(self, ctx, program) -> None:
+        """Extra uniforms of the view."""
+
+    def execute(self, ctx) -> None:
+        import moderngl
+
+        ctx.framebuffer([self.ldr]).use()
+        ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        program = ctx.programs.get("common/fullscreen.vert", self.fragment)
+        bind_texture_units(program)
+        ctx.resource(self.source).use(TEXTURE_UNITS[self.input_unit])
+        self.uniforms(ctx, program)
+        fullscreen(ctx, program)
+
+
+class DepthViewPass(_FullscreenView):
+    name = "view:depth"
+    fragment = "views/depth.frag"
+    input_unit = "u_gbuffer"
+
+    def uniforms(self, ctx, program) -> None:
+        set_uniforms(program, u_near_far=(ctx.frame.camera.near, ctx.frame.camera.far))
+
+
+class NormalsViewPass(_FullscreenView):
+    name = "view:normals"
+    fragment = "views/normals.frag"
+    input_unit = "u_gbuffer"
+
+    def uniforms(self, ctx, program) -> None:
+        set_uniforms(program, u_view_rotation=ctx.frame.camera.rotation)
+
+
+class AmbientOcclusionViewPass(_FullscreenView):
+    name = "view:ambient_occlusion"
+    fragment = "views/ambient_occlusion.frag"
+    input_unit = "u_ao"
+
+
+class LightDepthViewPass(_FullscreenView):
+    """The first shadowed light's depth map(s) as seen from the light."""
+
+    name = "view:light_depth"
+    fragment = "views/light_depth.frag"
+    input_unit = "u_atlas"
+
+    def __init__(self, atlas, size, light_index: int, atlas_size, dynamic: bool = True):
+        super().__init__(atlas, size, dynamic)
+        self.light_index = light_index
+        self.atlas_size = atlas_size
+        self._sampler = None
+
+    def execute(self, ctx) -> None:
+        if self._sampler is None:  # read raw depth: no comparison
+            import moderngl
+
+            self._sampler = ctx.gl.sampler(filter=(moderngl.NEAREST, moderngl.NEAREST), compare_func="",
+                                           repeat_x=False, repeat_y=False)
+        self._sampler.use(TEXTURE_UNITS["u_atlas"])
+        try:
+            super().execute(ctx)
+        finally:
+            self._sampler.clear(TEXTURE_UNITS["u_atlas"])
+
+    def uniforms(self, ctx, program) -> None:
+        width, height = self.atlas_size
+        views = ctx.frame.shadow_views[self.light_index]
+        tiles = np.zeros((6, 4), dtype=np.float32)
+        for i, view in enumerate(views):
+            t = view.tile
+            tiles[i] = (t.x / width, t.y / height, t.size / width, t.size / height)
+        set_uniforms(program, u_tiles=tiles.tobytes(), u_tile_count=len(views))
+
+
+class ShadowFactorViewPass(RenderPass):
+    """How much of the first shadowed light reaches each visible surface."""
+
+    name = "view:shadow"
+
+    def __init__(self, atlas, size, light_index: int, dynamic: bool = True):
+        self.atlas = atlas
+        self.size = size
+        self.light_index = light_index
+        self.dynamic = dynamic
+
+    def setup(self, builder):
+        builder.read(self.atlas)
+        self.ldr = builder.create("view", ResourceDesc("color", self.size, "rgba8"))
+        self.depth = builder.create("view_depth", ResourceDesc("depth", self.size, "depth24"))
+        return self.ldr
+
+    def execute(self, ctx) -> None:
+        import moderngl
+
+        gl = ctx.gl
+        fbo = ctx.framebuffer([self.ldr], self.depth)
+        fbo.use()
+        fbo.clear(1.0, 1.0, 1.0, 1.0, depth=1.0)
+        gl.enable(moderngl.DEPTH_TEST)
+        gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
+        atlas = ctx.resource(self.atlas)
+        atlas.compare_func = "<="
+        atlas.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        atlas.use(TEXTURE_UNITS["u_shadow_atlas"])
+        program = ctx.programs.get(MESH_VERTEX, "views/shadow_factor.frag")
+        bind_texture_units(program)
+        light = ctx.frame.lights[self.light_index]
+        point = light.kind == "point"
+        vector = (light.position - ctx.frame.camera.position) if point else light.direction
+        set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative(),
+                     u_first_view=ctx.scene.first_shadow_view[self.light_index], u_point_light=int(point),
+                     u_light_vector=vector)
+        for index, obj in enumerate(ctx.world.objects):
+            if ctx.frame.objects[index].visible:
+                vao = ctx.scene.vertex_array(program, index)
+                vao.render(moderngl.TRIANGLES, vertices=obj.mesh.triangle_count * 3, instances=obj.instances.count)

@@ -1,0 +1,140 @@
+"""The scene on the GPU for one run: meshes, textures, instance buffers and the light and
+shadow-view storage buffers, refreshed from each FrameState."""
+from __future__ import annotations
+
+import numpy as np
+
+from scenerender.gpu.meshes import INSTANCE_FLOATS, GpuMesh, instance_bytes
+from scenerender.gpu.textures import TextureCache
+from scenerender.world.frame import FrameState
+
+LIGHT_BINDING = 0
+SHADOW_VIEW_BINDING = 1
+_VEC4 = 16  # bytes
+
+
+class GpuScene:
+    """Uploads a World once and updates per-frame data before the passes run."""
+
+    def __init__(self, ctx, world, atlas):
+        self.ctx = ctx
+        self.world = world
+        self.atlas = atlas
+        self.textures = TextureCache(ctx)
+        self.meshes = self._upload_meshes()
+        self.instance_buffers = [ctx.buffer(reserve=obj.instances.count * INSTANCE_FLOATS * 4, dynamic=True)
+                                 for obj in world.objects]
+        self.light_buffer = ctx.buffer(reserve=_VEC4, dynamic=True)
+        self.shadow_buffer = ctx.buffer(reserve=_VEC4, dynamic=True)
+        self.first_shadow_view: dict = {}
+        self._vaos: dict = {}
+        self.skybox = self._skybox()
+
+    def _upload_meshes(self) -> dict:
+        needs_tangents: dict = {}
+        for obj in self.world.objects:
+            wants = any("normal_map" in m.maps for m in obj.materials) and obj.mesh.uvs is not None
+            needs_tangents[obj.mesh_key] = needs_tangents.get(obj.mesh_key, False) or wants
+        meshes = {}
+        for obj in self.world.objects:
+            if obj.mesh_key not in meshes:
+                meshes[obj.mesh_key] = GpuMesh(self.ctx, obj.mesh, needs_tangents[obj.mesh_key])
+        return meshes
+
+    def _skybox(self):
+        faces = self.world.render.skybox
+        if faces is None:
+            return None
+        return self.textures.cube_map([faces.posx, faces.negx, faces.posy, faces.negy, faces.posz, faces.negz])
+
+    # -- per frame ---------------------------------------------------------------------
+    def upload(self, frame: FrameState) -> None:
+        for buffer, state in zip(self.instance_buffers, frame.objects):
+            if state.visible:
+                buffer.write(instance_bytes(state.models_rel, state.normals))
+        views = self._pack_shadow_views(frame)
+        self._write(self.shadow_buffer, views)
+        self._write(self.light_buffer, self._pack_lights(frame))
+        self.light_buffer.bind_to_storage_buffer(LIGHT_BINDING)
+        self.shadow_buffer.bind_to_storage_buffer(SHADOW_VIEW_BINDING)
+
+    def _write(self, buffer, data: bytes) -> None:
+        if len(data) > buffer.size:
+            buffer.orphan(len(data))
+        buffer.write(data)
+
+    def _pack_shadow_views(self, frame: FrameState) -> bytes:
+        """std430 ShadowView structs (see shaders/lighting/shadows.glsl), in light order."""
+        rows = []
+        self.first_shadow_view = {}
+        if self.atlas is None:
+            return np.zeros(4, dtype=np.float32).tobytes()
+        width, height = self.atlas.size
+        to_world = np.eye(4)
+        to_world[:3, 3] = frame.camera.position  # camera-relative -> absolute world
+        for light_index in frame.shadowed_lights():
+            settings = frame.lights[light_index].definition.shadow
+            self.first_shadow_view[light_index] = len(rows)
+            for view in frame.shadow_views[light_index]:
+                tile = view.tile
+                rows.append(np.concatenate([
+                    (view.view @ to_world).T.reshape(-1), view.projection.T.reshape(-1),
+                    [tile.x / width, tile.y / height, tile.size / width, tile.size / height],
+                    [view.near, view.far, settings.bias, settings.slope_bias],
+                    [1.0 if view.radial else 0.0, settings.pcf, 1.0 / width, 1.0 / height],
+                    _texel_world_size(view),
+                ]))
+        if not rows:
+            return np.zeros(4, dtype=np.float32).tobytes()
+        return np.asarray(rows, dtype=np.float32).tobytes()
+
+    def _pack_lights(self, frame: FrameState) -> bytes:
+        """std430 light arrays in type order (see shaders/lighting/lights.glsl)."""
+        cam = frame.camera.position
+        dirs, points, spots = [], [], []
+        for index, light in enumerate(frame.lights):
+            shadow = [float(self.first_shadow_view.get(index, -1)), 0.0, 0.0, 0.0]
+            color = [*light.color, 0.0]
+            if light.kind == "directional":
+                dirs.append([*light.direction, 0.0, *color, *shadow])
+            elif light.kind == "point":
+                points.append([*(light.position - cam), 1.0, *color, *light.definition.attenuation, 0.0, *shadow])
+            else:
+                spots.append([*(light.position - cam), 1.0, *light.direction, 0.0, *color,
+                              *light.definition.attenuation, 0.0, light.cos_inner, light.cos_outer, 0.0, 0.0,
+                              *shadow])
+        parts = [np.asarray(group, dtype=np.float64).reshape(-1) for group in (dirs, points, spots) if group]
+        parts.append(np.zeros(4))  # lights_end
+        return np.concatenate(parts).astype(np.float32).tobytes()
+
+    # -- drawing -----------------------------------------------------------------------
+    def fullscreen_array(self, program):
+        """A vertex array with no buffers, for programs that draw one full-screen triangle."""
+        key = ("fullscreen", id(program))
+        vao = self._vaos.get(key)
+        if vao is None:
+            vao = self._vaos[key] = self.ctx.vertex_array(program, [])
+        return vao
+
+    def vertex_array(self, program, object_index: int):
+        key = (id(program), object_index)
+        vao = self._vaos.get(key)
+        if vao is None:
+            obj = self.world.objects[object_index]
+            mesh = self.meshes[obj.mesh_key]
+            vao = self.ctx.vertex_array(program, mesh.content(program, self.instance_buffers[object_index]),
+                                        index_buffer=mesh.indices, index_element_size=4)
+            self._vaos[key] = vao
+        return vao
+
+
+def _texel_world_size(view) -> list:
+    """World size of one shadow-map texel: (per unit distance, constant, 0, 0).
+
+    Perspective views (spot, cube faces) grow with distance from the light; orthographic
+    views (directional) have one size everywhere.
+    """
+    p = view.projection
+    if p[3, 3] == 0.0:  # perspective: x_ndc = p00 * x / -z
+        return [2.0 / (p[0, 0] * view.tile.size), 0.0, 0.0, 0.0]
+    return [0.0, 2.0 / (p[0, 0] * view.tile.size), 0.0, 0.0]

@@ -1,0 +1,90 @@
+"""Turn pydantic validation errors into one-line messages with file, line, column and key.
+
+A pydantic location mixes real keys with union tags such as "(track)" or "point"; walking
+it against the data keeps only the steps that exist there, which gives the user's key path.
+"""
+from __future__ import annotations
+
+from pydantic import ValidationError
+
+from scenerender.errors import SceneErrors, UserError
+from scenerender.scene.values import describe
+from scenerender.scene.yaml_source import SourceMap
+
+_GENERIC = {
+    "list_type": "expected a list, got {got}",
+    "dict_type": "expected a mapping (key: value), got {got}",
+    "string_type": "expected text, got {got}",
+    "too_short": "needs at least {min_length} item(s)",
+    "too_long": "allows at most {max_length} item(s)",
+    "literal_error": "expected {expected}, got {got}",
+    "bool_type": "expected true or false, got {got}",
+    "int_type": "expected a whole number, got {got}",
+    "float_type": "expected a number, got {got}",
+}
+
+
+def data_path(loc: tuple, data) -> tuple:
+    """The steps of ``loc`` that exist in ``data`` (drops union tags and validator names)."""
+    path = []
+    node = data
+    for step in loc:
+        if isinstance(node, dict) and step in node:
+            path.append(step)
+            node = node[step]
+        elif isinstance(node, list) and isinstance(step, int) and 0 <= step < len(node):
+            path.append(step)
+            node = node[step]
+    return tuple(path)
+
+
+def format_key(path: tuple) -> str:
+    """('objects', 2, 'mesh') -> 'objects[2].mesh'."""
+    text = ""
+    for step in path:
+        if isinstance(step, int):
+            text += f"[{step}]"
+        else:
+            text += ("." if text else "") + str(step)
+    return text
+
+
+def to_user_errors(exc: ValidationError, data, source: SourceMap) -> SceneErrors:
+    """One UserError per validation problem, located in the scene file."""
+    errors = []
+    seen = set()
+    for item in exc.errors(include_url=False):
+        error = _one(item, data, source)
+        if str(error) not in seen:
+            seen.add(str(error))
+            errors.append(error)
+    return SceneErrors(errors)
+
+
+def _one(item: dict, data, source: SourceMap) -> UserError:
+    context = item.get("ctx") or {}
+    path = data_path(item["loc"], data) + tuple(context.get("subpath", ()))
+    kind = item["type"]
+    if kind == "missing":
+        missing = item["loc"][-1]
+        return UserError(f"missing required key '{missing}'", source.locate(path), format_key(path) or None)
+    message = _message(kind, item, context)
+    location = source.locate(path)
+    return UserError(message, location, format_key(path) or None)
+
+
+def _message(kind: str, item: dict, context: dict) -> str:
+    template = _GENERIC.get(kind)
+    if template is None:
+        return item["msg"]
+    values = dict(context)
+    values["got"] = describe(item.get("input"))
+    try:
+        return template.format(**values)
+    except (KeyError, IndexError):
+        return item["msg"]
+
+
+def single_error(message: str, path: tuple, source: SourceMap) -> UserError:
+    """A UserError for a problem found after validation (e.g. while loading an asset)."""
+    return UserError(message, source.locate(path), format_key(path) or None)

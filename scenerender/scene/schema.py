@@ -1,0 +1,597 @@
+"""The scene format as validated models: the contract of SCENE_FORMAT.md.
+
+Every mapping rejects unknown keys; every animatable value validates to a
+``scenerender.animation.Track``. Paths are checked against the scene file's folder, which
+validation receives as ``context={"base_dir": Path}``.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Literal, Union
+
+from pydantic import BeforeValidator, Discriminator, Field, PlainValidator, Tag, ValidationInfo, WithJsonSchema, model_validator
+from pydantic_core import PydanticCustomError
+
+from scenerender.scene.strict import StrictModel
+from scenerender.scene.suggest import did_you_mean
+from scenerender.scene.values import (
+    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedFloat, AnimatedScale, AnimatedVec3, Bool, Color,
+    Float, Text, animated_number, choice, describe, number, vector,
+)
+
+def tagged_union(key: str, noun: str, members: dict):
+    """A union chosen by the value of ``key`` (``type: point``), with clear errors for a
+    missing or misspelt tag. ``members`` maps tag value -> model class."""
+    names = tuple(members)
+
+    def check(value):
+        if not isinstance(value, dict):
+            raise PydanticCustomError("mapping", "expected a {noun} mapping with '{key}', got {got}",
+                                      {"noun": noun, "key": key, "got": describe(value)})
+        kind = value.get(key)
+        if kind is None:
+            raise PydanticCustomError("tag", "a {noun} needs '{key}' (one of {names})",
+                                      {"noun": noun, "key": key, "names": ", ".join(names)})
+        if kind not in names:
+            raise PydanticCustomError("tag", "unknown {key} {got}{hint} (one of {names})",
+                                      {"key": key, "got": describe(kind),
+                                       "hint": did_you_mean(str(kind), names), "names": ", ".join(names),
+                                       "subpath": (key,)})
+        return value
+
+    def which(value):
+        return value.get(key) if isinstance(value, dict) else None
+
+    union = Union[tuple(Annotated[model, Tag(tag)] for tag, model in members.items())]
+    return Annotated[union, Discriminator(which), BeforeValidator(check)]
+
+
+# ---------------------------------------------------------------------------------------
+# Files named in the scene: checked to exist (relative to the scene file)
+
+IMAGE_SUFFIXES = (".png", ".bmp", ".jpg", ".jpeg", ".tga", ".gif")
+
+
+def _existing_path(value, info: ValidationInfo, want_dir: bool = False) -> Path:
+    if not isinstance(value, str) or not value.strip():
+        raise PydanticCustomError("path", "expected a file path, got {got}", {"got": describe(value)})
+    base = Path((info.context or {}).get("base_dir", "."))
+    path = (base / value).resolve() if not Path(value).is_absolute() else Path(value)
+    ok = path.is_dir() if want_dir else path.is_file()
+    if not ok:
+        hint = ""
+        if path.parent.is_dir():
+            hint = did_you_mean(path.name, [p.name for p in path.parent.iterdir()])
+        what = "folder" if want_dir else "file"
+        raise PydanticCustomError("missing_file", "{what} not found: {value}{hint}",
+                                  {"what": what, "value": value, "hint": hint})
+    return path
+
+
+def _file(value, info: ValidationInfo) -> Path:
+    return _existing_path(value, info)
+
+
+def _image_file(value, info: ValidationInfo) -> Path:
+    path = _existing_path(value, info)
+    if path.suffix.lower() not in IMAGE_SUFFIXES:
+        raise PydanticCustomError("image_type", "{value} is not an image this renderer reads ({kinds})",
+                                  {"value": value, "kinds": " ".join(IMAGE_SUFFIXES)})
+    return path
+
+
+FilePath = Annotated[Path, PlainValidator(_file), WithJsonSchema({"type": "string", "description": "path relative to the scene file"})]
+ImagePath = Annotated[Path, PlainValidator(_image_file), WithJsonSchema({"type": "string", "description": "image path relative to the scene file (PNG BMP JPG TGA GIF)"})]
+
+# ---------------------------------------------------------------------------------------
+# render
+
+
+class ShadowSettings(StrictModel):
+    """Shadow-map parameters; ``render.shadows`` gives the defaults, a light may override."""
+
+    size: number(16, 16384, integer=True) = 2048
+    pcf: number(1, 15, integer=True) = 3
+    bias: number(0, 1) = 0.002
+    slope_bias: number(0, 1) = 0.02
+
+
+class ShadowOverride(StrictModel):
+    """A light's own shadow parameters; keys left out come from ``render.shadows``."""
+
+    size: number(16, 16384, integer=True) | None = None
+    pcf: number(1, 15, integer=True) | None = None
+    bias: number(0, 1) | None = None
+    slope_bias: number(0, 1) | None = None
+
+
+class Fog(StrictModel):
+    color: AnimatedColor = (0.5, 0.5, 0.5)
+    density: animated_number(0) = 0.03
+    mode: choice("exp", "exp2", "linear") = "exp2"
+    start: number(0) = 0.0
+    end: number(0, lo_open=True) = 100.0
+
+    @model_validator(mode="after")
+    def _start_before_end(self):
+        if self.mode == "linear" and self.start >= self.end:
+            raise PydanticCustomError("fog_range", "linear fog needs start < end, got start {s} and end {e}",
+                                      {"s": f"{self.start:g}", "e": f"{self.end:g}", "subpath": ("end",)})
+        return self
+
+
+class AmbientOcclusion(StrictModel):
+    radius: number(0, lo_open=True) = 0.5
+    samples: number(1, 64, integer=True) = 16
+    strength: number(0, 4) = 1.0
+
+
+SKY_FACES = ("posx", "negx", "posy", "negy", "posz", "negz")
+
+
+class SkyboxFaces(StrictModel):
+    posx: ImagePath
+    negx: ImagePath
+    posy: ImagePath
+    negy: ImagePath
+    posz: ImagePath
+    negz: ImagePath
+
+
+def _skybox_folder(value, info: ValidationInfo) -> SkyboxFaces:
+    """A folder holding the six faces, found by stem with any image suffix."""
+    folder = _existing_path(value, info, want_dir=True)
+    faces = {}
+    for face in SKY_FACES:
+        found = [p for p in sorted(folder.iterdir()) if p.stem.lower() == face and p.suffix.lower() in IMAGE_SUFFIXES]
+        if not found:
+            raise PydanticCustomError("skybox_face", "skybox folder {value} has no {face} image ({kinds})",
+                                      {"value": value, "face": face, "kinds": " ".join(IMAGE_SUFFIXES)})
+        faces[face] = str(found[0])
+    return SkyboxFaces.model_validate(faces, context=info.context)
+
+
+def _skybox_kind(value):
+    return "(faces)" if isinstance(value, dict) else "(folder)"
+
+
+Skybox = Annotated[
+    Union[Annotated[Annotated[SkyboxFaces, PlainValidator(_skybox_folder),
+                              WithJsonSchema({"type": "string", "description": "folder with posx negx posy negy posz negz images"})],
+                    Tag("(folder)")],
+          Annotated[SkyboxFaces, Tag("(faces)")]],
+    Discriminator(_skybox_kind),
+]
+
+SHADINGS = ("phong", "blinn_phong", "unlit")
+MODES = ("shaded", "depth", "normals", "wireframe", "points", "ambient_occlusion", "shadow", "light_depth")
+
+
+class RenderSettings(StrictModel):
+    size: Annotated[tuple, PlainValidator(lambda v: _size(v)),
+                    WithJsonSchema({"type": "array", "items": {"type": "integer", "minimum": 1, "maximum": 16384},
+                                    "minItems": 2, "maxItems": 2})] = (640, 480)
+    samples: number(1, 64, integer=True) = 4
+    shading: choice(*SHADINGS) = "blinn_phong"
+    mode: choice(*MODES) = "shaded"
+    background: AnimatedColor = (0.1, 0.1, 0.12)
+    skybox: Skybox | None = None
+    fog: Fog | None = None
+    ambient_occlusion: AmbientOcclusion | None = None
+    shadows: ShadowSettings = ShadowSettings()
+    output_transform: choice("srgb", "gamma", "linear") = "srgb"
+    gamma: number(0.1, 10) = 2.2
+    wireframe_overlay: Bool = False
+    line_width: number(0.1, 16) = 1.0
+    point_size: number(1, 64) = 3.0
+
+
+def _size(value):
+    if (not isinstance(value, (list, tuple)) or len(value) != 2
+            or not all(isinstance(v, int) and not isinstance(v, bool) for v in value)):
+        raise PydanticCustomError("size", "expected [width, height] in whole pixels, got {got}", {"got": describe(value)})
+    if not all(1 <= v <= 16384 for v in value):
+        raise PydanticCustomError("size", "width and height must be 1..16384, got {got}", {"got": describe(value)})
+    return tuple(value)
+
+
+# ---------------------------------------------------------------------------------------
+# output
+
+FORMATS = ("png", "jpg", "tga", "exr", "mp4", "gif")
+VIDEO_FORMATS = ("mp4", "gif")
+
+
+class OutputSettings(StrictModel):
+    fps: number(0, 1000, lo_open=True) = 30.0
+    duration: number(0, lo_open=True) | None = None
+    frames: number(1, 10_000_000, integer=True) | None = None
+    format: choice(*FORMATS) = "png"
+    name: Text | None = None
+    quality: number(1, 100, integer=True) = 90
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.duration is not None and self.frames is not None:
+            from_duration = round(self.duration * self.fps)
+            if from_duration != self.frames:
+                raise PydanticCustomError(
+                    "frames_duration", "frames ({f}) and duration x fps ({d}) disagree; give one of them",
+                    {"f": self.frames, "d": from_duration, "subpath": ("frames",)})
+        if self.name is not None:
+            try:
+                self.name.format(frame=0)
+            except (KeyError, IndexError, ValueError) as exc:
+                raise PydanticCustomError("name_pattern", "bad name pattern ({err}); use e.g. \"frame_{{frame:04d}}\"",
+                                          {"err": str(exc), "subpath": ("name",)})
+            if "{frame" not in self.name:
+                raise PydanticCustomError("name_pattern", "name pattern must contain {{frame}} (e.g. \"frame_{{frame:04d}}\")",
+                                          {"subpath": ("name",)})
+        return self
+
+    @property
+    def frame_count(self) -> int:
+        if self.frames is not None:
+            return self.frames
+        if self.duration is not None:
+            return max(1, round(self.duration * self.fps))
+        return 1
+
+
+# ---------------------------------------------------------------------------------------
+# camera
+
+
+def _near_far(value):
+    if value == "auto":
+        return "auto"
+    from scenerender.scene.values import check_number
+
+    try:
+        return check_number(value, 0.0, lo_open=True)
+    except PydanticCustomError:
+        raise PydanticCustomError("near_far", "expected 'auto' or a positive number, got {got}",
+                                  {"got": describe(value)}) from None
+
+
+NearFar = Annotated[Union[float, str], PlainValidator(_near_far),
+                    WithJsonSchema({"anyOf": [{"const": "auto"}, {"type": "number", "exclusiveMinimum": 0}]})]
+
+
+class CameraSpec(StrictModel):
+    position: AnimatedVec3 | None = None
+    target: AnimatedVec3 | None = None
+    yaw: AnimatedFloat | None = None
+    pitch: AnimatedFloat | None = None
+    up: vector(3, nonzero=True) = (0.0, 1.0, 0.0)
+    fov: animated_number(0.1, 179, hi_open=False) = 60.0
+    projection: choice("perspective", "orthographic") = "perspective"
+    height: animated_number(0, lo_open=True) | None = None
+    near: NearFar = "auto"
+    far: NearFar = "auto"
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.target is not None and (self.yaw is not None or self.pitch is not None):
+            raise PydanticCustomError("camera_aim", "give either target or yaw/pitch, not both",
+                                      {"subpath": ("yaw" if self.yaw is not None else "pitch",)})
+        if (self.yaw is not None or self.pitch is not None) and self.position is None:
+            raise PydanticCustomError("camera_aim", "yaw/pitch need a camera position", {"subpath": ("position",)})
+        if (isinstance(self.near, float) and isinstance(self.far, float) and self.near >= self.far):
+            raise PydanticCustomError("near_far", "near ({n}) must be less than far ({f})",
+                                      {"n": f"{self.near:g}", "f": f"{self.far:g}", "subpath": ("far",)})
+        return self
+
+
+# ---------------------------------------------------------------------------------------
+# lights
+
+
+def _shadows_kind(value):
+    return "(settings)" if isinstance(value, dict) else "(flag)"
+
+
+# true / false, or a mapping overriding render.shadows for this light
+ShadowsOption = Annotated[
+    Union[Annotated[Bool, Tag("(flag)")], Annotated[ShadowOverride, Tag("(settings)")]],
+    Discriminator(_shadows_kind),
+]
+
+
+def _attenuation(value):
+    from scenerender.scene.values import _vector_item
+
+    if not isinstance(value, (list, tuple)) or len(value) != 3:
+        raise PydanticCustomError("attenuation", "expected [constant, linear, quadratic], got {got}",
+                                  {"got": describe(value)})
+    out = tuple(_vector_item(v, i, 0.0, None) for i, v in enumerate(value))
+    if out[0] == 0 and out[1] == 0 and out[2] == 0:
+        raise PydanticCustomError("attenuation", "attenuation [0, 0, 0] divides by zero; use [1, 0, 0] for no falloff")
+    return out
+
+
+Attenuation = Annotated[tuple, PlainValidator(_attenuation),
+                        WithJsonSchema({"type": "array", "items": {"type": "number", "minimum": 0},
+                                        "minItems": 3, "maxItems": 3, "description": "1 / (c + l d + q d^2)"})]
+
+
+class _LightBase(StrictModel):
+    name: Text | None = None
+    color: AnimatedColor = (1.0, 1.0, 1.0)
+    intensity: animated_number(0) = 1.0
+    enabled: AnimatedBool = True
+
+
+class DirectionalLight(_LightBase):
+    type: Literal["directional"]
+    direction: AnimatedDirection = (-1.0, -1.0, -0.5)
+    shadows: ShadowsOption = False
+
+
+class PointLight(_LightBase):
+    type: Literal["point"]
+    position: AnimatedVec3 = (0.0, 3.0, 0.0)
+    attenuation: Attenuation = (1.0, 0.0, 0.0)
+    shadows: ShadowsOption = False
+
+
+class SpotLight(_LightBase):
+    type: Literal["spot"]
+    position: AnimatedVec3 | None = None
+    direction: AnimatedDirection | None = None
+    attenuation: Attenuation = (1.0, 0.0, 0.0)
+    inner_angle: animated_number(0, 89.9) = 12.5
+    outer_angle: animated_number(0, 89.9, lo_open=True) = 17.5
+    attach: choice("camera") | None = None
+    shadows: ShadowsOption = False
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.attach is None and self.position is None:
+            raise PydanticCustomError("spot_position", "a spot light needs a position (or attach: camera)",
+                                      {"subpath": ()})
+        inner, outer = self.inner_angle, self.outer_angle
+        if inner.is_constant and outer.is_constant and inner(0) > outer(0):
+            raise PydanticCustomError("cone", "inner_angle ({i}) must not exceed outer_angle ({o})",
+                                      {"i": f"{inner(0):g}", "o": f"{outer(0):g}", "subpath": ("inner_angle",)})
+        return self
+
+
+class AmbientLight(_LightBase):
+    type: Literal["ambient"]
+    color: AnimatedColor = (0.25, 0.25, 0.25)
+
+
+LightSpec = tagged_union("type", "light", {"directional": DirectionalLight, "point": PointLight,
+                                           "spot": SpotLight, "ambient": AmbientLight})
+
+
+# ---------------------------------------------------------------------------------------
+# materials
+
+
+class MaterialSpec(StrictModel):
+    """A material; keys left out keep the MTL value (for overrides) or the default."""
+
+    ambient: AnimatedColor | None = None
+    diffuse: AnimatedColor | None = None
+    specular: AnimatedColor | None = None
+    shininess: animated_number(0, 10000) | None = None
+    emissive: AnimatedColor | None = None
+    opacity: animated_number(0, 1) | None = None
+    diffuse_map: ImagePath | None = None
+    specular_map: ImagePath | None = None
+    normal_map: ImagePath | None = None
+    opacity_map: ImagePath | None = None
+    wrap: choice("repeat", "clamp", "mirror") | None = None
+    filter: choice("linear", "nearest") | None = None
+    unlit: Bool | None = None
+
+
+def _material_kind(value):
+    return "(name)" if isinstance(value, str) else "(inline)"
+
+
+MaterialRef = Annotated[
+    Union[Annotated[Text, Tag("(name)")], Annotated[MaterialSpec, Tag("(inline)")]],
+    Discriminator(_material_kind),
+]
+
+# ---------------------------------------------------------------------------------------
+# meshes
+
+
+def _segments(lo):
+    return number(lo, 4096, integer=True)
+
+
+def _extent(n):
+    """A positive size: one number or a per-axis list of ``n``."""
+    from scenerender.scene.values import _at, check_number
+
+    def positive(v):
+        return check_number(v, 0.0, lo_open=True)
+
+    def validate(value):
+        if isinstance(value, (list, tuple)):
+            if len(value) != n:
+                raise PydanticCustomError("size", "expected a number or a list of {n} numbers, got {got}",
+                                          {"n": n, "got": describe(value)})
+            return tuple(_at((i,), positive, v) for i, v in enumerate(value))
+        return positive(value)
+
+    return Annotated[Union[float, tuple], PlainValidator(validate),
+                     WithJsonSchema({"anyOf": [{"type": "number", "exclusiveMinimum": 0},
+                                               {"type": "array", "items": {"type": "number", "exclusiveMinimum": 0},
+                                                "minItems": n, "maxItems": n}]})]
+
+
+Positive = number(0, lo_open=True)
+
+
+class PlanePrimitive(StrictModel):
+    primitive: Literal["plane"]
+    size: _extent(2) = 1.0
+    uv_repeat: Positive = 1.0
+
+
+class BoxPrimitive(StrictModel):
+    primitive: Literal["box"]
+    size: _extent(3) = 1.0
+
+
+class SpherePrimitive(StrictModel):
+    primitive: Literal["sphere"]
+    radius: Positive = 0.5
+    segments: _segments(3) = 32
+    rings: _segments(2) = 16
+
+
+class CylinderPrimitive(StrictModel):
+    primitive: Literal["cylinder"]
+    radius: Positive = 0.5
+    height: Positive = 1.0
+    segments: _segments(3) = 32
+
+
+class PrismPrimitive(StrictModel):
+    primitive: Literal["prism"]
+    radius: Positive = 0.5
+    height: Positive = 1.0
+    sides: _segments(3) = 6
+
+
+class ConePrimitive(StrictModel):
+    primitive: Literal["cone"]
+    radius: Positive = 0.5
+    height: Positive = 1.0
+    segments: _segments(3) = 32
+
+
+PrimitiveSpec = tagged_union("primitive", "inline mesh", {
+    "plane": PlanePrimitive, "box": BoxPrimitive, "sphere": SpherePrimitive,
+    "cylinder": CylinderPrimitive, "prism": PrismPrimitive, "cone": ConePrimitive})
+
+
+MESH_SUFFIXES = (".obj", ".ply", ".stl", ".glb", ".gltf", ".off")
+
+
+def _mesh_file(value, info: ValidationInfo) -> Path:
+    path = _existing_path(value, info)
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        raise PydanticCustomError("mesh_type", "{value}: unsupported mesh format (use one of {kinds})",
+                                  {"value": value, "kinds": " ".join(MESH_SUFFIXES)})
+    return path
+
+
+MeshPath = Annotated[Path, PlainValidator(_mesh_file), WithJsonSchema({"type": "string", "description": "OBJ (+MTL), PLY, STL or GLB file"})]
+
+
+def _mesh_kind(value):
+    return "(inline)" if isinstance(value, dict) else "(file)"
+
+
+MeshSpec = Annotated[
+    Union[Annotated[MeshPath, Tag("(file)")], Annotated[PrimitiveSpec, Tag("(inline)")]],
+    Discriminator(_mesh_kind),
+]
+
+# ---------------------------------------------------------------------------------------
+# objects
+
+
+class Outline(StrictModel):
+    color: AnimatedColor = (1.0, 0.6, 0.1)
+    width: number(0, lo_open=True) = 0.02
+
+
+class InstanceSpec(StrictModel):
+    position: AnimatedVec3 = (0.0, 0.0, 0.0)
+    rotation: AnimatedVec3 = (0.0, 0.0, 0.0)
+    scale: AnimatedScale = 1.0
+
+
+class Range3(StrictModel):
+    min: vector(3)
+    max: vector(3)
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if any(a > b for a, b in zip(self.min, self.max)):
+            raise PydanticCustomError("range", "min must not exceed max on any axis", {"subpath": ("max",)})
+        return self
+
+
+class ScaleRange(StrictModel):
+    min: Positive
+    max: Positive
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if self.min > self.max:
+            raise PydanticCustomError("range", "min must not exceed max", {"subpath": ("max",)})
+        return self
+
+
+class RandomInstances(StrictModel):
+    count: number(1, 10_000_000, integer=True)
+    seed: number(0, 2**63 - 1, integer=True) = 0
+    position: Range3 = Range3(min=(0.0, 0.0, 0.0), max=(0.0, 0.0, 0.0))
+    rotation: Range3 = Range3(min=(0.0, 0.0, 0.0), max=(0.0, 0.0, 0.0))
+    scale: ScaleRange = ScaleRange(min=1.0, max=1.0)
+
+
+class RandomInstancesWrapper(StrictModel):
+    random: RandomInstances
+
+
+def _instances_kind(value):
+    return "(random)" if isinstance(value, dict) else "(list)"
+
+
+Instances = Annotated[
+    Union[Annotated[Annotated[list[InstanceSpec], Field(min_length=1, strict=False)], Tag("(list)")],
+          Annotated[RandomInstancesWrapper, Tag("(random)")]],
+    Discriminator(_instances_kind),
+]
+
+
+class ObjectSpec(StrictModel):
+    name: Text | None = None
+    mesh: MeshSpec
+    normalize: Bool = False
+    normals: choice("auto", "smooth", "flat") = "auto"
+    position: AnimatedVec3 = (0.0, 0.0, 0.0)
+    rotation: AnimatedVec3 = (0.0, 0.0, 0.0)
+    scale: AnimatedScale = 1.0
+    material: MaterialRef | None = None
+    material_overrides: dict[str, MaterialSpec] = {}
+    visible: AnimatedBool = True
+    cast_shadows: Bool = True
+    outline: Outline | None = None
+    instances: Instances | None = None
+
+
+# ---------------------------------------------------------------------------------------
+# the scene
+
+
+class Scene(StrictModel):
+    scenerender: Literal[1] | None = None
+    render: RenderSettings = RenderSettings()
+    output: OutputSettings = OutputSettings()
+    camera: CameraSpec | None = None
+    lights: list[LightSpec] | None = None
+    materials: dict[str, MaterialSpec] = {}
+    objects: list[ObjectSpec] = []
+
+    @model_validator(mode="after")
+    def _material_names_exist(self):
+        for index, obj in enumerate(self.objects):
+            if isinstance(obj.material, str) and obj.material not in self.materials:
+                known = ", ".join(self.materials) or "none are defined under 'materials'"
+                raise PydanticCustomError(
+                    "material_name", "no material named '{name}'{hint} (known: {known})",
+                    {"name": obj.material, "hint": did_you_mean(obj.material, self.materials), "known": known,
+                     "subpath": ("objects", index, "material")})
+        return self

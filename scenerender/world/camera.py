@@ -1,0 +1,158 @@
+"""The camera at one instant: orientation, position and projection, all float64.
+
+Rendering is camera-relative: geometry is uploaded relative to the camera position, so the
+view matrix the GPU sees holds only the rotation. That keeps float32 precise however far
+from the origin the scene is.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.world.transforms import box_corners
+
+# Looking closer than this to `up` (|cos| of the angle) counts as looking along it.
+_PARALLEL = 1.0 - 1e-9
+
+
+@dataclass(frozen=True)
+class CameraState:
+    """The camera for one frame.
+
+    position:   (3,) float64 world position.
+    rotation:   (3, 3) float64 world -> view rotation; rows are right, up, back (+Z).
+    projection: (4, 4) float64 view -> clip (OpenGL conventions, depth -1..1).
+    near, far:  clip distances used this frame.
+    """
+
+    position: np.ndarray
+    rotation: np.ndarray
+    projection: np.ndarray
+    near: float
+    far: float
+    fov: float
+    aspect: float
+    orthographic: bool
+    ortho_height: float
+
+    @property
+    def forward(self) -> np.ndarray:
+        return -self.rotation[2]
+
+    @property
+    def right(self) -> np.ndarray:
+        return self.rotation[0]
+
+    @property
+    def up(self) -> np.ndarray:
+        return self.rotation[1]
+
+    def view_proj_relative(self) -> np.ndarray:
+        """(4, 4) float64 camera-relative world -> clip: P * R (no translation)."""
+        r = np.eye(4)
+        r[:3, :3] = self.rotation
+        return self.projection @ r
+
+    def view_matrix(self) -> np.ndarray:
+        """(4, 4) float64 absolute world -> view (for tools; rendering uses the relative one)."""
+        v = np.eye(4)
+        v[:3, :3] = self.rotation
+        v[:3, 3] = -self.rotation @ self.position
+        return v
+
+
+def look_rotation(forward, up) -> np.ndarray:
+    """(3, 3) world -> view rotation looking along ``forward`` with ``up`` roughly up.
+
+    When ``forward`` is (anti)parallel to ``up`` the image's up is taken from the direction
+    a camera tilting there would face: looking down, the top of the image points to -Z
+    (the default view direction); looking up, to +Z. No NaN, no sudden flip.
+    """
+    f = np.asarray(forward, dtype=np.float64)
+    f = f / np.linalg.norm(f)
+    u = np.asarray(up, dtype=np.float64)
+    u = u / np.linalg.norm(u)
+    cos = float(np.dot(f, u))
+    if abs(cos) > _PARALLEL:
+        u = _fallback_up(u, cos)
+    right = np.cross(f, u)
+    right /= np.linalg.norm(right)
+    true_up = np.cross(right, f)
+    return np.stack([right, true_up, -f])
+
+
+def _fallback_up(up: np.ndarray, cos: float) -> np.ndarray:
+    """A screen-up direction perpendicular to ``up`` for a camera looking along +-up."""
+    reference = np.array([0.0, 0.0, -1.0])
+    if abs(np.dot(reference, up)) > 0.9:  # up is itself near Z: use X then
+        reference = np.array([1.0, 0.0, 0.0])
+    reference = reference - np.dot(reference, up) * up
+    reference /= np.linalg.norm(reference)
+    # looking down (cos < 0) the image top faces -Z; looking up it faces +Z
+    return reference if cos < 0 else -reference
+
+
+def yaw_pitch_forward(yaw_degrees: float, pitch_degrees: float) -> np.ndarray:
+    """FPS-style angles -> unit forward; yaw -90 looks down -Z; pitch clamped to [-89, 89]."""
+    pitch = math.radians(min(89.0, max(-89.0, pitch_degrees)))
+    yaw = math.radians(yaw_degrees)
+    return np.array([math.cos(yaw) * math.cos(pitch), math.sin(pitch), math.sin(yaw) * math.cos(pitch)])
+
+
+def perspective(fov_degrees: float, aspect: float, near: float, far: float) -> np.ndarray:
+    f = 1.0 / math.tan(math.radians(fov_degrees) / 2.0)
+    m = np.zeros((4, 4))
+    m[0, 0] = f / aspect
+    m[1, 1] = f
+    m[2, 2] = (far + near) / (near - far)
+    m[2, 3] = 2.0 * far * near / (near - far)
+    m[3, 2] = -1.0
+    return m
+
+
+def orthographic(height: float, aspect: float, near: float, far: float) -> np.ndarray:
+    half_h = height / 2.0
+    half_w = half_h * aspect
+    m = np.eye(4)
+    m[0, 0] = 1.0 / half_w
+    m[1, 1] = 1.0 / half_h
+    m[2, 2] = -2.0 / (far - near)
+    m[2, 3] = -(far + near) / (far - near)
+    return m
+
+
+def fit_near_far(bounds: np.ndarray | None, position: np.ndarray, rotation: np.ndarray,
+                 orthographic_view: bool) -> tuple[float, float]:
+    """Clip distances that enclose ``bounds`` (2, 3) seen from the camera.
+
+    The far plane sits just behind the farthest corner; the near plane just before the
+    nearest, but never closer than far / 10000, which keeps a 24-bit depth buffer precise.
+    """
+    if bounds is None:
+        return 0.1, 100.0
+    corners = box_corners(bounds) - position
+    depths = -(corners @ rotation[2])
+    far = max(float(depths.max()) * 1.02, 1e-3)
+    if orthographic_view:
+        extent = max(float(np.linalg.norm(bounds[1] - bounds[0])), 1e-3)
+        return min(float(depths.min()), 0.0) - 0.01 * extent, far + 0.01 * extent
+    near = max(float(depths.min()) * 0.98, far / 10000.0)
+    return near, max(far, near * 1.001)
+
+
+def framing_position(bounds: np.ndarray, fov_degrees: float, aspect: float,
+                     direction=(0.0, 0.45, 1.0)) -> tuple[np.ndarray, np.ndarray]:
+    """Where a camera looking at ``bounds``' centre from ``direction`` sees all of it.
+
+    Returns (position, target). The bounding sphere fills the narrower of the two fields of
+    view with a small margin.
+    """
+    center = (bounds[0] + bounds[1]) / 2.0
+    radius = max(float(np.linalg.norm(bounds[1] - bounds[0])) / 2.0, 1e-6)
+    half_v = math.radians(fov_degrees) / 2.0
+    half_h = math.atan(math.tan(half_v) * aspect)
+    distance = radius / math.sin(min(half_v, half_h)) * 1.05
+    d = np.asarray(direction, dtype=np.float64)
+    return center + d / np.linalg.norm(d) * distance, center

@@ -1,0 +1,163 @@
+"""Evaluate the World at one instant: everything a frame's passes need, as arrays.
+
+Matrices are composed in float64 and made relative to the camera position before they
+are rounded to float32, so precision does not depend on where the scene sits in the world.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.world.build import World, scene_bounds
+from scenerender.world.camera import (
+    CameraState, fit_near_far, framing_position, look_rotation, orthographic, perspective, yaw_pitch_forward,
+)
+from scenerender.world.lights import LightState, evaluate_lights
+from scenerender.world.shadows import AtlasLayout, ShadowView, light_views
+from scenerender.world.transforms import normal_matrices
+
+
+@dataclass
+class ObjectFrame:
+    """One object at one instant.
+
+    models_rel: (K, 4, 4) float32 camera-relative model matrices (translation minus camera).
+    normals:    (K, 3, 3) float32 normal matrices.
+    bounds:     (2, 3) float64 world AABB.
+    """
+
+    visible: bool
+    models_rel: np.ndarray
+    normals: np.ndarray
+    bounds: np.ndarray
+    center: np.ndarray
+
+
+@dataclass
+class FrameState:
+    """Everything that varies over time, evaluated for frame ``index`` at ``time`` seconds."""
+
+    index: int
+    time: float
+    camera: CameraState
+    objects: list
+    lights: list            # LightState for directional, point and spot lights
+    ambient: np.ndarray     # (3,) summed ambient light
+    background: np.ndarray  # (4,) linear RGBA
+    fog_color: np.ndarray   # (3,)
+    fog_density: float
+    bounds: np.ndarray | None
+    shadow_views: dict      # light index (in ``lights``) -> list[ShadowView]
+    materials: dict         # id(Material) -> evaluated uniforms
+
+    def shadowed_lights(self) -> list[int]:
+        return sorted(self.shadow_views)
+
+
+class FrameEvaluator:
+    """Turns times into FrameStates for one World and output size."""
+
+    def __init__(self, world: World, size: tuple, atlas: AtlasLayout | None):
+        self.world = world
+        self.size = size
+        self.aspect = size[0] / size[1]
+        self.atlas = atlas
+        self._first_bounds = None
+
+    def evaluate(self, index: int, time: float) -> FrameState:
+        world = self.world
+        matrices = [obj.matrices(time) for obj in world.objects]
+        visible = [bool(obj.visible(time)) for obj in world.objects]
+        bounds = scene_bounds(world.objects, matrices, visible)
+        if self._first_bounds is None:
+            self._first_bounds = bounds if bounds is not None else np.array([[-1.0] * 3, [1.0] * 3])
+        camera = self._camera(time, bounds)
+        objects = [self._object(obj, m, v, camera.position) for obj, m, v in zip(world.objects, matrices, visible)]
+        lights, ambient = evaluate_lights(world.lights, time, camera)
+        render = world.render
+        fog = render.fog
+        return FrameState(
+            index=index, time=time, camera=camera, objects=objects, lights=lights, ambient=ambient,
+            background=np.asarray(render.background(time), dtype=np.float64),
+            fog_color=np.asarray(fog.color(time), dtype=np.float64)[:3] if fog else np.zeros(3),
+            fog_density=fog.density(time) if fog else 0.0,
+            bounds=bounds, shadow_views=self._shadow_views(lights, world, objects, bounds),
+            materials={id(m): _material_values(m, time) for m in world.materials()},
+        )
+
+    # -- camera -----------------------------------------------------------------------
+    def _camera(self, t: float, bounds) -> CameraState:
+        spec = self.world.spec.camera
+        fov = spec.fov(t) if spec is not None else 60.0
+        up = np.asarray(spec.up if spec is not None else (0.0, 1.0, 0.0), dtype=np.float64)
+        position, forward = self._aim(spec, t, fov)
+        rotation = look_rotation(forward, up)
+        ortho = spec is not None and spec.projection == "orthographic"
+        near, far = fit_near_far(bounds, position, rotation, ortho)
+        if spec is not None and spec.near != "auto":
+            near = spec.near
+        if spec is not None and spec.far != "auto":
+            far = spec.far
+        far = max(far, near * 1.001)
+        height = self._ortho_height(spec, t) if ortho else 0.0
+        projection = orthographic(height, self.aspect, near, far) if ortho else perspective(fov, self.aspect, near, far)
+        return CameraState(position, rotation, projection, near, far, fov, self.aspect, ortho, height)
+
+    def _aim(self, spec, t: float, fov: float):
+        """(position (3,), forward (3,)) in float64."""
+        framed_position, center = framing_position(self._first_bounds, fov, self.aspect)
+        if spec is None:
+            return framed_position, center - framed_position
+        position = np.asarray(spec.position(t), dtype=np.float64) if spec.position is not None else framed_position
+        if spec.yaw is not None or spec.pitch is not None:
+            yaw = spec.yaw(t) if spec.yaw is not None else -90.0
+            pitch = spec.pitch(t) if spec.pitch is not None else 0.0
+            return position, yaw_pitch_forward(yaw, pitch)
+        target = np.asarray(spec.target(t), dtype=np.float64) if spec.target is not None else center
+        forward = target - position
+        if not np.any(forward):
+            forward = np.array([0.0, 0.0, -1.0])
+        return position, forward
+
+    def _ortho_height(self, spec, t: float) -> float:
+        if spec.height is not None:
+            return spec.height(t)
+        lo, hi = self._first_bounds
+        return float(np.linalg.norm(hi - lo)) * 1.05
+
+    # -- objects and shadows -------------------------------------------------------------
+    @staticmethod
+    def _object(obj, matrices: np.ndarray, visible: bool, camera_position: np.ndarray) -> ObjectFrame:
+        rel = matrices.copy()
+        rel[:, :3, 3] -= camera_position
+        bounds = obj.world_bounds(matrices)
+        return ObjectFrame(visible, rel.astype(np.float32), normal_matrices(matrices).astype(np.float32),
+                           bounds, (bounds[0] + bounds[1]) / 2.0)
+
+    def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds) -> dict:
+        if self.atlas is None:
+            return {}
+        caster_boxes = [f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows]
+        casters = None
+        if caster_boxes:
+            stacked = np.stack(caster_boxes)
+            casters = np.stack([stacked[:, 0].min(axis=0), stacked[:, 1].max(axis=0)])
+        views = {}
+        non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
+        for state_index, def_index in enumerate(non_ambient):
+            if def_index in self.atlas.tiles:
+                views[state_index] = light_views(lights[state_index], self.atlas.tiles[def_index], casters, bounds)
+        return views
+
+
+def _material_values(material, t: float) -> dict:
+    """A material's uniform values at ``t`` (linear RGBA colours, floats)."""
+    return {
+        "ambient": np.asarray(material.ambient(t))[:3],
+        "diffuse": np.asarray(material.diffuse(t)),
+        "specular": np.asarray(material.specular(t))[:3],
+        "emissive": np.asarray(material.emissive(t))[:3],
+        "shininess": float(material.shininess(t)),
+        "opacity": float(material.opacity(t)),
+    }

@@ -1,0 +1,154 @@
+"""Lights as the renderer evaluates them each frame.
+
+Directions are the way light travels (a sun at noon has direction (0, -1, 0)). A spot
+light with ``attach: camera`` takes position and direction in camera space: by default it
+sits at the camera and points where the camera looks, like a torch.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.animation import Track
+
+DEFAULT_AMBIENT = (0.12, 0.12, 0.12)
+
+
+@dataclass(frozen=True)
+class LightDef:
+    """One light of the scene, its animatable values as Tracks.
+
+    kind: "directional" | "point" | "spot" | "ambient".  path: its key path in the scene
+    (for messages). shadow: merged ShadowSettings when it casts shadows, else None.
+    """
+
+    kind: str
+    name: str
+    path: tuple
+    color: Track
+    intensity: Track
+    enabled: Track
+    position: Track | None = None
+    direction: Track | None = None
+    attenuation: tuple = (1.0, 0.0, 0.0)
+    inner_angle: Track | None = None
+    outer_angle: Track | None = None
+    attach_camera: bool = False
+    shadow: object = None
+
+    def moves(self) -> bool:
+        """True when position or direction can change (what a shadow map depends on)."""
+        if self.attach_camera:
+            return True
+        tracks = [t for t in (self.position, self.direction, self.outer_angle) if t is not None]
+        return not all(t.is_constant for t in tracks)
+
+
+@dataclass(frozen=True)
+class LightState:
+    """A light at one instant, in world space (float64).
+
+    color: (3,) linear RGB times intensity, zero when disabled.
+    position: (3,) world position (point, spot). direction: (3,) unit travel direction.
+    cos_inner / cos_outer: spot cone cosines (inner >= outer).
+    """
+
+    definition: LightDef
+    color: np.ndarray
+    position: np.ndarray | None
+    direction: np.ndarray | None
+    cos_inner: float = 1.0
+    cos_outer: float = 1.0
+
+    @property
+    def kind(self) -> str:
+        return self.definition.kind
+
+
+def _unit(v) -> np.ndarray:
+    v = np.asarray(v, dtype=np.float64)[:3]
+    n = np.linalg.norm(v)
+    return v / n if n > 0 else np.array([0.0, -1.0, 0.0])
+
+
+def light_defs(spec, shadows_default) -> list[LightDef]:
+    """LightDefs from the validated ``lights`` list; None gives the default rig
+    (a headlight that follows the camera plus a weak ambient)."""
+    if spec is None:
+        return _default_rig()
+    return [_from_spec(i, light, shadows_default) for i, light in enumerate(spec)]
+
+
+def _default_rig() -> list[LightDef]:
+    white = Track.constant((1.0, 1.0, 1.0, 1.0), kind="vector")
+    on = Track.constant(True, kind="bool")
+    one = Track.constant(1.0)
+    return [
+        # light from just above and left of the viewer, so faces facing the camera are lit
+        LightDef("directional", "headlight", ("lights",), white, one, on,
+                 direction=Track.constant((0.25, -0.35, -1.0), kind="vector"), attach_camera=True),
+        LightDef("ambient", "ambient", ("lights",), Track.constant(DEFAULT_AMBIENT + (1.0,), kind="vector"), one, on),
+    ]
+
+
+def _merged_shadow(option, defaults):
+    """``shadows: true`` -> render.shadows; a mapping -> render.shadows with its keys over it."""
+    if option is False or option is None:
+        return None
+    if option is True:
+        return defaults
+    values = defaults.model_dump()
+    values.update({k: v for k, v in option.model_dump().items() if v is not None})
+    return type(defaults).model_validate(values)
+
+
+def _from_spec(index: int, light, shadows_default) -> LightDef:
+    path = ("lights", index)
+    name = light.name or f"{light.type}{index}"
+    common = dict(kind=light.type, name=name, path=path, color=light.color, intensity=light.intensity,
+                  enabled=light.enabled)
+    if light.type == "ambient":
+        return LightDef(**common)
+    shadow = _merged_shadow(light.shadows, shadows_default)
+    if light.type == "directional":
+        return LightDef(**common, direction=light.direction, shadow=shadow)
+    if light.type == "point":
+        return LightDef(**common, position=light.position, attenuation=light.attenuation, shadow=shadow)
+    attach = light.attach == "camera"
+    position = light.position or Track.constant((0.0, 0.0, 0.0), kind="vector")
+    direction = light.direction or Track.constant((0.0, 0.0, -1.0), kind="vector")
+    return LightDef(**common, position=position, direction=direction, attenuation=light.attenuation,
+                    inner_angle=light.inner_angle, outer_angle=light.outer_angle, attach_camera=attach,
+                    shadow=shadow)
+
+
+def evaluate_lights(defs: list[LightDef], t: float, camera) -> tuple[list[LightState], np.ndarray]:
+    """(non-ambient light states, summed ambient RGB (3,)) at time ``t``."""
+    states = []
+    ambient = np.zeros(3)
+    for light in defs:
+        on = light.enabled(t)
+        color = np.asarray(light.color(t), dtype=np.float64)[:3] * light.intensity(t) * (1.0 if on else 0.0)
+        if light.kind == "ambient":
+            ambient += color
+            continue
+        states.append(_state(light, t, camera, color))
+    return states, ambient
+
+
+def _state(light: LightDef, t: float, camera, color: np.ndarray) -> LightState:
+    position = np.asarray(light.position(t), dtype=np.float64) if light.position is not None else None
+    direction = _unit(light.direction(t)) if light.direction is not None else None
+    if light.attach_camera:
+        to_world = camera.rotation.T  # view -> world
+        if position is not None:
+            position = camera.position + to_world @ position
+        direction = _unit(to_world @ direction)
+    if light.kind != "spot":
+        return LightState(light, color, position, direction)
+    outer = light.outer_angle(t)
+    inner = min(light.inner_angle(t), outer)
+    return LightState(light, color, position, direction,
+                      cos_inner=math.cos(math.radians(inner)), cos_outer=math.cos(math.radians(outer)))

@@ -1,0 +1,102 @@
+"""Objects as the renderer sees them: a mesh, materials per mesh group, and transforms."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.animation import Track
+from scenerender.mesh import MeshData
+from scenerender.world.transforms import model_matrices, model_matrix, transformed_bounds
+
+
+@dataclass
+class InstanceSet:
+    """Where one mesh is drawn: either fixed local matrices or per-instance tracks.
+
+    fixed:  (K, 4, 4) float64 local matrices (random instances, or one identity).
+    tracks: list of (position, rotation, scale) Tracks for listed instances, else None.
+    """
+
+    fixed: np.ndarray | None = None
+    tracks: list | None = None
+
+    @property
+    def count(self) -> int:
+        return len(self.tracks) if self.tracks is not None else len(self.fixed)
+
+    @property
+    def is_static(self) -> bool:
+        if self.tracks is None:
+            return True
+        return all(track.is_constant for triple in self.tracks for track in triple)
+
+    def matrices(self, t: float) -> np.ndarray:
+        if self.tracks is None:
+            return self.fixed
+        return np.stack([model_matrix(p(t), r(t), _scale3(s(t))) for p, r, s in self.tracks])
+
+
+def _scale3(value) -> np.ndarray:
+    return np.broadcast_to(np.asarray(value, dtype=np.float64).reshape(-1), (3,))
+
+
+def single_instance() -> InstanceSet:
+    return InstanceSet(fixed=np.eye(4)[None])
+
+
+def listed_instances(specs) -> InstanceSet:
+    return InstanceSet(tracks=[(s.position, s.rotation, s.scale) for s in specs])
+
+
+def random_instances(spec) -> InstanceSet:
+    """Instances drawn from ``spec`` (count, seed, ranges) with NumPy's PCG64, which
+    gives the same numbers on every machine for the same seed."""
+    rng = np.random.Generator(np.random.PCG64(spec.seed))
+    k = spec.count
+    positions = rng.uniform(spec.position.min, spec.position.max, size=(k, 3))
+    rotations = rng.uniform(spec.rotation.min, spec.rotation.max, size=(k, 3))
+    scales = rng.uniform(spec.scale.min, spec.scale.max, size=(k, 1)).repeat(3, axis=1)
+    return InstanceSet(fixed=model_matrices(positions, rotations, scales))
+
+
+@dataclass
+class RenderObject:
+    """One scene object.
+
+    mesh: the MeshData (shared between objects that use the same file and options).
+    mesh_key: identifies ``mesh`` for GPU upload sharing.
+    materials: one Material per ``mesh.groups`` entry.
+    """
+
+    name: str
+    path: tuple
+    mesh: MeshData
+    mesh_key: tuple
+    materials: list
+    position: Track
+    rotation: Track
+    scale: Track
+    visible: Track
+    cast_shadows: bool
+    outline: object
+    instances: InstanceSet
+
+    @property
+    def is_static(self) -> bool:
+        own = (self.position, self.rotation, self.scale, self.visible)
+        return all(t.is_constant for t in own) and self.instances.is_static
+
+    @property
+    def materials_static(self) -> bool:
+        return all(m.is_static for m in self.materials)
+
+    def object_matrix(self, t: float) -> np.ndarray:
+        return model_matrix(self.position(t), self.rotation(t), _scale3(self.scale(t)))
+
+    def matrices(self, t: float) -> np.ndarray:
+        """(K, 4, 4) float64 world matrices: the object's transform times each instance's."""
+        return self.object_matrix(t)[None] @ self.instances.matrices(t)
+
+    def world_bounds(self, matrices: np.ndarray) -> np.ndarray:
+        return transformed_bounds(self.mesh.bounds(), matrices)

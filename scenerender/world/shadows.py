@@ -1,0 +1,169 @@
+"""Shadow-map planning: the atlas layout (once per run) and each frame's light views.
+
+All shadow maps share one depth texture, the *atlas*: directional and spot lights take one
+square tile, point lights six (one per cube face). One texture means one sampler however
+many lights cast shadows, so there is no cap on shadowed lights beyond atlas size.
+
+Depth in the atlas is linear: (d - near) / (far - near), where d is the distance along the
+light's axis (directional, spot) or from the light (point). Bias values in the scene are
+therefore fractions of that depth range, the same meaning for every light type.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.world.camera import look_rotation, orthographic, perspective
+from scenerender.world.transforms import box_corners
+
+# Cube faces as (forward, up) pairs; a face is chosen by the major axis of light->point.
+CUBE_FACES = (
+    ((1, 0, 0), (0, -1, 0)), ((-1, 0, 0), (0, -1, 0)),
+    ((0, 1, 0), (0, 0, 1)), ((0, -1, 0), (0, 0, -1)),
+    ((0, 0, 1), (0, -1, 0)), ((0, 0, -1), (0, -1, 0)),
+)
+# A cube face's frustum is a little wider than 90 degrees so filter taps near the face's
+# edge still land inside its tile.
+CUBE_FACE_FOV = 95.0
+SPOT_MARGIN_DEGREES = 2.0
+
+
+@dataclass(frozen=True)
+class Tile:
+    """A square region of the atlas in texels: x, y (lower-left) and size."""
+
+    x: int
+    y: int
+    size: int
+
+
+@dataclass(frozen=True)
+class AtlasLayout:
+    """size: (width, height) of the atlas texture; tiles[light_def_index]: its tiles."""
+
+    size: tuple
+    tiles: dict
+
+    @property
+    def view_count(self) -> int:
+        return sum(len(t) for t in self.tiles.values())
+
+
+def plan_atlas(lights: list, max_size: int = 16384, warn=None) -> AtlasLayout | None:
+    """Pack every shadowed light's tiles into rows (largest first); None when no shadows.
+
+    If the atlas would exceed ``max_size`` the tiles are halved until it fits, with a warning.
+    """
+    requests = [(i, light.shadow.size, 6 if light.kind == "point" else 1)
+                for i, light in enumerate(lights) if light.shadow is not None]
+    if not requests:
+        return None
+    scale = 1
+    while True:
+        layout = _pack([(i, max(16, size // scale), n) for i, size, n in requests])
+        if max(layout.size) <= max_size:
+            break
+        scale *= 2
+    if scale > 1 and warn is not None:
+        warn(f"shadow maps reduced to 1/{scale} of their size to fit a {max_size}px atlas")
+    return layout
+
+
+def _pack(requests) -> AtlasLayout:
+    tiles_wanted = [(size, i) for i, size, n in requests for _ in range(n)]
+    tiles_wanted.sort(key=lambda item: -item[0])
+    area = sum(size * size for size, _ in tiles_wanted)
+    largest = tiles_wanted[0][0]
+    width = max(largest, int(math.ceil(math.sqrt(area) / largest)) * largest)
+    tiles: dict = {i: [] for i, _, _ in requests}
+    x = y = row_height = 0
+    for size, owner in tiles_wanted:
+        if x + size > width:
+            x, y, row_height = 0, y + row_height, 0
+        tiles[owner].append(Tile(x, y, size))
+        x += size
+        row_height = max(row_height, size)
+    return AtlasLayout((width, y + row_height), tiles)
+
+
+@dataclass(frozen=True)
+class ShadowView:
+    """One rendered shadow view at one instant.
+
+    view:       (4, 4) float64 world -> light view.
+    projection: (4, 4) float64 light view -> clip.
+    near, far:  the linear depth range stored in the atlas.
+    radial:     depth is the distance to the light (point lights) rather than along -Z.
+    tile:       where it lives in the atlas.
+    """
+
+    view: np.ndarray
+    projection: np.ndarray
+    near: float
+    far: float
+    radial: bool
+    tile: Tile
+
+
+def light_views(state, tiles: list, casters: np.ndarray | None, everything: np.ndarray | None) -> list[ShadowView]:
+    """The views of one shadowed light ``state`` (a LightState), fitted to the scene.
+
+    casters: (2, 3) bounds of shadow-casting objects; everything: (2, 3) bounds of all.
+    """
+    if casters is None or everything is None:
+        casters = everything = np.array([[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]])
+    if state.kind == "directional":
+        return [_directional(state.direction, casters, everything, tiles[0])]
+    if state.kind == "spot":
+        return [_spot(state, everything, tiles[0])]
+    return [_cube_face(state.position, face, everything, tile) for face, tile in zip(CUBE_FACES, tiles)]
+
+
+def _view(rotation: np.ndarray, eye: np.ndarray) -> np.ndarray:
+    m = np.eye(4)
+    m[:3, :3] = rotation
+    m[:3, 3] = -rotation @ eye
+    return m
+
+
+def _directional(direction, casters, everything, tile) -> ShadowView:
+    """An orthographic view covering the casters' footprint; depth spans casters and
+    receivers so nothing between them is clipped."""
+    rotation = look_rotation(direction, (0.0, 1.0, 0.0))
+    eye = (casters[0] + casters[1]) / 2.0
+    c = (box_corners(casters) - eye) @ rotation.T
+    a = (box_corners(everything) - eye) @ rotation.T
+    half = max(np.abs(c[:, 0]).max(), np.abs(c[:, 1]).max(), 1e-4) * 1.02
+    depth_all = -np.concatenate([c[:, 2], a[:, 2]])
+    margin = 0.01 * max(float(depth_all.max() - depth_all.min()), 1e-3)
+    near, far = float(depth_all.min()) - margin, float(depth_all.max()) + margin
+    projection = orthographic(2.0 * half, 1.0, near, far)
+    return ShadowView(_view(rotation, eye), projection, near, far, False, tile)
+
+
+def _depth_range(eye: np.ndarray, rotation: np.ndarray, bounds: np.ndarray, radial: bool) -> tuple[float, float]:
+    corners = box_corners(bounds) - eye
+    if radial:
+        far = float(np.linalg.norm(corners, axis=1).max())
+    else:
+        far = float((-(corners @ rotation[2])).max())
+    far = max(far * 1.01, 1e-3)
+    return far * 1e-3, far
+
+
+def _spot(state, everything, tile) -> ShadowView:
+    rotation = look_rotation(state.direction, (0.0, 1.0, 0.0))
+    near, far = _depth_range(state.position, rotation, everything, radial=False)
+    outer = math.degrees(math.acos(min(1.0, max(-1.0, state.cos_outer))))
+    fov = min(170.0, 2.0 * outer + SPOT_MARGIN_DEGREES)
+    return ShadowView(_view(rotation, state.position), perspective(fov, 1.0, near, far), near, far, False, tile)
+
+
+def _cube_face(position, face, everything, tile) -> ShadowView:
+    forward, up = face
+    rotation = look_rotation(forward, up)
+    near, far = _depth_range(position, rotation, everything, radial=True)
+    projection = perspective(CUBE_FACE_FOV, 1.0, near, far)
+    return ShadowView(_view(rotation, position), projection, 0.0, far, True, tile)

@@ -1,0 +1,47 @@
+// Forward shading of scene meshes: ambient (times screen-space AO when on), every light
+// with its shadows, emission, fog. Which of these exist is decided per scene.
+#include "common/math.glsl"
+#include "lighting/material.glsl"
+#ifndef UNLIT
+#include "lighting/direct.glsl"
+#endif
+#ifdef HAS_FOG
+#include "lighting/fog.glsl"
+#endif
+
+in vec3 v_position;
+in vec3 v_normal;
+in vec2 v_uv;
+#ifdef HAS_TANGENTS
+in vec4 v_tangent;
+#endif
+
+uniform vec3 u_ambient;  // summed ambient light
+#ifdef HAS_AO
+uniform sampler2D u_ao;  // screen-space ambient occlusion, 1 = open
+#endif
+
+out vec4 frag_color;
+
+void main() {
+    Surface s = sample_surface(v_uv);
+#ifdef UNLIT
+    vec3 color = s.base + u_ke;
+#else
+    // two-sided: a face seen from behind is lit as if its normal pointed at the viewer
+    vec3 n = safe_normalize(gl_FrontFacing ? v_normal : -v_normal);
+#ifdef HAS_NORMAL_MAP
+    n = mapped_normal(n, gl_FrontFacing ? v_tangent : vec4(-v_tangent.xyz, v_tangent.w), v_uv);
+#endif
+    vec3 v = safe_normalize(-v_position, n);
+    float ambient_visibility = 1.0;
+#ifdef HAS_AO
+    ambient_visibility = texelFetch(u_ao, ivec2(gl_FragCoord.xy), 0).r;
+#endif
+    vec3 color = u_ambient * u_ka * s.base * ambient_visibility + direct_light(v_position, n, v, s) + u_ke;
+#endif
+#ifdef HAS_FOG
+    color = apply_fog(color, length(v_position));
+#endif
+    frag_color = vec4(color, s.alpha);
+}

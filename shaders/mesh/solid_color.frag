@@ -1,0 +1,7 @@
+// One flat colour: outlines and wireframe overlays.
+uniform vec4 u_color;
+out vec4 frag_color;
+
+void main() {
+    frag_color = u_color;
+}

@@ -1,0 +1,47 @@
+// Screen-space ambient occlusion: hemisphere samples around each pixel's view-space
+// position, compared against the prepass depth. 1 = fully open, 0 = fully occluded.
+in vec2 v_uv;
+uniform sampler2D u_gbuffer;     // view-space normal (xyz), linear depth (w; 0 = sky)
+uniform sampler2D u_noise;       // 4x4 random rotations
+uniform vec3 u_kernel[AO_SAMPLES];
+uniform mat4 u_projection;
+uniform vec2 u_screen;
+uniform float u_radius;
+uniform float u_strength;
+out float ao;
+
+vec3 view_position(vec2 uv, float depth) {
+    // Invert the projection for a point at linear depth `depth` seen through uv.
+    vec2 ndc = uv * 2.0 - 1.0;
+#ifdef ORTHO_CAMERA
+    return vec3(ndc.x / u_projection[0][0] - u_projection[3][0] / u_projection[0][0],
+                ndc.y / u_projection[1][1] - u_projection[3][1] / u_projection[1][1], -depth);
+#else
+    return vec3(ndc.x * depth / u_projection[0][0], ndc.y * depth / u_projection[1][1], -depth);
+#endif
+}
+
+void main() {
+    vec4 g = texelFetch(u_gbuffer, ivec2(gl_FragCoord.xy), 0);
+    if (g.w <= 0.0) {
+        ao = 1.0;
+        return;
+    }
+    vec3 p = view_position(v_uv, g.w);
+    vec3 n = normalize(g.xyz);
+    vec3 random = texture(u_noise, gl_FragCoord.xy / 4.0).xyz * 2.0 - 1.0;
+    vec3 t = normalize(random - n * dot(random, n) + vec3(1e-4, 0.0, 0.0) * step(abs(dot(random, n)), 0.999));
+    mat3 tbn = mat3(t, cross(n, t), n);
+    float occlusion = 0.0;
+    for (int i = 0; i < AO_SAMPLES; ++i) {
+        vec3 sample_p = p + tbn * u_kernel[i] * u_radius;
+        vec4 clip = u_projection * vec4(sample_p, 1.0);
+        vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+        if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
+        float scene_depth = texelFetch(u_gbuffer, ivec2(uv * u_screen), 0).w;
+        if (scene_depth <= 0.0) continue;
+        float range = smoothstep(0.0, 1.0, u_radius / max(abs(g.w - scene_depth), 1e-4));
+        occlusion += (scene_depth <= -sample_p.z - 0.02 * u_radius ? 1.0 : 0.0) * range;
+    }
+    ao = clamp(1.0 - u_strength * occlusion / float(AO_SAMPLES), 0.0, 1.0);
+}

@@ -1,0 +1,14 @@
+// Shadow pass: scene meshes seen from a light, into one tile of the shadow atlas.
+in vec3 in_position;
+in mat4 in_model;  // per instance, camera-relative
+
+uniform mat4 u_light_view;        // camera-relative world -> light view
+uniform mat4 u_light_projection;  // light view -> clip
+
+out vec3 v_light_position;  // light-view position, for linear depth
+
+void main() {
+    vec4 light_p = u_light_view * (in_model * vec4(in_position, 1.0));
+    v_light_position = light_p.xyz;
+    gl_Position = u_light_projection * light_p;
+}
