@@ -1,0 +1,352 @@
+"""Wavefront MTL reader: the material statements the renderer uses.
+
+Read keys (case-insensitive): Ka Kd Ks Ke Ns d Tr illum map_Ka map_Kd map_Ks map_Bump bump
+norm map_d. Every other key (Ni, Tf, map_Ns, refl, PBR extensions, ...) is skipped
+silently, as the scene-file contract asks.
+"""
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from scenerender.errors import SourceLocation, UserError, Warnings, display_path
+
+Color = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class TextureRef:
+    """A texture named in an MTL file.
+
+    path:       where the image is (or, when ``missing``, where it was first looked for).
+    scale:      (u, v) from ``-s``; texture coordinates are multiplied by it.
+    offset:     (u, v) from ``-o``; added after scaling.
+    bump_scale: ``-bm`` multiplier for normal / bump maps.
+    location:   the MTL file and line that named it.
+    missing:    True when no such file was found; the renderer draws a placeholder.
+    """
+
+    path: Path
+    scale: tuple[float, float] = (1.0, 1.0)
+    offset: tuple[float, float] = (0.0, 0.0)
+    bump_scale: float = 1.0
+    location: SourceLocation | None = None
+    missing: bool = False
+
+
+@dataclass(frozen=True)
+class MtlMaterial:
+    """One ``newmtl`` block. Every value is None when the file does not set it.
+
+    Colours are linear RGB 3-tuples. ``opacity`` comes from ``d``, or ``1 - Tr`` when only
+    ``Tr`` is given, clamped to [0, 1]. ``normal_map`` comes from map_Bump, bump or norm
+    (the last of them in the block wins).
+    """
+
+    name: str
+    ambient: Color | None = None
+    diffuse: Color | None = None
+    specular: Color | None = None
+    emissive: Color | None = None
+    shininess: float | None = None
+    opacity: float | None = None
+    illum: int | None = None
+    ambient_map: TextureRef | None = None
+    diffuse_map: TextureRef | None = None
+    specular_map: TextureRef | None = None
+    normal_map: TextureRef | None = None
+    opacity_map: TextureRef | None = None
+    location: SourceLocation | None = None
+
+
+_COLOR_KEYS = {"ka": "ambient", "kd": "diffuse", "ks": "specular", "ke": "emissive"}
+_MAP_KEYS = {
+    "map_ka": "ambient_map",
+    "map_kd": "diffuse_map",
+    "map_ks": "specular_map",
+    "map_bump": "normal_map",
+    "bump": "normal_map",
+    "norm": "normal_map",
+    "map_d": "opacity_map",
+}
+_SCALAR_KEYS = {"ns", "d", "tr", "illum"}
+
+# Texture options and how many arguments each takes (fewest, most). They have to be
+# known to find where the file name starts, even the ones the renderer does not use.
+_TEXTURE_OPTIONS = {
+    "-blendu": (1, 1),
+    "-blendv": (1, 1),
+    "-bm": (1, 1),
+    "-boost": (1, 1),
+    "-cc": (1, 1),
+    "-clamp": (1, 1),
+    "-imfchan": (1, 1),
+    "-mm": (2, 2),
+    "-o": (1, 3),
+    "-s": (1, 3),
+    "-t": (1, 3),
+    "-texres": (1, 1),
+    "-type": (1, 1),
+}
+
+# CIE XYZ to linear sRGB (D65), for the rarely used "Kd xyz X Y Z" form.
+_XYZ_TO_RGB = (
+    (3.2404542, -1.5371385, -0.4985314),
+    (-0.9692660, 1.8760108, 0.0415560),
+    (0.0556434, -0.2040259, 1.0572252),
+)
+
+
+class _MtlContext:
+    """The file being read, for error messages and for resolving texture paths."""
+
+    def __init__(self, path: Path, warnings: Warnings):
+        self.path = path
+        self.folder = path.parent
+        self.shown = display_path(path)
+        self.warnings = warnings
+        self.line = 0
+
+    def location(self) -> SourceLocation:
+        return SourceLocation(self.shown, self.line)
+
+    def error(self, message: str) -> UserError:
+        return UserError(message, self.location())
+
+    def number(self, token: str, key: str) -> float:
+        try:
+            value = float(token)
+        except ValueError:
+            raise self.error(f"expected a number after '{key}', got {token!r}") from None
+        if value != value or value in (float("inf"), float("-inf")):
+            raise self.error(f"expected a finite number after '{key}', got {token!r}")
+        return value
+
+
+def parse_mtl(path: Path, warnings: Warnings) -> dict[str, MtlMaterial]:
+    """Read an MTL file into materials by name (a later ``newmtl`` of a name replaces an
+    earlier one).
+
+    Raises UserError (file and line) for malformed numbers; warns about textures that
+    cannot be found and marks them ``missing``.
+    """
+    path = Path(path)
+    ctx = _MtlContext(path, warnings)
+    try:
+        text = path.read_bytes().decode("utf-8", errors="surrogateescape")
+    except OSError as exc:
+        message = f"cannot read MTL file: {exc.strerror or exc}"
+        raise UserError(message, SourceLocation(ctx.shown)) from exc
+
+    materials: dict[str, MtlMaterial] = {}
+    current: dict | None = None
+    for number, line in enumerate(text.splitlines(), 1):
+        ctx.line = number
+        stripped = line.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        key, _, rest = stripped.partition(" ")
+        if "\t" in key:  # the key may be followed by a tab instead of a space
+            key, _, more = key.partition("\t")
+            rest = more + " " + rest
+        lowered = key.lower()
+        if lowered == "newmtl":
+            _finish(current, materials)
+            current = _start_material(rest, ctx)
+        elif lowered in _COLOR_KEYS or lowered in _MAP_KEYS or lowered in _SCALAR_KEYS:
+            if current is None:
+                warnings.warn(f"'{key}' before any 'newmtl' is ignored", ctx.location())
+                continue
+            _apply_statement(current, key, lowered, rest, ctx)
+    _finish(current, materials)
+    return materials
+
+
+def _start_material(rest: str, ctx: _MtlContext) -> dict:
+    name = rest.strip()
+    if not name:
+        raise ctx.error("'newmtl' needs a material name")
+    return {"name": name, "location": ctx.location(), "_transmission": None}
+
+
+def _finish(current: dict | None, materials: dict[str, MtlMaterial]) -> None:
+    if current is None:
+        return
+    transmission = current.pop("_transmission")
+    if current.get("opacity") is None and transmission is not None:
+        current["opacity"] = _clamp01(1.0 - transmission)
+    # A repeated name replaces the earlier definition, as in most viewers.
+    materials[current["name"]] = MtlMaterial(**current)
+
+
+def _apply_statement(current: dict, key: str, lowered: str, rest: str, ctx: _MtlContext) -> None:
+    if lowered in _COLOR_KEYS:
+        color = _parse_color(rest.split(), key, ctx)
+        if color is not None:
+            current[_COLOR_KEYS[lowered]] = color
+    elif lowered in _MAP_KEYS:
+        current[_MAP_KEYS[lowered]] = _parse_texture(rest, key, ctx)
+    elif lowered == "ns":
+        current["shininess"] = ctx.number(_first_argument(rest, key, ctx), key)
+    elif lowered == "d":
+        tokens = rest.split()
+        if tokens and tokens[0].lower() == "-halo":  # "d -halo 0.5": the halo is not drawn
+            tokens = tokens[1:]
+        current["opacity"] = _clamp01(ctx.number(_first_argument(" ".join(tokens), key, ctx), key))
+    elif lowered == "tr":
+        current["_transmission"] = ctx.number(_first_argument(rest, key, ctx), key)
+    elif lowered == "illum":
+        value = ctx.number(_first_argument(rest, key, ctx), key)
+        if value != int(value):
+            raise ctx.error(f"'illum' needs a whole number, got {value:g}")
+        current["illum"] = int(value)
+
+
+def _first_argument(rest: str, key: str, ctx: _MtlContext) -> str:
+    tokens = rest.split()
+    if not tokens:
+        raise ctx.error(f"'{key}' needs a number")
+    return tokens[0]
+
+
+def _clamp01(value: float) -> float:
+    return min(1.0, max(0.0, value))
+
+
+def _parse_color(tokens: list[str], key: str, ctx: _MtlContext) -> Color | None:
+    """``Kd r g b``, ``Kd r`` (grey), ``Kd xyz X Y Z``; ``Kd spectral file`` is not supported."""
+    if tokens and tokens[0].lower() == "spectral":
+        ctx.warnings.warn(f"spectral colour for '{key}' is not supported; ignored", ctx.location())
+        return None
+    from_xyz = bool(tokens) and tokens[0].lower() == "xyz"
+    if from_xyz:
+        tokens = tokens[1:]
+    if len(tokens) in (0, 2):
+        raise ctx.error(f"'{key}' needs 1 or 3 numbers, got {len(tokens)}")
+    values = [ctx.number(token, key) for token in tokens[:3]]
+    if len(values) == 1:
+        values *= 3
+    if from_xyz:
+        values = [sum(m * v for m, v in zip(row, values)) for row in _XYZ_TO_RGB]
+    return (values[0], values[1], values[2])
+
+
+def _parse_texture(rest: str, key: str, ctx: _MtlContext) -> TextureRef:
+    """A map statement: options, then a file name that is the whole rest of the line."""
+    spans = [(m.group(), m.start()) for m in re.finditer(r"\S+", rest)]
+    scale, offset, bump_scale = [1.0, 1.0], [0.0, 0.0], 1.0
+    i = 0
+    while i < len(spans) - 1 and spans[i][0].startswith("-"):
+        option = spans[i][0].lower()
+        arguments, i = _take_option_arguments(option, spans, i + 1, ctx)
+        if option == "-s":
+            scale[: len(arguments)] = [ctx.number(a, option) for a in arguments[:2]]
+        elif option == "-o":
+            offset[: len(arguments)] = [ctx.number(a, option) for a in arguments[:2]]
+        elif option == "-bm":
+            bump_scale = ctx.number(arguments[0], option)
+        elif option in ("-mm", "-boost", "-texres"):
+            for argument in arguments:  # unused, but a typo here is still worth reporting
+                ctx.number(argument, option)
+    if i >= len(spans):
+        raise ctx.error(f"'{key}' needs a file name")
+    name = rest[spans[i][1] :].strip()
+    if len(name) >= 2 and name[0] == name[-1] == '"':
+        name = name[1:-1]
+    return _resolve_texture(name, scale, offset, bump_scale, ctx)
+
+
+def _take_option_arguments(option: str, spans, i: int, ctx: _MtlContext) -> tuple[list[str], int]:
+    """The arguments of ``option`` starting at spans[i], and the index after them.
+
+    Always leaves at least one token for the file name.
+    """
+    last_usable = len(spans) - 1  # spans[last_usable] is the earliest the file name can be
+    fewest, most = _TEXTURE_OPTIONS.get(option, (0, None))
+    if option not in _TEXTURE_OPTIONS:
+        ctx.warnings.warn(f"unknown texture option '{option}' ignored", ctx.location())
+    arguments: list[str] = []
+    while i < last_usable and len(arguments) < fewest:
+        arguments.append(spans[i][0])
+        i += 1
+    if len(arguments) < fewest:
+        raise ctx.error(f"texture option '{option}' needs {fewest} value(s) before the file name")
+    # Optional trailing values (-s u [v [w]]) and the values of unknown options are taken
+    # while they look like values.
+    while i < last_usable and (most is None or len(arguments) < most):
+        if not _looks_like_value(spans[i][0]):
+            break
+        arguments.append(spans[i][0])
+        i += 1
+    return arguments, i
+
+
+def _looks_like_value(token: str) -> bool:
+    if token.lower() in ("on", "off"):
+        return True
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def _resolve_texture(name: str, scale, offset, bump_scale: float, ctx: _MtlContext) -> TextureRef:
+    # Exporters on Windows write backslashes; on every platform they separate folders.
+    relative = name.replace("\\", "/")
+    candidates = _texture_candidates(relative, ctx.folder)
+    found = next((c for c in candidates if c.is_file()), None)
+    if found is None:
+        found = _case_insensitive_match(candidates)
+    location = ctx.location()
+    if found is None:
+        folders = []
+        for candidate in candidates:
+            shown = display_path(candidate.parent) or "."
+            if shown not in folders:
+                folders.append(shown)
+        ctx.warnings.warn(
+            f"texture '{name}' not found (looked in {', '.join(folders)}); "
+            "a placeholder is drawn instead",
+            location,
+        )
+    return TextureRef(
+        path=found if found is not None else candidates[0],
+        scale=(scale[0], scale[1]),
+        offset=(offset[0], offset[1]),
+        bump_scale=bump_scale,
+        location=location,
+        missing=found is None,
+    )
+
+
+def _texture_candidates(relative: str, folder: Path) -> list[Path]:
+    """Where a texture may be: as written (relative to the MTL file), then by its bare file
+    name next to the MTL file (absolute paths from another machine are common)."""
+    as_written = Path(relative)
+    on_another_drive = re.match(r"^[A-Za-z]:/", relative) is not None
+    candidates = []
+    if not on_another_drive:
+        candidates.append(as_written if as_written.is_absolute() else folder / as_written)
+    bare = folder / as_written.name
+    if bare not in candidates:
+        candidates.append(bare)
+    return candidates
+
+
+def _case_insensitive_match(candidates: list[Path]) -> Path | None:
+    """The first candidate that exists when letter case is ignored (models made on
+    Windows or macOS often spell names differently from the files)."""
+    for candidate in candidates:
+        folder = candidate.parent
+        try:
+            entries = os.listdir(folder)
+        except OSError:
+            continue
+        wanted = candidate.name.lower()
+        for entry in entries:
+            if entry.lower() == wanted and (folder / entry).is_file():
+                return folder / entry
+    return None

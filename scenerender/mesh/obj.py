@@ -1,0 +1,538 @@
+"""Wavefront OBJ reader.
+
+The reader makes one pass over the lines to sort the statements it needs into lists of
+string tokens, then converts each list to numbers in one NumPy call. Only the per-line
+dispatch runs in Python; parsing face corners, resolving relative indices, de-duplicating
+vertices and triangulating polygons are whole-array operations. That keeps a 200k-triangle
+model within the renderer's start-up budget.
+
+When the fast path meets something unusual (a malformed token, an empty ``1/2/`` field),
+the face corners are re-read one by one so the error can name the exact line.
+"""
+from __future__ import annotations
+
+import warnings as _pywarnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from scenerender.errors import SourceLocation, UserError, Warnings, display_path
+from scenerender.mesh.data import MeshData, MeshGroup
+from scenerender.mesh.mtl import parse_mtl
+
+# What each kind of index refers to, for error messages: (singular, plural).
+_ELEMENT_NAMES = {
+    "v": ("vertex", "vertices"),
+    "vt": ("texture coordinate", "texture coordinates"),
+    "vn": ("normal", "normals"),
+}
+
+
+@dataclass
+class _Statements:
+    """The statements of one OBJ file that matter, still as text tokens.
+
+    Line numbers are kept per record so that every later check can name its line.
+    """
+
+    v_tokens: list[str] = field(default_factory=list)
+    v_lines: list[int] = field(default_factory=list)
+    vt_tokens: list[str] = field(default_factory=list)
+    vt_lines: list[int] = field(default_factory=list)
+    vn_tokens: list[str] = field(default_factory=list)
+    vn_lines: list[int] = field(default_factory=list)
+    # Every face corner ("3/1/2"), faces one after another, with corners and line per face.
+    corner_tokens: list[str] = field(default_factory=list)
+    face_sizes: list[int] = field(default_factory=list)
+    face_lines: list[int] = field(default_factory=list)
+    # (index of the first face it applies to, material name, line)
+    material_switches: list[tuple[int, str | None, int]] = field(default_factory=list)
+    # (rest of the line, line)
+    mtllib_statements: list[tuple[str, int]] = field(default_factory=list)
+
+
+@dataclass
+class _Corners:
+    """Face corners as raw OBJ indices (1-based or negative).
+
+    Each array is (C,) int64; ``has_vt``/``has_vn`` are (C,) bool and say whether the
+    corner names that element at all (the index arrays hold 0 where it does not).
+    """
+
+    v: np.ndarray
+    vt: np.ndarray
+    vn: np.ndarray
+    has_vt: np.ndarray
+    has_vn: np.ndarray
+
+
+def parse_obj(path: Path, warnings: Warnings) -> MeshData:
+    """Read an OBJ file (and the MTL files it names) into an indexed triangle mesh.
+
+    Returns a MeshData whose ``normals`` is the file's normals, (N, 3) float32 and not yet
+    normalised, when every face corner names one, and ``None`` otherwise (the loader then
+    computes them; see ``scenerender.mesh.loader.load_mesh``). ``uvs`` is (N, 2) float32, or
+    None when no face corner names a texture coordinate. Vertices are shared between faces
+    wherever the (v, vt, vn) triple is the same.
+
+    Raises UserError with the file and line for malformed statements; a missing MTL file is
+    only a warning.
+    """
+    path = Path(path)
+    shown = display_path(path)
+    try:
+        text = path.read_bytes().decode("utf-8", errors="surrogateescape")
+    except OSError as exc:
+        message = f"cannot read OBJ file: {exc.strerror or exc}"
+        raise UserError(message, SourceLocation(shown)) from exc
+    return _parse_text(text, path, shown, warnings)
+
+
+def _parse_text(text: str, path: Path, shown: str, warnings: Warnings) -> MeshData:
+    statements = _collect_statements(text, shown)
+    positions = _vectors(statements.v_tokens, statements.v_lines, 3, shown)
+    texcoords = _vectors(statements.vt_tokens, statements.vt_lines, 2, shown)
+    file_normals = _vectors(statements.vn_tokens, statements.vn_lines, 3, shown)
+
+    corners = _parse_corners(statements, shown)
+    v_index, vt_index, vn_index = _resolve_indices(corners, statements, shown)
+    vertex_of_corner, unique_v, unique_vt, unique_vn = _weld_corners(
+        v_index, vt_index, vn_index, len(positions), len(texcoords), len(file_normals)
+    )
+
+    sizes = np.asarray(statements.face_sizes, dtype=np.int64)
+    indices = _fan_triangulate(vertex_of_corner, sizes)
+    groups = _material_groups(statements.material_switches, sizes)
+
+    uvs = None
+    if corners.has_vt.any():
+        uvs = np.zeros((len(unique_vt), 2), dtype=np.float32)
+        named = unique_vt >= 0
+        uvs[named] = texcoords[unique_vt[named]]
+    normals = None
+    if len(corners.has_vn) and corners.has_vn.all():
+        normals = file_normals[unique_vn].astype(np.float32)
+
+    materials, all_libraries_found = _load_material_libraries(path, statements, warnings)
+    if all_libraries_found and statements.mtllib_statements:
+        _warn_undefined_materials(statements, materials, shown, warnings)
+
+    return MeshData(
+        positions=positions[unique_v].astype(np.float32),
+        normals=normals,
+        uvs=uvs,
+        indices=indices,
+        groups=groups,
+        materials=materials,
+        source=shown,
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# Pass 1: sort the lines into token lists.
+
+
+def _numbered_lines(text: str):
+    """(line number, line) pairs, joining lines continued with a trailing backslash.
+
+    A joined line reports the number of its first physical line. Without continuations
+    (nearly always) this is a plain enumerate, which keeps the hot loop free of
+    generator overhead.
+    """
+    lines = text.splitlines()
+    if "\\\n" not in text and "\\\r" not in text:
+        return enumerate(lines, 1)
+    joined: list[tuple[int, str]] = []
+    pending: list[str] = []
+    start = 0
+    for number, line in enumerate(lines, 1):
+        if not pending:
+            start = number
+        if line.endswith("\\"):
+            pending.append(line[:-1])
+            continue
+        pending.append(line)
+        joined.append((start, " ".join(pending)))
+        pending = []
+    if pending:
+        joined.append((start, " ".join(pending)))
+    return joined
+
+
+def _collect_statements(text: str, shown: str) -> _Statements:
+    st = _Statements()
+    # Local aliases: this loop runs once per line of the file.
+    v_tokens, add_v_line = st.v_tokens, st.v_lines.append
+    corner_tokens = st.corner_tokens
+    add_face_size, add_face_line = st.face_sizes.append, st.face_lines.append
+    for number, line in _numbered_lines(text):
+        tokens = line.split()
+        if not tokens:
+            continue
+        key = tokens[0]
+        if key == "f":
+            del tokens[0]
+            if len(tokens) < 3:
+                raise UserError(
+                    f"face needs at least 3 vertices, got {len(tokens)}",
+                    SourceLocation(shown, number),
+                )
+            corner_tokens += tokens
+            add_face_size(len(tokens))
+            add_face_line(number)
+        elif key == "v":
+            if len(tokens) < 4:
+                raise UserError(
+                    f"'v' needs 3 numbers (x y z), got {len(tokens) - 1}",
+                    SourceLocation(shown, number),
+                )
+            v_tokens += tokens[1:4]  # w and per-vertex colours are ignored
+            add_v_line(number)
+        elif key == "vt":
+            if len(tokens) < 2:
+                raise UserError(
+                    "'vt' needs at least 1 number (u [v])", SourceLocation(shown, number)
+                )
+            # "vt u" alone means v = 0; a third (w) value is ignored.
+            st.vt_tokens += tokens[1:3] if len(tokens) > 2 else (tokens[1], "0")
+            st.vt_lines.append(number)
+        elif key == "vn":
+            if len(tokens) < 4:
+                raise UserError(
+                    f"'vn' needs 3 numbers (x y z), got {len(tokens) - 1}",
+                    SourceLocation(shown, number),
+                )
+            st.vn_tokens += tokens[1:4]
+            st.vn_lines.append(number)
+        elif key == "usemtl":
+            name = line.split(None, 1)[1].strip() if len(tokens) > 1 else None
+            st.material_switches.append((len(st.face_sizes), name, number))
+        elif key == "mtllib":
+            if len(tokens) > 1:
+                st.mtllib_statements.append((line.split(None, 1)[1].strip(), number))
+        # Everything else (o, g, s, l, p, vp, comments, free-form geometry, unknown
+        # statements) does not affect a triangle mesh and is skipped.
+    return st
+
+
+# ---------------------------------------------------------------------------------------
+# Pass 2: numbers.
+
+
+def _vectors(tokens: list[str], lines: list[int], width: int, shown: str) -> np.ndarray:
+    """(len(lines), width) float64: the numbers of one kind of statement (v, vt or vn)."""
+    if not tokens:
+        return np.zeros((0, width), dtype=np.float64)
+    try:
+        values = np.array(tokens, dtype=np.float64)
+    except ValueError:
+        values = None
+    if values is None or not np.isfinite(values).all():
+        _raise_for_bad_number(tokens, lines, width, shown)
+    return values.reshape(-1, width)
+
+
+def _raise_for_bad_number(tokens: list[str], lines: list[int], width: int, shown: str) -> None:
+    """Find the first token the bulk conversion rejected and raise for its line."""
+    for i, token in enumerate(tokens):
+        location = SourceLocation(shown, lines[i // width])
+        try:
+            value = np.array([token], dtype=np.float64)[0]  # the same rules as the bulk call
+        except ValueError:
+            raise UserError(f"expected a number, got {token!r}", location) from None
+        if not np.isfinite(value):
+            raise UserError(f"expected a finite number, got {token!r}", location)
+    raise UserError("could not read the numbers in this file", SourceLocation(shown))
+
+
+def _ints(text: str, expected: int) -> np.ndarray | None:
+    """(expected,) int64: the whitespace-separated integers in ``text``, or None if any
+    token is not an integer or the count differs."""
+    try:
+        # np.fromstring is the fastest integer reader NumPy has. On bad input it warns and
+        # returns what it read so far ("3abc" gives 3), so its warnings must be errors.
+        with _pywarnings.catch_warnings():
+            _pywarnings.simplefilter("error")
+            values = np.fromstring(text, dtype=np.int64, sep=" ")
+    except (ValueError, Warning):
+        try:  # strict, and still vectorised, should fromstring change or go away
+            values = np.array(text.split(), dtype=np.int64)
+        except (ValueError, OverflowError):
+            return None
+    return values if len(values) == expected else None
+
+
+def _parse_corners(st: _Statements, shown: str) -> _Corners:
+    corners = _parse_corners_fast(st.corner_tokens)
+    if corners is None:
+        corners = _parse_corners_slowly(st, shown)
+    return corners
+
+
+def _parse_corners_fast(tokens: list[str]) -> _Corners | None:
+    """Parse every corner at once; None when something needs the careful per-corner path.
+
+    The shape of each corner (``v``, ``v/vt``, ``v//vn`` or ``v/vt/vn``) is read from the
+    number of slashes and double slashes inside it, counted with NumPy over the bytes of
+    all corners joined by single spaces.
+    """
+    count = len(tokens)
+    if count == 0:
+        empty = np.zeros(0, dtype=np.int64)
+        return _Corners(empty, empty, empty, empty.astype(bool), empty.astype(bool))
+    joined = " ".join(tokens)
+    if "/" not in joined:
+        v = _ints(joined, count)
+        if v is None:
+            return None
+        zeros = np.zeros(count, dtype=np.int64)
+        no = np.zeros(count, dtype=bool)
+        return _Corners(v, zeros, zeros.copy(), no, no.copy())
+
+    try:
+        raw = np.frombuffer(joined.encode("ascii"), dtype=np.uint8)
+    except UnicodeEncodeError:
+        return None
+    lengths = np.fromiter(map(len, tokens), dtype=np.int64, count=count)
+    if lengths.max() > 255:
+        return None  # the uint8 counts below could wrap; no real corner is this long
+    starts = np.cumsum(lengths + 1) - (lengths + 1)
+    ends = starts + lengths  # one past each corner's last character
+    slash = (raw == ord("/")).astype(np.uint8)
+    pair = np.zeros_like(slash)  # 1 where "//" starts
+    np.bitwise_and(slash[:-1], slash[1:], out=pair[:-1])
+    # Each reduceat segment runs from one corner's start to the next one's, which adds only
+    # the separating space (never a slash). Summing in uint8 avoids an 8-byte-per-character
+    # copy; the length check above keeps the sums from wrapping.
+    slashes = np.add.reduceat(slash, starts).astype(np.int64)
+    doubles = np.add.reduceat(pair, starts).astype(np.int64)
+
+    well_formed = (
+        (slashes <= 2)
+        & ((doubles == 0) | ((doubles == 1) & (slashes == 2)))
+        & (slash[starts] == 0)
+        & (slash[ends - 1] == 0)
+    )
+    if not well_formed.all():
+        return None
+    fields = slashes + 1 - doubles
+    numbers = _ints(joined.replace("//", " ").replace("/", " "), int(fields.sum()))
+    if numbers is None:
+        return None
+
+    first = np.cumsum(fields) - fields
+    last = len(numbers) - 1
+    has_vt = (slashes >= 1) & (doubles == 0)
+    has_vn = slashes == 2
+    vt = np.where(has_vt, numbers[np.minimum(first + 1, last)], 0)
+    vn = np.where(has_vn, numbers[np.minimum(first + 2 - doubles, last)], 0)
+    return _Corners(numbers[first], vt, vn, has_vt, has_vn)
+
+
+def _parse_corners_slowly(st: _Statements, shown: str) -> _Corners:
+    """Parse corner by corner, raising UserError at the first malformed one."""
+    count = len(st.corner_tokens)
+    v = np.zeros(count, dtype=np.int64)
+    vt = np.zeros(count, dtype=np.int64)
+    vn = np.zeros(count, dtype=np.int64)
+    has_vt = np.zeros(count, dtype=bool)
+    has_vn = np.zeros(count, dtype=bool)
+    corner = 0
+    for size, line in zip(st.face_sizes, st.face_lines):
+        for token in st.corner_tokens[corner : corner + size]:
+            parts = token.split("/")
+            if len(parts) > 3 or not parts[0]:
+                raise UserError(
+                    f"face corner {token!r} is not v, v/vt, v//vn or v/vt/vn",
+                    SourceLocation(shown, line),
+                )
+            numbers = [_corner_int(part, token, shown, line) for part in parts]
+            v[corner] = numbers[0]
+            if len(numbers) > 1 and numbers[1] is not None:
+                vt[corner], has_vt[corner] = numbers[1], True
+            if len(numbers) > 2 and numbers[2] is not None:
+                vn[corner], has_vn[corner] = numbers[2], True
+            corner += 1
+    return _Corners(v, vt, vn, has_vt, has_vn)
+
+
+def _corner_int(part: str, token: str, shown: str, line: int) -> int | None:
+    if part == "":
+        return None  # an empty field, as in "3//1" or "3/1/", means "not given"
+    try:
+        return int(part)
+    except ValueError:
+        raise UserError(
+            f"expected a whole number in face corner {token!r}, got {part!r}",
+            SourceLocation(shown, line),
+        ) from None
+
+
+def _resolve_indices(corners: _Corners, st: _Statements, shown: str):
+    """Turn raw OBJ indices into 0-based ones; -1 where a corner names no vt / vn.
+
+    A negative index counts back from the last element defined *before the face*, so each
+    face needs the number of v/vt/vn statements above it.
+    """
+    sizes = np.asarray(st.face_sizes, dtype=np.int64)
+    face_lines = np.asarray(st.face_lines, dtype=np.int64)
+    face_of_corner = np.repeat(np.arange(len(sizes)), sizes)
+    resolved = []
+    for key, raw, present in (
+        ("v", corners.v, np.ones(len(corners.v), dtype=bool)),
+        ("vt", corners.vt, corners.has_vt),
+        ("vn", corners.vn, corners.has_vn),
+    ):
+        element_lines = np.asarray(getattr(st, f"{key}_lines"), dtype=np.int64)
+        defined = np.searchsorted(element_lines, face_lines)[face_of_corner]
+        absolute = np.where(raw < 0, defined + raw + 1, raw)
+        bad = present & ((raw == 0) | (absolute < 1) | (absolute > defined))
+        if bad.any():
+            corner = int(np.argmax(bad))
+            line = int(face_lines[face_of_corner[corner]])
+            raise UserError(
+                _index_message(_ELEMENT_NAMES[key], int(raw[corner]), int(defined[corner])),
+                SourceLocation(shown, line),
+            )
+        resolved.append(np.where(present, absolute - 1, -1))
+    return resolved
+
+
+def _index_message(names: tuple[str, str], index: int, defined: int) -> str:
+    singular, plural = names
+    if defined == 0:
+        defined_text = f"no {plural} are defined so far"
+    elif defined == 1:
+        defined_text = f"only 1 {singular} is defined so far"
+    else:
+        defined_text = f"only {defined} {plural} are defined so far"
+    if index == 0:
+        return f"face uses {singular} index 0, but OBJ indices start at 1"
+    if index < 0:
+        return f"face refers to {singular} {index} (counting back from the last) but {defined_text}"
+    return f"face refers to {singular} {index} but {defined_text}"
+
+
+# ---------------------------------------------------------------------------------------
+# Pass 3: vertices and triangles.
+
+
+def _weld_corners(v, vt, vn, v_count: int, vt_count: int, vn_count: int):
+    """Give every distinct (v, vt, vn) triple one vertex.
+
+    Returns (vertex index per corner (C,) int64, and per new vertex its v, vt and vn
+    indices, each (N,) int64 with -1 for "none").
+    """
+    vt_range, vn_range = vt_count + 1, vn_count + 1  # +1 because -1 means "none"
+    if v_count * vt_range * vn_range < 2**62:
+        key = (v * vt_range + (vt + 1)) * vn_range + (vn + 1)
+        unique_keys, vertex_of_corner = np.unique(key, return_inverse=True)
+        unique_vn = unique_keys % vn_range - 1
+        rest = unique_keys // vn_range
+        unique_vt = rest % vt_range - 1
+        unique_v = rest // vt_range
+    else:  # too many elements to pack the triple into one int64
+        triples = np.stack([v, vt, vn], axis=1)
+        unique_rows, vertex_of_corner = np.unique(triples, axis=0, return_inverse=True)
+        unique_v, unique_vt, unique_vn = unique_rows.T
+    return vertex_of_corner.reshape(-1), unique_v, unique_vt, unique_vn
+
+
+def _fan_triangulate(vertex_of_corner: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """(M, 3) uint32 triangles: a polygon (c0, c1, ..., cn) becomes (c0, ci, ci+1)."""
+    if len(sizes) == 0:
+        return np.zeros((0, 3), dtype=np.uint32)
+    if (sizes == 3).all():
+        return vertex_of_corner.reshape(-1, 3).astype(np.uint32)
+    triangles_per_face = sizes - 2
+    face_start = np.cumsum(sizes) - sizes
+    first_triangle = np.cumsum(triangles_per_face) - triangles_per_face
+    face = np.repeat(np.arange(len(sizes)), triangles_per_face)
+    step = np.arange(int(triangles_per_face.sum())) - first_triangle[face]
+    anchor = face_start[face]
+    corners = np.stack([anchor, anchor + step + 1, anchor + step + 2], axis=1)
+    return vertex_of_corner[corners].astype(np.uint32)
+
+
+def _material_groups(switches, sizes: np.ndarray) -> list[MeshGroup]:
+    """Triangle ranges per ``usemtl``: empty runs dropped, neighbours with one material merged."""
+    triangles_before_face = np.concatenate(([0], np.cumsum(sizes - 2)))
+    total = int(triangles_before_face[-1])
+    marks: list[tuple[int, str | None]] = [(0, None)]
+    for first_face, material, _line in switches:
+        marks.append((int(triangles_before_face[first_face]), material))
+    groups: list[MeshGroup] = []
+    for (first, material), (end, _) in zip(marks, marks[1:] + [(total, None)]):
+        if end == first:
+            continue
+        if groups and groups[-1].material == material:
+            previous = groups.pop()
+            first = previous.first
+        groups.append(MeshGroup(material, first, end - first))
+    return groups or [MeshGroup(None, 0, 0)]
+
+
+# ---------------------------------------------------------------------------------------
+# Materials.
+
+
+def _load_material_libraries(
+    obj_path: Path, st: _Statements, warnings: Warnings
+) -> tuple[dict, bool]:
+    """Materials of every ``mtllib`` (later definitions of a name win), and whether every
+    library was found."""
+    shown = display_path(obj_path)
+    folder = obj_path.parent
+    materials: dict = {}
+    all_found = True
+    loaded: set[Path] = set()
+    for rest, line in st.mtllib_statements:
+        for library in _library_paths(folder, rest):
+            if library in loaded:
+                continue
+            loaded.add(library)
+            if not library.is_file():
+                warnings.warn(
+                    f"material library '{display_path(library)}' not found; "
+                    "its materials are drawn with the object's material",
+                    SourceLocation(shown, line),
+                )
+                all_found = False
+                continue
+            materials.update(parse_mtl(library, warnings))
+    return materials, all_found
+
+
+def _library_paths(folder: Path, rest: str) -> list[Path]:
+    """The files named by one ``mtllib`` statement.
+
+    The format separates several names with spaces, but exporters also write one name
+    containing spaces; the whole rest of the line wins when such a file exists.
+    """
+    rest = rest.replace("\\", "/")
+    whole = folder / rest
+    if " " in rest and whole.is_file():
+        return [whole]
+    return [folder / name for name in rest.split()]
+
+
+def _warn_undefined_materials(
+    st: _Statements, materials: dict, shown: str, warnings: Warnings
+) -> None:
+    """Warn once per ``usemtl`` name that no library defines.
+
+    Called only when the file has libraries and all were found: files without any
+    ``mtllib`` often carry a meaningless ``usemtl default``, and a missing library has
+    already been reported.
+    """
+    reported: set[str] = set()
+    for _face, name, line in st.material_switches:
+        if name is None or name in materials or name in reported:
+            continue
+        reported.add(name)
+        warnings.warn(
+            f"material '{name}' is not defined in the material libraries; "
+            "those faces use the object's material",
+            SourceLocation(shown, line),
+        )

@@ -1,0 +1,9 @@
+"""Frame sinks: where rendered frames go. No rendering here, so sinks are tested with
+synthetic frames. Every file is written whole (temporary file, then rename) or not at all.
+"""
+from scenerender.sinks.base import FrameSink, atomic_path
+from scenerender.sinks.images import ImageSequenceSink, frame_name_pattern
+from scenerender.sinks.threaded import ThreadedSink
+from scenerender.sinks.video import VideoSink
+
+__all__ = ["FrameSink", "ImageSequenceSink", "ThreadedSink", "VideoSink", "atomic_path", "frame_name_pattern"]

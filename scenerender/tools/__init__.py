@@ -1,0 +1,1 @@
+"""Tools around rendering: image comparison for CI, benchmarks."""
