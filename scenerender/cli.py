@@ -19,7 +19,9 @@ SET_HELP = "Override any scene key, e.g. --set render.samples=8 or --set objects
 
 
 def _echo_error(text: str) -> None:
-    click.echo(f"error: {text}", err=True)
+    from scenerender.errors import one_line
+
+    click.echo(f"error: {one_line(text)}", err=True)
 
 
 class _Command(click.Group):
@@ -38,6 +40,10 @@ class _Command(click.Group):
         except EnvironmentProblem as exc:
             _echo_error(str(exc))
             sys.exit(exc.exit_code)
+        except BrokenPipeError:  # output piped into `head` and friends: stop quietly
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            sys.exit(0)
         except KeyboardInterrupt:
             _echo_error("interrupted; frames already finished are complete, nothing partial was left")
             sys.exit(130)

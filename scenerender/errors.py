@@ -43,14 +43,15 @@ class UserError(Exception):
         if self.key:
             parts.append(self.key)
         parts.append(self.message)
-        return ": ".join(parts)
+        return one_line(": ".join(parts))
 
 
 class SceneErrors(UserError):
     """Several problems found at once in one scene file; each prints on its own line."""
 
     def __init__(self, errors: list[UserError]):
-        super().__init__(str(errors[0]), errors[0].location, errors[0].key)
+        first = errors[0]
+        super().__init__(first.message, first.location, first.key)
         self.errors = errors
 
     def lines(self) -> list[str]:
@@ -78,6 +79,13 @@ class Warnings:
         self.items.append(text)
         if self._echo is not None:
             self._echo(f"warning: {text}")
+
+
+def one_line(text: str) -> str:
+    """Messages are one line: control characters in user values are shown escaped."""
+    if "\n" in text or "\r" in text or "\t" in text:
+        return text.replace("\r", "\\r").replace("\n", "\\n").replace("\t", "\\t")
+    return text
 
 
 def display_path(path) -> str:

@@ -42,19 +42,25 @@ class RenderSummary:
 
 
 def parse_frame_range(text: str | None, total: int) -> range:
-    """'A:B' (end exclusive, either side optional, negatives count from the end) -> range."""
+    """'A:B' or 'A:B:STEP' (end exclusive, parts optional, negatives count from the end,
+    exactly like a Python slice), or 'N' for one frame -> the frame indices."""
     if text is None:
         return range(total)
     where = SourceLocation("--frames")
-    start_text, sep, end_text = text.partition(":")
-    if not sep:
-        start_text, end_text = text, None
+    parts = text.split(":")
     try:
-        start = int(start_text) if start_text.strip() else 0
-        end = int(end_text) if end_text is not None and end_text.strip() else (start + 1 if not sep else total)
+        numbers = [int(p) if p.strip() else None for p in parts]
     except ValueError:
-        raise UserError(f"expected A:B with whole numbers (end exclusive), got '{text}'", where) from None
-    selected = range(total)[slice(start, end)]
+        raise UserError(f"expected A:B or A:B:STEP with whole numbers (end exclusive), got '{text}'", where) from None
+    if len(parts) == 1:
+        if numbers[0] is None:
+            raise UserError("expected a frame number or A:B", where)
+        numbers = [numbers[0], numbers[0] + 1 if numbers[0] != -1 else None]
+    if len(numbers) > 3:
+        raise UserError(f"expected A:B or A:B:STEP, got '{text}'", where)
+    if len(numbers) == 3 and numbers[2] is not None and numbers[2] <= 0:
+        raise UserError(f"the step must be positive, got '{text}'", where)
+    selected = range(total)[slice(*numbers)]
     if len(selected) == 0:
         raise UserError(f"'{text}' selects no frames; the scene has frames 0..{total - 1}", where)
     return selected

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from scenerender.mesh import MeshData, tangents
+from scenerender.mesh import MeshData, smooth_normals, tangents
 
 INSTANCE_FLOATS = 16 + 9  # camera-relative model matrix, normal matrix
 
@@ -22,9 +22,23 @@ class GpuMesh:
             self.tangents = ctx.buffer(np.ascontiguousarray(tangents(mesh), dtype=np.float32).tobytes())
         self.mesh = mesh
         self.index_count = int(mesh.indices.size)
+        self._ctx = ctx
+        self._smooth = None
 
-    def content(self, program, instances) -> list:
-        """moderngl vertex_array content for ``program`` with an instance buffer."""
+    def smooth_normals(self):
+        """Normals averaged over vertices that share a position (made on first use).
+
+        Outlines inflate the mesh along these: face normals would split a hard-edged mesh
+        apart at its corners.
+        """
+        if self._smooth is None:
+            normals = smooth_normals(self.mesh.positions, self.mesh.indices)
+            self._smooth = self._ctx.buffer(np.ascontiguousarray(normals, dtype=np.float32).tobytes())
+        return self._smooth
+
+    def content(self, program, instances, welded_normals: bool = False) -> list:
+        """moderngl vertex_array content for ``program`` with an instance buffer;
+        ``welded_normals`` feeds ``smooth_normals()`` as in_normal."""
         names = set(program)
         # Attributes a program does not use must be skipped in the format ("x" = padding).
         fmt, attrs = [], []
@@ -34,7 +48,11 @@ class GpuMesh:
                 attrs.append(name)
             else:
                 fmt.append(f"{size * 4}x")
+        if welded_normals and "in_normal" in attrs:
+            fmt[1], attrs = "12x", [a for a in attrs if a != "in_normal"]
         layout = [(self.vertices, " ".join(fmt), *attrs)]
+        if welded_normals and "in_normal" in names:
+            layout.append((self.smooth_normals(), "3f", "in_normal"))
         if self.tangents is not None and "in_tangent" in names:
             layout.append((self.tangents, "4f", "in_tangent"))
         inst_fmt, inst_attrs = [], []

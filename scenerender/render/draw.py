@@ -17,8 +17,17 @@ class DrawItem:
 
 
 def opaque_items(world, frame) -> list[DrawItem]:
-    """Visible groups whose material is opaque, in scene order."""
-    return [item for item in _items(world, frame) if not item.material.transparent]
+    """Visible opaque groups, nearest object first, so the depth test rejects hidden
+    fragments before they are shaded."""
+    items = [item for item in _items(world, frame) if not item.material.transparent]
+    return sorted(items, key=lambda item: _distance(frame, item.object_index))
+
+
+def _distance(frame, index: int) -> float:
+    """Distance from the camera to the nearest point of an object's bounds."""
+    lo, hi = frame.objects[index].bounds
+    nearest = np.clip(frame.camera.position, lo, hi)
+    return float(np.linalg.norm(nearest - frame.camera.position))
 
 
 def transparent_items(world, frame) -> list[DrawItem]:
@@ -31,7 +40,7 @@ def transparent_items(world, frame) -> list[DrawItem]:
 
 def _items(world, frame):
     for index, obj in enumerate(world.objects):
-        if not frame.objects[index].visible:
+        if frame.objects[index].in_view == 0:
             continue
         for group_index, material in enumerate(obj.materials):
             if obj.mesh.groups[group_index].count > 0:
@@ -73,11 +82,34 @@ def _sampler_state(texture, material, source) -> None:
 
 
 def draw_item(ctx, program, item: DrawItem, mode=None) -> None:
-    """Draw one group of one object, all its instances, with ``program``."""
-    import moderngl
-
+    """Draw one group of one object (its instances in view) with ``program``."""
     obj = ctx.world.objects[item.object_index]
     group = obj.mesh.groups[item.group_index]
-    vao = ctx.scene.vertex_array(program, item.object_index)
-    vao.render(mode if mode is not None else moderngl.TRIANGLES, vertices=group.count * 3,
-               first=group.first * 3, instances=obj.instances.count)
+    draw_object(ctx, program, item.object_index, mode=mode, first=group.first * 3, vertices=group.count * 3)
+
+
+def camera_objects(ctx) -> list[int]:
+    """Indices of objects with at least one instance in the camera's view."""
+    return [i for i, state in enumerate(ctx.frame.objects) if state.in_view > 0]
+
+
+def light_objects(ctx) -> list[int]:
+    """Indices of visible objects that cast shadows (seen from a light, view culling does
+    not apply: a caster outside the camera's view still shadows what is in it)."""
+    return [i for i, obj in enumerate(ctx.world.objects) if obj.cast_shadows and ctx.frame.objects[i].visible]
+
+
+def draw_object(ctx, program, index: int, *, all_instances: bool = False, mode=None, first: int = 0,
+                vertices: int | None = None, welded_normals: bool = False) -> None:
+    """Draw object ``index`` with ``program``: the instances in the camera's view, or all of
+    them (``all_instances``, for passes drawn from a light)."""
+    import moderngl
+
+    obj = ctx.world.objects[index]
+    state = ctx.frame.objects[index]
+    count = state.count if all_instances else state.in_view
+    if count == 0:
+        return
+    vao = ctx.scene.vertex_array(program, index, welded_normals)
+    vao.render(mode if mode is not None else moderngl.TRIANGLES,
+               vertices=obj.mesh.triangle_count * 3 if vertices is None else vertices, first=first, instances=count)

@@ -1,6 +1,7 @@
 """The renderer: one GL context, one compiled graph and one GpuScene for a whole run."""
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,8 +29,9 @@ class FrameResult:
 class GLBackend:
     """Executes passes on the GL context with the graph's resources."""
 
-    def __init__(self, gl, scene, programs, features, resources):
+    def __init__(self, gl, scene, programs, features, resources, timings: dict | None = None):
         self.gl = gl
+        self.timings = timings  # pass name -> list of seconds, when profiling
         self.scene = scene
         self.programs = programs
         self.features = features
@@ -40,7 +42,15 @@ class GLBackend:
     def execute(self, render_pass, frame) -> None:
         ctx = PassContext(self.gl, frame, self.scene, self.programs, self.features, self.resources,
                           self.framebuffers, self.outputs)
+        if self.timings is None:
+            render_pass.execute(ctx)
+            return
+        # profiling: wait for the GPU around each pass so its time is its own
+        self.gl.finish()
+        started = time.perf_counter()
         render_pass.execute(ctx)
+        self.gl.finish()
+        self.timings.setdefault(render_pass.name, []).append(time.perf_counter() - started)
 
 
 def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: bool = False, warn=None):
@@ -58,7 +68,8 @@ def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: 
 class Renderer:
     """Renders frames of one World at one size. Create once, call ``render`` per frame."""
 
-    def __init__(self, world, gl, size=None, samples=None, warn=None, want_linear: bool = False):
+    def __init__(self, world, gl, size=None, samples=None, warn=None, want_linear: bool = False,
+                 profile: bool = False):
         render = world.render
         self.world = world
         self.gl = gl
@@ -75,7 +86,8 @@ class Renderer:
 
         self.scene = GpuScene(gl, world, self.atlas)
         resources = {index: allocate(gl, desc) for index, _, desc in self.compiled.resources()}
-        self.backend = GLBackend(gl, self.scene, self.programs, self.features, resources)
+        self.timings: dict | None = {} if profile else None
+        self.backend = GLBackend(gl, self.scene, self.programs, self.features, resources, self.timings)
         self.evaluator = FrameEvaluator(world, self.size, self.atlas)
         self._rendered_any = False
 

@@ -116,14 +116,15 @@ class GpuScene:
             vao = self._vaos[key] = self.ctx.vertex_array(program, [])
         return vao
 
-    def vertex_array(self, program, object_index: int):
-        key = (id(program), object_index)
+    def vertex_array(self, program, object_index: int, welded_normals: bool = False):
+        """The vertex array drawing object ``object_index`` with ``program`` (cached)."""
+        key = (id(program), object_index, welded_normals)
         vao = self._vaos.get(key)
         if vao is None:
             obj = self.world.objects[object_index]
             mesh = self.meshes[obj.mesh_key]
-            vao = self.ctx.vertex_array(program, mesh.content(program, self.instance_buffers[object_index]),
-                                        index_buffer=mesh.indices, index_element_size=4)
+            content = mesh.content(program, self.instance_buffers[object_index], welded_normals)
+            vao = self.ctx.vertex_array(program, content, index_buffer=mesh.indices, index_element_size=4)
             self._vaos[key] = vao
         return vao
 

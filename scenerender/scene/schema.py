@@ -222,11 +222,12 @@ class OutputSettings(StrictModel):
             try:
                 self.name.format(frame=0)
             except (KeyError, IndexError, ValueError) as exc:
-                raise PydanticCustomError("name_pattern", "bad name pattern ({err}); use e.g. \"frame_{{frame:04d}}\"",
+                raise PydanticCustomError("name_pattern", "bad name pattern ({err}); use e.g. \"frame_{frame:04d}\"",
                                           {"err": str(exc), "subpath": ("name",)})
-            if "{frame" not in self.name:
-                raise PydanticCustomError("name_pattern", "name pattern must contain {{frame}} (e.g. \"frame_{{frame:04d}}\")",
-                                          {"subpath": ("name",)})
+            if "{frame" not in self.name and self.frame_count > 1:
+                raise PydanticCustomError(
+                    "name_pattern", "name pattern must contain {frame} when there is more than one frame "
+                    "(e.g. \"frame_{frame:04d}\")", {"subpath": ("name",)})
         return self
 
     @property
@@ -432,7 +433,7 @@ Positive = number(0, lo_open=True)
 class PlanePrimitive(StrictModel):
     primitive: Literal["plane"]
     size: _extent(2) = 1.0
-    uv_repeat: Positive = 1.0
+    uv_repeat: _extent(2) = 1.0
 
 
 class BoxPrimitive(StrictModel):

@@ -158,8 +158,9 @@ def _at(subpath: tuple, check, value):
     except PydanticCustomError as exc:
         context = dict(exc.context or {})
         inner = context.pop("subpath", ())
-        raise PydanticCustomError(exc.type, exc.message().replace("{", "{{").replace("}", "}}"),
-                                  {"subpath": tuple(subpath) + tuple(inner)}) from None
+        # pydantic fills only placeholders named in the context, so the formatted message
+        # can be reused as a template with a context that holds nothing but the location
+        raise PydanticCustomError(exc.type, exc.message(), {"subpath": tuple(subpath) + tuple(inner)}) from None
 
 
 def _interpolation(value):
@@ -203,7 +204,7 @@ def _parse_key(index: int, key, check, default_mode: str):
         t = _at(where + ("t",), check_number, key["t"])
         mode = _at(where + ("interpolation",), _interpolation, key.get("interpolation", default_mode))
         return t, _as_row(_at(where + ("value",), check, key["value"])), mode
-    raise PydanticCustomError("key", "a key is [time, value] or {{t: ..., value: ...}}, got {got}",
+    raise PydanticCustomError("key", "a key is [time, value] or {t: ..., value: ...}, got {got}",
                               {"got": describe(key), "subpath": where})
 
 

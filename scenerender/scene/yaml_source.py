@@ -46,6 +46,9 @@ class SourceMap:
     def locate(self, path: tuple) -> SourceLocation:
         """The most precise known position for ``path``: the path itself or its nearest parent."""
         probe = tuple(path)
+        for override_path, text in self.overrides.items():
+            if override_path[:len(probe)] == probe and probe:  # the error is in what --set wrote
+                return SourceLocation(text)
         while True:
             if probe in self.overrides:
                 return SourceLocation(self.overrides[probe])
@@ -92,8 +95,20 @@ def resolve_plain_scalar(text: str):
     return text
 
 
+PLAIN_TAG = "tag:scenerender,plain"  # an untagged plain scalar, resolved by YAML 1.2 rules below
+
+
 class _Composer(yaml.SafeLoader):
-    """SafeLoader's composer; we only use it to build nodes, never to construct objects."""
+    """SafeLoader's composer; we only use it to build nodes, never to construct objects.
+
+    Untagged plain scalars get PLAIN_TAG instead of PyYAML's YAML 1.1 guess, so explicit
+    tags (``!!str 123``) stay distinguishable and are honoured.
+    """
+
+    def resolve(self, kind, value, implicit):
+        if kind is yaml.ScalarNode and implicit[0]:
+            return PLAIN_TAG
+        return super().resolve(kind, value, implicit)
 
 
 def load_yaml(path: Path) -> tuple[object, SourceMap]:
@@ -144,10 +159,7 @@ def _to_data(node, path: tuple, source: SourceMap):
 
 def _scalar(node: yaml.ScalarNode, source: SourceMap):
     tag = node.tag
-    if node.style is None and tag in ("tag:yaml.org,2002:null", "tag:yaml.org,2002:bool",
-                                      "tag:yaml.org,2002:int", "tag:yaml.org,2002:float",
-                                      "tag:yaml.org,2002:str", "tag:yaml.org,2002:timestamp",
-                                      "tag:yaml.org,2002:value", "tag:yaml.org,2002:merge"):
+    if tag == PLAIN_TAG:
         return resolve_plain_scalar(node.value)
     if tag in ("tag:yaml.org,2002:str", "tag:yaml.org,2002:binary", "tag:yaml.org,2002:timestamp"):
         return node.value
@@ -162,33 +174,57 @@ def _scalar(node: yaml.ScalarNode, source: SourceMap):
     raise UserError(f"unsupported YAML tag {tag}", SourceLocation(source.file, *_mark(node)))
 
 
+def _is_merge_key(node) -> bool:
+    return node.tag == "tag:yaml.org,2002:merge" or (isinstance(node, yaml.ScalarNode) and node.style is None
+                                                      and node.value == "<<")
+
+
 def _mapping(node: yaml.MappingNode, path: tuple, source: SourceMap) -> dict:
     result: dict = {}
+    merges = []
     for key_node, value_node in node.value:
-        if key_node.tag == "tag:yaml.org,2002:merge" or (key_node.style is None and key_node.value == "<<"):
-            _merge_into(result, value_node, path, source)
+        if _is_merge_key(key_node):
+            merges.append(value_node)
             continue
-        key = _to_data(key_node, path + ("<key>",), source)
-        source.values.pop(path + ("<key>",), None)
-        if not isinstance(key, str):
-            key = str(key) if isinstance(key, (int, float, bool)) else key
-        if not isinstance(key, str):
-            raise UserError("mapping keys must be plain text", SourceLocation(source.file, *_mark(key_node)))
-        if key in result and path + (key,) in source.keys:
+        key = _key(key_node, path, source)
+        if key in result:
             first = source.keys[path + (key,)][0]
             raise UserError(f"duplicate key '{key}' (first given on line {first})",
                             SourceLocation(source.file, *_mark(key_node)))
         source.keys[path + (key,)] = _mark(key_node)
         result[key] = _to_data(value_node, path + (key,), source)
+    for value_node in merges:
+        _merge_into(result, value_node, path, source)
     return result
 
 
+def _key(key_node, path: tuple, source: SourceMap) -> str:
+    key = _to_data(key_node, path + ("<key>",), source)
+    source.values.pop(path + ("<key>",), None)
+    if isinstance(key, (int, float, bool)):
+        key = str(key)
+    if not isinstance(key, str):
+        raise UserError("mapping keys must be plain text", SourceLocation(source.file, *_mark(key_node)))
+    return key
+
+
 def _merge_into(result: dict, value_node, path: tuple, source: SourceMap) -> None:
-    """YAML merge keys (``<<: *defaults``): keys from the merged mappings that are not set here."""
+    """YAML merge keys (``<<: *defaults``): keys from the merged mappings that are not set
+    here; positions of merged keys point at the anchored mapping they come from."""
     nodes = value_node.value if isinstance(value_node, yaml.SequenceNode) else [value_node]
     for merged in nodes:
         if not isinstance(merged, yaml.MappingNode):
             raise UserError("'<<' merges only mappings", SourceLocation(source.file, *_mark(merged)))
-        data = _mapping(merged, path, source)
+        scratch = SourceMap(source.file)
+        data = _mapping(merged, path, scratch)
         for key, value in data.items():
-            result.setdefault(key, value)
+            if key not in result:
+                result[key] = value
+                _copy_positions(scratch, source, path + (key,))
+
+
+def _copy_positions(src: SourceMap, dst: SourceMap, prefix: tuple) -> None:
+    for table_src, table_dst in ((src.keys, dst.keys), (src.values, dst.values)):
+        for key_path, mark in table_src.items():
+            if key_path[:len(prefix)] == prefix:
+                table_dst.setdefault(key_path, mark)

@@ -45,9 +45,9 @@ class ImageSequenceSink(FrameSink):
             return _exr_readable(path)
         from PIL import Image
 
-        try:
+        try:  # decode it all: a header-only check accepts a JPEG or TGA cut in half
             with Image.open(path) as image:
-                image.verify()
+                image.load()
         except Exception:  # any decoding failure means "not complete"
             return False
         return True

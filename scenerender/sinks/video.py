@@ -28,6 +28,9 @@ class VideoSink(FrameSink):
         self.fmt = fmt
         self.fps = fps
         self.size = tuple(size)
+        # H.264 in yuv420p needs even sizes: odd frames get one edge row/column repeated
+        # (never rescaled, so pixels stay where they were rendered)
+        self.encoded_size = tuple(v + v % 2 for v in size) if fmt == "mp4" else self.size
         self.quality = quality
         self.frames = 0
         self._temp = self.path.with_name(f".{self.path.name}.partial{self.path.suffix}")
@@ -42,12 +45,12 @@ class VideoSink(FrameSink):
         if self.fmt == "mp4":
             params = dict(codec="libx264", pix_fmt_out="yuv420p", quality=None,
                           output_params=["-crf", str(_crf(self.quality)), "-preset", "medium",
-                                         "-movflags", "+faststart"], macro_block_size=2)
+                                         "-movflags", "+faststart"], macro_block_size=1)
         else:
             params = dict(codec="gif", pix_fmt_out="rgb8", quality=None,
                           output_params=["-filter_complex", GIF_FILTER, "-loop", "0"], macro_block_size=1)
-        writer = imageio_ffmpeg.write_frames(str(self._temp), self.size, fps=self.fps, ffmpeg_log_level="error",
-                                             **params)
+        writer = imageio_ffmpeg.write_frames(str(self._temp), self.encoded_size, fps=self.fps,
+                                             ffmpeg_log_level="error", **params)
         writer.send(None)  # start ffmpeg
         return writer
 
@@ -57,6 +60,9 @@ class VideoSink(FrameSink):
         pixels = frame.pixels
         if pixels.shape[1] != self.size[0] or pixels.shape[0] != self.size[1]:
             raise ValueError(f"frame size {pixels.shape[1]}x{pixels.shape[0]} differs from the video's {self.size}")
+        pad_h, pad_w = self.encoded_size[1] - pixels.shape[0], self.encoded_size[0] - pixels.shape[1]
+        if pad_h or pad_w:
+            pixels = np.pad(pixels, ((0, pad_h), (0, pad_w), (0, 0)), mode="edge")
         self._writer.send(np.ascontiguousarray(pixels))
         self.frames += 1
 

@@ -22,9 +22,12 @@ from scenerender.world.transforms import normal_matrices
 class ObjectFrame:
     """One object at one instant.
 
-    models_rel: (K, 4, 4) float32 camera-relative model matrices (translation minus camera).
-    normals:    (K, 3, 3) float32 normal matrices.
-    bounds:     (2, 3) float64 world AABB.
+    models_rel: (K, 4, 4) float32 camera-relative model matrices (translation minus camera),
+                the instances inside the camera's view first.
+    normals:    (K, 3, 3) float32 normal matrices, same order.
+    in_view:    how many of the K instances (the first ones) the camera can see; passes
+                drawn from the camera draw only those, shadow passes draw all K.
+    bounds:     (2, 3) float64 world AABB of all instances.
     """
 
     visible: bool
@@ -32,6 +35,11 @@ class ObjectFrame:
     normals: np.ndarray
     bounds: np.ndarray
     center: np.ndarray
+    in_view: int
+
+    @property
+    def count(self) -> int:
+        return len(self.models_rel)
 
 
 @dataclass
@@ -73,7 +81,9 @@ class FrameEvaluator:
         if self._first_bounds is None:
             self._first_bounds = bounds if bounds is not None else np.array([[-1.0] * 3, [1.0] * 3])
         camera = self._camera(time, bounds)
-        objects = [self._object(obj, m, v, camera.position) for obj, m, v in zip(world.objects, matrices, visible)]
+        planes = frustum_planes(camera.view_proj_relative())
+        objects = [self._object(obj, m, v, camera.position, planes)
+                   for obj, m, v in zip(world.objects, matrices, visible)]
         lights, ambient = evaluate_lights(world.lights, time, camera)
         render = world.render
         fog = render.fog
@@ -128,12 +138,16 @@ class FrameEvaluator:
 
     # -- objects and shadows -------------------------------------------------------------
     @staticmethod
-    def _object(obj, matrices: np.ndarray, visible: bool, camera_position: np.ndarray) -> ObjectFrame:
+    def _object(obj, matrices: np.ndarray, visible: bool, camera_position: np.ndarray,
+                planes: np.ndarray) -> ObjectFrame:
         rel = matrices.copy()
         rel[:, :3, 3] -= camera_position
+        inside = instances_in_view(obj.mesh.bounds(), rel, planes)
+        order = np.argsort(~inside, kind="stable")  # in-view instances first
+        rel, world = rel[order], matrices[order]
         bounds = obj.world_bounds(matrices)
-        return ObjectFrame(visible, rel.astype(np.float32), normal_matrices(matrices).astype(np.float32),
-                           bounds, (bounds[0] + bounds[1]) / 2.0)
+        return ObjectFrame(visible, rel.astype(np.float32), normal_matrices(world).astype(np.float32),
+                           bounds, (bounds[0] + bounds[1]) / 2.0, int(inside.sum()) if visible else 0)
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds) -> dict:
         if self.atlas is None:
@@ -149,6 +163,30 @@ class FrameEvaluator:
             if def_index in self.atlas.tiles:
                 views[state_index] = light_views(lights[state_index], self.atlas.tiles[def_index], casters, bounds)
         return views
+
+
+def frustum_planes(clip: np.ndarray) -> np.ndarray:
+    """(6, 4) planes (n, d) of a clip matrix; a point p is inside when n.p + d >= 0 for all."""
+    rows = clip
+    return np.stack([rows[3] + rows[0], rows[3] - rows[0], rows[3] + rows[1],
+                     rows[3] - rows[1], rows[3] + rows[2], rows[3] - rows[2]])
+
+
+def instances_in_view(local_bounds: np.ndarray, models: np.ndarray, planes: np.ndarray) -> np.ndarray:
+    """(K,) bool: whether each instance's box can touch the view volume.
+
+    local_bounds (2, 3); models (K, 4, 4) in the same space as ``planes``. Conservative:
+    a box straddling a plane counts as inside, so culling never changes the image.
+    """
+    center = (local_bounds[0] + local_bounds[1]) / 2.0
+    extent = (local_bounds[1] - local_bounds[0]) / 2.0
+    linear = models[:, :3, :3]
+    world_center = linear @ center + models[:, :3, 3]           # (K, 3)
+    world_extent = np.abs(linear) @ extent                      # (K, 3)
+    normals, offsets = planes[:, :3], planes[:, 3]
+    reach = world_extent @ np.abs(normals).T                    # (K, 6)
+    distance = world_center @ normals.T + offsets               # (K, 6)
+    return np.all(distance + reach >= 0.0, axis=1)
 
 
 def _material_values(material, t: float) -> dict:

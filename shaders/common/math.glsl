@@ -9,3 +9,7 @@ vec3 safe_normalize(vec3 v, vec3 fallback) {
 vec3 safe_normalize(vec3 v) {
     return safe_normalize(v, vec3(0.0, 1.0, 0.0));
 }
+
+float max_component(vec3 v) {
+    return max(v.x, max(v.y, v.z));
+}

@@ -36,7 +36,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         vec3 l = safe_normalize(to_light, n);
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance);
 #ifdef HAS_SHADOWS
-        if (light.shadow.x >= 0.0 && dot(n, l) > 0.0) {
+        if (light.shadow.x >= 0.0 && dot(n, l) > 0.0 && max_component(radiance) > 1e-4) {
             radiance *= shadow_visibility(int(light.shadow.x) + cube_face(-to_light), p, n, dot(n, l));
         }
 #endif
@@ -52,7 +52,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         float cone = spot_cone(light.cone, dot(-l, light.direction.xyz));
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance) * cone;
 #ifdef HAS_SHADOWS
-        if (light.shadow.x >= 0.0 && cone > 0.0 && dot(n, l) > 0.0) {
+        if (light.shadow.x >= 0.0 && dot(n, l) > 0.0 && max_component(radiance) > 1e-4) {
             radiance *= shadow_visibility(int(light.shadow.x), p, n, dot(n, l));
         }
 #endif

@@ -22,15 +22,23 @@ uniform sampler2DShadow u_shadow_atlas;
 // Besides the depth bias, the lookup point moves along the normal by about one shadow
 // texel, more as the light grazes the surface: that removes acne on steep surfaces without
 // a depth bias large enough to detach shadows from their casters.
+//
+// Filtering: each texture() of a comparison sampler with linear filtering already blends
+// four depth comparisons, so an N x N texel footprint ("pcf: N") takes (N-1)^2 taps at
+// half-texel offsets rather than N^2.
 float shadow_visibility(int index, vec3 p, vec3 n, float n_dot_l) {
-    ShadowView sv = shadow_views[index];
+    mat4 view = shadow_views[index].view;
+    vec4 depth_params = shadow_views[index].depth;
+    vec4 sampling = shadow_views[index].sampling;
+    vec4 tile = shadow_views[index].tile;
+    vec4 light_p = view * vec4(p, 1.0);
+    vec4 texel_world = shadow_views[index].texel;
     float grazing = sqrt(clamp(1.0 - n_dot_l * n_dot_l, 0.0, 1.0));
-    float distance_estimate = length((sv.view * vec4(p, 1.0)).xyz);
-    float texel_world = sv.texel.y + sv.texel.x * distance_estimate;
-    vec4 light_p = sv.view * vec4(p + n * (1.5 * texel_world * grazing), 1.0);
-    float distance = sv.sampling.x > 0.5 ? length(light_p.xyz) : -light_p.z;
-    float depth = (distance - sv.depth.x) / (sv.depth.y - sv.depth.x);
-    vec4 clip = sv.projection * light_p;
+    float offset = 1.5 * (texel_world.y + texel_world.x * length(light_p.xyz)) * grazing;
+    light_p.xyz += mat3(view) * n * offset;
+    float distance = sampling.x > 0.5 ? length(light_p.xyz) : -light_p.z;
+    float depth = (distance - depth_params.x) / (depth_params.y - depth_params.x);
+    vec4 clip = shadow_views[index].projection * light_p;
     if (clip.w <= 0.0 || depth > 1.0) {
         return 1.0;  // behind the light or beyond its range: nothing recorded, so lit
     }
@@ -38,19 +46,18 @@ float shadow_visibility(int index, vec3 p, vec3 n, float n_dot_l) {
     if (any(greaterThan(abs(ndc), vec2(1.0)))) {
         return 1.0;  // outside the light's view: lit rather than a hard black edge
     }
-    float bias = max(sv.depth.z, sv.depth.w * (1.0 - clamp(n_dot_l, 0.0, 1.0)));
-    float reference = depth - bias;
-    vec2 uv = sv.tile.xy + (ndc * 0.5 + 0.5) * sv.tile.zw;
-    vec2 texel = sv.sampling.zw;
-    vec2 lo = sv.tile.xy + 0.5 * texel;
-    vec2 hi = sv.tile.xy + sv.tile.zw - 0.5 * texel;
-    int taps = int(sv.sampling.y);
+    float bias = max(depth_params.z, depth_params.w * (1.0 - clamp(n_dot_l, 0.0, 1.0)));
+    vec3 coord = vec3(tile.xy + (ndc * 0.5 + 0.5) * tile.zw, depth - bias);
+    vec2 texel = sampling.zw;
+    vec2 lo = tile.xy + texel;
+    vec2 hi = tile.xy + tile.zw - texel;
+    int taps = max(int(sampling.y) - 1, 1);
     float first = -0.5 * float(taps - 1);
     float lit = 0.0;
     for (int j = 0; j < taps; ++j) {
         for (int i = 0; i < taps; ++i) {
-            vec2 offset = vec2(first + float(i), first + float(j)) * texel;
-            lit += texture(u_shadow_atlas, vec3(clamp(uv + offset, lo, hi), reference));
+            vec2 uv = coord.xy + vec2(first + float(i), first + float(j)) * texel;
+            lit += texture(u_shadow_atlas, vec3(clamp(uv, lo, hi), coord.z));
         }
     }
     return lit / float(taps * taps);

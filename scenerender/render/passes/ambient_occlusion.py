@@ -6,7 +6,7 @@ import numpy as np
 
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.render.draw import bind_texture_units
+from scenerender.render.draw import bind_texture_units, camera_objects, draw_object
 from scenerender.render.features import TEXTURE_UNITS
 from scenerender.render.passes.forward import MESH_VERTEX, fullscreen
 
@@ -40,10 +40,8 @@ class GBufferPass(RenderPass):
         program = ctx.programs.get(MESH_VERTEX, "mesh/gbuffer.frag")
         camera = ctx.frame.camera
         set_uniforms(program, u_view_proj=camera.view_proj_relative(), u_view_rotation=camera.rotation)
-        for index, obj in enumerate(ctx.world.objects):
-            if ctx.frame.objects[index].visible:
-                vao = ctx.scene.vertex_array(program, index)
-                vao.render(moderngl.TRIANGLES, vertices=obj.mesh.triangle_count * 3, instances=obj.instances.count)
+        for index in camera_objects(ctx):
+            draw_object(ctx, program, index)
 
 
 def hemisphere_kernel(count: int, seed: int = 1) -> np.ndarray:

@@ -7,7 +7,7 @@ import numpy as np
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.render.draw import (
-    bind_material, bind_texture_units, draw_item, opaque_items, transparent_items,
+    bind_material, bind_texture_units, camera_objects, draw_item, draw_object, opaque_items, transparent_items,
 )
 from scenerender.render.features import TEXTURE_UNITS
 
@@ -81,8 +81,7 @@ class OpaquePass(RenderPass):
 
     def describe(self) -> str:
         extras = [f"{self.samples}x MSAA" if self.samples > 1 else "no MSAA"]
-        if self.fill != "solid":
-            extras.append(self.fill)
+        extras.append("depth prepass" if self.fill == "solid" else self.fill)
         if self.atlas is not None:
             extras.append("shadows")
         if self.ao is not None:
@@ -108,10 +107,16 @@ class OpaquePass(RenderPass):
             mode = moderngl.POINTS
             gl.point_size = ctx.world.render.point_size
         gl.line_width = ctx.world.render.line_width
+        items = opaque_items(ctx.world, ctx.frame)
         try:
-            draw_shaded(ctx, opaque_items(ctx.world, ctx.frame), self.ao is not None, mode)
+            if self.fill == "solid":
+                depth_prepass(ctx, items, fbo)
+            draw_shaded(ctx, items, self.ao is not None, mode)
         finally:
             gl.wireframe = False
+            fbo.color_mask = (True, True, True, True)
+            fbo.depth_mask = True
+            gl.depth_func = "<"
 
 
 class SkyboxPass(RenderPass):
@@ -169,13 +174,13 @@ class OutlinePass(RenderPass):
         gl.disable(moderngl.BLEND)
         gl.cull_face = "front"
         set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative())
-        for index, obj in enumerate(ctx.world.objects):
-            if obj.outline is None or not ctx.frame.objects[index].visible:
+        for index in camera_objects(ctx):
+            obj = ctx.world.objects[index]
+            if obj.outline is None:
                 continue
             set_uniforms(program, u_color=np.asarray(obj.outline.color(ctx.frame.time)),
                          u_outline_width=obj.outline.width)
-            vao = ctx.scene.vertex_array(program, index)
-            vao.render(moderngl.TRIANGLES, vertices=obj.mesh.triangle_count * 3, instances=obj.instances.count)
+            draw_object(ctx, program, index, welded_normals=True)
         gl.disable(moderngl.CULL_FACE)
         gl.cull_face = "back"
 
@@ -246,14 +251,25 @@ class WireframeOverlayPass(RenderPass):
         gl.line_width = ctx.world.render.line_width
         set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative(), u_color=(0.0, 0.0, 0.0, 1.0))
         try:
-            for index, obj in enumerate(ctx.world.objects):
-                if ctx.frame.objects[index].visible:
-                    vao = ctx.scene.vertex_array(program, index)
-                    vao.render(moderngl.TRIANGLES, vertices=obj.mesh.triangle_count * 3,
-                               instances=obj.instances.count)
+            for index in camera_objects(ctx):
+                draw_object(ctx, program, index)
         finally:
             gl.wireframe = False
             gl.depth_func = "<"
+
+
+def depth_prepass(ctx, items, fbo) -> None:
+    """Lay down depth for every opaque item without shading, then leave the depth test at
+    'equal or nearer' with depth writes off: the shading draw that follows runs the
+    expensive fragment shader only for the surface each pixel finally shows."""
+    program = ctx.programs.get(MESH_VERTEX, "mesh/depth_only.frag")
+    set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative())
+    fbo.color_mask = (False, False, False, False)
+    for item in items:
+        draw_item(ctx, program, item)
+    fbo.color_mask = (True, True, True, True)
+    fbo.depth_mask = False
+    ctx.gl.depth_func = "<="
 
 
 def fullscreen(ctx, program) -> None:

@@ -5,6 +5,7 @@ import numpy as np
 
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
+from scenerender.render.draw import draw_object, light_objects
 
 
 class ShadowMapPass(RenderPass):
@@ -43,7 +44,7 @@ class ShadowMapPass(RenderPass):
         gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
         to_world = np.eye(4)
         to_world[:3, 3] = ctx.frame.camera.position
-        casters = [i for i, obj in enumerate(ctx.world.objects) if obj.cast_shadows and ctx.frame.objects[i].visible]
+        casters = light_objects(ctx)
         for view in ctx.frame.shadow_views[self.light_index]:
             tile = view.tile
             region = (tile.x, tile.y, tile.size, tile.size)
@@ -52,6 +53,4 @@ class ShadowMapPass(RenderPass):
             set_uniforms(program, u_light_view=view.view @ to_world, u_light_projection=view.projection,
                          u_depth_range=(view.near, view.far))
             for index in casters:
-                obj = ctx.world.objects[index]
-                vao = ctx.scene.vertex_array(program, index)
-                vao.render(moderngl.TRIANGLES, vertices=obj.mesh.triangle_count * 3, instances=obj.instances.count)
+                draw_object(ctx, program, index, all_instances=True)

@@ -6,7 +6,7 @@ import numpy as np
 
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.render.draw import bind_texture_units
+from scenerender.render.draw import bind_texture_units, camera_objects, draw_object
 from scenerender.render.features import TEXTURE_UNITS
 from scenerender.render.passes.forward import MESH_VERTEX, fullscreen
 
@@ -139,7 +139,5 @@ class ShadowFactorViewPass(RenderPass):
         set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative(),
                      u_first_view=ctx.scene.first_shadow_view[self.light_index], u_point_light=int(point),
                      u_light_vector=vector)
-        for index, obj in enumerate(ctx.world.objects):
-            if ctx.frame.objects[index].visible:
-                vao = ctx.scene.vertex_array(program, index)
-                vao.render(moderngl.TRIANGLES, vertices=obj.mesh.triangle_count * 3, instances=obj.instances.count)
+        for index in camera_objects(ctx):
+            draw_object(ctx, program, index)

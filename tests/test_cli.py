@@ -1,0 +1,360 @@
+"""The ``scenerender`` command line: messages, exit codes and end-to-end runs.
+
+Exit codes: 0 ok, 1 bug (or ``diff`` found a difference), 2 bad input, 3 environment.
+Tests marked ``gl`` render (tiny frames) and need an EGL context; Mesa llvmpipe is enough.
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from PIL import Image
+
+from scenerender.cli import main
+
+GOOD = "render: {size: [32, 24]}\nobjects:\n  - mesh: {primitive: box}\n"
+BAD = ("render:\n  size: [32, 24]\n  shading: blin_phong\n"
+       "objects:\n  - mesh: {primitive: bx}\n  - mesh: {primitive: box}\n    visible: yes\n")
+BAD_LINES = [
+    "error: bad.yaml:3:3: render.shading: expected one of phong, blinn_phong, unlit, got 'blin_phong' "
+    "(did you mean 'blinn_phong'?)",
+    "error: bad.yaml:5:12: objects[0].mesh.primitive: unknown primitive 'bx' (did you mean 'box'?) "
+    "(one of plane, box, sphere, cylinder, prism, cone)",
+    "error: bad.yaml:7:5: objects[1].visible: expected true or false, got 'yes'",
+]
+
+
+@pytest.fixture
+def scenes(tmp_path, monkeypatch):
+    """Work in tmp_path with good.yaml and bad.yaml there (messages show relative names)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "good.yaml").write_text(GOOD, encoding="utf-8")
+    (tmp_path / "bad.yaml").write_text(BAD, encoding="utf-8")
+    return tmp_path
+
+
+def cli(*args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def run_module(*args, cwd):
+    return subprocess.run([sys.executable, "-m", "scenerender", *map(str, args)], cwd=cwd,
+                          capture_output=True, text=True, timeout=60)
+
+
+def write_png(path, pixels):
+    Image.fromarray(np.asarray(pixels, np.uint8), "RGB").save(path)
+
+
+# ---------------------------------------------------------------------------------------
+# validate
+
+
+def test_validate_good_scene(scenes):
+    result = cli("validate", "good.yaml")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("ok: good.yaml")
+    assert "1 objects" in result.stdout and "32x24" in result.stdout and "1 frame(s)" in result.stdout
+    assert result.stderr == ""
+
+
+def test_validate_bad_scene_one_line_per_error(scenes):
+    result = cli("validate", "bad.yaml")
+    assert result.exit_code == 2
+    assert result.stdout == ""
+    assert result.stderr.splitlines() == BAD_LINES
+    assert "Traceback" not in result.output
+
+
+def test_validate_reports_duplicate_key(scenes):
+    (scenes / "dup.yaml").write_text("render:\n  samples: 4\n  samples: 8\n", encoding="utf-8")
+    result = cli("validate", "dup.yaml")
+    assert result.exit_code == 2
+    assert result.stderr == "error: dup.yaml:3:3: duplicate key 'samples' (first given on line 2)\n"
+
+
+def test_validate_missing_scene_file(scenes):
+    result = cli("validate", "nope.yaml")
+    assert result.exit_code == 2
+    assert result.stderr == "error: nope.yaml: scene file not found\n"
+
+
+def test_validate_yaml_syntax_error(scenes):
+    (scenes / "broken.yaml").write_text("render:\n  size: [1, 2\n", encoding="utf-8")
+    result = cli("validate", "broken.yaml")
+    assert result.exit_code == 2
+    assert result.stderr.startswith("error: broken.yaml:3:")
+    assert "YAML syntax error" in result.stderr
+    assert len(result.stderr.splitlines()) == 1
+
+
+def test_validate_with_set(scenes):
+    result = cli("validate", "good.yaml", "--set", "render.size=[64, 48]", "--set", "output.frames=5")
+    assert result.exit_code == 0, result.output
+    assert "64x48" in result.stdout and "5 frame(s)" in result.stdout
+
+
+def test_validate_bad_set_value(scenes):
+    result = cli("validate", "good.yaml", "--set", "render.samples=lots")
+    assert result.exit_code == 2
+    assert result.stderr == ("error: --set render.samples=lots: render.samples: "
+                             "expected a whole number, got 'lots'\n")
+
+
+def test_validate_missing_mesh_file(scenes):
+    (scenes / "m.yaml").write_text("objects:\n  - mesh: models/duck.obj\n", encoding="utf-8")
+    result = cli("validate", "m.yaml")
+    assert result.exit_code == 2
+    assert result.stderr == "error: m.yaml:2:5: objects[0].mesh: file not found: models/duck.obj\n"
+
+
+def test_validate_end_to_end(scenes):
+    good = run_module("validate", "good.yaml", cwd=scenes)
+    assert good.returncode == 0, good.stderr
+    assert good.stdout.startswith("ok: good.yaml")
+    bad = run_module("validate", "bad.yaml", cwd=scenes)
+    assert bad.returncode == 2
+    assert bad.stderr.splitlines() == BAD_LINES
+    assert "Traceback" not in bad.stderr
+
+
+# ---------------------------------------------------------------------------------------
+# schema and graph
+
+
+def test_schema_prints_json(scenes):
+    result = cli("schema")
+    assert result.exit_code == 0
+    schema = json.loads(result.stdout)
+    assert schema["title"] == "scenerender scene"
+    assert {"render", "output", "camera", "lights", "materials", "objects"} <= set(schema["properties"])
+
+
+def test_schema_to_file(scenes):
+    result = cli("schema", "-o", "schema.json")
+    assert result.exit_code == 0
+    assert result.stdout == ""
+    assert "objects" in json.loads((scenes / "schema.json").read_text(encoding="utf-8"))["properties"]
+
+
+def test_graph_lists_passes(scenes):
+    result = cli("graph", "good.yaml")
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[0].startswith("render graph of good.yaml: mode shaded, 32x24, 1 frame(s)")
+    for name in ("opaque", "resolve", "output_transform", "readback"):
+        assert any(name in line for line in lines), name
+
+
+def test_graph_size_and_samples_options(scenes):
+    result = cli("graph", "good.yaml", "--size", "20x10", "--samples", "1")
+    assert result.exit_code == 0, result.output
+    assert "20x10" in result.stdout.splitlines()[0]
+    assert "4x MSAA" not in result.stdout
+
+
+def test_graph_dot(scenes):
+    result = cli("graph", "good.yaml", "--dot")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("digraph")
+    assert result.stdout.rstrip().endswith("}")
+    assert "opaque" in result.stdout
+
+
+def test_graph_bad_scene(scenes):
+    result = cli("graph", "bad.yaml")
+    assert result.exit_code == 2
+    assert result.stderr.splitlines() == BAD_LINES
+
+
+# ---------------------------------------------------------------------------------------
+# render: option errors found before any GL work
+
+
+@pytest.mark.parametrize("size", ["10x", "x10", "10", "axb", "10x-3"])
+def test_render_bad_size(scenes, size):
+    result = cli("render", "good.yaml", "-o", "out", "--size", size)
+    assert result.exit_code == 2
+    assert "--size" in result.stderr
+    assert not (scenes / "out").exists()
+
+
+def test_render_empty_frame_range(scenes):
+    result = cli("render", "good.yaml", "-o", "out", "--frames", "5:3")
+    assert result.exit_code == 2
+    assert result.stderr == "error: --frames: '5:3' selects no frames; the scene has frames 0..0\n"
+    assert not (scenes / "out").exists()
+
+
+def test_render_bad_set_path(scenes):
+    result = cli("render", "good.yaml", "-o", "out", "--set", "objects[3].position=[0,0,0]")
+    assert result.exit_code == 2
+    assert result.stderr == "error: --set objects[3].position=[0,0,0]: no item 3 at 'objects'\n"
+
+
+def test_render_set_without_value(scenes):
+    result = cli("render", "good.yaml", "-o", "out", "--set", "render.samples")
+    assert result.exit_code == 2
+    assert "--set expects key=value" in result.stderr
+
+
+def test_render_bad_scene(scenes):
+    result = cli("render", "bad.yaml", "-o", "out")
+    assert result.exit_code == 2
+    assert result.stderr.splitlines() == BAD_LINES
+    assert not (scenes / "out").exists()
+
+
+def test_render_missing_scene(scenes):
+    result = cli("render", "nope.yaml", "-o", "out")
+    assert result.exit_code == 2
+    assert "scene file not found" in result.stderr
+
+
+@pytest.mark.parametrize("args", [["--samples", "0"], ["--samples", "65"], ["--format", "bmp"]])
+def test_render_bad_option_values(scenes, args):
+    result = cli("render", "good.yaml", "-o", "out", *args)
+    assert result.exit_code == 2
+    assert not (scenes / "out").exists()
+
+
+# ---------------------------------------------------------------------------------------
+# diff
+
+
+def test_diff_identical_images(scenes):
+    pixels = np.zeros((12, 16, 3), np.uint8)
+    pixels[3:6, 4:9] = (200, 100, 50)
+    write_png(scenes / "a.png", pixels)
+    write_png(scenes / "b.png", pixels)
+    result = cli("diff", "a.png", "b.png")
+    assert result.exit_code == 0
+    assert "mean |diff| 0.000 levels" in result.stdout
+    assert "PSNR inf dB" in result.stdout
+    assert result.stdout.rstrip().endswith("PASS")
+
+
+def test_diff_different_images(scenes):
+    a = np.zeros((12, 16, 3), np.uint8)
+    b = a.copy()
+    b[0:6, 0:8] = 255
+    write_png(scenes / "a.png", a)
+    write_png(scenes / "b.png", b)
+    result = cli("diff", "a.png", "b.png", "--heatmap", "heat.png")
+    assert result.exit_code == 1
+    assert "25.000% pixels off" in result.stdout
+    assert result.stdout.rstrip().endswith("FAIL")
+    with Image.open(scenes / "heat.png") as heat:
+        assert heat.size == (16, 12)
+
+
+def test_diff_tolerances_decide(scenes):
+    a = np.full((10, 10, 3), 100, np.uint8)
+    write_png(scenes / "a.png", a)
+    write_png(scenes / "b.png", a + 3)
+    assert cli("diff", "a.png", "b.png").exit_code == 1           # mean 3 > tolerance 2
+    assert cli("diff", "a.png", "b.png", "--tolerance", "3").exit_code == 0
+
+
+def test_diff_different_sizes(scenes):
+    write_png(scenes / "a.png", np.zeros((10, 10, 3)))
+    write_png(scenes / "b.png", np.zeros((10, 12, 3)))
+    result = cli("diff", "a.png", "b.png")
+    assert result.exit_code == 2
+    assert result.stderr == "error: b.png: sizes differ: 10x10 vs 12x10\n"
+
+
+def test_diff_unreadable_image(scenes):
+    write_png(scenes / "a.png", np.zeros((10, 10, 3)))
+    (scenes / "b.png").write_bytes(b"not an image")
+    result = cli("diff", "a.png", "b.png")
+    assert result.exit_code == 2
+    assert result.stderr.startswith("error: b.png: cannot read image")
+    assert "Traceback" not in result.output
+
+
+def test_diff_missing_file(scenes):
+    write_png(scenes / "a.png", np.zeros((10, 10, 3)))
+    assert cli("diff", "a.png", "nope.png").exit_code == 2
+
+
+# ---------------------------------------------------------------------------------------
+# help and version
+
+
+def test_help_of_every_command():
+    names = sorted(main.commands)
+    assert {"render", "validate", "schema", "graph", "info", "diff"} <= set(names)
+    top = cli("--help")
+    assert top.exit_code == 0
+    for name in names:
+        assert name in top.stdout
+        result = cli(name, "--help")
+        assert result.exit_code == 0, name
+        assert result.stdout.startswith(f"Usage: main {name}") or f" {name} " in result.stdout.splitlines()[0]
+        assert "-h, --help" in result.stdout
+
+
+def test_short_help_and_version():
+    assert cli("render", "-h").exit_code == 0
+    result = cli("--version")
+    assert result.exit_code == 0
+    assert result.stdout.startswith("scenerender, version ")
+
+
+# ---------------------------------------------------------------------------------------
+# rendering (needs GL)
+
+
+def skip_without_gl(exit_code, stderr):
+    if exit_code == 3:
+        pytest.skip(f"no OpenGL context here: {stderr.strip()}")
+
+
+@pytest.mark.gl
+def test_render_png_then_keep_complete_frames(scenes):
+    result = cli("render", "good.yaml", "-o", "out")
+    skip_without_gl(result.exit_code, result.stderr)
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in (scenes / "out").iterdir()) == ["frame_0000.png"]
+    with Image.open(scenes / "out" / "frame_0000.png") as image:
+        assert image.size == (32, 24)
+        pixels = np.asarray(image.convert("RGB"))
+    assert pixels.std() > 0  # the box is drawn over the background
+    assert "rendered 1 frame" in result.stderr
+
+    again = cli("render", "good.yaml", "-o", "out")
+    assert again.exit_code == 0
+    assert "nothing to do" in again.stderr
+
+    forced = cli("render", "good.yaml", "-o", "out", "--overwrite", "-q")
+    assert forced.exit_code == 0
+    assert forced.stderr == ""
+
+
+@pytest.mark.gl
+def test_render_frame_range_and_size(scenes):
+    result = cli("render", "good.yaml", "-o", "out", "--set", "output.frames=5", "--frames", "1:3",
+                 "--size", "16x12", "--samples", "1", "--format", "tga", "-q")
+    skip_without_gl(result.exit_code, result.stderr)
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in (scenes / "out").iterdir()) == ["frame_0001.tga", "frame_0002.tga"]
+    with Image.open(scenes / "out" / "frame_0001.tga") as image:
+        assert image.size == (16, 12)
+
+
+@pytest.mark.gl
+def test_render_gif_end_to_end(scenes):
+    result = run_module("render", "good.yaml", "-o", "out", "--format", "gif", "--set", "output.frames=3",
+                        "--set", "objects[0].rotation={keys: [[0, [0, 0, 0]], [0.1, [0, 90, 0]]]}", cwd=scenes)
+    skip_without_gl(result.returncode, result.stderr)
+    assert result.returncode == 0, result.stderr
+    assert "Traceback" not in result.stderr
+    assert sorted(p.name for p in (scenes / "out").iterdir()) == ["good.gif"]
+    with Image.open(scenes / "out" / "good.gif") as image:
+        assert image.size == (32, 24)
+        assert image.n_frames == 3
