@@ -13,7 +13,6 @@ from scenerender.errors import SourceLocation, UserError, display_path
 
 GL_SRGB8_ALPHA8 = 0x8C43
 PLACEHOLDER_SIZE = 64
-ANISOTROPY = 4.0
 
 
 def read_image(path: Path) -> np.ndarray:
@@ -79,8 +78,10 @@ class TextureCache:
         height, width = flipped.shape[:2]
         texture = self.ctx.texture((width, height), 4, flipped.tobytes(),
                                    internal_format=GL_SRGB8_ALPHA8 if srgb else None)
+        # Trilinear mipmapping, no anisotropic filtering: Mesa llvmpipe's anisotropic sampler
+        # can stall for seconds (and has hung outright here) on some pixels, and leaving it off
+        # keeps software and GPU renders filtering textures the same way.
         texture.build_mipmaps()
-        texture.anisotropy = min(ANISOTROPY, self.ctx.max_anisotropy)
         return texture
 
     def _placeholder(self):
