@@ -205,20 +205,22 @@ def info():
 @main.command()
 @click.argument("reference", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.argument("candidate", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.option("--tolerance", type=float, default=2.0, show_default=True,
+@click.option("--tolerance", type=float, default=1.0, show_default=True,
               help="Largest allowed mean absolute difference, in 8-bit levels.")
 @click.option("--max-bad-pixels", type=float, default=0.5, show_default=True,
               help="Largest allowed percentage of pixels differing by more than --pixel-threshold.")
-@click.option("--pixel-threshold", type=int, default=16, show_default=True,
+@click.option("--pixel-threshold", type=int, default=24, show_default=True,
               help="A pixel is 'bad' when a channel differs by more than this many levels.")
+@click.option("--max-tile", type=float, default=6.0, show_default=True,
+              help="Largest allowed mean difference of any 8x8 block: catches small moved objects.")
 @click.option("--heatmap", type=click.Path(dir_okay=False, path_type=Path), help="Write a difference image.")
-def diff(reference, candidate, tolerance, max_bad_pixels, pixel_threshold, heatmap):
+def diff(reference, candidate, tolerance, max_bad_pixels, pixel_threshold, max_tile, heatmap):
     """Compare two images the way golden-image tests do. Exits 0 when CANDIDATE matches
     REFERENCE within the tolerances, 1 when it does not, 2 when they cannot be compared."""
     from scenerender.tools.imagediff import compare_files
 
     report = compare_files(reference, candidate, heatmap=heatmap, pixel_threshold=pixel_threshold)
-    passed = report.within(tolerance, max_bad_pixels)
+    passed = report.within(tolerance, max_bad_pixels, max_tile)
     click.echo(report.line() + ("  PASS" if passed else "  FAIL"))
     sys.exit(0 if passed else 1)
 

@@ -25,6 +25,11 @@ class GpuMesh:
         self._ctx = ctx
         self._smooth = None
 
+    def release(self) -> None:
+        for buffer in (self.vertices, self.indices, self.tangents, self._smooth):
+            if buffer is not None:
+                buffer.release()
+
     def smooth_normals(self):
         """Normals averaged over vertices that share a position (made on first use).
 

@@ -46,3 +46,8 @@ class FramebufferCache:
             fbo = self.ctx.framebuffer(color_attachments=list(colors), depth_attachment=depth)
             self._fbos[key] = fbo
         return fbo
+
+    def release(self) -> None:
+        for fbo in self._fbos.values():
+            fbo.release()
+        self._fbos.clear()

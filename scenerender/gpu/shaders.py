@@ -81,3 +81,8 @@ class ProgramCache:
     @property
     def count(self) -> int:
         return len(self._programs)
+
+    def release(self) -> None:
+        for program in self._programs.values():
+            program.release()
+        self._programs.clear()

@@ -66,6 +66,11 @@ class TextureCache:
     def count(self) -> int:
         return len(self._textures)
 
+    def release(self) -> None:
+        for texture in self._textures.values():
+            texture.release()
+        self._textures.clear()
+
     def _pixels(self, path: Path) -> np.ndarray:
         key = str(path)
         if key not in self._images:

@@ -91,6 +91,14 @@ class Renderer:
         self.evaluator = FrameEvaluator(world, self.size, self.atlas)
         self._rendered_any = False
 
+    def release(self) -> None:
+        """Free every GL object this renderer made (the context itself stays)."""
+        for resource in self.backend.resources.values():
+            resource.release()
+        self.backend.framebuffers.release()
+        self.programs.release()
+        self.scene.release()
+
     def frame_time(self, index: int) -> float:
         """Time of frame ``index`` in seconds: index / fps, in float64."""
         return index / float(self.world.output.fps)

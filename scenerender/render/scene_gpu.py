@@ -28,6 +28,7 @@ class GpuScene:
         self.shadow_buffer = ctx.buffer(reserve=_VEC4, dynamic=True)
         self.first_shadow_view: dict = {}
         self._vaos: dict = {}
+        self._extras: dict = {}
         self.skybox = self._skybox()
 
     def _upload_meshes(self) -> dict:
@@ -106,6 +107,23 @@ class GpuScene:
         parts = [np.asarray(group, dtype=np.float64).reshape(-1) for group in (dirs, points, spots) if group]
         parts.append(np.zeros(4))  # lights_end
         return np.concatenate(parts).astype(np.float32).tobytes()
+
+    def cached(self, key: str, make):
+        """A GL object passes share for the whole run (noise textures, samplers), made once."""
+        if key not in self._extras:
+            self._extras[key] = make(self.ctx)
+        return self._extras[key]
+
+    def release(self) -> None:
+        for obj in list(self._vaos.values()) + list(self._extras.values()):
+            obj.release()
+        self._vaos.clear()
+        self._extras.clear()
+        for mesh in self.meshes.values():
+            mesh.release()
+        for buffer in self.instance_buffers + [self.light_buffer, self.shadow_buffer]:
+            buffer.release()
+        self.textures.release()
 
     # -- drawing -----------------------------------------------------------------------
     def fullscreen_array(self, program):

@@ -1,11 +1,13 @@
 """Compare rendered images with references, the way golden-image tests and
 ``scenerender diff`` do.
 
-Two numbers decide: the mean absolute difference over all channels (in 8-bit levels),
-which catches overall shifts such as a wrong colour or exposure; and the percentage of
-pixels where some channel differs by more than a threshold, which catches a moved object
-even when most of the image is unchanged. Anti-aliased edges and driver rounding move a
-few pixels by a few levels; the defaults allow that and nothing more.
+Three numbers decide:
+- the mean absolute difference over all pixels and channels (8-bit levels): overall shifts
+  such as a wrong colour, exposure or output transform;
+- the worst tile: the largest mean difference over any 8x8 block. A small moved or
+  recoloured object changes few pixels but all in one place, while rounding and
+  anti-aliasing differences between drivers are spread thinly along edges;
+- the percentage of pixels where some channel differs by more than a threshold.
 """
 from __future__ import annotations
 
@@ -16,6 +18,8 @@ import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, display_path
 
+TILE = 8
+
 
 @dataclass(frozen=True)
 class DiffReport:
@@ -25,14 +29,15 @@ class DiffReport:
     psnr: float              # dB; inf for identical images
     threshold: int
     bad_mask: np.ndarray     # (H, W) bool
+    worst_tile: float = 0.0  # largest mean |diff| of any TILE x TILE block, levels
 
-    def within(self, tolerance: float, max_bad_percent: float) -> bool:
-        return self.mean_abs <= tolerance and self.bad_percent <= max_bad_percent
+    def within(self, tolerance: float, max_bad_percent: float, max_tile: float = float("inf")) -> bool:
+        return self.mean_abs <= tolerance and self.bad_percent <= max_bad_percent and self.worst_tile <= max_tile
 
     def line(self) -> str:
         psnr = "inf" if np.isinf(self.psnr) else f"{self.psnr:.1f}"
-        return (f"mean |diff| {self.mean_abs:.3f} levels, max {self.max_abs}, "
-                f"{self.bad_percent:.3f}% pixels off by >{self.threshold}, PSNR {psnr} dB")
+        return (f"mean |diff| {self.mean_abs:.3f} levels, worst {TILE}x{TILE} tile {self.worst_tile:.2f}, "
+                f"max {self.max_abs}, {self.bad_percent:.3f}% pixels off by >{self.threshold}, PSNR {psnr} dB")
 
 
 def compare(reference: np.ndarray, candidate: np.ndarray, pixel_threshold: int = 16) -> DiffReport:
@@ -45,8 +50,17 @@ def compare(reference: np.ndarray, candidate: np.ndarray, pixel_threshold: int =
     return DiffReport(
         mean_abs=float(diff.mean()), max_abs=int(diff.max()), bad_percent=100.0 * float(bad.mean()),
         psnr=float("inf") if mse == 0 else 10.0 * np.log10(255.0 ** 2 / mse), threshold=pixel_threshold,
-        bad_mask=bad,
+        bad_mask=bad, worst_tile=worst_tile_mean(diff.mean(axis=2)),
     )
+
+
+def worst_tile_mean(per_pixel: np.ndarray, tile: int = TILE) -> float:
+    """The largest mean of ``per_pixel`` (H, W) over tile x tile blocks (edges padded)."""
+    h, w = per_pixel.shape
+    padded = np.zeros((-(-h // tile) * tile, -(-w // tile) * tile))
+    padded[:h, :w] = per_pixel
+    blocks = padded.reshape(padded.shape[0] // tile, tile, padded.shape[1] // tile, tile)
+    return float(blocks.mean(axis=(1, 3)).max())
 
 
 def load_rgb(path: Path) -> np.ndarray:

@@ -63,6 +63,15 @@ def rotation_noise(seed: int = 2) -> bytes:
     return ((vectors * 0.5 + 0.5) * 255).round().astype(np.uint8).tobytes()
 
 
+def _noise_texture(gl):
+    import moderngl
+
+    texture = gl.texture((NOISE_SIZE, NOISE_SIZE), 3, rotation_noise())
+    texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    texture.repeat_x = texture.repeat_y = True
+    return texture
+
+
 class SSAOPass(RenderPass):
     name = "ssao"
 
@@ -71,7 +80,6 @@ class SSAOPass(RenderPass):
         self.size = size
         self.settings = settings
         self.dynamic = dynamic
-        self._noise = None
 
     def setup(self, builder):
         builder.read(self.gbuffer_in)
@@ -84,9 +92,7 @@ class SSAOPass(RenderPass):
     def execute(self, ctx) -> None:
         import moderngl
 
-        if self._noise is None:
-            self._noise = ctx.gl.texture((NOISE_SIZE, NOISE_SIZE), 3, rotation_noise())
-            self._noise.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        noise = ctx.scene.cached("ssao_noise", _noise_texture)
         ctx.framebuffer([self.ao]).use()
         ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         defines = {"AO_SAMPLES": self.settings.samples}
@@ -95,8 +101,7 @@ class SSAOPass(RenderPass):
         program = ctx.programs.get("common/fullscreen.vert", "post/ssao.frag", defines)
         bind_texture_units(program)
         ctx.resource(self.gbuffer_in).use(TEXTURE_UNITS["u_gbuffer"])
-        self._noise.repeat_x = self._noise.repeat_y = True
-        self._noise.use(TEXTURE_UNITS["u_noise"])
+        noise.use(TEXTURE_UNITS["u_noise"])
         set_uniforms(program, u_kernel=hemisphere_kernel(self.settings.samples).tobytes(),
                      u_projection=ctx.frame.camera.projection, u_screen=self.size,
                      u_radius=self.settings.radius, u_strength=self.settings.strength)

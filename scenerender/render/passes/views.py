@@ -66,6 +66,13 @@ class AmbientOcclusionViewPass(_FullscreenView):
     input_unit = "u_ao"
 
 
+def _raw_depth_sampler(gl):
+    """Reads depth values as they are (no comparison), for showing a shadow map."""
+    import moderngl
+
+    return gl.sampler(filter=(moderngl.NEAREST, moderngl.NEAREST), compare_func="", repeat_x=False, repeat_y=False)
+
+
 class LightDepthViewPass(_FullscreenView):
     """The first shadowed light's depth map(s) as seen from the light."""
 
@@ -77,19 +84,14 @@ class LightDepthViewPass(_FullscreenView):
         super().__init__(atlas, size, dynamic)
         self.light_index = light_index
         self.atlas_size = atlas_size
-        self._sampler = None
 
     def execute(self, ctx) -> None:
-        if self._sampler is None:  # read raw depth: no comparison
-            import moderngl
-
-            self._sampler = ctx.gl.sampler(filter=(moderngl.NEAREST, moderngl.NEAREST), compare_func="",
-                                           repeat_x=False, repeat_y=False)
-        self._sampler.use(TEXTURE_UNITS["u_atlas"])
+        sampler = ctx.scene.cached("raw_depth_sampler", _raw_depth_sampler)
+        sampler.use(TEXTURE_UNITS["u_atlas"])
         try:
             super().execute(ctx)
         finally:
-            self._sampler.clear(TEXTURE_UNITS["u_atlas"])
+            sampler.clear(TEXTURE_UNITS["u_atlas"])
 
     def uniforms(self, ctx, program) -> None:
         width, height = self.atlas_size

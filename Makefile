@@ -1,0 +1,30 @@
+# scenerender developer tasks. `make test` is what CI runs (.ci/run).
+PYTHON ?= python3
+
+.PHONY: install test test-fast showcase goldens bench assets clean
+
+install:
+	$(PYTHON) -m pip install --quiet -e '.[test]'
+
+test: install
+	$(PYTHON) -m pytest -q
+
+# everything except the tests that need an OpenGL context
+test-fast: install
+	$(PYTHON) -m pytest -q -m "not gl"
+
+showcase: install
+	$(PYTHON) -m scenerender render scenes/showcase.yaml -o out/
+
+# re-render the golden reference images after an intended visual change (look at them!)
+goldens: install
+	$(PYTHON) tests/golden_update.py
+
+bench: install
+	$(PYTHON) benchmarks/run.py
+
+assets:
+	$(PYTHON) scenes/assets/make_assets.py
+
+clean:
+	rm -rf out build dist .pytest_cache tests/output

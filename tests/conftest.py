@@ -1,0 +1,73 @@
+"""Shared test helpers: one OpenGL context per test session, and small render helpers.
+
+GL tests need an OpenGL 4.3 context over EGL; on a machine without a GPU that is Mesa's
+llvmpipe. Without one they fail with the reason (set SCENERENDER_SKIP_GL=1 to skip them).
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENES = ROOT / "scenes"
+
+
+@pytest.fixture(scope="session")
+def gl():
+    if os.environ.get("SCENERENDER_SKIP_GL"):
+        pytest.skip("SCENERENDER_SKIP_GL is set")
+    from scenerender.errors import EnvironmentProblem
+    from scenerender.gpu.context import create_context
+
+    try:
+        ctx = create_context()
+    except EnvironmentProblem as exc:
+        pytest.fail(f"no OpenGL context for the GL tests: {exc}")
+    yield ctx
+    ctx.release()
+
+
+def load(text_or_path, overrides=(), base_dir=None):
+    """A LoadedScene from YAML text (paths relative to ``base_dir`` or scenes/) or a file."""
+    from scenerender.scene import load_scene
+    from scenerender.scene.loading import load_scene_text
+
+    if isinstance(text_or_path, Path):
+        return load_scene(text_or_path, list(overrides))
+    return load_scene_text(text_or_path, base_dir or SCENES, list(overrides))
+
+
+def render(gl, text_or_path, overrides=(), frames=(0,), base_dir=None, warnings=None, **renderer_options):
+    """Render ``frames`` of a scene on the shared context -> list of (H, W, 3) uint8."""
+    from scenerender.errors import Warnings
+    from scenerender.render.renderer import Renderer
+    from scenerender.world.build import build_world
+
+    world = build_world(load(text_or_path, overrides, base_dir), warnings or Warnings())
+    renderer = Renderer(world, gl, **renderer_options)
+    try:
+        return [renderer.render(i).pixels for i in frames]
+    finally:
+        renderer.release()
+
+
+def render_one(gl, text_or_path, overrides=(), frame=0, **kwargs) -> np.ndarray:
+    return render(gl, text_or_path, overrides, frames=(frame,), **kwargs)[0]
+
+
+@pytest.fixture
+def render_scene(gl):
+    """render_scene(text_or_path, overrides=(), frame=0) -> (H, W, 3) uint8."""
+    def _render(text_or_path, overrides=(), frame=0, **kwargs):
+        return render_one(gl, text_or_path, overrides, frame, **kwargs)
+    return _render
+
+
+def pytest_collection_modifyitems(items):
+    """Tests using the GL context are marked ``gl`` so ``-m "not gl"`` leaves them out."""
+    for item in items:
+        if "gl" in getattr(item, "fixturenames", ()) or "render_scene" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.gl)

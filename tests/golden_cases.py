@@ -1,0 +1,56 @@
+"""The golden-image cases: which scene, frame and settings each reference image shows.
+
+References live in tests/golden/ and are made by `make goldens` (tests/golden_update.py)
+on Mesa llvmpipe; look at every image you commit.
+
+Tolerance (see scenerender.tools.imagediff): a render matches its reference when
+- the mean absolute difference is at most MEAN_LEVELS 8-bit levels,
+- no 8x8 block differs by more than TILE_LEVELS on average, and
+- at most BAD_PERCENT of the pixels differ by more than PIXEL_THRESHOLD levels.
+That absorbs rounding and anti-aliasing differences between drivers (thin, scattered), and
+nothing that moves or recolours an object (concentrated): tests/test_golden.py shows each
+such change failing.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+GOLDEN_DIR = Path(__file__).resolve().parent / "golden"
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
+
+MEAN_LEVELS = 1.0
+TILE_LEVELS = 6.0
+BAD_PERCENT = 0.5
+PIXEL_THRESHOLD = 24
+SIZE = "render.size=[160, 120]"
+
+# name -> (scene file, frame, extra overrides)
+CASES = {
+    "showcase": ("showcase.yaml", 45, []),
+    "garden": ("garden.yaml", 30, []),
+    "island": ("island.yaml", 130, []),
+    "foggy_road": ("foggy_road.yaml", 72, []),
+    "foggy_road@wireframe": ("foggy_road.yaml", 0, ["render.mode=wireframe"]),
+    "foggy_road@points": ("foggy_road.yaml", 0, ["render.mode=points"]),
+    "foggy_road@light_depth": ("foggy_road.yaml", 0, ["render.mode=light_depth"]),
+    "viewer_modes": ("viewer_modes.yaml", 0, []),
+    "viewer_modes@depth": ("viewer_modes.yaml", 0, ["render.mode=depth"]),
+    "viewer_modes@normals": ("viewer_modes.yaml", 0, ["render.mode=normals"]),
+    "viewer_modes@shadow": ("viewer_modes.yaml", 0, ["render.mode=shadow"]),
+    "viewer_modes@ambient_occlusion": ("viewer_modes.yaml", 0, ["render.mode=ambient_occlusion"]),
+    "viewer_modes@wireframe": ("viewer_modes.yaml", 0, ["render.mode=wireframe"]),
+    "primitives": ("primitives.yaml", 30, []),
+    "primitives@phong": ("primitives.yaml", 30, ["render.shading=phong"]),
+}
+
+
+def reference_path(name: str) -> Path:
+    return GOLDEN_DIR / f"{name}.png"
+
+
+def render_case(gl, name: str, extra=()):
+    """Render golden case ``name`` (plus ``extra`` overrides) -> (H, W, 3) uint8."""
+    from conftest import render_one
+
+    scene, frame, overrides = CASES[name]
+    return render_one(gl, SCENES / scene, [SIZE, *overrides, *extra], frame)

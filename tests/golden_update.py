@@ -1,0 +1,24 @@
+"""Re-render the golden reference images: `make goldens`. Look at them before committing."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from PIL import Image  # noqa: E402
+
+from golden_cases import CASES, GOLDEN_DIR, reference_path, render_case  # noqa: E402
+from scenerender.gpu.context import create_context  # noqa: E402
+
+
+def main() -> None:
+    GOLDEN_DIR.mkdir(exist_ok=True)
+    gl = create_context()
+    for name in CASES:
+        Image.fromarray(render_case(gl, name)).save(reference_path(name), optimize=True)
+        print("wrote", reference_path(name))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,75 @@
+"""Golden images: every scene in scenes/ (and the seed scenes' other render modes) rendered
+small and compared with a committed reference, within the tolerance stated in
+golden_cases.py. The second half shows that tolerance catching real regressions."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from golden_cases import (
+    BAD_PERCENT, CASES, MEAN_LEVELS, PIXEL_THRESHOLD, SCENES, TILE_LEVELS, reference_path, render_case,
+)
+from scenerender.tools.imagediff import compare
+
+
+def matches(reference: np.ndarray, candidate: np.ndarray):
+    report = compare(reference, candidate, PIXEL_THRESHOLD)
+    return report.within(MEAN_LEVELS, BAD_PERCENT, TILE_LEVELS), report
+
+
+def reference(name: str) -> np.ndarray:
+    return np.asarray(Image.open(reference_path(name)).convert("RGB"))
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_render_matches_reference(gl, name, tmp_path):
+    image = render_case(gl, name)
+    ok, report = matches(reference(name), image)
+    if not ok:  # keep what was rendered next to the report, for a look
+        Image.fromarray(image).save(tmp_path / f"{name}.png")
+    assert ok, f"{name}: {report.line()} (rendered image in {tmp_path})"
+
+
+def test_references_are_not_blank():
+    """A black or single-colour reference would let a broken renderer pass."""
+    for name in CASES:
+        image = reference(name)
+        assert image.std() > 10, name
+        assert len(np.unique(image.reshape(-1, 3), axis=0)) > 10, name
+
+
+def test_every_scene_file_has_a_golden_case():
+    covered = {scene for scene, _, _ in CASES.values()}
+    assert covered == {p.name for p in SCENES.glob("*.yaml")}
+
+
+# -- the tolerance catches real changes ------------------------------------------------
+# Each regression is a small, plausible bug: the render must FAIL the comparison.
+
+REGRESSIONS = {
+    "a moved object": ("showcase", ["objects[6].position=[-0.15, 0.35, -0.1]"]),   # the vase, 0.2 m
+    "a wrong colour": ("showcase", ["objects[6].material=ceramic",
+                                    "materials.ceramic.diffuse=[0.22, 0.22, 0.82]"]),
+    "a turned light": ("garden", ["lights[0].position.keys[0]=[0.0, [-8, 4.5, 1]]"]),
+    "missing shadows": ("primitives", ["lights[0].shadows=false"]),
+    "a wrong output transform": ("viewer_modes", ["render.output_transform=gamma"]),
+    "a changed fog density": ("foggy_road", ["render.fog.density=0.035"]),
+}
+
+
+@pytest.mark.parametrize("what", sorted(REGRESSIONS))
+def test_tolerance_catches(gl, what):
+    name, change = REGRESSIONS[what]
+    ok, report = matches(reference(name), render_case(gl, name, change))
+    assert not ok, f"{what} slipped through the tolerance: {report.line()}"
+
+
+def test_tolerance_accepts_driver_level_noise(gl):
+    """One 8-bit level of noise on a quarter of the pixels, as rounding between drivers
+    gives, stays within tolerance."""
+    image = reference("showcase").astype(int)
+    rng = np.random.default_rng(0)
+    noise = rng.integers(-1, 2, size=image.shape) * (rng.random(image.shape[:2]) < 0.25)[..., None]
+    ok, report = matches(reference("showcase"), np.clip(image + noise, 0, 255).astype(np.uint8))
+    assert ok, report.line()

@@ -1,0 +1,195 @@
+"""The render graph without GL: culling, resource versions, static-pass caching, dumps,
+and the graphs real scenes compile to (checked against a do-nothing backend)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from scenerender.errors import Warnings
+from scenerender.graph import FrameGraph, RenderPass, ResourceDesc
+from scenerender.render.renderer import plan
+from scenerender.scene import load_scene
+from scenerender.scene.loading import load_scene_text
+from scenerender.world.build import build_world
+
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
+COLOR = ResourceDesc("color", (8, 8), "rgba8")
+
+
+class NullBackend:
+    """Executes nothing; records which pass ran on which frame."""
+
+    def __init__(self):
+        self.log = []
+
+    def execute(self, render_pass, frame):
+        self.log.append((frame, render_pass.name))
+
+    def ran(self, frame):
+        return [name for f, name in self.log if f == frame]
+
+
+class Make(RenderPass):
+    def __init__(self, name, dynamic=True):
+        self.name, self.dynamic = name, dynamic
+
+    def setup(self, builder):
+        return builder.create(self.name + "_out", COLOR)
+
+
+class Use(RenderPass):
+    """Reads ``inputs``; writes ``target`` (a new version) or creates its own output."""
+
+    def __init__(self, name, inputs=(), target=None, dynamic=True, side_effect=False):
+        self.name, self.inputs, self.target = name, inputs, target
+        self.dynamic, self.side_effect = dynamic, side_effect
+
+    def setup(self, builder):
+        for handle in self.inputs:
+            builder.read(handle)
+        if self.target is not None:
+            return builder.write(self.target)
+        return builder.create(self.name + "_out", COLOR)
+
+
+def test_passes_no_output_needs_are_culled():
+    g = FrameGraph()
+    a = g.add(Make("a"))
+    g.add(Make("unused"))
+    b = g.add(Use("b", [a]))
+    g.add(Use("present", [b], side_effect=True))
+    compiled = g.compile()
+    assert compiled.pass_names == ["a", "b", "present"]
+    assert compiled.culled_names == ["unused"]
+    assert {name for _, name, _ in compiled.resources()} == {"a_out", "b_out", "present_out"}
+
+
+def test_writing_creates_a_new_version_and_readers_see_the_right_one():
+    g = FrameGraph()
+    color = g.add(Make("clear"))
+    drawn = g.add(Use("draw", target=color))
+    assert (color.version, drawn.version) == (1, 2) and color.resource == drawn.resource
+    g.add(Use("present", [color], side_effect=True))  # reads version 1 only
+    compiled = g.compile()
+    assert compiled.pass_names == ["clear", "present"]  # the later write is not needed
+    assert compiled.culled_names == ["draw"]
+
+
+def test_writing_an_old_version_is_an_error():
+    g = FrameGraph()
+    color = g.add(Make("clear"))
+    g.add(Use("first", target=color))
+    with pytest.raises(ValueError, match="latest version"):
+        g.add(Use("second", target=color))
+
+
+def test_static_passes_run_once_and_dynamic_ones_every_frame():
+    g = FrameGraph()
+    shadow = g.add(Make("shadow", dynamic=False))
+    sky = g.add(Make("sky", dynamic=False))
+    lit = g.add(Use("forward", [shadow, sky], dynamic=True))
+    g.add(Use("present", [lit], side_effect=True))
+    compiled = g.compile()
+    backend = NullBackend()
+    for frame in range(3):
+        compiled.run_frame(backend, frame, first=frame == 0)
+    assert backend.ran(0) == ["shadow", "sky", "forward", "present"]
+    assert backend.ran(1) == ["forward", "present"] == backend.ran(2)
+
+
+def test_a_pass_reading_a_dynamic_pass_is_not_static():
+    g = FrameGraph()
+    moving = g.add(Make("moving_shadow", dynamic=True))
+    post = g.add(Use("post", [moving], dynamic=False))
+    g.add(Use("present", [post], side_effect=True))
+    compiled = g.compile()
+    assert not compiled.is_static(compiled.passes[1].render_pass)
+
+
+def test_dump_and_dot_name_every_pass():
+    g = FrameGraph()
+    a = g.add(Make("a"))
+    g.add(Make("unused"))
+    g.add(Use("present", [a], side_effect=True))
+    compiled = g.compile()
+    text = compiled.dump()
+    assert "a " in text and "culled (no output needs them): unused" in text
+    dot = compiled.dot()
+    assert dot.startswith("digraph") and '"unused"' in dot and "style=dashed" in dot
+
+
+# -- graphs of real scenes -------------------------------------------------------------
+
+def _compiled(path_or_text, overrides=(), tmp_path=None):
+    if tmp_path is not None:
+        loaded = load_scene_text(path_or_text, tmp_path, overrides)
+    else:
+        loaded = load_scene(path_or_text, list(overrides))
+    world = build_world(loaded, Warnings())
+    size = world.render.size
+    return plan(world, size, world.render.samples)
+
+
+def test_showcase_graph_has_every_feature_pass_and_caches_shadows():
+    _, motion, compiled = _compiled(SCENES / "showcase.yaml")
+    names = compiled.pass_names
+    for name in ("shadow:sun", "shadow:lantern", "gbuffer", "ssao", "ssao_blur", "opaque", "skybox",
+                 "outline", "transparent", "resolve", "output_transform", "readback"):
+        assert name in names
+    assert compiled.culled_names == []
+    # the camera orbits, nothing else moves: shadow maps render once for all 120 frames
+    assert motion.geometry_static and not motion.camera_static
+    shadow_passes = [n.render_pass for n in compiled.passes if n.render_pass.name.startswith("shadow:")]
+    assert all(compiled.is_static(p) for p in shadow_passes)
+    assert not compiled.is_static(compiled.passes[names.index("opaque")].render_pass)
+
+
+def test_a_plain_scene_gets_only_what_it_uses(tmp_path):
+    text = "objects:\n  - mesh: {primitive: box}\n"
+    _, _, compiled = _compiled(text, tmp_path=tmp_path)
+    assert compiled.pass_names == ["opaque", "resolve", "output_transform", "readback"]
+
+
+def test_samples_1_drops_the_resolve(tmp_path):
+    text = "render: {samples: 1}\nobjects:\n  - mesh: {primitive: box}\n"
+    _, _, compiled = _compiled(text, tmp_path=tmp_path)
+    assert "resolve" not in compiled.pass_names
+
+
+def test_depth_mode_culls_shading_shadows_and_sky():
+    _, _, compiled = _compiled(SCENES / "showcase.yaml", ["render.mode=depth"])
+    assert compiled.pass_names == ["gbuffer", "view:depth", "readback"]
+    assert {"shadow:sun", "opaque", "skybox", "transparent"} <= set(compiled.culled_names)
+
+
+def test_light_depth_mode_keeps_only_the_first_shadowed_light():
+    _, _, compiled = _compiled(SCENES / "foggy_road.yaml", ["render.mode=light_depth"])
+    assert compiled.pass_names == ["shadow:moon", "view:light_depth", "readback"]
+    assert "shadow:streetlight_far" in compiled.culled_names
+
+
+def test_moving_light_makes_its_shadow_dynamic_but_not_the_others():
+    _, motion, compiled = _compiled(SCENES / "primitives.yaml")
+    by_name = {n.render_pass.name: n.render_pass for n in compiled.passes}
+    assert compiled.is_static(by_name["shadow:key"])
+    assert not compiled.is_static(by_name["shadow:mover"])
+
+
+def test_static_scene_renders_camera_passes_once_over_many_frames(tmp_path):
+    text = ("output: {frames: 5}\nlights: [{type: directional, shadows: true}]\n"
+            "objects:\n  - mesh: {primitive: sphere}\n")
+    _, motion, compiled = _compiled(text, tmp_path=tmp_path)
+    assert motion.everything_static
+    backend = NullBackend()
+    for frame in range(5):
+        compiled.run_frame(backend, frame, first=frame == 0)
+    assert backend.ran(4) == ["readback"]
+    assert backend.ran(0)[0] == "shadow:directional0"
+
+
+def test_every_scene_compiles_in_every_mode():
+    for scene in sorted(SCENES.glob("*.yaml")):
+        for mode in ("shaded", "depth", "normals", "wireframe", "points", "ambient_occlusion", "shadow", "light_depth"):
+            _, _, compiled = _compiled(scene, [f"render.mode={mode}"])
+            assert compiled.pass_names[-1] == "readback", (scene.name, mode)
