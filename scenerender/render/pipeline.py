@@ -54,13 +54,13 @@ def build_graph(world, atlas, motion: Motion, options: GraphOptions) -> FrameGra
     fill = render.mode if render.mode in ("wireframe", "points") else "solid"
     color, depth = graph.add(OpaquePass(size, samples, atlas_final, forward_ao, fill, camera_dynamic))
     if render.skybox is not None:
-        color = graph.add(SkyboxPass(color, depth, camera_dynamic))
+        color = graph.add(SkyboxPass(color, depth, dynamic=camera_dynamic))
     if any(obj.outline is not None for obj in world.objects):
-        color = graph.add(OutlinePass(color, depth, camera_dynamic))
+        color = graph.add(OutlinePass(color, depth, dynamic=camera_dynamic))
     if any(m.transparent for m in world.materials()):
         color = graph.add(TransparentPass(color, depth, atlas_final, forward_ao, camera_dynamic))
     if render.wireframe_overlay:
-        color = graph.add(WireframeOverlayPass(color, depth, camera_dynamic))
+        color = graph.add(WireframeOverlayPass(color, depth, dynamic=camera_dynamic))
     if samples > 1:
         color = graph.add(ResolvePass(color, size, camera_dynamic))
     final = graph.add(OutputTransformPass(color, size, render.output_transform, render.gamma, camera_dynamic))

@@ -69,7 +69,7 @@ class Renderer:
     """Renders frames of one World at one size. Create once, call ``render`` per frame."""
 
     def __init__(self, world, gl, size=None, samples=None, warn=None, want_linear: bool = False,
-                 profile: bool = False):
+                 profile: bool = False, cache_static_passes: bool = True):
         render = world.render
         self.world = world
         self.gl = gl
@@ -89,6 +89,7 @@ class Renderer:
         self.timings: dict | None = {} if profile else None
         self.backend = GLBackend(gl, self.scene, self.programs, self.features, resources, self.timings)
         self.evaluator = FrameEvaluator(world, self.size, self.atlas)
+        self.cache_static_passes = cache_static_passes  # off only to measure what caching saves
         self._rendered_any = False
 
     def release(self) -> None:
@@ -107,7 +108,8 @@ class Renderer:
         time = self.frame_time(index)
         frame = self.evaluator.evaluate(index, time)
         self.scene.upload(frame)
-        self.compiled.run_frame(self.backend, frame, first=not self._rendered_any)
+        first = not self._rendered_any or not self.cache_static_passes
+        self.compiled.run_frame(self.backend, frame, first=first)
         self._rendered_any = True
         outputs = self.backend.outputs
         return FrameResult(index, time, outputs.pop("pixels"), outputs.pop("linear", None))

@@ -19,6 +19,18 @@ from scenerender.scene.values import (
     Float, Text, animated_number, choice, describe, number, vector,
 )
 
+def mapping_or(mapping_type, other_type):
+    """A value written either as a mapping (validated as ``mapping_type``) or as something
+    else, e.g. a material name or an inline material. Only the matching branch reports
+    errors, so messages stay about what the user wrote."""
+
+    def which(value):
+        return "(mapping)" if isinstance(value, dict) else "(value)"
+
+    return Annotated[Union[Annotated[other_type, Tag("(value)")], Annotated[mapping_type, Tag("(mapping)")]],
+                     Discriminator(which)]
+
+
 def tagged_union(key: str, noun: str, members: dict):
     """A union chosen by the value of ``key`` (``type: point``), with clear errors for a
     missing or misspelt tag. ``members`` maps tag value -> model class."""
@@ -151,17 +163,8 @@ def _skybox_folder(value, info: ValidationInfo) -> SkyboxFaces:
     return SkyboxFaces.model_validate(faces, context=info.context)
 
 
-def _skybox_kind(value):
-    return "(faces)" if isinstance(value, dict) else "(folder)"
-
-
-Skybox = Annotated[
-    Union[Annotated[Annotated[SkyboxFaces, PlainValidator(_skybox_folder),
-                              WithJsonSchema({"type": "string", "description": "folder with posx negx posy negy posz negz images"})],
-                    Tag("(folder)")],
-          Annotated[SkyboxFaces, Tag("(faces)")]],
-    Discriminator(_skybox_kind),
-]
+SkyboxFolder = Annotated[SkyboxFaces, PlainValidator(_skybox_folder), WithJsonSchema({"type": "string", "description": "folder with posx negx posy negy posz negz images"})]
+Skybox = mapping_or(SkyboxFaces, SkyboxFolder)
 
 SHADINGS = ("phong", "blinn_phong", "unlit")
 MODES = ("shaded", "depth", "normals", "wireframe", "points", "ambient_occlusion", "shadow", "light_depth")
@@ -288,15 +291,8 @@ class CameraSpec(StrictModel):
 # lights
 
 
-def _shadows_kind(value):
-    return "(settings)" if isinstance(value, dict) else "(flag)"
-
-
 # true / false, or a mapping overriding render.shadows for this light
-ShadowsOption = Annotated[
-    Union[Annotated[Bool, Tag("(flag)")], Annotated[ShadowOverride, Tag("(settings)")]],
-    Discriminator(_shadows_kind),
-]
+ShadowsOption = mapping_or(ShadowOverride, Bool)
 
 
 def _attenuation(value):
@@ -389,14 +385,7 @@ class MaterialSpec(StrictModel):
     unlit: Bool | None = None
 
 
-def _material_kind(value):
-    return "(name)" if isinstance(value, str) else "(inline)"
-
-
-MaterialRef = Annotated[
-    Union[Annotated[Text, Tag("(name)")], Annotated[MaterialSpec, Tag("(inline)")]],
-    Discriminator(_material_kind),
-]
+MaterialRef = mapping_or(MaterialSpec, Text)  # a name from `materials`, or inline
 
 # ---------------------------------------------------------------------------------------
 # meshes
@@ -488,14 +477,7 @@ def _mesh_file(value, info: ValidationInfo) -> Path:
 MeshPath = Annotated[Path, PlainValidator(_mesh_file), WithJsonSchema({"type": "string", "description": "OBJ (+MTL), PLY, STL or GLB file"})]
 
 
-def _mesh_kind(value):
-    return "(inline)" if isinstance(value, dict) else "(file)"
-
-
-MeshSpec = Annotated[
-    Union[Annotated[MeshPath, Tag("(file)")], Annotated[PrimitiveSpec, Tag("(inline)")]],
-    Discriminator(_mesh_kind),
-]
+MeshSpec = mapping_or(PrimitiveSpec, MeshPath)  # a file, or an inline primitive
 
 # ---------------------------------------------------------------------------------------
 # objects
@@ -546,15 +528,7 @@ class RandomInstancesWrapper(StrictModel):
     random: RandomInstances
 
 
-def _instances_kind(value):
-    return "(random)" if isinstance(value, dict) else "(list)"
-
-
-Instances = Annotated[
-    Union[Annotated[Annotated[list[InstanceSpec], Field(min_length=1, strict=False)], Tag("(list)")],
-          Annotated[RandomInstancesWrapper, Tag("(random)")]],
-    Discriminator(_instances_kind),
-]
+Instances = mapping_or(RandomInstancesWrapper, Annotated[list[InstanceSpec], Field(min_length=1, strict=False)])
 
 
 class ObjectSpec(StrictModel):

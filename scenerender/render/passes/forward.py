@@ -119,19 +119,26 @@ class OpaquePass(RenderPass):
             gl.depth_func = "<"
 
 
-class SkyboxPass(RenderPass):
-    """Draws the cube-map sky where nothing else was drawn (depth still at the far plane)."""
+class DrawOverPass(RenderPass):
+    """A pass that draws over the opaque pass's colour, depth-tested against its depth.
+    ``inputs`` are further resources it samples (shadow atlas, AO)."""
 
-    name = "skybox"
-
-    def __init__(self, color, depth, dynamic: bool = True):
+    def __init__(self, color, depth, *inputs, dynamic: bool = True):
         self.color_in, self.depth_in = color, depth
+        self.inputs = [h for h in inputs if h is not None]
         self.dynamic = dynamic
 
     def setup(self, builder):
-        builder.read(self.depth_in)
+        for handle in [self.depth_in, *self.inputs]:
+            builder.read(handle)
         self.color = builder.write(self.color_in)
         return self.color
+
+
+class SkyboxPass(DrawOverPass):
+    """Draws the cube-map sky where nothing else was drawn (depth still at the far plane)."""
+
+    name = "skybox"
 
     def execute(self, ctx) -> None:
         import moderngl
@@ -149,20 +156,11 @@ class SkyboxPass(RenderPass):
         gl.depth_func = "<"
 
 
-class OutlinePass(RenderPass):
+class OutlinePass(DrawOverPass):
     """Selection outlines: each outlined object's back faces, pushed out along the normals
     and drawn in a flat colour; the object itself hides all but the rim."""
 
     name = "outline"
-
-    def __init__(self, color, depth, dynamic: bool = True):
-        self.color_in, self.depth_in = color, depth
-        self.dynamic = dynamic
-
-    def setup(self, builder):
-        builder.read(self.depth_in)
-        self.color = builder.write(self.color_in)
-        return self.color
 
     def execute(self, ctx) -> None:
         import moderngl
@@ -185,7 +183,7 @@ class OutlinePass(RenderPass):
         gl.cull_face = "back"
 
 
-class TransparentPass(RenderPass):
+class TransparentPass(DrawOverPass):
     """Transparent surfaces after everything opaque, sorted far to near, blended, with depth
     test but no depth writes. Each object draws its back faces first, then its front faces,
     which orders a convex object's own surfaces correctly."""
@@ -193,16 +191,8 @@ class TransparentPass(RenderPass):
     name = "transparent"
 
     def __init__(self, color, depth, atlas=None, ao=None, dynamic: bool = True):
-        self.color_in, self.depth_in = color, depth
+        super().__init__(color, depth, atlas, ao, dynamic=dynamic)
         self.atlas, self.ao = atlas, ao
-        self.dynamic = dynamic
-
-    def setup(self, builder):
-        for handle in (self.depth_in, self.atlas, self.ao):
-            if handle is not None:
-                builder.read(handle)
-        self.color = builder.write(self.color_in)
-        return self.color
 
     def execute(self, ctx) -> None:
         import moderngl
@@ -225,19 +215,10 @@ class TransparentPass(RenderPass):
             gl.cull_face = "back"
 
 
-class WireframeOverlayPass(RenderPass):
+class WireframeOverlayPass(DrawOverPass):
     """Mesh edges drawn over the shaded image (``render.wireframe_overlay``)."""
 
     name = "wireframe_overlay"
-
-    def __init__(self, color, depth, dynamic: bool = True):
-        self.color_in, self.depth_in = color, depth
-        self.dynamic = dynamic
-
-    def setup(self, builder):
-        builder.read(self.depth_in)
-        self.color = builder.write(self.color_in)
-        return self.color
 
     def execute(self, ctx) -> None:
         import moderngl
