@@ -358,3 +358,21 @@ def test_render_gif_end_to_end(scenes):
     with Image.open(scenes / "out" / "good.gif") as image:
         assert image.size == (32, 24)
         assert image.n_frames == 3
+
+
+def test_missing_egl_is_one_line_with_the_fix_and_exit_3(tmp_path, monkeypatch):
+    import moderngl
+
+    scene = tmp_path / "s.yaml"
+    scene.write_text("objects:\n  - mesh: {primitive: box}\n")
+
+    def no_egl(*args, **kwargs):
+        raise Exception("libEGL.so.1: cannot open shared object file: No such file or directory")
+
+    monkeypatch.setattr(moderngl, "create_context", no_egl)
+    result = CliRunner().invoke(main, ["render", str(scene), "-o", str(tmp_path / "out"), "-q"])
+    assert result.exit_code == 3
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: cannot create an OpenGL")
+    assert "libEGL.so.1" in lines[0] and "apt-get install" in lines[0] and "Traceback" not in result.output
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())

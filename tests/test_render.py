@@ -285,3 +285,61 @@ objects:
     assert tuple(render_scene(text)[32, 32]) == (188, 188, 188)
     near = render_scene(text.replace("position: [0, 0, -30]", "position: [0, 0, -1]"))[32, 32]
     assert near[0] > 230 and near[1] < 160  # exp(-(0.5 * 1)^2) = 0.78 of the red remains
+
+
+def test_orthographic_camera_keeps_true_sizes(render_scene):
+    text = """
+render: {{size: [64, 64], samples: 1, background: [0, 0, 0]}}
+camera: {{position: [0, 0, {z}], target: [0, 0, 0], projection: orthographic, height: 4}}
+lights: []
+objects:
+  - mesh: {{primitive: sphere, radius: 1, segments: 64, rings: 32}}
+    material: {{diffuse: [1, 1, 1], unlit: true}}
+"""
+    for distance in (3, 30):
+        row = render_scene(text.format(z=distance))[32, :, 0]
+        assert abs(int((row > 128).sum()) - 32) <= 1  # diameter 2 of a 4-unit view: half of 64
+
+
+def test_texture_wrap_modes(render_scene, tmp_path):
+    from PIL import Image
+
+    pixels = np.zeros((1, 2, 3), dtype=np.uint8)
+    pixels[0, 0] = (255, 0, 0)   # left half red
+    pixels[0, 1] = (0, 0, 255)   # right half blue
+    Image.fromarray(pixels).save(tmp_path / "halves.png")
+    text = """
+render: {{size: [128, 8], samples: 1}}
+camera: {{position: [0, 1, 0], target: [0, 0, 0], up: [0, 0, -1], projection: orthographic, height: 0.0625}}
+lights: []
+objects:
+  - mesh: {{primitive: plane, size: [1, 1], uv_repeat: 2}}
+    material: {{diffuse_map: halves.png, filter: nearest, wrap: {wrap}, unlit: true, diffuse: [1, 1, 1]}}
+"""
+    def colours(wrap):
+        row = render_scene(text.format(wrap=wrap), base_dir=tmp_path)[4]
+        quarters = [row[8 + 32 * i] for i in range(4)]  # centres of u in [0,.5) [.5,1) [1,1.5) [1.5,2)
+        return ["r" if q[0] > q[2] else "b" for q in quarters]
+
+    assert colours("repeat") == ["r", "b", "r", "b"]
+    assert colours("mirror") == ["r", "b", "b", "r"]
+    assert colours("clamp") == ["r", "b", "b", "b"]
+
+
+@pytest.mark.parametrize("suffix", ["ply", "stl"])
+def test_other_mesh_formats_render_like_the_primitive(render_scene, tmp_path, suffix):
+    import trimesh
+
+    trimesh.creation.box(extents=(1, 1, 1)).export(tmp_path / f"box.{suffix}")
+    text = """
+render: {{size: [64, 64], samples: 1, background: [0, 0, 0]}}
+camera: {{position: [2, 1.5, 2.5], target: [0, 0, 0]}}
+lights: [{{type: directional, direction: [-0.3, -1, -0.5]}}, {{type: ambient}}]
+objects:
+  - mesh: {mesh}
+    normals: flat
+"""
+    from_file = render_scene(text.format(mesh=f"box.{suffix}"), base_dir=tmp_path)
+    primitive = render_scene(text.format(mesh="{primitive: box}"), base_dir=tmp_path)
+    assert (from_file.max(axis=2) > 20).sum() > 300
+    assert compare(primitive, from_file).mean_abs < 1.0
