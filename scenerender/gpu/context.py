@@ -41,7 +41,3 @@ def gl_info(ctx) -> dict:
     result["version_code"] = ctx.version_code
     return result
 
-
-def is_software(ctx) -> bool:
-    renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
-    return any(word in renderer for word in ("llvmpipe", "softpipe", "swrast"))

@@ -21,7 +21,6 @@ class GpuMesh:
         if with_tangents:
             self.tangents = ctx.buffer(np.ascontiguousarray(tangents(mesh), dtype=np.float32).tobytes())
         self.mesh = mesh
-        self.index_count = int(mesh.indices.size)
         self._ctx = ctx
         self._smooth = None
 

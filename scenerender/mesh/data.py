@@ -42,6 +42,7 @@ class MeshData:
     groups: list[MeshGroup] = field(default_factory=list)
     materials: dict = field(default_factory=dict)
     source: str = ""
+    _bounds: np.ndarray | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not self.groups:
@@ -56,8 +57,15 @@ class MeshData:
         return int(len(self.positions))
 
     def bounds(self) -> np.ndarray:
-        """(2, 3) float64: the min and max corners of the positions."""
-        if len(self.positions) == 0:
-            return np.zeros((2, 3))
-        p = self.positions.astype(np.float64)
-        return np.stack([p.min(axis=0), p.max(axis=0)])
+        """(2, 3) float64: the min and max corners of the positions.
+
+        Computed once: culling and scene bounds ask for it every frame, and a mesh's
+        positions do not change after it is built (operations return new meshes).
+        """
+        if self._bounds is None:
+            if len(self.positions) == 0:
+                self._bounds = np.zeros((2, 3))
+            else:
+                p = self.positions.astype(np.float64)
+                self._bounds = np.stack([p.min(axis=0), p.max(axis=0)])
+        return self._bounds

@@ -6,7 +6,6 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from scenerender.errors import display_path
 from scenerender.scene.messages import to_user_errors
 from scenerender.scene.overrides import apply_overrides
 from scenerender.scene.schema import Scene
@@ -63,6 +62,3 @@ def _validate(data, source: SourceMap, path: Path, overrides) -> LoadedScene:
         raise to_user_errors(exc, data, source) from None
     return LoadedScene(spec=spec, path=path, source=source, data=data)
 
-
-def shown(path: Path) -> str:
-    return display_path(path)

@@ -35,7 +35,6 @@ class CameraState:
     fov: float
     aspect: float
     orthographic: bool
-    ortho_height: float
 
     @property
     def forward(self) -> np.ndarray:
@@ -54,13 +53,6 @@ class CameraState:
         r = np.eye(4)
         r[:3, :3] = self.rotation
         return self.projection @ r
-
-    def view_matrix(self) -> np.ndarray:
-        """(4, 4) float64 absolute world -> view (for tools; rendering uses the relative one)."""
-        v = np.eye(4)
-        v[:3, :3] = self.rotation
-        v[:3, 3] = -self.rotation @ self.position
-        return v
 
 
 def look_rotation(forward, up) -> np.ndarray:

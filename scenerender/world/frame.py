@@ -112,7 +112,7 @@ class FrameEvaluator:
         far = max(far, near * 1.001)
         height = self._ortho_height(spec, t) if ortho else 0.0
         projection = orthographic(height, self.aspect, near, far) if ortho else perspective(fov, self.aspect, near, far)
-        return CameraState(position, rotation, projection, near, far, fov, self.aspect, ortho, height)
+        return CameraState(position, rotation, projection, near, far, fov, self.aspect, ortho)
 
     def _aim(self, spec, t: float, fov: float):
         """(position (3,), forward (3,)) in float64."""

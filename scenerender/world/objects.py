@@ -87,10 +87,6 @@ class RenderObject:
         own = (self.position, self.rotation, self.scale, self.visible)
         return all(t.is_constant for t in own) and self.instances.is_static
 
-    @property
-    def materials_static(self) -> bool:
-        return all(m.is_static for m in self.materials)
-
     def object_matrix(self, t: float) -> np.ndarray:
         return model_matrix(self.position(t), self.rotation(t), _scale3(self.scale(t)))
 

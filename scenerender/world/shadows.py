@@ -46,10 +46,6 @@ class AtlasLayout:
     size: tuple
     tiles: dict
 
-    @property
-    def view_count(self) -> int:
-        return sum(len(t) for t in self.tiles.values())
-
 
 def plan_atlas(lights: list, max_size: int = 16384, warn=None) -> AtlasLayout | None:
     """Pack every shadowed light's tiles into rows (largest first); None when no shadows.

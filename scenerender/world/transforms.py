@@ -7,13 +7,6 @@ import math
 import numpy as np
 
 
-def translation(offset) -> np.ndarray:
-    """(4, 4) float64 translation by ``offset`` (3,)."""
-    m = np.eye(4)
-    m[:3, 3] = offset
-    return m
-
-
 def scaling(factors) -> np.ndarray:
     """(4, 4) float64 scale; ``factors`` is a number or (3,)."""
     f = np.broadcast_to(np.asarray(factors, dtype=np.float64).reshape(-1), (3,))
@@ -91,14 +84,6 @@ def normal_matrices(models: np.ndarray) -> np.ndarray:
     det = np.linalg.det(a)
     sign = np.where(det < 0, -1.0, 1.0)
     return cof * sign[..., None, None]
-
-
-def transform_points(matrix: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Apply a (4, 4) transform to (N, 3) points (with perspective divide) -> (N, 3)."""
-    p = np.asarray(points, dtype=np.float64)
-    h = p @ matrix[:3, :3].T + matrix[:3, 3]
-    w = p @ matrix[3, :3] + matrix[3, 3]
-    return h / w[:, None]
 
 
 def box_corners(bounds: np.ndarray) -> np.ndarray:
