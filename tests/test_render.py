@@ -343,3 +343,32 @@ objects:
     primitive = render_scene(text.format(mesh="{primitive: box}"), base_dir=tmp_path)
     assert (from_file.max(axis=2) > 20).sum() > 300
     assert compare(primitive, from_file).mean_abs < 1.0
+
+
+def test_exr_holds_linear_values_before_the_output_transform(tmp_path):
+    import OpenEXR
+
+    from scenerender.job import RenderOptions, run_render
+
+    scene = tmp_path / "grey.yaml"
+    scene.write_text(FLAT.format(samples=4, transform="srgb", c=0.5) + "output: {format: exr}\n")
+    run_render(scene, RenderOptions(output=tmp_path / "out", quiet=True), echo=lambda *_: None)
+    with OpenEXR.File(str(tmp_path / "out" / "frame_0000.exr")) as exr:
+        rgb = exr.channels()["RGB"].pixels
+    assert rgb.shape == (48, 64, 3) and rgb.dtype == np.float32
+    assert np.allclose(rgb, 0.5, atol=1e-3)  # linear 0.5, not the sRGB-encoded 0.735
+
+
+def test_linear_fog_mixes_by_distance(render_scene):
+    text = """
+render: {size: [32, 32], samples: 1, background: [0, 0, 0], fog: {mode: linear, start: 10, end: 30, color: [1, 1, 1]}}
+camera: {position: [0, 0, 0], target: [0, 0, -1], fov: 10}
+lights: []
+objects:
+  - mesh: {primitive: plane, size: 4}
+    rotation: [90, 0, 0]
+    position: [0, 0, -20]
+    material: {diffuse: [0, 0, 0], unlit: true}
+"""
+    # halfway between start and end: 0.5 of the white fog over black -> sRGB 188
+    assert abs(int(render_scene(text)[16, 16, 0]) - 188) <= 1
