@@ -47,6 +47,30 @@ def _items(world, frame):
                 yield DrawItem(index, group_index, material)
 
 
+def begin_camera_pass(ctx, colors, depth, clear_color) -> object:
+    """Bind and clear a colour + depth target for drawing meshes from the camera, with the
+    depth test on and blending and culling off. Returns the framebuffer."""
+    import moderngl
+
+    fbo = ctx.framebuffer(colors, depth)
+    fbo.use()
+    fbo.clear(*clear_color, depth=1.0)
+    ctx.gl.enable(moderngl.DEPTH_TEST)
+    ctx.gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
+    ctx.gl.depth_func = "<"
+    return fbo
+
+
+def bind_shadow_atlas(ctx, atlas) -> None:
+    """The shadow atlas on its unit, set for hardware-filtered depth comparison."""
+    import moderngl
+
+    texture = ctx.resource(atlas)
+    texture.compare_func = "<="
+    texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+    texture.use(TEXTURE_UNITS["u_shadow_atlas"])
+
+
 def bind_texture_units(program) -> None:
     """Point each sampler uniform at its fixed texture unit."""
     for name, unit in TEXTURE_UNITS.items():

@@ -15,8 +15,7 @@ from pydantic_core import PydanticCustomError
 from scenerender.scene.strict import StrictModel
 from scenerender.scene.suggest import did_you_mean
 from scenerender.scene.values import (
-    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedFloat, AnimatedScale, AnimatedVec3, Bool, Color,
-    Float, Text, animated_number, choice, describe, number, vector,
+    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedFloat, AnimatedScale, AnimatedVec3, Bool, Text, animated_number, choice, describe, number, vector,
 )
 
 def mapping_or(mapping_type, other_type):
@@ -80,20 +79,20 @@ def _existing_path(value, info: ValidationInfo, want_dir: bool = False) -> Path:
     return path
 
 
-def _file(value, info: ValidationInfo) -> Path:
-    return _existing_path(value, info)
+def existing_file(suffixes: tuple, message: str, description: str):
+    """A path type: the file must exist (relative to the scene file) and end in one of
+    ``suffixes``; ``message`` (with {value} and {kinds}) explains a wrong kind of file."""
+
+    def validate(value, info: ValidationInfo) -> Path:
+        path = _existing_path(value, info)
+        if path.suffix.lower() not in suffixes:
+            raise PydanticCustomError("file_type", message, {"value": value, "kinds": " ".join(suffixes)})
+        return path
+
+    return Annotated[Path, PlainValidator(validate), WithJsonSchema({"type": "string", "description": description})]
 
 
-def _image_file(value, info: ValidationInfo) -> Path:
-    path = _existing_path(value, info)
-    if path.suffix.lower() not in IMAGE_SUFFIXES:
-        raise PydanticCustomError("image_type", "{value} is not an image this renderer reads ({kinds})",
-                                  {"value": value, "kinds": " ".join(IMAGE_SUFFIXES)})
-    return path
-
-
-FilePath = Annotated[Path, PlainValidator(_file), WithJsonSchema({"type": "string", "description": "path relative to the scene file"})]
-ImagePath = Annotated[Path, PlainValidator(_image_file), WithJsonSchema({"type": "string", "description": "image path relative to the scene file (PNG BMP JPG TGA GIF)"})]
+ImagePath = existing_file(IMAGE_SUFFIXES, "{value} is not an image this renderer reads ({kinds})", "image path relative to the scene file (PNG BMP JPG TGA GIF)")
 
 # ---------------------------------------------------------------------------------------
 # render
@@ -466,15 +465,7 @@ PrimitiveSpec = tagged_union("primitive", "inline mesh", {
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".glb", ".gltf", ".off")
 
 
-def _mesh_file(value, info: ValidationInfo) -> Path:
-    path = _existing_path(value, info)
-    if path.suffix.lower() not in MESH_SUFFIXES:
-        raise PydanticCustomError("mesh_type", "{value}: unsupported mesh format (use one of {kinds})",
-                                  {"value": value, "kinds": " ".join(MESH_SUFFIXES)})
-    return path
-
-
-MeshPath = Annotated[Path, PlainValidator(_mesh_file), WithJsonSchema({"type": "string", "description": "OBJ (+MTL), PLY, STL or GLB file"})]
+MeshPath = existing_file(MESH_SUFFIXES, "{value}: unsupported mesh format (use one of {kinds})", "OBJ (+MTL), PLY, STL or GLB file")
 
 
 MeshSpec = mapping_or(PrimitiveSpec, MeshPath)  # a file, or an inline primitive

@@ -7,7 +7,7 @@ come out of validation as ``scenerender.animation.Track`` objects, ready to eval
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any
 
 from pydantic import PlainValidator, WithJsonSchema
 from pydantic_core import PydanticCustomError

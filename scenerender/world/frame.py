@@ -14,7 +14,7 @@ from scenerender.world.camera import (
     CameraState, fit_near_far, framing_position, look_rotation, orthographic, perspective, yaw_pitch_forward,
 )
 from scenerender.world.lights import LightState, evaluate_lights
-from scenerender.world.shadows import AtlasLayout, ShadowView, light_views
+from scenerender.world.shadows import AtlasLayout, light_views
 from scenerender.world.transforms import normal_matrices
 
 

@@ -6,7 +6,7 @@ import numpy as np
 
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.render.draw import bind_texture_units, camera_objects, draw_object
+from scenerender.render.draw import begin_camera_pass, bind_texture_units, camera_objects, draw_object
 from scenerender.render.features import TEXTURE_UNITS
 from scenerender.render.passes.forward import MESH_VERTEX, fullscreen
 
@@ -28,15 +28,7 @@ class GBufferPass(RenderPass):
         return self.gbuffer
 
     def execute(self, ctx) -> None:
-        import moderngl
-
-        gl = ctx.gl
-        fbo = ctx.framebuffer([self.gbuffer], self.depth)
-        fbo.use()
-        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        gl.enable(moderngl.DEPTH_TEST)
-        gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
-        gl.depth_func = "<"
+        begin_camera_pass(ctx, [self.gbuffer], self.depth, (0.0, 0.0, 0.0, 0.0))
         program = ctx.programs.get(MESH_VERTEX, "mesh/gbuffer.frag")
         camera = ctx.frame.camera
         set_uniforms(program, u_view_proj=camera.view_proj_relative(), u_view_rotation=camera.rotation)

@@ -7,7 +7,8 @@ import numpy as np
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.render.draw import (
-    bind_material, bind_texture_units, camera_objects, draw_item, draw_object, opaque_items, transparent_items,
+    begin_camera_pass, bind_material, bind_shadow_atlas, bind_texture_units, camera_objects, draw_item,
+    draw_object, opaque_items, transparent_items,
 )
 from scenerender.render.features import TEXTURE_UNITS
 
@@ -27,13 +28,8 @@ def _fog_uniforms(ctx, program) -> None:
 
 
 def _bind_shared_inputs(ctx, atlas, ao) -> None:
-    import moderngl
-
     if atlas is not None:
-        texture = ctx.resource(atlas)
-        texture.compare_func = "<="
-        texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
-        texture.use(TEXTURE_UNITS["u_shadow_atlas"])
+        bind_shadow_atlas(ctx, atlas)
     if ao is not None:
         ctx.resource(ao).use(TEXTURE_UNITS["u_ao"])
 
@@ -92,13 +88,7 @@ class OpaquePass(RenderPass):
         import moderngl
 
         gl = ctx.gl
-        fbo = ctx.framebuffer([self.color], self.depth)
-        fbo.use()
-        background = ctx.frame.background
-        fbo.clear(*background[:3], 1.0, depth=1.0)
-        gl.enable(moderngl.DEPTH_TEST)
-        gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
-        gl.depth_func = "<"
+        fbo = begin_camera_pass(ctx, [self.color], self.depth, (*ctx.frame.background[:3], 1.0))
         _bind_shared_inputs(ctx, self.atlas, self.ao)
         mode = None
         if self.fill == "wireframe":

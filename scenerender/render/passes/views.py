@@ -6,7 +6,9 @@ import numpy as np
 
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.render.draw import bind_texture_units, camera_objects, draw_object
+from scenerender.render.draw import (
+    begin_camera_pass, bind_shadow_atlas, bind_texture_units, camera_objects, draw_object,
+)
 from scenerender.render.features import TEXTURE_UNITS
 from scenerender.render.passes.forward import MESH_VERTEX, fullscreen
 
@@ -121,18 +123,8 @@ class ShadowFactorViewPass(RenderPass):
         return self.ldr
 
     def execute(self, ctx) -> None:
-        import moderngl
-
-        gl = ctx.gl
-        fbo = ctx.framebuffer([self.ldr], self.depth)
-        fbo.use()
-        fbo.clear(1.0, 1.0, 1.0, 1.0, depth=1.0)
-        gl.enable(moderngl.DEPTH_TEST)
-        gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
-        atlas = ctx.resource(self.atlas)
-        atlas.compare_func = "<="
-        atlas.filter = (moderngl.LINEAR, moderngl.LINEAR)
-        atlas.use(TEXTURE_UNITS["u_shadow_atlas"])
+        begin_camera_pass(ctx, [self.ldr], self.depth, (1.0, 1.0, 1.0, 1.0))
+        bind_shadow_atlas(ctx, self.atlas)
         program = ctx.programs.get(MESH_VERTEX, "views/shadow_factor.frag")
         bind_texture_units(program)
         light = ctx.frame.lights[self.light_index]
