@@ -26,15 +26,22 @@ class SourceLocation:
 
 
 class UserError(Exception):
-    """Bad input: a scene file, an asset or a command-line option. Exit code 2."""
+    """Bad input: a scene file, an asset or a command-line option. Exit code 2.
+
+    ``kind`` groups errors that are the same mistake repeated (e.g. the same bad key in
+    every object) so that a list of them can say "and 297 more like it"; by default the
+    message itself is the kind.
+    """
 
     exit_code = 2
 
-    def __init__(self, message: str, location: SourceLocation | None = None, key: str | None = None):
+    def __init__(self, message: str, location: SourceLocation | None = None, key: str | None = None,
+                 kind=None):
         super().__init__(message)
         self.message = message
         self.location = location
         self.key = key
+        self.kind = kind if kind is not None else message
 
     def __str__(self) -> str:
         parts = []
@@ -47,15 +54,34 @@ class UserError(Exception):
 
 
 class SceneErrors(UserError):
-    """Several problems found at once in one scene file; each prints on its own line."""
+    """Several problems found at once in one scene file; each prints on its own line.
+
+    However many there are, ``lines()`` stays short: one line per kind of problem (its first
+    occurrence), "(and N more like it)" for repeats, at most ``MAX_LINES`` lines.
+    """
+
+    MAX_LINES = 10
 
     def __init__(self, errors: list[UserError]):
         first = errors[0]
-        super().__init__(first.message, first.location, first.key)
+        super().__init__(first.message, first.location, first.key, first.kind)
         self.errors = errors
 
     def lines(self) -> list[str]:
-        return [str(e) for e in self.errors]
+        groups: dict = {}
+        for error in self.errors:
+            groups.setdefault(error.kind, []).append(error)
+        shown = list(groups.values())
+        if len(shown) > self.MAX_LINES:
+            shown = shown[:self.MAX_LINES - 1]
+        lines = []
+        for group in shown:
+            more = f" (and {len(group) - 1} more like it)" if len(group) > 1 else ""
+            lines.append(str(group[0]) + more)
+        hidden = len(self.errors) - sum(len(group) for group in shown)
+        if hidden:
+            lines.append(f"... and {hidden} more problem{'s' if hidden != 1 else ''}")
+        return lines
 
 
 class EnvironmentProblem(Exception):

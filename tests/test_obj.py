@@ -344,10 +344,18 @@ def test_bad_number_in_a_face(tmp_path):
     assert "'x'" in error.message
 
 
-def test_face_with_too_few_vertices(tmp_path):
-    error = error_from(tmp_path, SQUARE_VERTICES + "f 1 2\n")
-    assert error.location.line == 5
-    assert "at least 3 vertices" in error.message
+def test_face_with_too_few_vertices_is_skipped_with_a_warning(tmp_path):
+    warnings = Warnings()
+    mesh = parse(tmp_path, SQUARE_VERTICES + "f 1 2 3\nf 1 2\nf 3\nl 1 2\n", warnings=warnings)
+    assert mesh.triangle_count == 1
+    assert len(warnings.items) == 1
+    assert warnings.items[0].endswith("model.obj:6: skipped 2 faces with fewer than 3 vertices and 1 line element (l)")
+
+
+def test_face_with_too_few_vertices_is_an_error_when_strict(tmp_path):
+    with pytest.raises(UserError, match="fewer than 3 vertices") as caught:
+        parse(tmp_path, SQUARE_VERTICES + "f 1 2\n", warnings=Warnings(strict=True))
+    assert caught.value.location.line == 5
 
 
 def test_vertex_with_too_few_numbers(tmp_path):
@@ -445,3 +453,126 @@ def test_load_mesh_unreadable_file_is_a_user_error(tmp_path):
     with pytest.raises(UserError) as caught:
         load_mesh(path, warnings=Warnings())
     assert caught.value.location.file.endswith("broken.ply")
+
+
+# --------------------------------------------------------------------------------------
+# Real-world tolerance and hostile input
+
+
+def test_a_model_with_two_vertex_faces_loads_with_one_counting_warning(tmp_path):
+    from asset_files import model_with_two_vertex_faces
+
+    write(tmp_path, "model.mtl", "newmtl stone\nKd 0.5 0.5 0.5\n")
+    warnings = Warnings()
+    mesh = parse(tmp_path, model_with_two_vertex_faces(201), warnings=warnings)
+    assert mesh.triangle_count == 12 * 12 * 2
+    assert mesh.groups == [MeshGroup("stone", 0, 288)]
+    assert len(warnings.items) == 1
+    assert warnings.items[0].endswith(
+        "skipped 201 faces with fewer than 3 vertices, 1 line element (l) and 1 point element (p)")
+    with pytest.raises(UserError, match="skipped 201 faces"):
+        parse(tmp_path, model_with_two_vertex_faces(201), warnings=Warnings(strict=True))
+
+
+def test_zero_area_triangles_are_skipped_and_counted(tmp_path):
+    warnings = Warnings()
+    text = SQUARE_VERTICES + "v 2 0 0\nusemtl a\nf 1 2 3\nf 1 1 2\nusemtl b\nf 1 2 5\nf 1 3 4\n"
+    mesh = parse(tmp_path, text, warnings=warnings)
+    assert mesh.triangle_count == 2
+    assert mesh.groups == [MeshGroup("a", 0, 1), MeshGroup("b", 1, 1)]
+    assert warnings.items[0].endswith("skipped 2 zero-area triangles")
+
+
+@pytest.mark.parametrize("corner", ["9223372036854775808", "-9223372036854775809", "99999999999999999999999",
+                                    "1/9223372036854775807", "1//-99999999999999999999", "4611686018427387904"])
+def test_face_indices_beyond_64_bits_are_an_error_at_their_line(tmp_path, corner):
+    error = error_from(tmp_path, SQUARE_VERTICES + f"f 1 2 3\nf 1 {corner} 3\n")
+    assert error.location.line == 6
+    assert "out of range" in error.message
+
+
+def test_a_face_index_far_past_the_vertices_is_an_error(tmp_path):
+    error = error_from(tmp_path, SQUARE_VERTICES + "f 1 2 4611686018427387903\n")
+    assert error.location.line == 5
+    assert "only 4 vertices" in error.message
+
+
+@pytest.mark.parametrize("name, content", [
+    ("broken.ply", "ply\nformat ascii 1.0\nelement vertex 99999999999999\nproperty float x\nend_header\n1\n"),
+    ("broken.stl", b"solid x\nfacet normal 0 0 nan\nouter loop\nvertex 1 2\n"),
+    ("broken.glb", b"glTF\x02\x00\x00\x00\xff\xff\xff\x7f" + b"\x00" * 8),
+    ("broken.gltf", '{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {"POSITION": 7}}]}]}'),
+    ("broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n"),
+])
+def test_malformed_trimesh_formats_are_user_errors_naming_the_file(tmp_path, name, content):
+    path = tmp_path / name
+    path.write_bytes(content if isinstance(content, bytes) else content.encode())
+    with pytest.raises(UserError) as caught:
+        load_mesh(path, warnings=Warnings())
+    assert caught.value.location.file.endswith(name)
+
+
+def test_a_gltf_buffer_outside_the_allowed_folders_is_refused(tmp_path):
+    import json
+
+    from scenerender.scene.assets import AssetPolicy
+
+    (tmp_path / "outside").mkdir()
+    (tmp_path / "outside" / "data.bin").write_bytes(np.zeros(36, np.float32).tobytes())
+    gltf = {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "buffers": [{"uri": "../outside/data.bin", "byteLength": 36}],
+    }
+    path = write(tmp_path / "scene", "model.gltf", json.dumps(gltf))
+    with pytest.raises(UserError, match="outside the folders"):
+        load_mesh(path, warnings=Warnings(), assets=AssetPolicy(path.parent))
+    # the same file with its buffer inside the folder loads, and the buffer counts as read
+    (tmp_path / "scene" / "data.bin").write_bytes(np.array([0, 0, 0, 1, 0, 0, 0, 1, 0], np.float32).tobytes())
+    gltf["buffers"][0]["uri"] = "data.bin"
+    path.write_text(json.dumps(gltf))
+    policy = AssetPolicy(path.parent)
+    mesh = load_mesh(path, warnings=Warnings(), assets=policy)
+    assert mesh.triangle_count == 1
+    assert policy.files_read == [(tmp_path / "scene" / "data.bin").resolve()]
+
+
+@pytest.mark.parametrize("name, header", [
+    ("huge.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 b"property float z\nelement face 4000000000\nproperty list uchar int vertex_indices\nend_header\n"),
+    ("huge.stl", b"\0" * 80 + (4_000_000_000).to_bytes(4, "little")),
+    ("huge.off", b"OFF\n3 4000000000 0\n0 0 0\n"),
+])
+def test_declared_face_counts_are_checked_against_the_budget_before_reading(tmp_path, name, header):
+    from scenerender.mesh.budget import TriangleBudget
+
+    path = tmp_path / name
+    path.write_bytes(header)
+    with pytest.raises(UserError, match="4,000,000,000, over the limit of 1,000") as caught:
+        load_mesh(path, warnings=Warnings(), budget=TriangleBudget(limit=1000))
+    assert caught.value.location.file.endswith(name)
+
+
+def test_a_gltf_whose_faces_name_missing_vertices_is_a_user_error(tmp_path):
+    import base64
+    import json
+
+    positions = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32).tobytes()
+    indices = np.array([0, 1, 7], np.uint16).tobytes()  # vertex 7 does not exist
+    buffer = positions + indices
+    gltf = {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]},
+                      {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+        "buffers": [{"uri": "data:application/octet-stream;base64," + base64.b64encode(buffer).decode(),
+                     "byteLength": len(buffer)}],
+    }
+    path = write(tmp_path, "bad.gltf", json.dumps(gltf))
+    with pytest.raises(UserError, match="faces refer to vertex 7 but the file has 3 vertices"):
+        load_mesh(path, warnings=Warnings())

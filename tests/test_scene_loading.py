@@ -1,6 +1,8 @@
 """Reading, overriding and validating scene files (scenerender.scene), without GL."""
 from __future__ import annotations
 
+import re
+
 import json
 import math
 
@@ -15,7 +17,14 @@ MINIMAL = "objects: [{mesh: {primitive: box}}]\n"
 
 
 def load(tmp_path, text, overrides=()):
-    return load_scene_text(text, base_dir=tmp_path, overrides=list(overrides), name="scene.yaml")
+    return load_scene_text(with_objects(text), base_dir=tmp_path, overrides=list(overrides), name="scene.yaml")
+
+
+def with_objects(text: str) -> str:
+    """Scenes about other sections say `objects: []` at the end (lines keep their numbers)."""
+    if re.search(r"^objects:", text, re.M) or not re.search(r"^\w", text, re.M):
+        return text
+    return text.rstrip("\n") + "\nobjects: []\n"
 
 
 def error_lines(tmp_path, text, overrides=()) -> list[str]:
@@ -73,10 +82,18 @@ def test_light_defaults(tmp_path):
     assert spot.outer_angle(0.0) == 17.5
 
 
-def test_empty_file_is_a_scene_with_no_objects(tmp_path):
-    spec = load(tmp_path, "").spec
+def test_empty_file_is_an_error_and_empty_objects_a_scene(tmp_path):
+    for text in ("", "# only a comment\n", "---\n"):
+        with pytest.raises(UserError, match="the scene is empty"):
+            load(tmp_path, text)
+    spec = load(tmp_path, "objects: []\n").spec
     assert spec.objects == []
     assert spec.render.size == (640, 480)
+
+
+def test_a_scene_without_objects_must_say_so(tmp_path):
+    with pytest.raises(UserError, match=r"missing required key 'objects' .*`objects: \[\]`"):
+        load_scene_text("render: {size: [32, 24]}\n", base_dir=tmp_path)
 
 
 def test_load_scene_from_file(tmp_path):
@@ -505,7 +522,7 @@ def test_output_name_pattern_needs_frame(tmp_path):
 
 
 def test_output_name_without_frame_is_fine_for_a_single_frame(tmp_path):
-    loaded = load_scene_text("output: {name: cover}\n", base_dir=tmp_path)
+    loaded = load(tmp_path, "output: {name: cover}\n")
     assert loaded.spec.output.name == "cover" and loaded.spec.output.frame_count == 1
 
 

@@ -1,4 +1,4 @@
-"""Keyframe interpolation: the formulas of SCENE_FORMAT.md, evaluated in float64."""
+"""Keyframe interpolation: the formulas of docs/scene-format.md, evaluated in float64."""
 from __future__ import annotations
 
 import math

@@ -1,4 +1,4 @@
 """Keyframe tracks: every animatable value in a scene is a ``Track``."""
-from scenerender.animation.tracks import INTERPOLATIONS, Track
+from scenerender.animation.tracks import INTERPOLATIONS, Track, shared_constant
 
-__all__ = ["INTERPOLATIONS", "Track"]
+__all__ = ["INTERPOLATIONS", "Track", "shared_constant"]

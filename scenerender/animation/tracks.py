@@ -1,6 +1,6 @@
 """Keyframe tracks and their interpolation, evaluated in float64.
 
-Formulas (see SCENE_FORMAT.md, "Animatable values"): with u = (t - t1) / (t2 - t1),
+Formulas (see docs/scene-format.md, "Animatable values"): with u = (t - t1) / (t2 - t1),
 linear is k1 (1 - u) + k2 u; cosine replaces u by (1 - cos(u pi)) / 2; step holds k1 until
 t2; catmull_rom is a cubic Hermite curve through the keys whose tangents are the
 time-weighted differences of the neighbouring keys, so uneven key spacing gives no kinks.
@@ -106,3 +106,27 @@ class Track:
         t, v = self.times, self.values
         lo, hi = max(k - 1, 0), min(k + 1, len(t) - 1)
         return (v[hi] - v[lo]) / (t[hi] - t[lo])
+
+
+_SHARED_CONSTANTS: dict = {}
+
+
+def shared_constant(value, kind: str = "float") -> Track:
+    """``Track.constant(value, kind)``, one shared read-only Track per distinct value.
+
+    ``value`` is a float or a tuple of floats. A scene of 50,000 objects holds a few hundred
+    thousand constants (every default position, scale, flag and material colour); building
+    a Track with its numpy arrays for each dominated loading time. Shared tracks are safe
+    because nothing changes a Track after it is built; their arrays are read-only to keep
+    it so.
+    """
+    key = (kind, repr(value))  # repr keeps -0.0 apart from 0.0 (and True from 1.0)
+    track = _SHARED_CONSTANTS.get(key)
+    if track is None:
+        track = Track.constant(value, kind=kind)
+        track.times.flags.writeable = False
+        track.values.flags.writeable = False
+        if len(_SHARED_CONSTANTS) >= 65536:  # many distinct constants: keep memory bounded
+            _SHARED_CONSTANTS.clear()
+        _SHARED_CONSTANTS[key] = track
+    return track

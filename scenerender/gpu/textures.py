@@ -1,4 +1,7 @@
-"""Images to GL textures: each file decoded once (Pillow), uploaded once per colour space.
+"""Images to GL textures, uploaded once per colour space.
+
+Decoding is CPU work in ``scenerender.world.images`` (checked, GL-free); the world decodes
+every image while it is built, and this cache uploads those pixels.
 
 Colour maps are uploaded as sRGB textures so the GPU linearises them *before* filtering,
 which is what makes mipmaps and bilinear filtering of colour correct.
@@ -10,39 +13,26 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.world.images import PLACEHOLDER_SIZE, ImageStore, decode_image, placeholder_pixels
 
 GL_SRGB8_ALPHA8 = 0x8C43
-PLACEHOLDER_SIZE = 64
 
+# Kept for callers of the former GL-side decoder: (H, W, 4) uint8 RGBA, raises UserError.
+read_image = decode_image
 
-def read_image(path: Path) -> np.ndarray:
-    """(H, W, 4) uint8 RGBA, rows top to bottom, from any format Pillow reads."""
-    from PIL import Image
-
-    try:
-        with Image.open(path) as image:
-            image.load()
-            rgba = image.convert("RGBA")
-    except (OSError, ValueError) as exc:
-        raise UserError(f"cannot read image ({exc})", SourceLocation(display_path(path))) from None
-    return np.asarray(rgba, dtype=np.uint8)
-
-
-def placeholder_pixels() -> np.ndarray:
-    """A magenta and black checkerboard: impossible to mistake for a real texture."""
-    cells = (np.indices((PLACEHOLDER_SIZE, PLACEHOLDER_SIZE)) // 8).sum(axis=0) % 2
-    pixels = np.zeros((PLACEHOLDER_SIZE, PLACEHOLDER_SIZE, 4), dtype=np.uint8)
-    pixels[cells == 0] = (255, 0, 255, 255)
-    pixels[cells == 1] = (0, 0, 0, 255)
-    return pixels
+__all__ = ["GL_SRGB8_ALPHA8", "PLACEHOLDER_SIZE", "TextureCache", "placeholder_pixels", "read_image"]
 
 
 class TextureCache:
-    """GL textures by (file, colour space); the placeholder for files that are missing."""
+    """GL textures by (file, colour space); the placeholder for files that are missing.
 
-    def __init__(self, ctx):
+    ``images`` holds the decoded pixels (the world's store); files not in it are decoded on
+    first use.
+    """
+
+    def __init__(self, ctx, images: ImageStore | None = None):
         self.ctx = ctx
-        self._images: dict = {}
+        self._images = images if images is not None else ImageStore()
         self._textures: dict = {}
 
     def texture_2d(self, path: Path | None, srgb: bool):
@@ -72,10 +62,7 @@ class TextureCache:
         self._textures.clear()
 
     def _pixels(self, path: Path) -> np.ndarray:
-        key = str(path)
-        if key not in self._images:
-            self._images[key] = read_image(path)
-        return self._images[key]
+        return self._images.pixels(path)
 
     def _upload_2d(self, pixels: np.ndarray, srgb: bool):
         # GL's first row is the bottom one, and OBJ's v = 0 is the image's bottom edge.

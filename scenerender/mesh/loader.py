@@ -5,45 +5,73 @@ actually loaded.
 """
 from __future__ import annotations
 
+import io
+import os
+import warnings as _pywarnings
 from pathlib import Path
 
 import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, Warnings, display_path
+from scenerender.mesh.budget import TriangleBudget
 from scenerender.mesh.data import MeshData
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
 from scenerender.mesh.obj import parse_obj
+from scenerender.scene.assets import AssetPolicy, policy_for
+from scenerender.scene.files import read_regular_file
 
 TRIMESH_FORMATS = (".ply", ".stl", ".glb", ".gltf", ".off")
 MESH_FORMATS = (".obj",) + TRIMESH_FORMATS
 
 
 def load_mesh(
-    path: Path, *, normals: str = "auto", normalize: bool = False, warnings: Warnings
+    path: Path, *, normals: str = "auto", normalize: bool = False, warnings: Warnings,
+    assets: AssetPolicy | None = None, budget: TriangleBudget | None = None,
 ) -> MeshData:
     """Read a mesh file, give it normals according to ``normals`` (auto | smooth | flat)
     and, with ``normalize``, centre it and scale its bounding-box diagonal to 1.
 
+    ``assets`` confines the files the mesh names (MTL libraries, textures, glTF buffers) and
+    records them; without one, the mesh's own folder is the only root. ``budget`` is how
+    many triangles the scene may still load; it is charged with this mesh's triangles.
+
     The result always has finite unit normals. Raises UserError (naming the file) when the
-    file is missing, of an unsupported type, unreadable, or holds no triangles.
+    file is missing, of an unsupported type, unreadable, malformed, over the triangle
+    budget, or holds no triangles.
     """
     if normals not in NORMAL_MODES:
         raise ValueError(f"normals must be one of {', '.join(NORMAL_MODES)}, not {normals!r}")
     path = Path(path)
     shown = display_path(path)
-    if not path.is_file():
-        problem = "is a folder, not a mesh file" if path.is_dir() else "mesh file not found"
-        raise UserError(problem, SourceLocation(shown))
+    if not os.path.lexists(path):
+        raise UserError("mesh file not found", SourceLocation(shown))
+    if path.is_dir():
+        raise UserError("is a folder, not a mesh file", SourceLocation(shown))
+    assets = assets if assets is not None else policy_for(path)
+    budget = budget if budget is not None else TriangleBudget.unlimited()
     suffix = path.suffix.lower()
     if suffix == ".obj":
-        mesh = parse_obj(path, warnings)
-    elif suffix in TRIMESH_FORMATS:
-        mesh = _load_with_trimesh(path)
+        from scenerender.mesh.cache import load_obj_cached
+
+        def parse(warned: Warnings) -> MeshData:
+            return _finished(parse_obj(path, warned, assets=assets, budget=budget), normals, normalize, shown)
+
+        # a cached load is exactly this parse, warnings included (see mesh.cache)
+        return load_obj_cached(path, parse, normals=normals, normalize=normalize, warnings=warnings,
+                               assets=assets, budget=budget)
+    if suffix in TRIMESH_FORMATS:
+        mesh = _load_with_trimesh(path, assets, budget)
+        budget.charge(mesh.triangle_count, SourceLocation(shown))
     else:
         raise UserError(
             f"unsupported mesh format '{path.suffix}' (supported: {', '.join(MESH_FORMATS)})",
             SourceLocation(shown),
         )
+    return _finished(mesh, normals, normalize, shown)
+
+
+def _finished(mesh: MeshData, normals: str, normalize: bool, shown: str) -> MeshData:
+    """``mesh`` as read, given its normals mode and, with ``normalize``, unit size."""
     if mesh.triangle_count == 0:
         raise UserError("the file contains no triangles", SourceLocation(shown))
     mesh = apply_normals_mode(mesh, normals)
@@ -52,30 +80,44 @@ def load_mesh(
     return mesh
 
 
-def _load_with_trimesh(path: Path) -> MeshData:
+def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget) -> MeshData:
     """Read ``path`` with trimesh and flatten the scene it describes into one mesh.
 
     Node transforms are applied; UVs are kept when any part has them (parts without get
     (0, 0)); normals are kept only when the file stored them, else left None for the
-    normals mode to compute.
+    normals mode to compute. Files the mesh refers to (glTF buffers and images, a PLY's
+    texture) are read through ``assets``. Where the header declares the face count (PLY,
+    binary STL, OFF), ``budget`` is checked before trimesh allocates anything.
     """
     import trimesh  # deliberately lazy: see the module docstring
 
     shown = display_path(path)
+    raw = read_regular_file(path, "mesh file")
+    declared = declared_faces(raw, path.suffix.lower())
+    if declared is not None:
+        budget.check(declared, SourceLocation(shown))
+    data = io.BytesIO(raw)
+    resolver = _policy_resolver(trimesh, path, assets)
     try:
-        if hasattr(trimesh, "load_scene"):
-            scene = trimesh.load_scene(str(path), process=False)
-        else:  # trimesh < 4.5
-            scene = trimesh.load(str(path), force="scene", process=False)
+        with _pywarnings.catch_warnings(), np.errstate(all="ignore"):
+            # Pillow's decompression-bomb and NumPy's overflow warnings on hostile files
+            # would otherwise print multi-line text; the outcome is judged below instead.
+            _pywarnings.simplefilter("ignore")
+            if hasattr(trimesh, "load_scene"):
+                scene = trimesh.load_scene(data, file_type=path.suffix.lower()[1:], resolver=resolver, process=False)
+            else:  # trimesh < 4.5
+                scene = trimesh.load(data, file_type=path.suffix.lower()[1:], resolver=resolver,
+                                     force="scene", process=False)
+            raw_parts = _raw_parts(scene, trimesh)
+    except UserError:
+        raise  # a referenced file outside the allowed folders, already explained
+    except MemoryError:
+        raise UserError("cannot read mesh: its header claims more data than fits in memory",
+                        SourceLocation(shown)) from None
     except Exception as exc:  # trimesh raises many types for malformed files
-        raise UserError(f"cannot read mesh: {exc}", SourceLocation(shown)) from exc
+        raise UserError(f"cannot read mesh: {_short(exc)}", SourceLocation(shown)) from None
 
-    parts = []
-    for node in scene.graph.nodes_geometry:
-        transform, geometry_name = scene.graph[node]
-        geometry = scene.geometry.get(geometry_name)
-        if isinstance(geometry, trimesh.Trimesh) and len(geometry.faces):
-            parts.append(_part_arrays(geometry, np.asarray(transform, dtype=np.float64)))
+    parts = [_part_arrays(raw, shown) for raw in raw_parts]
     if not parts:
         raise UserError("the file contains no triangles", SourceLocation(shown))
     mesh = _concatenate(parts, shown)
@@ -100,21 +142,55 @@ def _stored_vertex_normals(geometry) -> np.ndarray | None:
     return np.asarray(stored, dtype=np.float64)
 
 
-def _part_arrays(geometry, transform: np.ndarray) -> dict:
-    """One geometry instance in world space: positions, normals or None, uvs or None, faces."""
-    positions = np.asarray(geometry.vertices, dtype=np.float64)
-    faces = np.asarray(geometry.faces, dtype=np.int64)
+def _raw_parts(scene, trimesh) -> list[dict]:
+    """The arrays of each geometry instance as trimesh read them, not yet trusted:
+    vertices (N, 3), faces (M, 3), stored normals or None, uv or None, transform (4, 4)."""
+    raw = []
+    for node in scene.graph.nodes_geometry:
+        transform, geometry_name = scene.graph[node]
+        geometry = scene.geometry.get(geometry_name)
+        if isinstance(geometry, trimesh.Trimesh) and len(geometry.faces):
+            raw.append({
+                "vertices": np.asarray(geometry.vertices, dtype=np.float64),
+                "faces": np.asarray(geometry.faces, dtype=np.int64),
+                "normals": _stored_vertex_normals(geometry),
+                "uv": getattr(getattr(geometry, "visual", None), "uv", None),
+                "transform": np.asarray(transform, dtype=np.float64),
+            })
+    return raw
+
+
+def _part_arrays(raw: dict, shown: str) -> dict:
+    """One geometry instance in world space: positions, normals or None, uvs or None, faces.
+
+    trimesh with ``process=False`` passes on what the file says, so the shapes, the face
+    indices and the transform are checked here: a file is malformed when its faces name
+    vertices it does not have.
+    """
+    positions, faces, transform = raw["vertices"], raw["faces"], raw["transform"]
+    where = SourceLocation(shown)
+    if positions.ndim != 2 or positions.shape[1] != 3 or faces.ndim != 2 or faces.shape[1] != 3:
+        raise UserError("cannot read mesh: malformed file (vertex or face arrays of the wrong shape)", where)
+    if faces.size and (faces.min() < 0 or faces.max() >= len(positions)):
+        raise UserError(f"cannot read mesh: faces refer to vertex {int(faces.max())} but the file has "
+                        f"{len(positions)} vertices", where)
+    if transform.shape != (4, 4) or not np.isfinite(transform).all():
+        raise UserError("cannot read mesh: a node transform is not a finite 4x4 matrix", where)
     linear = transform[:3, :3]
     positions = positions @ linear.T + transform[:3, 3]
-    normals = _stored_vertex_normals(geometry)
+    normals = raw["normals"]
+    determinant = np.linalg.det(linear)
     if normals is not None:
-        normals = normals @ np.linalg.inv(linear)  # rows times the inverse transpose
-    if np.linalg.det(linear) < 0:  # a mirroring transform turns the winding inside out
+        # rows times the inverse transpose; a flattening transform leaves none to keep
+        normals = normals @ np.linalg.inv(linear) if determinant != 0 else None
+    if determinant < 0:  # a mirroring transform turns the winding inside out
         faces = faces[:, ::-1]
     uvs = None
-    visual_uv = getattr(getattr(geometry, "visual", None), "uv", None)
-    if visual_uv is not None and len(visual_uv) == len(positions):
-        uvs = np.asarray(visual_uv, dtype=np.float64)[:, :2]
+    visual_uv = raw["uv"]
+    if visual_uv is not None:
+        visual_uv = np.asarray(visual_uv, dtype=np.float64)
+        if visual_uv.ndim == 2 and visual_uv.shape[1] >= 2 and len(visual_uv) == len(positions):
+            uvs = visual_uv[:, :2]
     return {"positions": positions, "normals": normals, "uvs": uvs, "faces": faces}
 
 
@@ -137,3 +213,69 @@ def _concatenate(parts: list[dict], shown: str) -> MeshData:
         indices=np.concatenate(faces).astype(np.uint32),
         source=shown,
     )
+
+
+def _short(exc: BaseException) -> str:
+    """An exception as a short one-line reason. trimesh's own messages (ValueError, OSError)
+    explain themselves; others (KeyError 'y', IndexError...) need their type to mean anything."""
+    text = " ".join(str(exc).split())
+    if not isinstance(exc, (ValueError, OSError)) or not text:
+        text = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+        text = f"malformed file ({text})"
+    return text if len(text) <= 200 else text[:197] + "..."
+
+
+def _policy_resolver(trimesh, path: Path, assets: AssetPolicy):
+    """A trimesh resolver that reads the files a mesh refers to through ``assets``: inside
+    the allowed folders, regular files only, each recorded as read."""
+    folder = path.parent
+
+    class PolicyResolver(trimesh.resolvers.Resolver):
+        def __init__(self):
+            pass
+
+        def get(self, name: str) -> bytes:
+            lookup = assets.lookup(name, folder)
+            if lookup.problem == "missing":
+                bare = assets.lookup(Path(name.replace("\\", "/")).name, folder)
+                lookup = bare if bare.found else lookup
+            if lookup.problem == "missing":
+                raise FileNotFoundError(name)
+            if not lookup.found:
+                raise UserError(lookup.message, SourceLocation(display_path(path)))
+            assets.record(lookup.path)
+            return read_regular_file(lookup.path)
+
+        def keys(self):
+            return iter(())
+
+        def write(self, name, data):
+            raise PermissionError("meshes are read-only here")
+
+        def namespaced(self, namespace: str):
+            return _policy_resolver(trimesh, folder / namespace / path.name, assets)
+
+    return PolicyResolver()
+
+
+def declared_faces(raw: bytes, suffix: str) -> int | None:
+    """The face count a PLY, binary STL or OFF header declares (a lower bound on its
+    triangles), or None when the format has no such header or it cannot be read here
+    (trimesh then reports what is wrong)."""
+    try:
+        if suffix == ".ply":
+            header = raw[: raw.find(b"end_header")] if b"end_header" in raw[:65536] else b""
+            for line in header.decode("ascii", "replace").splitlines():
+                words = line.split()
+                if len(words) == 3 and words[0] == "element" and words[1] == "face":
+                    return int(words[2])
+        elif suffix == ".stl" and not raw[:5].lower().startswith(b"solid") and len(raw) >= 84:
+            return int.from_bytes(raw[80:84], "little")
+        elif suffix == ".off":
+            lines = [ln.split("#")[0].split() for ln in raw[:4096].decode("ascii", "replace").splitlines()]
+            counts = [words for words in lines if words and words[0] != "OFF"]
+            if counts and len(counts[0]) >= 2:
+                return int(counts[0][1])
+    except ValueError:
+        return None
+    return None

@@ -12,6 +12,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from scenerender.errors import SourceLocation, UserError, Warnings, display_path
+from scenerender.mesh.capped import CappedWarnings
+from scenerender.scene.assets import AssetPolicy, Lookup, policy_for, quoted
+from scenerender.scene.files import read_regular_file
 
 Color = tuple[float, float, float]
 
@@ -102,11 +105,12 @@ _XYZ_TO_RGB = (
 class _MtlContext:
     """The file being read, for error messages and for resolving texture paths."""
 
-    def __init__(self, path: Path, warnings: Warnings):
+    def __init__(self, path: Path, warnings: Warnings, assets: AssetPolicy):
         self.path = path
         self.folder = path.parent
         self.shown = display_path(path)
         self.warnings = warnings
+        self.assets = assets
         self.line = 0
 
     def location(self) -> SourceLocation:
@@ -125,20 +129,26 @@ class _MtlContext:
         return value
 
 
-def parse_mtl(path: Path, warnings: Warnings) -> dict[str, MtlMaterial]:
+def parse_mtl(path: Path, warnings: Warnings, assets: AssetPolicy | None = None) -> dict[str, MtlMaterial]:
     """Read an MTL file into materials by name (a later ``newmtl`` of a name replaces an
     earlier one).
 
-    Raises UserError (file and line) for malformed numbers; warns about textures that
-    cannot be found and marks them ``missing``.
+    Texture files are looked up through ``assets`` (default: the MTL's own folder is the
+    only root) and recorded as read. Raises UserError (file and line) for malformed numbers
+    and for a texture outside the allowed folders or not a regular file; warns about
+    textures that cannot be found and marks them ``missing``; after the first few warnings
+    of a file, one line counts the rest.
     """
     path = Path(path)
-    ctx = _MtlContext(path, warnings)
-    try:
-        text = path.read_bytes().decode("utf-8", errors="surrogateescape")
-    except OSError as exc:
-        message = f"cannot read MTL file: {exc.strerror or exc}"
-        raise UserError(message, SourceLocation(ctx.shown)) from exc
+    text = read_regular_file(path, "MTL file").decode("utf-8", errors="surrogateescape")
+    capped = CappedWarnings(warnings, display_path(path))
+    ctx = _MtlContext(path, capped, assets if assets is not None else policy_for(path))
+    materials = _parse_lines(text, ctx)
+    capped.finish()
+    return materials
+
+
+def _parse_lines(text: str, ctx: _MtlContext) -> dict[str, MtlMaterial]:
 
     materials: dict[str, MtlMaterial] = {}
     current: dict | None = None
@@ -157,7 +167,7 @@ def parse_mtl(path: Path, warnings: Warnings) -> dict[str, MtlMaterial]:
             current = _start_material(rest, ctx)
         elif lowered in _COLOR_KEYS or lowered in _MAP_KEYS or lowered in _SCALAR_KEYS:
             if current is None:
-                warnings.warn(f"'{key}' before any 'newmtl' is ignored", ctx.location())
+                ctx.warnings.warn(f"'{key}' before any 'newmtl' is ignored", ctx.location())
                 continue
             _apply_statement(current, key, lowered, rest, ctx)
     _finish(current, materials)
@@ -294,59 +304,79 @@ def _looks_like_value(token: str) -> bool:
 
 
 def _resolve_texture(name: str, scale, offset, bump_scale: float, ctx: _MtlContext) -> TextureRef:
-    # Exporters on Windows write backslashes; on every platform they separate folders.
-    relative = name.replace("\\", "/")
-    candidates = _texture_candidates(relative, ctx.folder)
-    found = next((c for c in candidates if c.is_file()), None)
-    if found is None:
-        found = _case_insensitive_match(candidates)
+    lookups = [ctx.assets.lookup(str(candidate), ctx.folder) for candidate in _texture_candidates(name)]
+    chosen = next((lookup for lookup in lookups if lookup.found), None)
+    if chosen is None:
+        chosen = _case_insensitive_match(lookups, ctx.assets)
     location = ctx.location()
-    if found is None:
-        folders = []
-        for candidate in candidates:
-            shown = display_path(candidate.parent) or "."
-            if shown not in folders:
-                folders.append(shown)
-        ctx.warnings.warn(
-            f"texture '{name}' not found (looked in {', '.join(folders)}); "
-            "a placeholder is drawn instead",
-            location,
-        )
+    if chosen is None:
+        refused = next((lookup for lookup in lookups if _refused(lookup)), None)
+        if refused is not None:
+            raise UserError(f"texture {refused.message}", location)
+        ctx.warnings.warn(f"texture {_not_found(name, lookups)}; a placeholder is drawn instead", location)
+    else:
+        ctx.assets.record(chosen.path)
     return TextureRef(
-        path=found if found is not None else candidates[0],
+        path=chosen.path if chosen is not None else lookups[0].path,
         scale=(scale[0], scale[1]),
         offset=(offset[0], offset[1]),
         bump_scale=bump_scale,
         location=location,
-        missing=found is None,
+        missing=chosen is None,
     )
 
 
-def _texture_candidates(relative: str, folder: Path) -> list[Path]:
+def _refused(lookup: Lookup) -> bool:
+    """A texture that exists but may not be read: outside the allowed folders, or not a
+    regular file. Unlike a missing file, that is an error: a placeholder would hide a
+    scene reaching for files it must not read. (An absolute path from another machine
+    that exists nowhere here is only missing.)"""
+    if lookup.problem == "outside":
+        return os.path.exists(lookup.path)  # never raises, unlike Path.exists on odd names
+    return lookup.problem == "not_regular"
+
+
+def _not_found(name: str, lookups: list[Lookup]) -> str:
+    """Why no candidate was usable: a name the system rejects, or where it was looked for."""
+    bad_name = next((lookup for lookup in lookups if lookup.problem == "bad_name"), None)
+    if bad_name is not None:
+        return bad_name.message
+    folders = []
+    for lookup in lookups:
+        shown = display_path(lookup.path.parent) or "."
+        if shown not in folders:
+            folders.append(shown)
+    return f"{quoted(name)} not found (looked in {', '.join(folders)})"
+
+
+def _texture_candidates(written: str) -> list[str]:
     """Where a texture may be: as written (relative to the MTL file), then by its bare file
     name next to the MTL file (absolute paths from another machine are common)."""
-    as_written = Path(relative)
+    relative = written.replace("\\", "/")  # Windows exporters; a folder separator everywhere
     on_another_drive = re.match(r"^[A-Za-z]:/", relative) is not None
-    candidates = []
-    if not on_another_drive:
-        candidates.append(as_written if as_written.is_absolute() else folder / as_written)
-    bare = folder / as_written.name
-    if bare not in candidates:
+    candidates = [] if on_another_drive else [relative]
+    bare = Path(relative).name
+    if bare and bare not in candidates:
         candidates.append(bare)
-    return candidates
+    return candidates or [relative]
 
 
-def _case_insensitive_match(candidates: list[Path]) -> Path | None:
+def _case_insensitive_match(lookups: list[Lookup], assets: AssetPolicy) -> Lookup | None:
     """The first candidate that exists when letter case is ignored (models made on
-    Windows or macOS often spell names differently from the files)."""
-    for candidate in candidates:
-        folder = candidate.parent
+    Windows or macOS often spell names differently from the files). Only folders inside
+    the allowed roots are listed."""
+    for lookup in lookups:
+        if lookup.problem != "missing":
+            continue
+        folder = lookup.path.parent
         try:
             entries = os.listdir(folder)
         except OSError:
             continue
-        wanted = candidate.name.lower()
+        wanted = lookup.path.name.lower()
         for entry in entries:
-            if entry.lower() == wanted and (folder / entry).is_file():
-                return folder / entry
+            if entry.lower() == wanted:
+                match = assets.lookup(entry, folder)
+                if match.found:
+                    return match
     return None

@@ -6,8 +6,13 @@ dispatch runs in Python; parsing face corners, resolving relative indices, de-du
 vertices and triangulating polygons are whole-array operations. That keeps a 200k-triangle
 model within the renderer's start-up budget.
 
-When the fast path meets something unusual (a malformed token, an empty ``1/2/`` field),
-the face corners are re-read one by one so the error can name the exact line.
+When the fast path meets something unusual (a malformed token, an empty ``1/2/`` field,
+an index too large for 64 bits), the face corners are re-read one by one so the error can
+name the exact line.
+
+Real-world files hold things a triangle mesh cannot use: faces with fewer than three
+corners, zero-area triangles, ``l`` (line) and ``p`` (point) elements. They are skipped,
+and one warning per file counts them (``--strict`` makes that an error).
 """
 from __future__ import annotations
 
@@ -18,8 +23,16 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, Warnings, display_path
+from scenerender.mesh.budget import TriangleBudget
+from scenerender.mesh.capped import CappedWarnings
 from scenerender.mesh.data import MeshData, MeshGroup
 from scenerender.mesh.mtl import parse_mtl
+from scenerender.scene.assets import AssetPolicy, policy_for
+from scenerender.scene.files import read_regular_file
+
+# Indices at or beyond this size cannot name an element of any file that fits in memory,
+# and stay far enough from the int64 limits that index arithmetic cannot wrap.
+_INDEX_LIMIT = 2**62
 
 # What each kind of index refers to, for error messages: (singular, plural).
 _ELEMENT_NAMES = {
@@ -50,6 +63,16 @@ class _Statements:
     material_switches: list[tuple[int, str | None, int]] = field(default_factory=list)
     # (rest of the line, line)
     mtllib_statements: list[tuple[str, int]] = field(default_factory=list)
+    # Elements skipped because a triangle mesh cannot draw them, and the first such line.
+    short_faces: int = 0
+    line_elements: int = 0
+    point_elements: int = 0
+    first_skipped_line: int | None = None
+
+    def skip(self, kind: str, line: int) -> None:
+        setattr(self, kind, getattr(self, kind) + 1)
+        if self.first_skipped_line is None:
+            self.first_skipped_line = line
 
 
 @dataclass
@@ -67,7 +90,8 @@ class _Corners:
     has_vn: np.ndarray
 
 
-def parse_obj(path: Path, warnings: Warnings) -> MeshData:
+def parse_obj(path: Path, warnings: Warnings, assets: AssetPolicy | None = None,
+              budget: TriangleBudget | None = None) -> MeshData:
     """Read an OBJ file (and the MTL files it names) into an indexed triangle mesh.
 
     Returns a MeshData whose ``normals`` is the file's normals, (N, 3) float32 and not yet
@@ -76,21 +100,38 @@ def parse_obj(path: Path, warnings: Warnings) -> MeshData:
     None when no face corner names a texture coordinate. Vertices are shared between faces
     wherever the (v, vt, vn) triple is the same.
 
-    Raises UserError with the file and line for malformed statements; a missing MTL file is
-    only a warning.
+    ``assets`` confines and records the MTL libraries and textures the file names (default:
+    the OBJ's own folder). ``budget`` is charged with the triangles, checked while the
+    faces are read.
+
+    Raises UserError with the file and line for malformed statements, for a library outside
+    the allowed folders, and when the budget runs out; a missing MTL file and skipped
+    degenerate elements are warnings.
     """
     path = Path(path)
     shown = display_path(path)
-    try:
-        text = path.read_bytes().decode("utf-8", errors="surrogateescape")
-    except OSError as exc:
-        message = f"cannot read OBJ file: {exc.strerror or exc}"
-        raise UserError(message, SourceLocation(shown)) from exc
-    return _parse_text(text, path, shown, warnings)
+    assets = assets if assets is not None else policy_for(path)
+    budget = budget if budget is not None else TriangleBudget.unlimited()
+    text = read_regular_file(path, "OBJ file").decode("utf-8", errors="surrogateescape")
+    capped = CappedWarnings(warnings, shown)  # each MTL file caps its own warnings
+    mesh = _parse_text(text, path, shown, _Warners(capped, warnings), assets, budget)
+    capped.finish()
+    return mesh
 
 
-def _parse_text(text: str, path: Path, shown: str, warnings: Warnings) -> MeshData:
-    statements = _collect_statements(text, shown)
+@dataclass
+class _Warners:
+    """Where warnings go: ``obj`` (capped per OBJ file) for the OBJ's own, ``libraries``
+    for the MTL reader, which caps per MTL file."""
+
+    obj: CappedWarnings
+    libraries: Warnings
+
+
+def _parse_text(text: str, path: Path, shown: str, warners: _Warners, assets: AssetPolicy,
+                budget: TriangleBudget) -> MeshData:
+    warnings = warners.obj
+    statements = _collect_statements(text, shown, budget)
     positions = _vectors(statements.v_tokens, statements.v_lines, 3, shown)
     texcoords = _vectors(statements.vt_tokens, statements.vt_lines, 2, shown)
     file_normals = _vectors(statements.vn_tokens, statements.vn_lines, 3, shown)
@@ -104,6 +145,9 @@ def _parse_text(text: str, path: Path, shown: str, warnings: Warnings) -> MeshDa
     sizes = np.asarray(statements.face_sizes, dtype=np.int64)
     indices = _fan_triangulate(vertex_of_corner, sizes)
     groups = _material_groups(statements.material_switches, sizes)
+    indices, groups, zero_area = _drop_zero_area(indices, groups, positions[unique_v])
+    _warn_skipped(statements, zero_area, shown, warnings)
+    budget.charge(len(indices), SourceLocation(shown))
 
     uvs = None
     if corners.has_vt.any():
@@ -114,7 +158,7 @@ def _parse_text(text: str, path: Path, shown: str, warnings: Warnings) -> MeshDa
     if len(corners.has_vn) and corners.has_vn.all():
         normals = file_normals[unique_vn].astype(np.float32)
 
-    materials, all_libraries_found = _load_material_libraries(path, statements, warnings)
+    materials, all_libraries_found = _load_material_libraries(path, statements, warners, assets)
     if all_libraries_found and statements.mtllib_statements:
         _warn_undefined_materials(statements, materials, shown, warnings)
 
@@ -160,12 +204,16 @@ def _numbered_lines(text: str):
     return joined
 
 
-def _collect_statements(text: str, shown: str) -> _Statements:
+def _collect_statements(text: str, shown: str, budget: TriangleBudget | None = None) -> _Statements:
     st = _Statements()
+    budget = budget if budget is not None else TriangleBudget.unlimited()
     # Local aliases: this loop runs once per line of the file.
     v_tokens, add_v_line = st.v_tokens, st.v_lines.append
     corner_tokens = st.corner_tokens
     add_face_size, add_face_line = st.face_sizes.append, st.face_lines.append
+    # A face of n corners makes n - 2 triangles, so there are fewer triangles than corners:
+    # the exact count is needed only once the corners alone exceed the budget.
+    corners_unchecked = budget.remaining
     for number, line in _numbered_lines(text):
         tokens = line.split()
         if not tokens:
@@ -174,13 +222,13 @@ def _collect_statements(text: str, shown: str) -> _Statements:
         if key == "f":
             del tokens[0]
             if len(tokens) < 3:
-                raise UserError(
-                    f"face needs at least 3 vertices, got {len(tokens)}",
-                    SourceLocation(shown, number),
-                )
+                st.skip("short_faces", number)
+                continue
             corner_tokens += tokens
             add_face_size(len(tokens))
             add_face_line(number)
+            if len(corner_tokens) > corners_unchecked:
+                budget.check(len(corner_tokens) - 2 * len(st.face_sizes), SourceLocation(shown, number))
         elif key == "v":
             if len(tokens) < 4:
                 raise UserError(
@@ -211,8 +259,12 @@ def _collect_statements(text: str, shown: str) -> _Statements:
         elif key == "mtllib":
             if len(tokens) > 1:
                 st.mtllib_statements.append((line.split(None, 1)[1].strip(), number))
-        # Everything else (o, g, s, l, p, vp, comments, free-form geometry, unknown
-        # statements) does not affect a triangle mesh and is skipped.
+        elif key == "l":
+            st.skip("line_elements", number)
+        elif key == "p":
+            st.skip("point_elements", number)
+        # Everything else (o, g, s, vp, comments, free-form geometry, unknown statements)
+        # does not affect a triangle mesh and is skipped silently.
     return st
 
 
@@ -260,7 +312,13 @@ def _ints(text: str, expected: int) -> np.ndarray | None:
             values = np.array(text.split(), dtype=np.int64)
         except (ValueError, OverflowError):
             return None
-    return values if len(values) == expected else None
+    if len(values) != expected:
+        return None
+    # fromstring saturates out-of-range numbers to the int64 limits without a warning;
+    # the careful path reports them with their line.
+    if len(values) and ((values >= _INDEX_LIMIT) | (values <= -_INDEX_LIMIT)).any():
+        return None
+    return values
 
 
 def _parse_corners(st: _Statements, shown: str) -> _Corners:
@@ -361,12 +419,16 @@ def _corner_int(part: str, token: str, shown: str, line: int) -> int | None:
     if part == "":
         return None  # an empty field, as in "3//1" or "3/1/", means "not given"
     try:
-        return int(part)
+        value = int(part)
     except ValueError:
         raise UserError(
             f"expected a whole number in face corner {token!r}, got {part!r}",
             SourceLocation(shown, line),
         ) from None
+    if not -_INDEX_LIMIT < value < _INDEX_LIMIT:
+        shown_part = part if len(part) <= 30 else part[:12] + "..." + part[-6:]
+        raise UserError(f"face index {shown_part} is out of range", SourceLocation(shown, line))
+    return value
 
 
 def _resolve_indices(corners: _Corners, st: _Statements, shown: str):
@@ -473,48 +535,89 @@ def _material_groups(switches, sizes: np.ndarray) -> list[MeshGroup]:
     return groups or [MeshGroup(None, 0, 0)]
 
 
+def _drop_zero_area(indices: np.ndarray, groups: list[MeshGroup], positions: np.ndarray):
+    """Remove triangles whose corners coincide or lie on one line (exactly, in float64):
+    they draw nothing and give no normal. Returns (indices (M', 3) uint32, groups, count
+    removed); ``positions`` is (N, 3) float64 per vertex."""
+    if len(indices) == 0:
+        return indices, groups, 0
+    corners = positions[indices.astype(np.int64)]
+    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    keep = (cross != 0).any(axis=1)
+    removed = int(len(keep) - keep.sum())
+    if removed == 0:
+        return indices, groups, 0
+    kept_before = np.concatenate(([0], np.cumsum(keep)))
+    new_groups = []
+    for group in groups:
+        first, end = int(kept_before[group.first]), int(kept_before[group.first + group.count])
+        if end > first:
+            new_groups.append(MeshGroup(group.material, first, end - first))
+    return indices[keep], new_groups or [MeshGroup(None, 0, 0)], removed
+
+
+def _warn_skipped(st: _Statements, zero_area: int, shown: str, warnings: Warnings) -> None:
+    """One warning for everything a triangle mesh cannot draw, counted by kind."""
+    parts = []
+    for count, singular, plural in (
+        (st.short_faces, "face with fewer than 3 vertices", "faces with fewer than 3 vertices"),
+        (zero_area, "zero-area triangle", "zero-area triangles"),
+        (st.line_elements, "line element (l)", "line elements (l)"),
+        (st.point_elements, "point element (p)", "point elements (p)"),
+    ):
+        if count:
+            parts.append(f"{count} {singular if count == 1 else plural}")
+    if not parts:
+        return
+    listed = parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+    warnings.warn(f"skipped {listed}", SourceLocation(shown, st.first_skipped_line))
+
+
 # ---------------------------------------------------------------------------------------
 # Materials.
 
 
 def _load_material_libraries(
-    obj_path: Path, st: _Statements, warnings: Warnings
+    obj_path: Path, st: _Statements, warners: _Warners, assets: AssetPolicy
 ) -> tuple[dict, bool]:
     """Materials of every ``mtllib`` (later definitions of a name win), and whether every
-    library was found."""
+    library was found. A library outside the allowed folders, or not a regular file, is an
+    error at the ``mtllib`` line; a missing one (or a name no file can have) is a warning."""
     shown = display_path(obj_path)
     folder = obj_path.parent
     materials: dict = {}
     all_found = True
     loaded: set[Path] = set()
     for rest, line in st.mtllib_statements:
-        for library in _library_paths(folder, rest):
-            if library in loaded:
-                continue
-            loaded.add(library)
-            if not library.is_file():
-                warnings.warn(
-                    f"material library '{display_path(library)}' not found; "
-                    "its materials are drawn with the object's material",
-                    SourceLocation(shown, line),
-                )
+        location = SourceLocation(shown, line)
+        for lookup in _library_lookups(folder, rest, assets):
+            if lookup.problem in ("missing", "bad_name"):
+                reason = lookup.message if lookup.problem == "bad_name" else \
+                    f"material library '{display_path(lookup.path)}' not found"
+                warners.obj.warn(f"{reason}; its materials are drawn with the object's material", location)
                 all_found = False
                 continue
-            materials.update(parse_mtl(library, warnings))
+            if not lookup.found:
+                raise UserError(f"mtllib: {lookup.message}", location)
+            if lookup.path in loaded:
+                continue
+            loaded.add(lookup.path)
+            assets.record(lookup.path)
+            materials.update(parse_mtl(lookup.path, warners.libraries, assets=assets))
     return materials, all_found
 
 
-def _library_paths(folder: Path, rest: str) -> list[Path]:
-    """The files named by one ``mtllib`` statement.
+def _library_lookups(folder: Path, rest: str, assets: AssetPolicy) -> list:
+    """Where the files named by one ``mtllib`` statement are (``AssetPolicy.lookup`` results).
 
     The format separates several names with spaces, but exporters also write one name
     containing spaces; the whole rest of the line wins when such a file exists.
     """
-    rest = rest.replace("\\", "/")
-    whole = folder / rest
-    if " " in rest and whole.is_file():
-        return [whole]
-    return [folder / name for name in rest.split()]
+    if " " in rest:
+        whole = assets.lookup(rest, folder)
+        if whole.found:
+            return [whole]
+    return [assets.lookup(name, folder) for name in rest.split()]
 
 
 def _warn_undefined_materials(

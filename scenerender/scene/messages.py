@@ -61,16 +61,29 @@ def to_user_errors(exc: ValidationError, data, source: SourceMap) -> SceneErrors
     return SceneErrors(errors)
 
 
+# top-level keys whose absence needs more than its name
+MISSING_HINTS = {"objects": " (list what to draw; `objects: []` renders the background alone)"}
+
+
 def _one(item: dict, data, source: SourceMap) -> UserError:
     context = item.get("ctx") or {}
     path = data_path(item["loc"], data) + tuple(context.get("subpath", ()))
     kind = item["type"]
+    # the same mistake in many list items (objects[0].mesh, objects[1].mesh...) is one kind
+    repeat = (kind, tuple("[]" if isinstance(step, int) else step for step in path))
     if kind == "missing":
         missing = item["loc"][-1]
-        return UserError(f"missing required key '{missing}'", source.locate(path), format_key(path) or None)
+        hint = MISSING_HINTS.get(missing, "") if len(item["loc"]) == 1 else ""
+        return UserError(f"missing required key '{missing}'{hint}", source.locate(path), format_key(path) or None,
+                         kind=repeat)
     message = _message(kind, item, context)
     location = source.locate(path)
-    return UserError(message, location, format_key(path) or None)
+    return UserError(message, location, _shortened(format_key(path)) or None, kind=repeat)
+
+
+def _shortened(text: str, most: int = 100) -> str:
+    """A key path through a user's megabyte-long key still fits on a line."""
+    return text if len(text) <= most else text[:most - 3] + "..."
 
 
 def _message(kind: str, item: dict, context: dict) -> str:

@@ -44,11 +44,19 @@ def apply_overrides(data: dict, overrides, source: SourceMap) -> dict:
 
 
 def _split(text: str):
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:  # undecodable bytes in the argument (Python keeps them as surrogates)
+        shown = text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+        raise UserError("not valid UTF-8 text", SourceLocation(f"--set {shown}")) from None
     key, sep, raw = text.partition("=")
     if not sep or not key.strip():
         raise UserError(f"--set expects key=value, got '{text}' (e.g. --set render.samples=8)",
                         SourceLocation("--set"))
-    value, _ = parse_yaml_text(raw.strip() or '""', f"--set {text}")
+    try:
+        value, _ = parse_yaml_text(raw.strip() or '""', f"--set {text}")
+    except UserError as exc:  # a line and column inside one option's value would only confuse
+        raise UserError(exc.message, SourceLocation(f"--set {text}")) from None
     return key.strip(), value
 
 

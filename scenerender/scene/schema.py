@@ -1,17 +1,21 @@
-"""The scene format as validated models: the contract of SCENE_FORMAT.md.
+"""The scene format as validated models; docs/scene-format.md is generated from them.
 
 Every mapping rejects unknown keys; every animatable value validates to a
-``scenerender.animation.Track``. Paths are checked against the scene file's folder, which
-validation receives as ``context={"base_dir": Path}``.
+``scenerender.animation.Track``. Paths go through the scene's ``AssetPolicy`` (the scene
+file's folder and the allowed roots), which validation receives as ``context={"assets": policy}``.
 """
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Annotated, Literal, Union
 
-from pydantic import BeforeValidator, Discriminator, Field, PlainValidator, Tag, ValidationInfo, WithJsonSchema, model_validator
+from pydantic import (
+    BeforeValidator, Discriminator, Field, PlainValidator, Tag, ValidationInfo, WithJsonSchema, WrapValidator, model_validator,
+)
 from pydantic_core import PydanticCustomError
 
+from scenerender.errors import UserError
+from scenerender.scene.assets import AssetPolicy
 from scenerender.scene.strict import StrictModel
 from scenerender.scene.suggest import did_you_mean
 from scenerender.scene.values import (
@@ -63,36 +67,77 @@ def tagged_union(key: str, noun: str, members: dict):
 IMAGE_SUFFIXES = (".png", ".bmp", ".jpg", ".jpeg", ".tga", ".gif")
 
 
+def asset_policy(info: ValidationInfo):
+    """The run's ``AssetPolicy`` from the validation context (``{"assets": policy}``); a
+    policy rooted at ``base_dir`` when only that is given (older callers)."""
+    context = info.context if isinstance(info.context, dict) else {}
+    policy = context.get("assets")
+    if policy is None:
+        policy = AssetPolicy(Path(context.get("base_dir", ".")))
+        if isinstance(info.context, dict):
+            info.context["assets"] = policy  # one policy, one record, for the whole scene
+    return policy
+
+
 def _existing_path(value, info: ValidationInfo, want_dir: bool = False) -> Path:
+    """The file (or folder) ``value`` names, through the scene's AssetPolicy: inside the
+    allowed folders, symlinks followed, a regular file."""
     if not isinstance(value, str) or not value.strip():
         raise PydanticCustomError("path", "expected a file path, got {got}", {"got": describe(value)})
-    base = Path((info.context or {}).get("base_dir", "."))
-    path = (base / value).resolve() if not Path(value).is_absolute() else Path(value)
-    ok = path.is_dir() if want_dir else path.is_file()
-    if not ok:
-        hint = ""
-        if path.parent.is_dir():
-            hint = did_you_mean(path.name, [p.name for p in path.parent.iterdir()])
-        what = "folder" if want_dir else "file"
-        raise PydanticCustomError("missing_file", "{what} not found: {value}{hint}",
-                                  {"what": what, "value": value, "hint": hint})
-    return path
+    policy = asset_policy(info)
+    base = policy.roots[0]
+    try:
+        if want_dir:
+            return policy.resolve_folder(value, base)
+        return policy.resolve(value, base)
+    except UserError as exc:
+        raise PydanticCustomError("asset_path", "{message}", {"message": exc.message}) from None
 
 
-def existing_file(suffixes: tuple, message: str, description: str):
-    """A path type: the file must exist (relative to the scene file) and end in one of
-    ``suffixes``; ``message`` (with {value} and {kinds}) explains a wrong kind of file."""
+def existing_file(suffixes: tuple, message: str, description: str, check=None):
+    """A path type: the file must exist (relative to the scene file, inside the allowed
+    folders) and end in one of ``suffixes``, as written and once symlinks are followed;
+    ``message`` (with {value} and {kinds}) explains a wrong kind of file. ``check(path,
+    info)`` looks inside the file and raises PydanticCustomError when it is unusable."""
+
+    def wrong_kind(value):
+        return PydanticCustomError("file_type", message, {"value": value, "kinds": " ".join(suffixes)})
 
     def validate(value, info: ValidationInfo) -> Path:
+        if isinstance(value, str) and not value.lower().endswith(suffixes) and value.strip():
+            raise wrong_kind(value)
         path = _existing_path(value, info)
         if path.suffix.lower() not in suffixes:
-            raise PydanticCustomError("file_type", message, {"value": value, "kinds": " ".join(suffixes)})
+            raise wrong_kind(value)
+        if check is not None:
+            check(path, info)
         return path
 
     return Annotated[Path, PlainValidator(validate), WithJsonSchema({"type": "string", "description": description})]
 
 
-ImagePath = existing_file(IMAGE_SUFFIXES, "{value} is not an image this renderer reads ({kinds})", "image path relative to the scene file (PNG BMP JPG TGA GIF)")
+def image_header_size(path: Path, info: ValidationInfo) -> tuple[int, int]:
+    """(width, height) of an image the scene names, from its header (each file read once
+    per validation); raises PydanticCustomError when it is not a readable image or is over
+    the ``texture_pixels`` limit."""
+    from scenerender.world.images import DEFAULT_MAX_PIXELS, ImageError, image_size
+
+    context = info.context if isinstance(info.context, dict) else {}
+    sizes = context.setdefault("image_sizes", {})
+    if path not in sizes:
+        max_pixels = getattr(context.get("limits"), "texture_pixels", DEFAULT_MAX_PIXELS)
+        try:
+            sizes[path] = image_size(path, max_pixels)
+        except ImageError as exc:
+            sizes[path] = exc
+    found = sizes[path]
+    if isinstance(found, Exception):
+        raise PydanticCustomError("image", "{reason}", {"reason": found.reason})
+    return found
+
+
+ImagePath = existing_file(IMAGE_SUFFIXES, "{value} is not an image this renderer reads ({kinds})",
+                          "image path relative to the scene file (PNG BMP JPG TGA GIF)", check=image_header_size)
 
 # ---------------------------------------------------------------------------------------
 # render
@@ -147,6 +192,20 @@ class SkyboxFaces(StrictModel):
     negy: ImagePath
     posz: ImagePath
     negz: ImagePath
+
+    @model_validator(mode="after")
+    def _square_and_equal(self, info: ValidationInfo):
+        """A cube map needs six square faces of one size: checked from the headers here,
+        so that ``validate`` catches what the upload would refuse."""
+        first = image_header_size(self.posx, info)
+        for face in SKY_FACES:
+            width, height = image_header_size(getattr(self, face), info)
+            if width != height or (width, height) != first:
+                raise PydanticCustomError(
+                    "skybox_size", "skybox faces must be square and all the same size; {face} is {w}x{h}, "
+                    "posx {fw}x{fh}", {"face": face, "w": width, "h": height, "fw": first[0], "fh": first[1],
+                                       "subpath": (face,)})
+        return self
 
 
 def _skybox_folder(value, info: ValidationInfo) -> SkyboxFaces:
@@ -206,8 +265,9 @@ VIDEO_FORMATS = ("mp4", "gif")
 
 class OutputSettings(StrictModel):
     fps: number(0, 1000, lo_open=True) = 30.0
+    # at most 3.4e38 (every number is), times fps at most 1000: round(duration * fps) stays finite
     duration: number(0, lo_open=True) | None = None
-    frames: number(1, 10_000_000, integer=True) | None = None
+    frames: number(1, integer=True) | None = None  # the upper bound is Limits.frames (--limit frames=N)
     format: choice(*FORMATS) = "png"
     name: Text | None = None
     quality: number(1, 100, integer=True) = 90
@@ -221,15 +281,14 @@ class OutputSettings(StrictModel):
                     "frames_duration", "frames ({f}) and duration x fps ({d}) disagree; give one of them",
                     {"f": self.frames, "d": from_duration, "subpath": ("frames",)})
         if self.name is not None:
-            try:
-                self.name.format(frame=0)
-            except (KeyError, IndexError, ValueError) as exc:
-                raise PydanticCustomError("name_pattern", "bad name pattern ({err}); use e.g. \"frame_{frame:04d}\"",
-                                          {"err": str(exc), "subpath": ("name",)})
-            if "{frame" not in self.name and self.frame_count > 1:
-                raise PydanticCustomError(
-                    "name_pattern", "name pattern must contain {frame} when there is more than one frame "
-                    "(e.g. \"frame_{frame:04d}\")", {"subpath": ("name",)})
+            from scenerender.sinks.names import name_template_problem
+
+            # parsed, never formatted blindly: '{frame.__class__}' or '../x_{frame}' must
+            # neither run attribute lookups nor name files outside -o
+            problem = name_template_problem(self.name, self.frame_count)
+            if problem is not None:
+                raise PydanticCustomError("name_pattern", "{problem}; use e.g. \"frame_{frame:04d}\"",
+                                          {"problem": problem, "subpath": ("name",)})
         return self
 
     @property
@@ -468,7 +527,18 @@ MESH_SUFFIXES = (".obj", ".ply", ".stl", ".glb", ".gltf", ".off")
 MeshPath = existing_file(MESH_SUFFIXES, "{value}: unsupported mesh format (use one of {kinds})", "OBJ (+MTL), PLY, STL or GLB file")
 
 
-MeshSpec = mapping_or(PrimitiveSpec, MeshPath)  # a file, or an inline primitive
+
+
+def _in_memory_mesh(value, handler):
+    """A ``MeshData`` passes as it is: scenes built in code (``Scene.from_dict``) may hand
+    over meshes they made; a YAML file can never produce one."""
+    from scenerender.mesh.data import MeshData
+
+    return value if isinstance(value, MeshData) else handler(value)
+
+
+# a file, an inline primitive, or (from code) a MeshData
+MeshSpec = Annotated[mapping_or(PrimitiveSpec, MeshPath), WrapValidator(_in_memory_mesh)]
 
 # ---------------------------------------------------------------------------------------
 # objects
@@ -549,7 +619,7 @@ class Scene(StrictModel):
     camera: CameraSpec | None = None
     lights: list[LightSpec] | None = None
     materials: dict[str, MaterialSpec] = {}
-    objects: list[ObjectSpec] = []
+    objects: list[ObjectSpec]  # required: `objects: []` asks for the background alone
 
     @model_validator(mode="after")
     def _material_names_exist(self):

@@ -28,6 +28,7 @@ class StrictModel(BaseModel):
             if key not in known:
                 raise PydanticCustomError(
                     "unknown_key", "unknown key '{key}'{hint}",
-                    {"key": key, "hint": did_you_mean(str(key), known) or f" (known keys: {', '.join(known)})",
+                    {"key": key if len(str(key)) <= 60 else str(key)[:57] + "...",
+                     "hint": did_you_mean(str(key), known) or f" (known keys: {', '.join(known)})",
                      "subpath": (key,)})
         return data

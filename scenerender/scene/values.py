@@ -12,7 +12,7 @@ from typing import Annotated, Any
 from pydantic import PlainValidator, WithJsonSchema
 from pydantic_core import PydanticCustomError
 
-from scenerender.animation import INTERPOLATIONS, Track
+from scenerender.animation import INTERPOLATIONS, Track, shared_constant
 
 
 def describe(value: Any) -> str:
@@ -25,7 +25,10 @@ def describe(value: Any) -> str:
         return f"a list of {len(value)}"
     if value is None:
         return "nothing (null)"
-    return repr(value)
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**15:
+        return f"{float(value):.6g}" if abs(value) <= _LARGEST_FLOAT_INT else "a number over 1.8e308"
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def is_number(value: Any) -> bool:
@@ -41,6 +44,11 @@ def _bounds_text(lo, hi, lo_open, hi_open) -> str:
     return " and ".join(parts)
 
 
+_LARGEST_FLOAT_INT = int(1.7976931348623157e308)
+FLOAT32_MAX = 3.4028234663852886e38
+FLOAT32_TINY = 1.1754943508222875e-38  # the smallest normal float32
+
+
 def check_number(value, lo=None, hi=None, lo_open=False, hi_open=False, integer=False):
     """Validate one finite number within bounds; returns float (or int when ``integer``)."""
     what = "a whole number" if integer else "a number"
@@ -48,6 +56,8 @@ def check_number(value, lo=None, hi=None, lo_open=False, hi_open=False, integer=
         raise PydanticCustomError("number", "expected {what}, got {got}", {"what": what, "got": describe(value)})
     if isinstance(value, float) and not math.isfinite(value):
         raise PydanticCustomError("finite", "must be a finite number, got {got}", {"got": describe(value)})
+    if isinstance(value, int) and abs(value) > _LARGEST_FLOAT_INT:  # float(value) would raise OverflowError
+        raise PydanticCustomError("finite", "number too large (more than 1.8e308)")
     if integer and not (isinstance(value, int) or float(value).is_integer()):
         raise PydanticCustomError("integer", "expected a whole number, got {got}", {"got": describe(value)})
     too_low = lo is not None and (value <= lo if lo_open else value < lo)
@@ -55,7 +65,14 @@ def check_number(value, lo=None, hi=None, lo_open=False, hi_open=False, integer=
     if too_low or too_high:
         raise PydanticCustomError("range", "must be {bounds}, got {got}",
                                   {"bounds": _bounds_text(lo, hi, lo_open, hi_open), "got": describe(value)})
-    return int(value) if integer else float(value)
+    if integer:
+        return int(value)
+    if abs(value) > FLOAT32_MAX or 0 < abs(value) < FLOAT32_TINY:
+        # positions, sizes and times reach numpy's float32 casts and the GPU; a size below the
+        # smallest normal float32 squares to 0 in a vector length (division by zero)
+        raise PydanticCustomError("float32", "must be 0 or between 1.2e-38 and 3.4e38 in size (32-bit floats), "
+                                  "got {got}", {"got": f"{float(value):g}"})
+    return float(value) + 0.0  # + 0.0 turns -0.0 into 0.0: numpy's uniform(0.0, -0.0) refuses the range
 
 
 def number(lo=None, hi=None, *, lo_open=False, hi_open=False, integer=False, description=""):
@@ -268,11 +285,14 @@ def animated(check, value_schema: dict, kind: str):
             return value
         if isinstance(value, dict):
             return parse_track(value, check, kind)
-        constant = check(value)
-        return Track.constant(constant if kind == "float" else _as_row(constant), kind=kind)
+        return _constant_track(check(value), kind)
 
     schema = {"anyOf": [value_schema, _track_schema(value_schema)]}
     return Annotated[Track, PlainValidator(validate), WithJsonSchema(schema)]
+
+
+def _constant_track(constant, kind: str) -> Track:
+    return shared_constant(constant if kind == "float" else _as_row(constant), kind)
 
 
 def _validate_scale(value):

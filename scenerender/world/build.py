@@ -9,10 +9,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from scenerender.errors import Warnings
-from scenerender.mesh import apply_normals_mode, load_mesh, make_primitive, normalize_unit
+from scenerender.mesh import MeshData, apply_normals_mode, load_mesh, make_primitive, normalize_unit
+from scenerender.mesh.budget import TriangleBudget
 from scenerender.scene import LoadedScene
 from scenerender.scene.messages import single_error
 from scenerender.world import materials as mats
+from scenerender.world import texture_files
+from scenerender.world.images import DEFAULT_MAX_PIXELS, ImageStore
 from scenerender.world.lights import LightDef, light_defs
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance
 
@@ -24,12 +27,14 @@ class World:
     scene:   the LoadedScene (spec, path, source map).
     objects: RenderObjects in scene order.
     lights:  LightDefs (the default rig when the scene has no ``lights``).
+    images:  every texture and skybox face, decoded and checked (the GPU upload reuses them).
     """
 
     scene: LoadedScene
     objects: list
     lights: list
     warnings: Warnings = field(default_factory=Warnings)
+    images: ImageStore = field(default_factory=ImageStore)
 
     @property
     def spec(self):
@@ -52,14 +57,30 @@ class World:
 
 
 def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
-    """Load meshes (each file once per set of options) and resolve materials."""
+    """Load meshes (each file once per set of options), resolve materials, decode every
+    texture and skybox face.
+
+    Every file is read through ``scene.assets``, so afterwards ``scene.assets.files_read``
+    lists every file the run reads. Triangles are checked against ``scene.limits.triangles``
+    while meshes are read, images against ``scene.limits.texture_pixels`` before decoding.
+    A texture an MTL names that cannot be decoded becomes the placeholder with a warning;
+    one the scene names is an error at its key. So a scene this accepts does not fail later
+    for a reason in its input: ``validate`` runs exactly this.
+    """
     warnings = warnings or Warnings()
     spec = scene.spec
-    meshes: dict = {}
-    objects = [_build_object(i, obj, scene, meshes, warnings) for i, obj in enumerate(spec.objects)]
+    loader = _Loader(scene, warnings)
+    objects = [loader.build_object(i, obj) for i, obj in enumerate(spec.objects)]
     lights = light_defs(spec.lights, spec.render.shadows)
     _check_modes(scene, lights)
-    return World(scene=scene, objects=objects, lights=lights, warnings=warnings)
+    images = ImageStore(max_pixels=_limit(scene, "texture_pixels", DEFAULT_MAX_PIXELS))
+    texture_files.check_material_textures(objects, scene, images, warnings)
+    texture_files.check_skybox(scene, images)
+    return World(scene=scene, objects=objects, lights=lights, warnings=warnings, images=images)
+
+
+def _limit(scene: LoadedScene, name: str, default: int) -> int:
+    return getattr(getattr(scene, "limits", None), name, default)
 
 
 def _check_modes(scene: LoadedScene, lights: list[LightDef]) -> None:
@@ -70,72 +91,95 @@ def _check_modes(scene: LoadedScene, lights: list[LightDef]) -> None:
 
 
 def _mesh_key(obj) -> tuple:
+    if isinstance(obj.mesh, MeshData):  # handed over by code; the object is its identity
+        return ("memory", id(obj.mesh), obj.normals, obj.normalize)
     if hasattr(obj.mesh, "primitive"):
         return ("primitive", tuple(sorted(obj.mesh.model_dump().items())), obj.normals, obj.normalize)
     return ("file", str(obj.mesh), obj.normals, obj.normalize)
 
 
-def _load(obj, path: tuple, meshes: dict, warnings: Warnings):
-    key = _mesh_key(obj)
-    if key not in meshes:
-        if key[0] == "primitive":
-            params = obj.mesh.model_dump()
-            kind = params.pop("primitive")
-            mesh = make_primitive(kind, **params)
-            # primitives carry exact normals; only an explicit "flat" changes them
-            if obj.normals == "flat":
-                mesh = apply_normals_mode(mesh, "flat")
+class _Loader:
+    """Builds RenderObjects for one scene: meshes loaded once per key, one triangle budget
+    for all of them, each repeated warning given once."""
+
+    def __init__(self, scene: LoadedScene, warnings: Warnings):
+        self.scene = scene
+        self.warnings = warnings
+        self.meshes: dict = {}
+        self.budget = TriangleBudget(limit=_limit(scene, "triangles", TriangleBudget.unlimited().limit))
+        self.reported: set = set()
+
+    def build_object(self, index: int, obj) -> RenderObject:
+        path = ("objects", index)
+        key, mesh = self.load(obj, path)
+        name = obj.name or _default_name(obj, index)
+        materials = self.object_materials(obj, mesh, path)
+        if obj.instances is None:
+            instances = single_instance()
+        elif isinstance(obj.instances, list):
+            instances = listed_instances(obj.instances)
         else:
-            mesh = load_mesh(obj.mesh, normals=obj.normals, normalize=False, warnings=warnings)
-        if obj.normalize:
-            mesh = normalize_unit(mesh)
-        meshes[key] = mesh
-    return key, meshes[key]
+            instances = random_instances(obj.instances.random)
+        return RenderObject(name=name, path=path, mesh=mesh, mesh_key=key, materials=materials,
+                            position=obj.position, rotation=obj.rotation, scale=obj.scale, visible=obj.visible,
+                            cast_shadows=obj.cast_shadows, outline=obj.outline, instances=instances)
 
+    def load(self, obj, path: tuple):
+        key = _mesh_key(obj)
+        if key not in self.meshes:
+            where = self.scene.source.locate(path + ("mesh",))
+            if key[0] == "memory":
+                mesh = apply_normals_mode(obj.mesh, obj.normals)
+                self.budget.charge(mesh.triangle_count, where)
+            elif key[0] == "primitive":
+                params = obj.mesh.model_dump()
+                kind = params.pop("primitive")
+                mesh = make_primitive(kind, **params)
+                self.budget.charge(mesh.triangle_count, where)
+                # primitives carry exact normals; only an explicit "flat" changes them
+                if obj.normals == "flat":
+                    mesh = apply_normals_mode(mesh, "flat")
+            else:
+                mesh = load_mesh(obj.mesh, normals=obj.normals, normalize=False, warnings=self.warnings,
+                                 assets=self.scene.assets, budget=self.budget)
+            if obj.normalize:
+                mesh = normalize_unit(mesh)
+            self.meshes[key] = mesh
+        return key, self.meshes[key]
 
-def _build_object(index: int, obj, scene: LoadedScene, meshes: dict, warnings: Warnings) -> RenderObject:
-    path = ("objects", index)
-    key, mesh = _load(obj, path, meshes, warnings)
-    name = obj.name or _default_name(obj, index)
-    materials = _object_materials(obj, mesh, path, scene, warnings)
-    if obj.instances is None:
-        instances = single_instance()
-    elif isinstance(obj.instances, list):
-        instances = listed_instances(obj.instances)
-    else:
-        instances = random_instances(obj.instances.random)
-    return RenderObject(name=name, path=path, mesh=mesh, mesh_key=key, materials=materials,
-                        position=obj.position, rotation=obj.rotation, scale=obj.scale, visible=obj.visible,
-                        cast_shadows=obj.cast_shadows, outline=obj.outline, instances=instances)
+    def object_materials(self, obj, mesh, path: tuple) -> list:
+        """One Material per mesh group, by the precedence in ``world.materials``."""
+        spec = self.scene.spec
+        overrides = obj.material_overrides or {}
+        unknown = [name for name in overrides if name not in mesh.materials]
+        if unknown:
+            known = ", ".join(mesh.materials) or "no MTL materials"
+            raise single_error(f"'{unknown[0]}' is not a material of {mesh.source} (it has: {known})",
+                               path + ("material_overrides", unknown[0]), self.scene.source)
+        if obj.material is not None:
+            named = isinstance(obj.material, str)
+            chosen = spec.materials[obj.material] if named else obj.material
+            label = obj.material if named else "inline"
+            where = ("materials", obj.material) if named else path + ("material",)
+            return [mats.resolve(label, None, [chosen], [where]) for _ in mesh.groups]
+        result = []
+        for group in mesh.groups:
+            mtl = mesh.materials.get(group.material) if group.material else None
+            if group.material and mtl is None and (mesh.source, group.material) not in self.reported:
+                self.reported.add((mesh.source, group.material))
+                self.warnings.warn(f"{mesh.source} uses material '{group.material}' that its MTL files do not "
+                                   "define; drawn with the default material")
+            where = path + ("material_overrides", group.material)
+            result.append(mats.resolve(group.material or "default", mtl, [overrides.get(group.material)], [where]))
+        return result
 
 
 def _default_name(obj, index: int) -> str:
+    if isinstance(obj.mesh, MeshData):
+        return f"mesh{index}"
     if hasattr(obj.mesh, "primitive"):
         return f"{obj.mesh.primitive}{index}"
     return f"{obj.mesh.stem}{index}"
-
-
-def _object_materials(obj, mesh, path: tuple, scene: LoadedScene, warnings: Warnings) -> list:
-    """One Material per mesh group, by the precedence in ``world.materials``."""
-    spec = scene.spec
-    overrides = obj.material_overrides or {}
-    unknown = [name for name in overrides if name not in mesh.materials]
-    if unknown:
-        known = ", ".join(mesh.materials) or "no MTL materials"
-        raise single_error(f"'{unknown[0]}' is not a material of {mesh.source} (it has: {known})",
-                           path + ("material_overrides", unknown[0]), scene.source)
-    if obj.material is not None:
-        chosen = spec.materials[obj.material] if isinstance(obj.material, str) else obj.material
-        label = obj.material if isinstance(obj.material, str) else "inline"
-        return [mats.resolve(label, None, [chosen]) for _ in mesh.groups]
-    result = []
-    for group in mesh.groups:
-        mtl = mesh.materials.get(group.material) if group.material else None
-        if group.material and mtl is None:
-            warnings.warn(f"{mesh.source} uses material '{group.material}' that its MTL files do not define; "
-                          "drawn with the default material")
-        result.append(mats.resolve(group.material or "default", mtl, [overrides.get(group.material)]))
-    return result
 
 
 def scene_bounds(objects: list, matrices: list, visible: list) -> np.ndarray | None:

@@ -14,7 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-from scenerender.animation import Track
+from scenerender.animation import Track, shared_constant
+from scenerender.errors import SourceLocation
 
 DEFAULTS = {
     "ambient": (1.0, 1.0, 1.0, 1.0),
@@ -38,6 +39,10 @@ class TextureSource:
     srgb:      decode as sRGB (colour maps) or read values as they are (data maps).
     uv_scale, uv_offset: (2,) float, from MTL ``-s`` / ``-o``.
     strength:  bump multiplier (MTL ``-bm``), normal maps only.
+    mtl_location: the MTL file and line that named it (None when the scene named it). An
+               unreadable texture an MTL names becomes the placeholder with a warning.
+    scene_key: the scene's key path that named it, e.g. ("materials", "stone", "diffuse_map");
+               an unreadable texture the scene names is an error there.
     """
 
     path: Path | None
@@ -45,6 +50,8 @@ class TextureSource:
     uv_scale: tuple = (1.0, 1.0)
     uv_offset: tuple = (0.0, 0.0)
     strength: float = 1.0
+    mtl_location: SourceLocation | None = None
+    scene_key: tuple | None = None
 
     @property
     def is_placeholder(self) -> bool:
@@ -92,7 +99,7 @@ def _color_track(rgb_or_rgba) -> Track:
     values = tuple(float(v) for v in rgb_or_rgba)
     if len(values) == 3:
         values += (1.0,)
-    return Track.constant(values, kind="vector")
+    return shared_constant(values, kind="vector")
 
 
 def default_material(name: str = "default") -> Material:
@@ -102,8 +109,8 @@ def default_material(name: str = "default") -> Material:
         diffuse=_color_track(DEFAULTS["diffuse"]),
         specular=_color_track(DEFAULTS["specular"]),
         emissive=_color_track(DEFAULTS["emissive"]),
-        shininess=Track.constant(DEFAULTS["shininess"]),
-        opacity=Track.constant(DEFAULTS["opacity"]),
+        shininess=shared_constant(float(DEFAULTS["shininess"])),
+        opacity=shared_constant(float(DEFAULTS["opacity"])),
     )
 
 
@@ -125,20 +132,22 @@ def apply_mtl(material: Material, mtl) -> Material:
             material.maps[key] = TextureSource(
                 path=None if ref.missing else Path(ref.path), srgb=SRGB_MAPS[key],
                 uv_scale=tuple(float(v) for v in ref.scale[:2]), uv_offset=tuple(float(v) for v in ref.offset[:2]),
-                strength=float(getattr(ref, "bump_scale", 1.0) or 1.0))
+                strength=float(getattr(ref, "bump_scale", 1.0) or 1.0), mtl_location=ref.location)
     return material
 
 
-def apply_spec(material: Material, spec) -> Material:
-    """Material with the keys a scene ``MaterialSpec`` sets; unset keys stay as they are."""
+def apply_spec(material: Material, spec, where: tuple | None = None) -> Material:
+    """Material with the keys a scene ``MaterialSpec`` sets; unset keys stay as they are.
+    ``where`` is the key path where the spec is in the scene (for messages about its texture files)."""
     for key in COLOR_KEYS + ("shininess", "opacity"):
         value = getattr(spec, key)
         if value is not None:
             setattr(material, key, value)  # colours validate to RGBA tracks already
-    for key in MAP_KEYS:
-        path = getattr(spec, key)
+    for map_key in MAP_KEYS:
+        path = getattr(spec, map_key)
         if path is not None:
-            material.maps[key] = TextureSource(path=Path(path), srgb=SRGB_MAPS[key])
+            material.maps[map_key] = TextureSource(path=Path(path), srgb=SRGB_MAPS[map_key],
+                                                   scene_key=None if where is None else where + (map_key,))
     if spec.wrap is not None:
         material.wrap = spec.wrap
     if spec.filter is not None:
@@ -148,12 +157,14 @@ def apply_spec(material: Material, spec) -> Material:
     return material
 
 
-def resolve(name: str, mtl=None, layers=()) -> Material:
-    """Defaults, then ``mtl`` (an MtlMaterial or None), then each MaterialSpec in ``layers``."""
+def resolve(name: str, mtl=None, layers=(), layer_keys=()) -> Material:
+    """Defaults, then ``mtl`` (an MtlMaterial or None), then each MaterialSpec in ``layers``;
+    ``layer_keys`` gives, in the same order, each layer's key path in the scene."""
     material = default_material(name)
     if mtl is not None:
         apply_mtl(material, mtl)
-    for spec in layers:
+    keys = list(layer_keys) + [None] * (len(layers) - len(layer_keys))
+    for spec, where in zip(layers, keys):
         if spec is not None:
-            apply_spec(material, spec)
+            apply_spec(material, spec, where)
     return material
