@@ -14,7 +14,6 @@ from scenerender.errors import UserError
 from scenerender.job import make_sink, parse_frame_range
 from scenerender.sinks import ImageSequenceSink, ThreadedSink, VideoSink, frame_name_pattern
 from scenerender.sinks import images as images_module
-from scenerender.tools.imagediff import compare
 
 W, H = 32, 24
 
@@ -158,11 +157,11 @@ def test_is_complete_false_for_truncated_jpg_and_tga(tmp_path, fmt):
 
 
 def test_failed_write_leaves_no_file(tmp_path, monkeypatch):
-    def half_write(path, pixels, fmt, quality=90):
+    def half_write(path, data):
         path.write_bytes(b"\x89PNG\r\n\x1a\n partial")
         raise OSError("disk full")
 
-    monkeypatch.setattr(images_module, "write_image", half_write)
+    monkeypatch.setattr(images_module, "write_file", half_write)
     sink = ImageSequenceSink(tmp_path / "out", "png", "frame_{frame:04d}")
     with pytest.raises(OSError, match="disk full"):
         sink.write(make_frame(0))
@@ -176,11 +175,11 @@ def test_failed_rewrite_keeps_the_old_complete_file(tmp_path, monkeypatch):
     sink.write(make_frame(0))
     before = sink.path_for(0).read_bytes()
 
-    def half_write(path, pixels, fmt, quality=90):
+    def half_write(path, data):
         path.write_bytes(b"junk")
         raise RuntimeError("encoder crashed")
 
-    monkeypatch.setattr(images_module, "write_image", half_write)
+    monkeypatch.setattr(images_module, "write_file", half_write)
     with pytest.raises(RuntimeError):
         sink.write(make_frame(0))
     assert all_entries(tmp_path) == ["frame_0000.png"]
@@ -188,11 +187,11 @@ def test_failed_rewrite_keeps_the_old_complete_file(tmp_path, monkeypatch):
 
 
 def test_failed_exr_write_leaves_no_file(tmp_path, monkeypatch):
-    def half_write(path, linear):
+    def half_write(path, data):
         path.write_bytes(b"v/1\x01 partial")
         raise OSError("boom")
 
-    monkeypatch.setattr(images_module, "write_exr", half_write)
+    monkeypatch.setattr(images_module, "write_file", half_write)
     sink = ImageSequenceSink(tmp_path, "exr", "frame_{frame:04d}")
     with pytest.raises(OSError):
         sink.write(make_frame(0))
@@ -399,46 +398,3 @@ def test_make_sink_video_in_folder_and_as_file(tmp_path):
     assert in_folder.fps == 24.0
     as_file = make_sink(loaded, "mp4", tmp_path / "movie.mp4", (W, H))
     assert as_file.path == tmp_path / "movie.mp4"
-
-
-# ---------------------------------------------------------------------------------------
-# image comparison
-
-
-def test_compare_identical():
-    image = make_frame(3).pixels
-    report = compare(image, image.copy())
-    assert report.mean_abs == 0.0
-    assert report.max_abs == 0
-    assert report.bad_percent == 0.0
-    assert report.psnr == float("inf")
-    assert report.within(0.0, 0.0)
-    assert "PSNR inf dB" in report.line()
-
-
-def test_compare_shifted_block():
-    a = np.zeros((20, 30, 3), np.uint8)
-    a[5:10, 5:10] = 200
-    b = np.zeros_like(a)
-    b[5:10, 8:13] = 200
-    report = compare(a, b)
-    assert int(report.bad_mask.sum()) == 30  # columns 5-7 and 10-12 on 5 rows
-    assert report.bad_percent == pytest.approx(5.0)
-    assert report.mean_abs == pytest.approx(10.0)
-    assert report.max_abs == 200
-    assert report.psnr == pytest.approx(10 * np.log10(255.0 ** 2 / 2000.0))
-    assert not report.within(2.0, 0.5)
-
-
-def test_compare_small_shift_is_within_threshold():
-    a = np.full((10, 10, 3), 100, np.uint8)
-    report = compare(a, a + 3)
-    assert report.mean_abs == pytest.approx(3.0)
-    assert report.bad_percent == 0.0
-    assert report.within(3.0, 0.0)
-    assert not report.within(2.0, 0.0)
-
-
-def test_compare_rejects_different_shapes():
-    with pytest.raises(ValueError):
-        compare(np.zeros((4, 4, 3), np.uint8), np.zeros((4, 5, 3), np.uint8))
