@@ -16,12 +16,41 @@ from scenerender import __version__
 from scenerender.errors import EnvironmentProblem, SceneErrors, UserError
 
 SET_HELP = "Override any scene key, e.g. --set render.samples=8 or --set objects[0].position=[0,1,0] (repeatable)."
+ASSET_ROOT_HELP = ("Also let the scene read assets (meshes, MTL files, textures, skyboxes) from DIR; by default "
+                   "only the scene file's folder is allowed (repeatable; SCENERENDER_ASSET_ROOTS adds more, "
+                   "separated by the path separator).")
+
+
+def _limit_option(command):
+    from scenerender.limits import limit_names
+
+    return click.option("--limit", "limit_texts", multiple=True, metavar="NAME=N",
+                        help=f"Raise (or lower) a size limit, e.g. --limit objects=200000 (repeatable; names: "
+                             f"{', '.join(limit_names())}).")(command)
+
+
+def _limits(texts):
+    from scenerender.limits import parse_limits
+
+    return parse_limits(texts)
+
+
+def _asset_root_option(command):
+    return click.option("--asset-root", "asset_roots", multiple=True, metavar="DIR",
+                        type=click.Path(path_type=Path), help=ASSET_ROOT_HELP)(command)
 
 
 def _echo_error(text: str) -> None:
     from scenerender.errors import one_line
 
     click.echo(f"error: {one_line(text)}", err=True)
+
+
+def _is_user_os_error(exc: BaseException) -> bool:
+    """An OSError the user can act on that no sink turned into a UserError first."""
+    from scenerender.sinks.base import WRITE_ERRNOS
+
+    return isinstance(exc, OSError) and exc.errno in WRITE_ERRNOS and bool(exc.strerror)
 
 
 class _Command(click.Group):
@@ -44,14 +73,18 @@ class _Command(click.Group):
             devnull = os.open(os.devnull, os.O_WRONLY)
             os.dup2(devnull, sys.stdout.fileno())
             sys.exit(0)
-        except KeyboardInterrupt:
-            _echo_error("interrupted; frames already finished are complete, nothing partial was left")
-            sys.exit(130)
+        except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM/SIGHUP as interrupts.Interrupted
+            by = f" by {exc.signal_name}" if hasattr(exc, "signal_name") else ""
+            _echo_error(f"interrupted{by}; frames already finished are complete, nothing partial was left")
+            sys.exit(getattr(exc, "exit_code", 130))
         except (click.ClickException, click.exceptions.Exit, click.exceptions.Abort, SystemExit):
             raise
         except Exception as exc:  # a bug: say so plainly, keep the traceback for --debug
             if os.environ.get("SCENERENDER_DEBUG"):
                 raise
+            if _is_user_os_error(exc):  # disk full, read-only, no permission: never a bug
+                _echo_error(f"{exc.filename or 'output'}: {exc.strerror.lower()}")
+                sys.exit(UserError.exit_code)
             _echo_error(f"internal error: {type(exc).__name__}: {exc} "
                         "(this is a bug in scenerender; set SCENERENDER_DEBUG=1 for the traceback)")
             sys.exit(1)
@@ -68,10 +101,11 @@ def main():
       scenerender render scene.yaml -o out/ --size 320x240 --frames 0:10
       scenerender validate scene.yaml
       scenerender graph scene.yaml --dot | dot -Tpng > graph.png
-      scenerender diff reference.png out/frame_0000.png --tolerance 2
+      scenerender diff ref/ out/ --report report.html
 
-    The scene format is described in SCENE_FORMAT.md; `scenerender schema` prints it as
-    JSON Schema for editors.
+    The scene format, every key with its type, range, default and an example, is
+    docs/scene-format.md (`scenerender schema --markdown` prints it); `scenerender schema`
+    prints it as JSON Schema for editors (scene.schema.json).
     """
 
 
@@ -104,27 +138,54 @@ def _overrides(sets, size, samples) -> list[str]:
 @click.option("--overwrite", is_flag=True, help="Render frames again even if complete files exist.")
 @click.option("--strict", is_flag=True, help="Treat warnings (missing MTL textures...) as errors.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress and no summary line.")
-def render(scene, output, size, samples, fmt, frames, sets, overwrite, strict, quiet):
+@click.option("--profile", is_flag=True,
+              help="Afterwards print ms per pass and per frame (GPU-synchronised, so slower).")
+@click.option("--check", "check", type=click.Path(file_okay=False, path_type=Path), metavar="REF_DIR",
+              help="Then compare the output with the references in REF_DIR (or REF_DIR/<renderer>/, e.g. "
+                   "ref/llvmpipe/, when that exists); exit 1 on a change; report.html written with the output.")
+@click.option("--update-references", is_flag=True,
+              help="With --check: make the references equal to this output on purpose, and say what changed.")
+@click.option("--workers", type=click.IntRange(1, 256), default=1, show_default=True,
+              help="Render on N local processes, each with its own GL context (same files as one).")
+@click.option("--scheduler", metavar="ADDRESS",
+              help="Render on a Dask cluster, e.g. tcp://10.0.0.5:8786; the scene, its assets and -o must "
+                   "be on storage every worker sees (needs the 'distributed' extra).")
+@_asset_root_option
+@_limit_option
+def render(scene, output, size, samples, fmt, frames, sets, overwrite, strict, quiet, profile, check,
+           update_references, workers, scheduler, asset_roots, limit_texts):
     """Render SCENE to frames in OUTPUT.
 
-    Frames that already exist complete are kept unless --overwrite; each file is written
-    whole (temporary file + rename) or not at all.
+    A frame already in OUTPUT is kept only when the run manifest (OUTPUT/.scenerender.json)
+    shows it was made from the same scene, assets, options and scenerender version;
+    anything else is rendered again. Each file is written whole (temporary file + rename)
+    or not at all.
+
+    \b
+    In CI:
+      scenerender render scene.yaml -o out/ --check ref/             # exit 1 when frames changed
+      scenerender render scene.yaml -o out/ --check ref/ --update-references
     """
+    from scenerender.interrupts import signals_as_exceptions
     from scenerender.job import RenderOptions, run_render
 
+    if update_references and check is None:
+        raise click.UsageError("--update-references needs --check REF_DIR (the references to rewrite)")
+
     def echo(text):
-        if not quiet or text.startswith("warning"):
+        if not quiet or text.startswith(("warning", "FAIL", "CHANGED", "MISSING", "EXTRA", "report", "updated")):
             click.echo(text, err=True)
 
     options = RenderOptions(output=output, overrides=_overrides(sets, size, samples), frames=frames,
-                            overwrite=overwrite, strict=strict, quiet=quiet, format=fmt)
-    summary = run_render(scene, options, echo=echo)
-    if not quiet:
-        if summary.rendered == 0:
-            click.echo(f"nothing to do: all {summary.skipped} frame(s) already complete in {summary.target} "
-                       "(--overwrite renders them again)", err=True)
-        else:
-            click.echo(summary.line(), err=True)
+                            overwrite=overwrite, strict=strict, quiet=quiet, format=fmt, profile=profile,
+                            check=check, update_references=update_references, asset_roots=tuple(asset_roots),
+                            workers=workers, scheduler=scheduler, limits=_limits(limit_texts))
+    with signals_as_exceptions():  # also while the scene loads: exit 143/129 with a message
+        summary = run_render(scene, options, echo=echo)
+    if summary.profile:
+        click.echo(summary.profile)
+    if summary.check is not None and not summary.check.passed and not update_references:
+        sys.exit(1)
 
 
 @main.command()
@@ -132,34 +193,53 @@ def render(scene, output, size, samples, fmt, frames, sets, overwrite, strict, q
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
 @click.option("--strict", is_flag=True, help="Treat warnings as errors.")
 @click.option("--assets/--no-assets", default=True, show_default=True,
-              help="Also load meshes, MTL files and textures to check them.")
-def validate(scene, sets, strict, assets):
-    """Check SCENE without rendering: keys, values, files, and (with --assets) the meshes
-    and materials they name. Prints 'ok' and exits 0 when the scene is valid."""
+              help="Also load meshes, MTL files, textures and skybox faces to check them.")
+@_asset_root_option
+@_limit_option
+def validate(scene, sets, strict, assets, asset_roots, limit_texts):
+    """Check SCENE without rendering: everything `render` checks short of drawing. Keys and
+    values; every file the scene names (inside the allowed folders, regular files); meshes
+    and MTL files parsed; textures and skybox faces decoded; limits. Lists every warning,
+    then prints 'ok' and exits 0 when the scene is valid; a scene that validates does not
+    fail in `render` because of its input."""
     from scenerender.errors import Warnings
     from scenerender.scene import load_scene
 
-    loaded = load_scene(scene, list(sets))
+    warnings = Warnings(strict=strict, echo=lambda t: click.echo(t, err=True))
+    loaded = load_scene(scene, list(sets), asset_roots=tuple(asset_roots), limits=_limits(limit_texts))
     if assets:
         from scenerender.world.build import build_world
 
-        build_world(loaded, Warnings(strict=strict, echo=lambda t: click.echo(t, err=True)))
+        build_world(loaded, warnings)
     spec = loaded.spec
+    noted = f", {len(warnings.items)} warning(s)" if warnings.items else ""
     click.echo(f"ok: {scene} ({len(spec.objects)} objects, {len(spec.lights or [])} lights, "
-               f"{spec.output.frame_count} frame(s), {spec.render.size[0]}x{spec.render.size[1]})")
+               f"{spec.output.frame_count} frame(s), {spec.render.size[0]}x{spec.render.size[1]}, "
+               f"{len(loaded.assets.files_read)} asset file(s){noted})")
 
 
 @main.command()
 @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), help="Write to a file.")
-def schema(output):
-    """Print the scene format as JSON Schema (for editor completion and validation)."""
-    from scenerender.scene.json_schema import scene_json_schema
+@click.option("--markdown", is_flag=True,
+              help="The format reference (every key, its type, range, default and an example) as Markdown.")
+def schema(output, markdown):
+    """Print the scene format as JSON Schema (for editor completion and validation), or
+    with --markdown as the reference that docs/scene-format.md holds."""
+    if markdown:
+        from scenerender.scene.reference import reference_markdown
 
-    text = scene_json_schema()
-    if output:
-        output.write_text(text + "\n", encoding="utf-8")
+        text = reference_markdown()
     else:
-        click.echo(text)
+        from scenerender.scene.reference import editor_schema
+
+        text = editor_schema() + "\n"
+    if output:
+        from scenerender.sinks.base import atomic_path, write_file
+
+        with atomic_path(output) as temp:  # never a half-written schema or reference
+            write_file(temp, text.encode("utf-8"))
+    else:
+        click.echo(text, nl=False)
 
 
 @main.command()
@@ -168,22 +248,23 @@ def schema(output):
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
 @click.option("--size", metavar="WxH", help="Image size (overrides render.size).")
 @click.option("--samples", type=click.IntRange(1, 64), help="MSAA samples.")
-def graph(scene, dot, sets, size, samples):
+@_asset_root_option
+@_limit_option
+def graph(scene, dot, sets, size, samples, asset_roots, limit_texts):
     """Print the render graph SCENE compiles to: passes kept (static ones render once per
     run), passes culled, and the resources between them. Needs no GL context."""
-    from scenerender.errors import Warnings
-    from scenerender.render.renderer import plan
-    from scenerender.scene import load_scene
-    from scenerender.world.build import build_world
+    from scenerender.api import load
+    from scenerender.rendering.renderer import plan
 
-    loaded = load_scene(scene, _overrides(sets, size, samples))
-    world = build_world(loaded, Warnings(echo=lambda t: click.echo(t, err=True)))
+    loaded_scene = load(scene, _overrides(sets, size, samples), asset_roots=asset_roots, limits=_limits(limit_texts),
+                        on_warning=lambda t: click.echo(t, err=True))
+    world = loaded_scene._world
     render_spec = world.render
     _, motion, compiled = plan(world, render_spec.size, render_spec.samples)
     if dot:
         click.echo(compiled.dot())
         return
-    frames = loaded.spec.output.frame_count
+    frames = loaded_scene.frame_count
     click.echo(f"render graph of {scene}: mode {render_spec.mode}, {render_spec.size[0]}x{render_spec.size[1]}, "
                f"{frames} frame(s); geometry {'static' if motion.geometry_static else 'animated'}, "
                f"camera {'static' if motion.camera_static else 'animated'}")
@@ -202,27 +283,127 @@ def info():
     click.echo(f"{'shaders':<36} {shader_dir()}")
 
 
-@main.command()
-@click.argument("reference", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.argument("candidate", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.option("--tolerance", type=float, default=1.0, show_default=True,
-              help="Largest allowed mean absolute difference, in 8-bit levels.")
-@click.option("--max-bad-pixels", type=float, default=0.5, show_default=True,
-              help="Largest allowed percentage of pixels differing by more than --pixel-threshold.")
-@click.option("--pixel-threshold", type=int, default=24, show_default=True,
-              help="A pixel is 'bad' when a channel differs by more than this many levels.")
-@click.option("--max-tile", type=float, default=6.0, show_default=True,
-              help="Largest allowed mean difference of any 8x8 block: catches small moved objects.")
-@click.option("--heatmap", type=click.Path(dir_okay=False, path_type=Path), help="Write a difference image.")
-def diff(reference, candidate, tolerance, max_bad_pixels, pixel_threshold, max_tile, heatmap):
-    """Compare two images the way golden-image tests do. Exits 0 when CANDIDATE matches
-    REFERENCE within the tolerances, 1 when it does not, 2 when they cannot be compared."""
-    from scenerender.tools.imagediff import compare_files
+# the diff options' defaults are the default rule (importing it loads no numpy)
+from scenerender.compare.rule import DEFAULT_RULE as _DIFF_DEFAULTS  # noqa: E402
 
-    report = compare_files(reference, candidate, heatmap=heatmap, pixel_threshold=pixel_threshold)
-    passed = report.within(tolerance, max_bad_pixels, max_tile)
-    click.echo(report.line() + ("  PASS" if passed else "  FAIL"))
-    sys.exit(0 if passed else 1)
+
+@main.command()
+@click.argument("reference", type=click.Path(path_type=Path))
+@click.argument("output", type=click.Path(path_type=Path))
+@click.option("--report", type=click.Path(dir_okay=False, path_type=Path),
+              help="Write a self-contained HTML report (images, heatmaps, changed regions).")
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON on stdout instead of lines.")
+@click.option("--max-tile", type=float, default=_DIFF_DEFAULTS.max_tile, show_default=True,
+              help="Largest allowed mean unexplained difference (levels) of any 8x8 block: catches a "
+                   "moved or dropped object, a lost shadow.")
+@click.option("--max-unexplained-mean", type=float, default=_DIFF_DEFAULTS.max_unexplained_mean, show_default=True,
+              help="Largest allowed unexplained difference per pixel, over the frame (levels): catches faint "
+                   "changes spread wide, such as a colour or the field of view.")
+@click.option("--aa-tolerance", type=int, default=_DIFF_DEFAULTS.aa_tolerance, show_default=True,
+              help="Levels of rounding forgiven. A difference is unexplained by the amount it lies outside "
+                   "the colour range of the other image's 3x3 neighbourhood (edge shifts lie inside).")
+def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, aa_tolerance):
+    """Compare OUTPUT with REFERENCE: two images, two folders of frames (PNG, JPG, TGA, EXR;
+    matched by file name) or two videos (MP4, GIF; matched frame by frame).
+
+    Prints one line per changed, missing or extra frame and a total line. Exits 0 when every
+    frame matches, 1 when a frame changed (a different size counts as changed) or is missing
+    or extra, 2 when the input cannot be compared (no such path, an unreadable file, a
+    folder against a video). EXR frames are compared after the sRGB encode.
+    """
+    import json
+
+    from scenerender.compare import DiffRule, compare_paths, write_html_report
+
+    rule = DiffRule(max_tile=max_tile, max_unexplained_mean=max_unexplained_mean, aa_tolerance=aa_tolerance)
+    result = compare_paths(reference, output, rule)
+    if report is not None:
+        write_html_report(result, report)
+    if as_json:
+        payload = result.to_json()
+        payload["report"] = str(report) if report is not None else None
+        click.echo(json.dumps(payload, indent=2))
+    else:
+        for line in result.summary_lines():
+            click.echo(line)
+        if report is not None:
+            click.echo(f"report: {report}")
+    sys.exit(0 if result.passed else 1)
+
+
+@main.command()
+@click.argument("scene", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("-o", "--output", type=click.Path(file_okay=False, path_type=Path), default=Path("ref"),
+              show_default=True, help="Folder for frame_NNNN.exr (linear float) and frame_NNNN.png.")
+@click.option("--frames", metavar="A:B", default="0:1", show_default=True,
+              help="Frames to render (like a Python slice).")
+@click.option("--spp", type=click.IntRange(1, 32), default=4, show_default=True,
+              help="Stratified samples a pixel along each axis (4 gives 4x4 = 16).")
+@click.option("--size", metavar="WxH", help="Image size (overrides render.size).")
+@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
+@_asset_root_option
+def reference(scene, output, frames, spp, size, sets, asset_roots):
+    """Render SCENE (render.mode: shaded) with the CPU reference: ray-cast visibility, exact
+    hard shadows, the GPU's shading equations, spp x spp samples a pixel. It is the truth
+    error is measured against (`scenerender bench`), not a second renderer: normal and
+    opacity maps, ambient occlusion, transparency, outlines and the skybox are left out (one
+    warning names what the scene has of them)."""
+    import time
+
+    import scenerender
+    from scenerender.job import parse_frame_range
+    from scenerender.raytrace import embree_available, render_reference, write_reference
+
+    loaded = scenerender.load(scene, _overrides(sets, size, None), asset_roots=asset_roots,
+                              on_warning=lambda line: click.echo(line, err=True))
+    warn = lambda text: click.echo(f"warning: {text}", err=True)  # noqa: E731
+    if not embree_available():
+        warn("embreex is not installed (pip install 'scenerender[reference]'): ray casting is slow")
+    for index in parse_frame_range(frames, loaded.frame_count):
+        started = time.perf_counter()
+        frame = render_reference(loaded, index, spp=spp, warn=warn)
+        paths = write_reference(frame, output)
+        warn = None  # the left-out features are the same on every frame
+        click.echo(f"frame {index}: {', '.join(str(p) for p in paths)} ({time.perf_counter() - started:.1f} s)")
+
+
+@main.command()
+@click.argument("scene", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("-o", "--output", type=click.Path(file_okay=False, path_type=Path), default=Path("bench"),
+              show_default=True, help="Folder for NAME.md (table), NAME.json and NAME.png (plot).")
+@click.option("--knob", "knobs", multiple=True,
+              type=click.Choice(["samples", "shadow_size", "pcf", "bias", "ao", "size", "combined"]),
+              help="Sweep only these knobs (repeatable; default all).")
+@click.option("--frames", type=click.IntRange(1, 1000), default=3, show_default=True,
+              help="Timed frames per variant and round (after one warm-up frame).")
+@click.option("--rounds", type=click.IntRange(1, 100), default=2, show_default=True,
+              help="Rounds over all variants; ms/frame is the median over all of them.")
+@click.option("--spp", type=click.IntRange(1, 32), default=4, show_default=True,
+              help="Reference samples a pixel along each axis.")
+@click.option("--size", metavar="WxH", help="Image size (overrides render.size).")
+@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
+@click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON on stdout.")
+@_asset_root_option
+def bench(scene, output, knobs, frames, rounds, spp, size, sets, as_json, asset_roots):
+    """Sweep SCENE's quality knobs (MSAA, shadow map size, PCF, bias, AO, image size) on
+    the GPU path and measure each variant's ms/frame and its error against the CPU
+    reference (RMSE linear and sRGB, PSNR, FLIP, shadow-edge, cone-edge and interior RMSE).
+    Writes a Markdown table, JSON and a plot of ms/frame against error with the Pareto
+    front marked."""
+    import json
+
+    from scenerender.raytrace import bench as sweep
+
+    echo = (lambda text: click.echo(text, err=True))
+    rows = sweep.run_bench(scene, _overrides(sets, size, None), knobs=knobs or sweep.KNOBS, frames=frames,
+                           rounds=rounds, spp=spp, echo=echo, asset_roots=asset_roots)
+    meta = {"frames": frames, "rounds": rounds, "spp": spp, "overrides": list(sets)}
+    paths = sweep.write_outputs(scene.stem, rows, output, meta)
+    if as_json:
+        click.echo(json.dumps([row.to_json() for row in rows], indent=2))
+    else:
+        click.echo(sweep.markdown_table(scene.stem, rows))
+    echo("wrote " + ", ".join(str(p) for p in paths))
 
 
 if __name__ == "__main__":  # pragma: no cover

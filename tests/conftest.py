@@ -30,6 +30,18 @@ def gl():
     ctx.release()
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _private_mesh_cache(tmp_path_factory):
+    """Tests (and the processes they start) neither read nor fill the user's mesh cache."""
+    previous = os.environ.get("SCENERENDER_CACHE_DIR")
+    os.environ["SCENERENDER_CACHE_DIR"] = str(tmp_path_factory.mktemp("mesh-cache"))
+    yield
+    if previous is None:
+        os.environ.pop("SCENERENDER_CACHE_DIR", None)
+    else:
+        os.environ["SCENERENDER_CACHE_DIR"] = previous
+
+
 def load(text_or_path, overrides=(), base_dir=None):
     """A LoadedScene from YAML text (paths relative to ``base_dir`` or scenes/) or a file."""
     from scenerender.scene import load_scene
@@ -40,18 +52,27 @@ def load(text_or_path, overrides=(), base_dir=None):
     return load_scene_text(text_or_path, base_dir or SCENES, list(overrides))
 
 
+def scene(text_or_path, overrides=(), base_dir=None, warnings=None):
+    """A ``scenerender.Scene`` from YAML text (paths relative to ``base_dir`` or scenes/) or
+    a file; warnings go into ``warnings`` (a ``scenerender.errors.Warnings``) when given."""
+    import scenerender
+
+    options = {}
+    if warnings is not None:
+        options = {"strict": warnings.strict,
+                   "on_warning": lambda line: warnings.items.append(line.removeprefix("warning: "))}
+    if isinstance(text_or_path, Path):
+        return scenerender.load(text_or_path, list(overrides), **options)
+    return scenerender.Scene.from_yaml(text_or_path, base_dir or SCENES, list(overrides), **options)
+
+
 def render(gl, text_or_path, overrides=(), frames=(0,), base_dir=None, warnings=None, **renderer_options):
     """Render ``frames`` of a scene on the shared context -> list of (H, W, 3) uint8."""
-    from scenerender.errors import Warnings
-    from scenerender.render.renderer import Renderer
-    from scenerender.world.build import build_world
+    import scenerender
 
-    world = build_world(load(text_or_path, overrides, base_dir), warnings or Warnings())
-    renderer = Renderer(world, gl, **renderer_options)
-    try:
+    with scenerender.Renderer(scene(text_or_path, overrides, base_dir, warnings), gl=gl,
+                              **renderer_options) as renderer:
         return [renderer.render(i).pixels for i in frames]
-    finally:
-        renderer.release()
 
 
 def render_one(gl, text_or_path, overrides=(), frame=0, **kwargs) -> np.ndarray:

@@ -7,15 +7,14 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from golden_cases import (
-    BAD_PERCENT, CASES, MEAN_LEVELS, PIXEL_THRESHOLD, SCENES, TILE_LEVELS, reference_path, render_case,
-)
-from scenerender.tools.imagediff import compare
+from golden_cases import CASES, SCENES, reference_path, render_case
+from scenerender.compare import DEFAULT_RULE, compare_images
 
 
 def matches(reference: np.ndarray, candidate: np.ndarray):
-    report = compare(reference, candidate, PIXEL_THRESHOLD)
-    return report.within(MEAN_LEVELS, BAD_PERCENT, TILE_LEVELS), report
+    """The verdict of `scenerender diff` and `render --check`: one rule everywhere."""
+    frame = compare_images("golden", reference, candidate, DEFAULT_RULE, keep_images=False)
+    return frame.passed, frame
 
 
 def reference(name: str) -> np.ndarray:
@@ -28,7 +27,7 @@ def test_render_matches_reference(gl, name, tmp_path):
     ok, report = matches(reference(name), image)
     if not ok:  # keep what was rendered next to the report, for a look
         Image.fromarray(image).save(tmp_path / f"{name}.png")
-    assert ok, f"{name}: {report.line()} (rendered image in {tmp_path})"
+    assert ok, f"{name}: {report.summary_line()} (rendered image in {tmp_path})"
 
 
 def test_references_are_not_blank():
@@ -62,7 +61,7 @@ REGRESSIONS = {
 def test_tolerance_catches(gl, what):
     name, change = REGRESSIONS[what]
     ok, report = matches(reference(name), render_case(gl, name, change))
-    assert not ok, f"{what} slipped through the tolerance: {report.line()}"
+    assert not ok, f"{what} slipped through the tolerance: {report.summary_line()}"
 
 
 def test_tolerance_accepts_driver_level_noise(gl):
@@ -72,4 +71,4 @@ def test_tolerance_accepts_driver_level_noise(gl):
     rng = np.random.default_rng(0)
     noise = rng.integers(-1, 2, size=image.shape) * (rng.random(image.shape[:2]) < 0.25)[..., None]
     ok, report = matches(reference("showcase"), np.clip(image + noise, 0, 255).astype(np.uint8))
-    assert ok, report.line()
+    assert ok, report.summary_line()

@@ -1,0 +1,224 @@
+"""The HTML report of a comparison: one self-contained file (images embedded as
+``data:image/png;base64``, styles and a few lines of script inline), readable offline and
+as a CI artifact.
+
+Top: the verdict, counts, the rule, and what made each side (scenerender version, GL
+renderer). Then per changed frame: reference, output and heatmap with the changed regions
+outlined, a slider and a blink toggle between reference and output, and the metrics against
+the rule's limits. Passing frames are one table row each.
+"""
+from __future__ import annotations
+
+import base64
+import io
+import math
+from html import escape
+from pathlib import Path
+
+import numpy as np
+
+from scenerender.compare.metrics import PIXEL_THRESHOLD, FrameMetrics
+from scenerender.compare.result import CompareResult, FrameComparison
+from scenerender.compare.rule import TILE, DiffRule
+from scenerender.compare.sources import Side
+from scenerender.sinks.base import atomic_path
+
+# Small frames are scaled up (pixelated) to at least this width on the page.
+MIN_SHOWN_WIDTH = 320
+
+STYLE = """
+body { font: 14px/1.4 system-ui, sans-serif; margin: 0; background: #f4f4f6; color: #1d1d22; }
+header { padding: 16px 24px; color: #fff; }
+header.fail { background: #b3261e; } header.pass { background: #1e7b34; }
+header h1 { margin: 0 0 4px; font-size: 22px; }
+main { padding: 8px 24px 32px; }
+section { background: #fff; border-radius: 6px; padding: 12px 16px; margin: 12px 0;
+          box-shadow: 0 1px 2px rgba(0,0,0,.15); }
+h2 { font-size: 17px; margin: 0 0 6px; } .reason { color: #b3261e; margin: 0 0 10px; }
+table { border-collapse: collapse; } td, th { padding: 2px 10px 2px 0; text-align: left; }
+th { font-weight: 600; } td.num { text-align: right; font-variant-numeric: tabular-nums; }
+.bad { color: #b3261e; font-weight: 600; } .ok { color: #1e7b34; }
+.row { display: flex; flex-wrap: wrap; gap: 14px; align-items: flex-start; margin-bottom: 10px; }
+figure { margin: 0; } figcaption { font-size: 12px; color: #555; }
+.frame { position: relative; display: inline-block; line-height: 0; }
+.frame img { image-rendering: pixelated; display: block; }
+.box { position: absolute; border: 2px solid #ffd400; box-shadow: 0 0 0 1px #000; box-sizing: border-box; }
+.stack { position: relative; display: inline-block; line-height: 0; }
+.stack img { image-rendering: pixelated; display: block; }
+.stack img.top { position: absolute; left: 0; top: 0; }
+.controls { font-size: 12px; margin-top: 4px; } .controls input { vertical-align: middle; }
+.side { display: inline-block; vertical-align: top; margin-right: 32px; }
+pre { white-space: pre-wrap; overflow-wrap: anywhere; }
+"""
+
+SCRIPT = """
+document.querySelectorAll('.compare').forEach(function (c) {
+  var top = c.querySelector('img.top'), range = c.querySelector('input[type=range]'),
+      blink = c.querySelector('button'), label = c.querySelector('.showing'), timer = null;
+  function clip(v) { top.style.clipPath = 'inset(0 ' + (100 - v) + '% 0 0)'; }
+  range.addEventListener('input', function () { clip(range.value); });
+  blink.addEventListener('click', function () {
+    if (timer) { clearInterval(timer); timer = null; blink.textContent = 'blink'; clip(range.value); return; }
+    var on = true; blink.textContent = 'stop';
+    timer = setInterval(function () { on = !on; clip(on ? 100 : 0);
+      label.textContent = on ? 'reference' : 'output'; }, 600);
+  });
+  clip(range.value);
+});
+"""
+
+
+def png_data_uri(image: np.ndarray) -> str:
+    """(H, W, 3) uint8 -> 'data:image/png;base64,...'."""
+    from PIL import Image
+
+    buffer = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(image)).save(buffer, format="PNG", optimize=True)
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def shown_width(width: int) -> int:
+    """Page width of a frame: small frames scaled up by a whole factor, so pixels stay square."""
+    return width * max(1, -(-MIN_SHOWN_WIDTH // max(width, 1)))
+
+
+def _boxes(frame: FrameComparison) -> str:
+    if not frame.size:
+        return ""
+    width, height = frame.size
+    return "".join(
+        f'<div class="box" style="left:{100 * x / width:.3f}%;top:{100 * y / height:.3f}%;'
+        f'width:{100 * w / width:.3f}%;height:{100 * h / height:.3f}%"></div>'
+        for x, y, w, h in frame.regions)
+
+
+def _figure(caption: str, image: np.ndarray, boxes: str = "") -> str:
+    width = shown_width(image.shape[1])
+    return (f'<figure><div class="frame"><img src="{png_data_uri(image)}" width="{width}" alt="{escape(caption)}">'
+            f'{boxes}</div><figcaption>{escape(caption)} ({image.shape[1]}x{image.shape[0]})</figcaption></figure>')
+
+
+def _compare_widget(reference: np.ndarray, output: np.ndarray) -> str:
+    width = shown_width(reference.shape[1])
+    return (f'<figure class="compare"><div class="stack">'
+            f'<img src="{png_data_uri(output)}" width="{width}" alt="output">'
+            f'<img class="top" src="{png_data_uri(reference)}" width="{width}" alt="reference"></div>'
+            '<div class="controls">reference | output <input type="range" min="0" max="100" value="50"> '
+            '<button type="button">blink</button> <span class="showing"></span></div>'
+            '<figcaption>left of the handle: reference, right: output</figcaption></figure>')
+
+
+def _fmt(value, digits=3) -> str:
+    if value is None:
+        return "n/a"
+    if isinstance(value, float) and math.isinf(value):
+        return "inf"
+    return f"{value:.{digits}f}" if isinstance(value, float) else str(value)
+
+
+def metrics_rows(metrics: FrameMetrics, rule: DiffRule) -> list[tuple[str, str, str, bool | None]]:
+    """(name, value, limit, within limit or None for information only) per metric."""
+    flip = _fmt(metrics.flip, 5) if metrics.flip is not None else "n/a (pip install 'scenerender[flip]')"
+    return [
+        (f"worst {TILE}x{TILE} tile, unexplained (levels, largest channel)", _fmt(metrics.worst_tile_aa),
+         f"<= {rule.max_tile:g}", metrics.worst_tile_aa <= rule.max_tile),
+        ("unexplained mean (levels)", _fmt(metrics.unexplained_mean, 5), f"<= {rule.max_unexplained_mean:g}",
+         metrics.unexplained_mean <= rule.max_unexplained_mean),
+        ("% pixels changed (unexplained)", _fmt(metrics.changed_percent), "", None),
+        ("mean |diff| (levels)", _fmt(metrics.mean_abs), "", None),
+        (f"worst {TILE}x{TILE} tile, plain (levels, channel mean)", _fmt(metrics.worst_tile), "", None),
+        (f"% pixels off by >{PIXEL_THRESHOLD}", _fmt(metrics.bad_percent), "", None),
+        ("largest difference (levels)", _fmt(metrics.max_abs), "", None),
+        ("PSNR (dB)", _fmt(metrics.psnr, 2), "", None),
+        ("SSIM", _fmt(metrics.ssim, 5), "", None),
+        ("FLIP", flip, "", None),
+    ]
+
+
+def _metrics_table(metrics: FrameMetrics, rule: DiffRule) -> str:
+    rows = []
+    for name, value, limit, ok in metrics_rows(metrics, rule):
+        css = "" if ok is None else ("ok" if ok else "bad")
+        rows.append(f'<tr><td>{escape(name)}</td><td class="num {css}">{escape(value)}</td>'
+                    f'<td>{escape(limit)}</td></tr>')
+    return "<table><tr><th>metric</th><th>value</th><th>limit</th></tr>" + "".join(rows) + "</table>"
+
+
+def _changed_section(frame: FrameComparison, rule: DiffRule) -> str:
+    parts = [f'<section class="changed" id="{escape(frame.name)}"><h2>{escape(frame.name)}</h2>'
+             f'<p class="reason">{escape(frame.reason)}</p>']
+    images = frame.images
+    if images is None:
+        parts.append("<p>(pictures not kept: too many changed frames)</p>")
+    else:
+        boxes = _boxes(frame)
+        figures = [_figure("reference", images.reference, boxes), _figure("output", images.output, boxes)]
+        if images.heatmap is not None:
+            figures.append(_figure("heatmap: red changed, blue edge shifts (excused)", images.heatmap, boxes))
+            figures.append(_compare_widget(images.reference, images.output))
+        parts.append('<div class="row">' + "".join(figures) + "</div>")
+    if frame.metrics is not None:
+        regions = ", ".join(f"x {x}..{x + w - 1} y {y}..{y + h - 1}" for x, y, w, h in frame.regions)
+        parts.append(_metrics_table(frame.metrics, rule))
+        if regions:
+            parts.append(f"<p>changed regions (outlined): {escape(regions)}</p>")
+    return "".join(parts) + "</section>"
+
+
+def _passing_table(frames: list[FrameComparison]) -> str:
+    if not frames:
+        return ""
+    rows = "".join(
+        f'<tr><td>{escape(f.name)}</td><td class="num">{_fmt(f.metrics.mean_abs)}</td>'
+        f'<td class="num">{_fmt(f.metrics.worst_tile_aa)}</td><td class="num">{_fmt(f.metrics.psnr, 1)}</td>'
+        f'<td class="num">{_fmt(f.metrics.ssim, 4)}</td></tr>'
+        for f in frames if f.metrics is not None)
+    return (f'<section class="passing"><h2>{len(frames)} frame(s) pass</h2><table><tr><th>frame</th>'
+            f'<th>mean</th><th>worst tile (unexplained)</th><th>PSNR</th><th>SSIM</th></tr>{rows}</table></section>')
+
+
+def _side_block(title: str, side: Side) -> str:
+    p = side.provenance
+    return (f'<div class="side"><b>{escape(title)}</b>: {escape(str(side.path))} ({escape(side.kind)})<br>'
+            f'scenerender {escape(p.scenerender)}<br>GL renderer {escape(p.gl_renderer)}<br>'
+            f'GL version {escape(p.gl_version)}</div>')
+
+
+def _names_section(title: str, names: list[str]) -> str:
+    if not names:
+        return ""
+    items = "".join(f"<li>{escape(n)}</li>" for n in names)
+    return f'<section class="listing"><h2 class="bad">{escape(title)} ({len(names)})</h2><ul>{items}</ul></section>'
+
+
+def render_html(result: CompareResult) -> str:
+    """The whole report page as text."""
+    c = result.counts()
+    verdict = "SAME" if result.passed else "CHANGED"
+    css = "pass" if result.passed else "fail"
+    dropped = (f"<p>{result.images_dropped} more changed frame(s) are listed without pictures.</p>"
+               if result.images_dropped else "")
+    body = [
+        f'<header class="{css}"><h1>{verdict}: {escape(str(result.output.path))}</h1>'
+        f'{c["compared"]} frame(s) compared: {c["passed"]} pass, {c["changed"]} changed, '
+        f'{c["missing"]} missing, {c["extra"]} extra</header><main>',
+        '<section class="summary"><h2>Summary</h2>'
+        f'<p>rule: {escape(result.rule.describe())}</p>'
+        f'{_side_block("reference", result.reference)}{_side_block("output", result.output)}'
+        f'<pre>{escape(chr(10).join(result.summary_lines()))}</pre>{dropped}</section>',
+        _names_section("missing in the output", result.missing),
+        _names_section("extra in the output", result.extra),
+        *(_changed_section(frame, result.rule) for frame in result.changed),
+        _passing_table([f for f in result.frames if f.passed]),
+        "</main>",
+    ]
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<title>scenerender diff: {verdict}</title><style>{STYLE}</style></head><body>"
+            + "".join(body) + f"<script>{SCRIPT}</script></body></html>\n")
+
+
+def write_html_report(result: CompareResult, path: Path) -> None:
+    """Write the report to ``path`` whole (temporary file + rename) or not at all."""
+    text = render_html(result)
+    with atomic_path(Path(path)) as temp:
+        temp.write_text(text, encoding="utf-8")

@@ -1,0 +1,130 @@
+"""What a comparison found: one entry per frame pair, the frames only one side has, and the
+lines and JSON that ``scenerender diff`` prints."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from scenerender import __version__
+from scenerender.compare.metrics import FrameMetrics
+from scenerender.compare.rule import TILE, DiffRule
+from scenerender.compare.sources import Side
+
+Box = tuple[int, int, int, int]  # x, y, width, height in pixels
+
+
+@dataclass
+class FrameImages:
+    """The pictures a report shows for a changed frame, each (H, W, 3) uint8. ``output``
+    has the reference's size only when the sizes matched; ``heatmap`` is None otherwise."""
+
+    reference: np.ndarray
+    output: np.ndarray
+    heatmap: np.ndarray | None
+
+
+@dataclass
+class FrameComparison:
+    """One frame pair. ``reason`` says why it failed ("" when it passed); ``metrics`` is
+    None when the sizes differ; ``regions`` box the connected changed tiles."""
+
+    name: str
+    passed: bool
+    reason: str = ""
+    metrics: FrameMetrics | None = None
+    regions: list[Box] = field(default_factory=list)
+    size: tuple[int, int] | None = None          # (width, height) of the reference frame
+    images: FrameImages | None = None           # kept for changed frames only, up to a cap
+
+    def summary_line(self) -> str:
+        text = f"CHANGED {self.name}: {self.reason}"
+        if self.metrics is not None:
+            m = self.metrics
+            psnr = "inf" if math.isinf(m.psnr) else f"{m.psnr:.1f}"
+            extras = [f"mean {m.mean_abs:.2f}", f"PSNR {psnr} dB"]
+            if m.ssim is not None:
+                extras.append(f"SSIM {m.ssim:.4f}")
+            if m.flip is not None:
+                extras.append(f"FLIP {m.flip:.4f}")
+            text += f" ({', '.join(extras)})"
+        if self.regions:
+            text += f"; {len(self.regions)} region(s), largest at {_box_text(max(self.regions, key=_area))}"
+        return text
+
+    def to_json(self) -> dict:
+        return {"name": self.name, "passed": self.passed, "reason": self.reason,
+                "size": list(self.size) if self.size else None,
+                "metrics": self.metrics.to_json() if self.metrics else None,
+                "regions": [list(box) for box in self.regions]}
+
+
+def _area(box: Box) -> int:
+    return box[2] * box[3]
+
+
+def _box_text(box: Box) -> str:
+    x, y, w, h = box
+    return f"x {x}..{x + w - 1}, y {y}..{y + h - 1}"
+
+
+@dataclass
+class CompareResult:
+    """The outcome of ``compare_paths``. Frames are in reference order; ``missing`` are in
+    the reference only, ``extra`` in the output only (both are failures)."""
+
+    reference: Side
+    output: Side
+    rule: DiffRule
+    frames: list[FrameComparison] = field(default_factory=list)
+    missing: list[str] = field(default_factory=list)
+    extra: list[str] = field(default_factory=list)
+    images_kept: int = 0      # changed frames whose pictures are kept for the report
+    images_dropped: int = 0   # changed frames whose pictures were not kept (cap reached)
+
+    @property
+    def changed(self) -> list[FrameComparison]:
+        return [frame for frame in self.frames if not frame.passed]
+
+    @property
+    def passed(self) -> bool:
+        return not self.changed and not self.missing and not self.extra
+
+    @property
+    def verdict(self) -> str:
+        return "same" if self.passed else "changed"
+
+    def counts(self) -> dict:
+        return {"compared": len(self.frames), "passed": len(self.frames) - len(self.changed),
+                "changed": len(self.changed), "missing": len(self.missing), "extra": len(self.extra)}
+
+    def total_line(self) -> str:
+        c = self.counts()
+        if self.passed:
+            worst = max((f.metrics.worst_tile_aa for f in self.frames if f.metrics), default=0.0)
+            return f"PASS: {c['compared']} frame(s) match (worst {TILE}x{TILE} tile {worst:.2f} levels)"
+        return (f"FAIL: {c['changed']} of {c['compared']} frame(s) changed, {c['missing']} missing, "
+                f"{c['extra']} extra")
+
+    def summary_lines(self) -> list[str]:
+        """One line per changed, missing and extra frame, then the total line."""
+        lines = [frame.summary_line() for frame in self.changed]
+        lines += [f"MISSING {name}: in the reference, not in the output" for name in self.missing]
+        lines += [f"EXTRA {name}: in the output, not in the reference" for name in self.extra]
+        return lines + [self.total_line()]
+
+    def to_json(self) -> dict:
+        """What ``scenerender diff --json`` prints."""
+        return {
+            "verdict": self.verdict,
+            "passed": self.passed,
+            "counts": self.counts(),
+            "rule": self.rule.to_json(),
+            "reference": self.reference.to_json(),
+            "output": self.output.to_json(),
+            "frames": [frame.to_json() for frame in self.frames],
+            "missing": list(self.missing),
+            "extra": list(self.extra),
+            "compared_by": f"scenerender {__version__}",
+        }

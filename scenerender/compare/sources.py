@@ -1,0 +1,178 @@
+"""The two sides of a comparison: one image, a folder of frames, or a video, and the
+provenance sidecar written beside each render output.
+
+Frames come out as (H, W, 3) uint8 sRGB. EXR frames hold linear light; they are encoded
+with the exact sRGB transfer function (values clipped to 0..1) so that they are judged by
+the same rule as every other format, at the 8-bit precision a person sees.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterator
+
+import numpy as np
+
+from scenerender.errors import SourceLocation, UserError, display_path
+
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr")
+VIDEO_SUFFIXES = (".mp4", ".gif")
+UNKNOWN = "unknown"
+
+
+def _bad(path: Path, message: str) -> UserError:
+    return UserError(message, SourceLocation(display_path(path)))
+
+
+@dataclass(frozen=True)
+class Provenance:
+    """What made one side, from its sidecar; "unknown" where there is none."""
+
+    scenerender: str = UNKNOWN
+    gl_renderer: str = UNKNOWN
+    gl_version: str = UNKNOWN
+    sidecar: str | None = None   # the file it was read from
+
+    def to_json(self) -> dict:
+        return {"scenerender": self.scenerender, "gl": {"renderer": self.gl_renderer, "version": self.gl_version},
+                "sidecar": self.sidecar}
+
+    def line(self) -> str:
+        return f"scenerender {self.scenerender}, GL {self.gl_renderer} ({self.gl_version})"
+
+
+def sidecar_candidates(path: Path) -> list[Path]:
+    """Where the provenance of ``path`` may be written: a folder's own
+    ``.scenerender.json``, else that of a video in it (``.<video>.scenerender.json``); for a
+    file ``.<name>.scenerender.json`` beside it, else the folder's sidecar (a frame inside a
+    rendered folder)."""
+    if path.is_dir():
+        return [path / ".scenerender.json", *sorted(path.glob(".*.scenerender.json"))]
+    return [path.parent / f".{path.name}.scenerender.json", path.parent / ".scenerender.json"]
+
+
+def read_provenance(path: Path) -> Provenance:
+    """The provenance of a render output; a missing or unreadable sidecar gives unknowns
+    (a reference made by hand has none, and that must not stop a comparison)."""
+    for candidate in sidecar_candidates(path):
+        if not candidate.is_file():
+            continue
+        try:
+            data = json.loads(candidate.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        if not isinstance(data, dict):
+            continue
+        gl = data.get("gl") if isinstance(data.get("gl"), dict) else {}
+        return Provenance(str(data.get("scenerender", UNKNOWN)), str(gl.get("renderer", UNKNOWN)),
+                          str(gl.get("version", UNKNOWN)), str(candidate))
+    return Provenance()
+
+
+# -- reading frames ----------------------------------------------------------------------
+
+def srgb_encode(linear: np.ndarray) -> np.ndarray:
+    """(H, W, 3) float linear light -> (H, W, 3) uint8 with the exact sRGB curve."""
+    x = np.clip(np.nan_to_num(linear.astype(np.float64)), 0.0, 1.0)
+    encoded = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+    return np.round(encoded * 255.0).astype(np.uint8)
+
+
+def _read_exr(path: Path) -> np.ndarray:
+    import OpenEXR
+
+    with OpenEXR.File(str(path)) as exr:
+        channels = exr.channels()
+        if "RGB" in channels:
+            linear = np.asarray(channels["RGB"].pixels, dtype=np.float32)
+        elif all(c in channels for c in "RGB"):
+            linear = np.stack([np.asarray(channels[c].pixels, dtype=np.float32) for c in "RGB"], axis=2)
+        else:
+            raise _bad(path, f"EXR without R, G, B channels (has {', '.join(sorted(channels))})")
+    return srgb_encode(linear[..., :3])
+
+
+def read_image(path: Path) -> np.ndarray:
+    """One image file -> (H, W, 3) uint8 sRGB. Unreadable files are a UserError."""
+    try:
+        if path.suffix.lower() == ".exr":
+            return _read_exr(path)
+        from PIL import Image
+
+        with Image.open(path) as image:
+            return np.asarray(image.convert("RGB"))
+    except UserError:
+        raise
+    except Exception as exc:  # Pillow and OpenEXR raise many kinds for a broken file
+        raise _bad(path, f"cannot read image ({exc})") from None
+
+
+def video_frames(path: Path) -> Iterator[np.ndarray]:
+    """Decode a MP4 or GIF frame by frame -> (H, W, 3) uint8, never the whole video in memory."""
+    try:
+        if path.suffix.lower() == ".gif":
+            from PIL import Image, ImageSequence
+
+            with Image.open(path) as image:
+                for frame in ImageSequence.Iterator(image):
+                    yield np.asarray(frame.convert("RGB"))
+            return
+        import imageio_ffmpeg
+
+        reader = imageio_ffmpeg.read_frames(str(path), pix_fmt="rgb24")
+        meta = next(reader)
+        width, height = meta["size"]
+        for raw in reader:
+            yield np.frombuffer(raw, np.uint8).reshape(height, width, 3)
+    except UserError:
+        raise
+    except Exception as exc:
+        raise _bad(path, f"cannot decode video ({exc})") from None
+
+
+# -- the sides -----------------------------------------------------------------------------
+
+@dataclass
+class Side:
+    """One side of a comparison. ``kind`` is "image", "folder" or "video"; ``names`` lists
+    a folder's frame and video files (sorted) or a single image's name; videos name frames
+    by index as they are decoded."""
+
+    path: Path
+    kind: str
+    names: list[str] = field(default_factory=list)
+    provenance: Provenance = field(default_factory=Provenance)
+
+    def load(self, name: str) -> np.ndarray:
+        return read_image(self.path / name if self.kind == "folder" else self.path)
+
+    def to_json(self) -> dict:
+        return {"path": str(self.path), "kind": self.kind, "provenance": self.provenance.to_json()}
+
+
+def is_video_name(name: str) -> bool:
+    return Path(name).suffix.lower() in VIDEO_SUFFIXES
+
+
+def is_frame_file(path: Path) -> bool:
+    """An image or video in a folder, not hidden (sidecars and the temporary files of
+    unfinished writes start with a dot)."""
+    return (path.is_file() and not path.name.startswith(".")
+            and path.suffix.lower() in IMAGE_SUFFIXES + VIDEO_SUFFIXES)
+
+
+def open_side(path: Path) -> Side:
+    """Classify ``path`` as an image, a folder of frames or a video; bad paths are a UserError."""
+    path = Path(path)
+    if path.is_dir():
+        names = sorted(p.name for p in path.iterdir() if is_frame_file(p))
+        return Side(path, "folder", names, read_provenance(path))
+    if not path.exists():
+        raise _bad(path, "no such file or folder")
+    suffix = path.suffix.lower()
+    if suffix in VIDEO_SUFFIXES:
+        return Side(path, "video", [], read_provenance(path))
+    if suffix in IMAGE_SUFFIXES:
+        return Side(path, "image", [path.name], read_provenance(path))
+    raise _bad(path, f"not an image, folder or video (expected {', '.join(IMAGE_SUFFIXES + VIDEO_SUFFIXES)})")

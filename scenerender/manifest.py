@@ -1,0 +1,250 @@
+"""The run manifest: a JSON sidecar beside every output that records what made each frame.
+
+A re-run keeps a frame only when the manifest says it was made from the same inputs (the
+scene's settings after overrides, the bytes of every asset it read, the scenerender
+version) and the file on disk is the one that run wrote (same size and SHA-256). Anything
+else is rendered again, and frames an earlier, different run left behind are removed, so
+an output folder never mixes frames of two versions of a scene.
+
+Where it lives: ``<folder>/.scenerender.json`` for an image sequence, and
+``<parent>/.<file name>.scenerender.json`` for a video or a single image. Besides the
+fingerprints it records provenance: the scenerender version and the GL renderer that made
+the frames, which ``scenerender diff`` shows.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from scenerender.errors import UserError, display_path
+
+FORMAT_VERSION = 1
+SAVE_INTERVAL = 1.0  # seconds between saves during a run: a killed run loses at most this much
+SIDECAR_SUFFIX = ".scenerender.json"
+FOLDER_SIDECAR = ".scenerender.json"
+
+
+def sidecar_for(target: Path, is_folder: bool) -> Path:
+    """Where the manifest of ``target`` lives."""
+    target = Path(target)
+    return target / FOLDER_SIDECAR if is_folder else target.parent / f".{target.name}{SIDECAR_SUFFIX}"
+
+
+def read_sidecar(path: Path) -> dict:
+    """The manifest at ``path``, or {} when absent or unreadable (then nothing is reused)."""
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) and data.get("format") == FORMAT_VERSION else {}
+
+
+def file_digest(path: Path) -> str:
+    """SHA-256 of a file's bytes, hex."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+# ---------------------------------------------------------------------------------------
+# what a run is made from
+
+
+@dataclass(frozen=True)
+class Fingerprint:
+    """The inputs of a run. ``parts`` names each input (``settings``, ``version``,
+    ``asset:models/duck.obj``...) with its digest; ``digest`` covers them all."""
+
+    parts: dict
+
+    @property
+    def digest(self) -> str:
+        text = json.dumps(self.parts, sort_keys=True)
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    def changes_since(self, old_parts: dict) -> list[str]:
+        """Human-readable names of what differs from an earlier run's ``parts``."""
+        changed = []
+        if old_parts.get("version") != self.parts["version"]:
+            changed.append(f"scenerender {old_parts.get('version', 'unknown')} -> {self.parts['version']}")
+        if old_parts.get("overrides") != self.parts["overrides"]:
+            changed.append("the --set/--size/--samples/--format options")
+        if old_parts.get("scene_file") != self.parts.get("scene_file"):
+            changed.append("the scene file")
+        elif old_parts.get("settings") != self.parts["settings"] and not changed:
+            changed.append("the scene's settings")
+        for key in sorted(set(old_parts) | set(self.parts)):
+            if key.startswith("asset:") and old_parts.get(key) != self.parts.get(key):
+                verb = "is new" if key not in old_parts else ("is no longer used" if key not in self.parts else "changed")
+                changed.append(f"{key[len('asset:'):]} {verb}")
+        return changed
+
+
+def fingerprint(loaded, overrides=()) -> Fingerprint:
+    """The fingerprint of a loaded scene whose world has been built (so every asset it
+    reads has been resolved and is listed in ``loaded.assets.files_read``)."""
+    from scenerender import __version__
+
+    parts = {
+        "version": __version__,
+        "overrides": _digest_text(json.dumps(list(overrides))),
+        "settings": _digest_text(json.dumps(loaded.data, sort_keys=True, default=_encode_value)),
+    }
+    if loaded.path.is_file():  # a comment edit re-renders too: cheap, and never wrong
+        parts["scene_file"] = file_digest(loaded.path)
+    for path in loaded.assets.files_read:
+        parts[f"asset:{_asset_name(path, loaded.base_dir)}"] = file_digest(path)
+    return Fingerprint(parts)
+
+
+def _digest_text(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
+
+
+def _encode_value(value):
+    """JSON for what scene data may hold besides plain values: meshes made in code, arrays."""
+    from scenerender.mesh.data import MeshData
+
+    if isinstance(value, MeshData):
+        arrays = (value.positions, value.indices, value.normals, value.uvs)
+        digest = hashlib.sha256()
+        for array in arrays:
+            digest.update(b"-" if array is None else np.ascontiguousarray(array).tobytes())
+        return {"mesh": digest.hexdigest()}
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    return str(value)
+
+
+def _asset_name(path: Path, base_dir: Path) -> str:
+    try:
+        return Path(path).relative_to(base_dir).as_posix()
+    except ValueError:
+        return display_path(path)
+
+
+# ---------------------------------------------------------------------------------------
+# one output's manifest
+
+
+@dataclass
+class Manifest:
+    """The manifest of one output (a frame folder, a video or one image) during a run."""
+
+    path: Path
+    run: Fingerprint
+    scene: str            # which scene's frames these are: several scenes may share a folder
+    data: dict = field(default_factory=dict)
+    _last_save: float = 0.0
+
+    @classmethod
+    def open(cls, target: Path, is_folder: bool, run: Fingerprint, scene: str) -> "Manifest":
+        path = sidecar_for(target, is_folder)
+        data = read_sidecar(path)
+        data.setdefault("frames", {})
+        data.setdefault("runs", {})
+        return cls(path=path, run=run, scene=scene, data=data)
+
+    @property
+    def previous_run(self) -> str | None:
+        """The digest of this scene's last run into this output, if any."""
+        return self.data["runs"].get(self.scene, {}).get("run")
+
+    @property
+    def previous_inputs(self) -> dict:
+        return self.data["runs"].get(self.scene, {}).get("inputs", {})
+
+    def is_current(self, name: str, file: Path) -> bool:
+        """True when ``file`` is the frame ``name`` this same run would write, unaltered."""
+        entry = self.data["frames"].get(name)
+        if not entry or entry.get("run") != self.run.digest:
+            return False
+        try:
+            return file.stat().st_size == entry.get("bytes") and file_digest(file) == entry.get("sha256")
+        except OSError:
+            return False
+
+    def stale_frames(self) -> list[str]:
+        """Names of this scene's frames recorded by a run with other inputs (out of date).
+        Frames of other scenes sharing the folder are theirs and left alone."""
+        return [name for name, entry in self.data["frames"].items()
+                if entry.get("scene") == self.scene and entry.get("run") != self.run.digest]
+
+    def forget(self, name: str) -> None:
+        self.data["frames"].pop(name, None)
+
+    def start(self, gl_info: dict | None) -> None:
+        """A run begins writing: record what it is made of and the GL renderer."""
+        from scenerender import __version__
+
+        self.data.update(format=FORMAT_VERSION, scenerender=__version__)
+        self.data["runs"][self.scene] = {"run": self.run.digest, "inputs": self.run.parts}
+        if gl_info:
+            self.data["gl"] = {"renderer": gl_info.get("GL_RENDERER"), "vendor": gl_info.get("GL_VENDOR"),
+                               "version": gl_info.get("GL_VERSION")}
+        self.save()
+
+    def record(self, name: str, index: int, file: Path) -> None:
+        """``file`` (frame ``index``) was written completely."""
+        self.data["frames"][name] = {"index": int(index), "scene": self.scene, "run": self.run.digest,
+                                     "bytes": file.stat().st_size, "sha256": file_digest(file)}
+        if time.monotonic() - self._last_save >= SAVE_INTERVAL:
+            self.save()
+
+    def save(self) -> None:
+        """Write the manifest whole (temporary file + rename)."""
+        from scenerender.sinks.base import atomic_path, write_file
+
+        self._last_save = time.monotonic()
+        # the frames' own helper: a full or read-only disk is a UserError naming the
+        # manifest, and no temporary file is left behind
+        with atomic_path(self.path) as temp:
+            write_file(temp, (json.dumps(self.data, indent=1, sort_keys=True) + "\n").encode("utf-8"))
+
+
+class RecordingSink:
+    """Wraps a frame sink: every frame it finishes is recorded in the manifest.
+
+    An image sequence records each frame file as it is written (``frame_names``: index ->
+    manifest name); a single-file output, a video or ``-o still.png`` (``file_entry``), is
+    recorded once the file is finished, so a cut-off video never counts as done.
+    """
+
+    def __init__(self, sink, manifest: Manifest, frame_names: dict | None = None, file_entry: str | None = None):
+        self.sink = sink
+        self.manifest = manifest
+        self.frame_names = frame_names or {}
+        self.file_entry = file_entry
+        self.needs_linear = sink.needs_linear
+        self._first_index: int | None = None
+
+    def write(self, frame) -> None:
+        self.sink.write(frame)
+        if self.file_entry is None:
+            self.manifest.record(self.frame_names[frame.index], frame.index, self.sink.path_for(frame.index))
+        elif self._first_index is None:
+            self._first_index = frame.index
+
+    def close(self) -> None:
+        self.sink.close()
+        if self.file_entry is not None and self._first_index is not None:
+            self.manifest.record(self.file_entry, self._first_index, self.sink.path)
+        self.manifest.save()
+
+    def abort(self) -> None:
+        self.sink.abort()
+        try:  # keep what finished; a failure here must not hide why the run stopped
+            self.manifest.save()
+        except (OSError, UserError):
+            pass
+
+    def describe(self) -> str:
+        return self.sink.describe()

@@ -1,1 +1,0 @@
-"""Tools around rendering: image comparison for CI, benchmarks."""

@@ -1,0 +1,371 @@
+"""scenerender.compare and `scenerender diff`: metrics, the rule on synthetic frames,
+images, folders and videos, missing and extra frames, provenance, exit codes, JSON and the
+HTML report. No GL: the frames are drawn here with numpy (anti-aliased by supersampling)."""
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from PIL import Image
+
+from scenerender.cli import main
+from scenerender.compare import DEFAULT_RULE, DiffRule, compare_images, compare_paths, write_html_report
+from scenerender.compare.metrics import flip_available, measure, unexplained_difference
+from scenerender.compare.sources import srgb_encode
+
+SUPERSAMPLE = 4
+
+
+def drawn(shift=(0.0, 0.0), disc_colour=(200, 60, 40), square_at=40, drop_disc=False, size=(64, 48)) -> np.ndarray:
+    """A small (H, W, 3) uint8 frame: a gradient background, a disc and a square, drawn 4x
+    larger and averaged down so edges are anti-aliased. ``shift`` moves the whole picture
+    by (x, y) pixels, in steps of 1/4 pixel."""
+    width, height = size[0] * SUPERSAMPLE, size[1] * SUPERSAMPLE
+    y, x = np.mgrid[0:height, 0:width].astype(np.float64)
+    x -= shift[0] * SUPERSAMPLE
+    y -= shift[1] * SUPERSAMPLE
+    image = np.empty((height, width, 3))
+    image[...] = np.stack([40 + 80 * y / height, 60 + 60 * y / height, 120 + 100 * y / height], axis=2)
+    if not drop_disc:
+        disc = (x - 20 * SUPERSAMPLE) ** 2 + (y - 22 * SUPERSAMPLE) ** 2 < (9 * SUPERSAMPLE) ** 2
+        image[disc] = disc_colour
+    square = (x >= square_at * SUPERSAMPLE) & (x < (square_at + 14) * SUPERSAMPLE) & \
+             (y >= 12 * SUPERSAMPLE) & (y < 34 * SUPERSAMPLE)
+    image[square] = (230, 220, 90)
+    small = image.reshape(size[1], SUPERSAMPLE, size[0], SUPERSAMPLE, 3).mean(axis=(1, 3))
+    return np.round(small).astype(np.uint8)
+
+
+def save(path: Path, image: np.ndarray) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    Image.fromarray(image).save(path)
+    return path
+
+
+def verdict(reference, output, rule=DEFAULT_RULE) -> bool:
+    return compare_images("frame", reference, output, rule).passed
+
+
+# -- metrics and the rule -------------------------------------------------------------------
+
+def test_identical_frames_score_zero():
+    image = drawn()
+    metrics, _ = measure(image, image, aa_tolerance=1)
+    assert metrics.mean_abs == 0 and metrics.worst_tile_aa == 0 and metrics.unexplained_mean == 0
+    assert math.isinf(metrics.psnr) and metrics.ssim == 1.0
+    assert metrics.to_json()["psnr"] is None  # JSON has no infinity
+
+
+def test_an_edge_shift_is_explained_and_a_new_colour_is_not():
+    # one row: a dark-to-bright edge. Shifting it by a pixel puts colours where the other
+    # image's neighbourhood already had them.
+    reference = np.array([[[10] * 3, [10] * 3, [200] * 3, [200] * 3]], np.uint8)
+    shifted = np.array([[[10] * 3, [10] * 3, [10] * 3, [200] * 3]], np.uint8)
+    assert not unexplained_difference(reference, shifted, tolerance=0).any()
+    # a 3x3 patch 20 levels darker: its centre's colour is in neither neighbourhood
+    flat = np.full((5, 5, 3), 100, np.uint8)
+    darker = flat.copy()
+    darker[1:4, 1:4] = 80
+    unexplained = unexplained_difference(flat, darker, tolerance=0)
+    assert unexplained[2, 2] == 20 and unexplained.sum() == 20
+    assert unexplained_difference(flat, darker, tolerance=5)[2, 2] == 15
+
+
+def test_changes_thinner_than_three_pixels_are_excused():
+    """The documented limit of the edge tolerance: a one- or two-pixel-wide change looks like
+    an edge shift (either image's neighbourhood holds the other's colour)."""
+    flat = np.full((6, 6, 3), 100, np.uint8)
+    line = flat.copy()
+    line[:, 2:4] = 20
+    assert not unexplained_difference(flat, line, tolerance=0).any()
+
+
+@pytest.mark.parametrize("shift", [(0.25, 0.0), (0.0, 0.25), (0.25, 0.25), (0.5, 0.0)])
+def test_sub_pixel_shifts_pass(shift):
+    assert verdict(drawn(), drawn(shift=shift))
+
+
+def test_dither_and_a_one_level_offset_pass():
+    image = drawn()
+    noise = np.random.default_rng(1).integers(-1, 2, size=image.shape)
+    assert verdict(image, np.clip(image.astype(int) + noise, 0, 255).astype(np.uint8))
+    assert verdict(image, np.clip(image.astype(int) + 1, 0, 255).astype(np.uint8))
+
+
+@pytest.mark.parametrize("change", [
+    dict(square_at=43),                      # an object moved 3 pixels
+    dict(drop_disc=True),                    # an object dropped
+    dict(disc_colour=(180, 54, 36)),         # its colour 10% darker
+])
+def test_real_changes_fail(change):
+    result = compare_images("frame", drawn(), drawn(**change))
+    assert not result.passed, result.metrics
+    assert result.regions, "a changed frame outlines where it changed"
+    assert result.images is not None and result.images.heatmap is not None
+
+
+def test_a_looser_rule_passes_what_the_default_fails():
+    moved = drawn(square_at=43)
+    assert not verdict(drawn(), moved)
+    assert verdict(drawn(), moved, DiffRule(max_tile=1000, max_unexplained_mean=1000))
+
+
+def test_changed_regions_box_the_change():
+    result = compare_images("frame", drawn(), drawn(drop_disc=True))
+    x, y, w, h = result.regions[0]
+    # the disc is centred at (20, 22) with radius 9: the box holds it, on the 8-pixel tile grid
+    assert x <= 11 and y <= 13 and x + w >= 29 and y + h >= 31
+    assert w <= 32 and h <= 32
+
+
+# -- files, folders and sidecars ------------------------------------------------------------
+
+def make_folder(folder: Path, frames: dict[str, np.ndarray], provenance: dict | None = None) -> Path:
+    for name, image in frames.items():
+        save(folder / name, image)
+    if provenance is not None:
+        (folder / ".scenerender.json").write_text(json.dumps(provenance))
+    return folder
+
+
+PROVENANCE = {"scenerender": "9.9.9", "gl": {"renderer": "llvmpipe (LLVM 15.0.6, 256 bits)", "version": "4.5 (Core)"}}
+
+
+def test_folders_match_by_name_and_list_missing_and_extra(tmp_path):
+    ref = make_folder(tmp_path / "ref", {"frame_0000.png": drawn(), "frame_0001.png": drawn(),
+                                         "frame_0002.png": drawn()}, PROVENANCE)
+    out = make_folder(tmp_path / "out", {"frame_0000.png": drawn(), "frame_0001.png": drawn(drop_disc=True),
+                                         "frame_0003.png": drawn()})
+    (out / ".frame_0004.png.x1.partial.png").write_bytes(b"unfinished")  # never a frame
+    result = compare_paths(ref, out)
+    assert not result.passed
+    assert [f.name for f in result.frames] == ["frame_0000.png", "frame_0001.png"]
+    assert [f.name for f in result.changed] == ["frame_0001.png"]
+    assert result.missing == ["frame_0002.png"] and result.extra == ["frame_0003.png"]
+    lines = result.summary_lines()
+    assert lines[0].startswith("CHANGED frame_0001.png: worst 8x8 tile")
+    assert "MISSING frame_0002.png: in the reference, not in the output" in lines
+    assert "EXTRA frame_0003.png: in the output, not in the reference" in lines
+    assert lines[-1] == "FAIL: 1 of 2 frame(s) changed, 1 missing, 1 extra"
+    assert result.reference.provenance.gl_renderer.startswith("llvmpipe")
+    assert result.output.provenance.gl_renderer == "unknown"
+
+
+def test_identical_folders_pass_and_the_sidecar_is_no_frame(tmp_path):
+    frames = {"a.png": drawn(), "b.png": drawn(shift=(0.25, 0))}
+    ref = make_folder(tmp_path / "ref", frames, PROVENANCE)
+    out = make_folder(tmp_path / "out", {"a.png": drawn(), "b.png": drawn()}, PROVENANCE)
+    result = compare_paths(ref, out)
+    assert result.passed and not result.missing and not result.extra
+    assert result.summary_lines() == [result.total_line()] and result.total_line().startswith("PASS: 2 frame(s)")
+
+
+def test_single_file_provenance_comes_from_its_own_sidecar(tmp_path):
+    ref = save(tmp_path / "ref.png", drawn())
+    out = save(tmp_path / "out" / "frame_0000.png", drawn())
+    (tmp_path / ".ref.png.scenerender.json").write_text(json.dumps(PROVENANCE))
+    (tmp_path / "out" / ".scenerender.json").write_text(json.dumps({"scenerender": "1.2.3"}))
+    result = compare_paths(ref, out)
+    assert result.reference.provenance.scenerender == "9.9.9"
+    assert result.output.provenance.scenerender == "1.2.3" and result.output.provenance.gl_renderer == "unknown"
+
+
+def test_a_different_size_is_a_changed_frame(tmp_path):
+    ref = save(tmp_path / "ref.png", drawn())
+    out = save(tmp_path / "out.png", drawn(size=(32, 24)))
+    result = compare_paths(ref, out)
+    assert not result.passed and result.changed[0].reason == "size differs: 64x48 vs 32x24"
+    assert result.changed[0].metrics is None
+
+
+def test_exr_frames_are_compared_after_the_srgb_encode(tmp_path):
+    import OpenEXR
+
+    linear = np.random.default_rng(3).random((24, 32, 3)).astype(np.float32)
+    with OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage},
+                      {"RGB": linear}) as exr:
+        exr.write(str(tmp_path / "frame.exr"))
+    save(tmp_path / "frame.png", srgb_encode(linear))
+    assert srgb_encode(np.array([[[0.5, 0.0, 1.0]]]))[0, 0].tolist() == [188, 0, 255]
+    assert compare_paths(tmp_path / "frame.png", tmp_path / "frame.exr").passed
+
+
+# -- videos -----------------------------------------------------------------------------------
+
+def write_video(path: Path, frames: list[np.ndarray]) -> Path:
+    if path.suffix == ".gif":
+        images = [Image.fromarray(f) for f in frames]
+        images[0].save(path, save_all=True, append_images=images[1:], duration=40, loop=0)
+        return path
+    import imageio_ffmpeg
+
+    writer = imageio_ffmpeg.write_frames(str(path), (frames[0].shape[1], frames[0].shape[0]), fps=10,
+                                         codec="libx264", pix_fmt_out="yuv420p", macro_block_size=1,
+                                         output_params=["-crf", "12"], quality=None)
+    writer.send(None)
+    for frame in frames:
+        writer.send(np.ascontiguousarray(frame))
+    writer.close()
+    return path
+
+
+def moving_frames(count: int) -> list[np.ndarray]:
+    return [drawn(square_at=30 + 2 * i) for i in range(count)]
+
+
+def test_gif_frames_are_matched_by_index(tmp_path):
+    frames = moving_frames(4)
+    ref = write_video(tmp_path / "ref.gif", frames)
+    changed = frames[:2] + [drawn(square_at=34, drop_disc=True)] + frames[3:]
+    assert compare_paths(ref, write_video(tmp_path / "same.gif", frames)).passed
+    result = compare_paths(ref, write_video(tmp_path / "out.gif", changed))
+    assert [f.name for f in result.changed] == ["frame_0002"]
+    assert result.counts() == {"compared": 4, "passed": 3, "changed": 1, "missing": 0, "extra": 0}
+
+
+def test_mp4_frame_counts_must_match(tmp_path):
+    frames = moving_frames(5)
+    ref = write_video(tmp_path / "ref.mp4", frames)
+    assert compare_paths(ref, write_video(tmp_path / "same.mp4", frames)).passed
+    short = compare_paths(ref, write_video(tmp_path / "short.mp4", frames[:3]))
+    assert short.missing == ["frame_0003", "frame_0004"] and not short.passed
+    long = compare_paths(ref, write_video(tmp_path / "long.mp4", frames + frames[:1]))
+    assert long.extra == ["frame_0005"]
+
+
+def test_mp4_with_a_dropped_object_fails_on_that_frame(tmp_path):
+    frames = moving_frames(4)
+    changed = frames[:1] + [drawn(square_at=32, drop_disc=True)] + frames[2:]
+    result = compare_paths(write_video(tmp_path / "ref.mp4", frames), write_video(tmp_path / "out.mp4", changed))
+    assert "frame_0001" in [f.name for f in result.changed]
+
+
+# -- the command line -------------------------------------------------------------------------
+
+def run(*args):
+    return CliRunner().invoke(main, ["diff", *map(str, args)])
+
+
+def test_exit_codes(tmp_path):
+    ref = save(tmp_path / "ref.png", drawn())
+    same = save(tmp_path / "same.png", drawn(shift=(0.25, 0.25)))
+    changed = save(tmp_path / "changed.png", drawn(square_at=43))
+    broken = tmp_path / "broken.png"
+    broken.write_bytes(b"\x89PNG\r\n\x1a\nnot really")
+    folder = make_folder(tmp_path / "folder", {"a.png": drawn()})
+    video = write_video(tmp_path / "clip.gif", moving_frames(2))
+    broken_video = tmp_path / "broken.mp4"
+    broken_video.write_bytes(write_video(tmp_path / "whole.mp4", moving_frames(2)).read_bytes()[:300])
+
+    assert run(ref, same).exit_code == 0
+    result = run(ref, changed)
+    assert result.exit_code == 1 and result.output.startswith("CHANGED changed.png: worst 8x8 tile")
+    for args, message in [((ref, broken), "broken.png: cannot read image"),
+                          ((ref, tmp_path / "nope.png"), "nope.png: no such file or folder"),
+                          ((folder, video), "cannot compare a video with a folder"),
+                          ((tmp_path / "whole.mp4", broken_video), "broken.mp4: cannot decode video"),
+                          ((tmp_path / "empty1", tmp_path / "empty2"), "no frames to compare")]:
+        for path in args:
+            if path.name.startswith("empty"):
+                path.mkdir()
+        result = run(*args)
+        assert result.exit_code == 2, (args, result.output)
+        assert message in result.output and "Traceback" not in result.output
+
+
+def test_a_different_size_exits_1(tmp_path):
+    result = run(save(tmp_path / "ref.png", drawn()), save(tmp_path / "out.png", drawn(size=(32, 24))))
+    assert result.exit_code == 1 and "size differs: 64x48 vs 32x24" in result.output
+
+
+def test_json_output(tmp_path):
+    ref = make_folder(tmp_path / "ref", {"a.png": drawn(), "b.png": drawn(), "c.png": drawn()}, PROVENANCE)
+    out = make_folder(tmp_path / "out", {"a.png": drawn(), "b.png": drawn(drop_disc=True)})
+    result = run(ref, out, "--json", "--report", tmp_path / "report.html")
+    assert result.exit_code == 1
+    data = json.loads(result.output)  # nothing but JSON on stdout
+    assert data["verdict"] == "changed" and data["passed"] is False
+    assert data["counts"] == {"compared": 2, "passed": 1, "changed": 1, "missing": 1, "extra": 0}
+    assert data["missing"] == ["c.png"] and data["extra"] == []
+    assert data["rule"] == {"max_tile": DEFAULT_RULE.max_tile, "aa_tolerance": DEFAULT_RULE.aa_tolerance,
+                            "max_unexplained_mean": DEFAULT_RULE.max_unexplained_mean}
+    assert data["reference"]["provenance"]["gl"]["renderer"].startswith("llvmpipe")
+    assert data["output"]["provenance"] == {"scenerender": "unknown", "gl": {"renderer": "unknown",
+                                                                               "version": "unknown"}, "sidecar": None}
+    a, b = data["frames"]
+    assert a["passed"] and a["metrics"]["psnr"] is None and a["reason"] == ""
+    assert not b["passed"] and b["regions"] and b["size"] == [64, 48]
+    assert set(b["metrics"]) == {"mean_abs", "max_abs", "worst_tile", "bad_percent", "psnr", "unexplained_mean",
+                                 "worst_tile_aa", "changed_percent", "ssim", "flip"}
+    assert data["report"] == str(tmp_path / "report.html")
+    if flip_available():  # FLIP is computed for the changed frames, where a person looks
+        assert b["metrics"]["flip"] > 0 and a["metrics"]["flip"] is None
+
+
+def test_thresholds_are_options(tmp_path):
+    ref, out = save(tmp_path / "ref.png", drawn()), save(tmp_path / "out.png", drawn(square_at=43))
+    assert run(ref, out).exit_code == 1
+    assert run(ref, out, "--max-tile", "1000", "--max-unexplained-mean", "1000").exit_code == 0
+
+
+def test_the_cli_defaults_are_the_default_rule():
+    params = {p.name: p.default for p in main.commands["diff"].params}
+    assert params["max_tile"] == DEFAULT_RULE.max_tile
+    assert params["max_unexplained_mean"] == DEFAULT_RULE.max_unexplained_mean
+    assert params["aa_tolerance"] == DEFAULT_RULE.aa_tolerance
+
+
+def test_the_rule_loads_without_numpy():
+    """The command line reads the rule's defaults at start-up; that must stay cheap."""
+    code = "import sys, scenerender.compare.rule; print('numpy' in sys.modules)"
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True).stdout.strip() == "False"
+
+
+# -- the report -------------------------------------------------------------------------------
+
+def test_report_is_self_contained(tmp_path):
+    ref = make_folder(tmp_path / "ref", {"a.png": drawn(), "b<1>.png": drawn(), "c.png": drawn()}, PROVENANCE)
+    out = make_folder(tmp_path / "out", {"a.png": drawn(), "b<1>.png": drawn(drop_disc=True), "d.png": drawn()})
+    report = tmp_path / "report.html"
+    write_html_report(compare_paths(ref, out), report)
+    html = report.read_text()
+    assert html.count("data:image/png;base64,") == 5  # reference, output, heatmap, slider pair
+    assert "src=\"http" not in html and "<link" not in html  # nothing fetched from elsewhere
+    assert "b&lt;1&gt;.png" in html and "b<1>.png" not in html
+    assert 'class="box"' in html and "llvmpipe" in html and "unknown" in html
+    assert "missing in the output (1)" in html and "extra in the output (1)" in html
+    assert "1 frame(s) pass" in html
+
+
+def test_report_keeps_pictures_of_a_limited_number_of_frames(tmp_path, monkeypatch):
+    from scenerender.compare import diff
+
+    monkeypatch.setattr(diff, "MAX_KEPT_IMAGES", 1)
+    ref = make_folder(tmp_path / "ref", {f"{i}.png": drawn() for i in range(3)})
+    out = make_folder(tmp_path / "out", {f"{i}.png": drawn(drop_disc=True) for i in range(3)})
+    result = compare_paths(ref, out)
+    assert result.images_dropped == 2 and [f.images is not None for f in result.changed] == [True, False, False]
+    write_html_report(result, tmp_path / "r.html")
+    assert "2 more changed frame(s) are listed without pictures" in (tmp_path / "r.html").read_text()
+
+
+def test_videos_inside_folders_are_compared_frame_by_frame(tmp_path):
+    frames = moving_frames(3)
+    (tmp_path / "ref").mkdir()
+    (tmp_path / "out").mkdir()
+    write_video(tmp_path / "ref" / "clip.gif", frames)
+    write_video(tmp_path / "out" / "clip.gif", frames[:1] + [drawn(drop_disc=True)] + frames[2:])
+    write_video(tmp_path / "ref" / "gone.gif", frames)
+    (tmp_path / "out" / ".clip.gif.scenerender.json").write_text(json.dumps(PROVENANCE))
+    result = compare_paths(tmp_path / "ref", tmp_path / "out")
+    assert [f.name for f in result.frames] == ["clip.gif/frame_0000", "clip.gif/frame_0001", "clip.gif/frame_0002"]
+    assert [f.name for f in result.changed] == ["clip.gif/frame_0001"]
+    assert result.missing == ["gone.gif"]
+    assert result.output.provenance.scenerender == "9.9.9"

@@ -1,0 +1,57 @@
+"""The scene_regression fixture, used by a test file inside a pytester run: a first run
+without references fails, --scenerender-update writes them, a match passes, a change fails
+naming the frame, its numbers and the report."""
+from __future__ import annotations
+
+import pytest
+
+pytest_plugins = ["pytester"]
+pytestmark = pytest.mark.gl
+
+SCENE = """\
+render: {size: [32, 24], samples: 1}
+output: {frames: 2}
+objects:
+  - mesh: {primitive: sphere}
+    material: {diffuse: [0.8, 0.2, 0.2]}
+"""
+
+TEST_FILE = """\
+def test_ball(scene_regression):
+    scene_regression.check("ball.yaml")
+"""
+
+
+@pytest.fixture
+def suite(pytester):
+    pytester.makefile(".yaml", ball=SCENE)
+    pytester.makepyfile(test_scene=TEST_FILE)
+    return pytester
+
+
+def run(suite, *args):
+    # a subprocess: the plugin makes its own GL context, apart from this session's
+    return suite.runpytest_subprocess("-p", "no:cacheprovider", *args)
+
+
+def test_first_run_without_references_fails_and_says_how_to_create_them(suite):
+    result = run(suite)
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*no references*--scenerender-update*"])
+    assert not (suite.path / "scene_references").exists()  # nothing written silently
+
+
+def test_update_writes_references_then_the_test_passes(suite):
+    run(suite, "--scenerender-update").assert_outcomes(passed=1)
+    references = suite.path / "scene_references" / "test_ball"
+    assert sorted(p.name for p in references.glob("*.png")) == ["frame_0000.png", "frame_0001.png"]
+    run(suite).assert_outcomes(passed=1)
+
+
+def test_a_change_fails_naming_frame_numbers_and_report(suite):
+    run(suite, "--scenerender-update").assert_outcomes(passed=1)
+    suite.makefile(".yaml", ball=SCENE.replace("0.8, 0.2, 0.2", "0.2, 0.2, 0.8"))
+    result = run(suite)
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*scene test_ball: frames differ*", "*CHANGED frame_0000.png: *mean*",
+                                 "*report: *report.html*"])
