@@ -1,9 +1,11 @@
-"""scenerender benchmarks: start-up, throughput, static-pass caching, speed against error,
-and memory over a long run. Prints Markdown tables (the README quotes them).
+"""scenerender benchmarks: start-up, throughput, static-pass caching and memory over a long
+run. Prints Markdown tables (the README quotes them). Speed against error is measured by
+`scenerender bench` against the CPU reference (benchmarks/quality/), and the comparison
+with other renderers by benchmarks/compare/.
 
     python benchmarks/run.py                  # everything but the long memory run
     python benchmarks/run.py --memory 10000   # also RSS over 10,000 frames
-    python benchmarks/run.py --only quality   # one section: startup throughput caching quality
+    python benchmarks/run.py --only caching   # one section: startup throughput caching
 
 Machines are shared and noisy: every comparison alternates its variants in one process
 and reports medians and ratios, not single timings.
@@ -20,7 +22,6 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / "scenes"
@@ -36,13 +37,9 @@ def machine_line(gl) -> str:
 
 
 def make_renderer(gl, scene, overrides=(), **options):
-    from scenerender.errors import Warnings
-    from scenerender.render.renderer import Renderer
-    from scenerender.scene import load_scene
-    from scenerender.world.build import build_world
+    import scenerender
 
-    world = build_world(load_scene(scene, list(overrides)), Warnings())
-    return Renderer(world, gl, **options)
+    return scenerender.Renderer(scenerender.load(scene, list(overrides)), gl=gl, **options)
 
 
 # -- start-up ------------------------------------------------------------------------------
@@ -104,61 +101,9 @@ def caching(gl, frames: int = 24) -> list[str]:
                 renderer.render(i)
                 gl.finish()
                 times[name].append(time.perf_counter() - started)
-        cached.release(), uncached.release()
+        cached.close(), uncached.close()
         a, b = statistics.median(times["cached"]), statistics.median(times["uncached"])
         rows.append(f"| {scene} | {a * 1000:.0f} | {b * 1000:.0f} | {100 * (1 - a / b):.0f}% |")
-    return rows
-
-
-# -- speed against error ---------------------------------------------------------------------
-
-def quality(gl, frames=(15, 45, 75), repeats: int = 3) -> list[str]:
-    """Anti-aliasing and shadow filtering settings: time per frame against the error to a
-    reference rendered at 4x4 supersampling with 4x MSAA and pcf 7."""
-    from scenerender.tools.imagediff import compare
-
-    scene = SCENES / "showcase.yaml"
-    size = (320, 240)
-    base = [f"render.size=[{size[0]}, {size[1]}]", "render.ambient_occlusion=null"]
-    big = make_renderer(gl, scene, [f"render.size=[{size[0] * 4}, {size[1] * 4}]", "render.samples=4",
-                                    "render.shadows.pcf=7", "render.shadows.size=4096",
-                                    "render.ambient_occlusion=null"])
-    references = {}
-    for f in frames:
-        hi = big.render(f).pixels.astype(np.float64)
-        references[f] = hi.reshape(size[1], 4, size[0], 4, 3).mean(axis=(1, 3)).round().astype(np.uint8)
-    big.release()
-    variants = [("samples 1, pcf 1", ["render.samples=1", "render.shadows.pcf=1"]),
-                ("samples 1, pcf 3", ["render.samples=1", "render.shadows.pcf=3"]),
-                ("samples 2, pcf 3", ["render.samples=2", "render.shadows.pcf=3"]),
-                ("samples 4, pcf 3 (default)", ["render.samples=4", "render.shadows.pcf=3"]),
-                ("samples 4, pcf 5", ["render.samples=4", "render.shadows.pcf=5"]),
-                ("samples 4, pcf 3, shadow map 1024", ["render.samples=4", "render.shadows.pcf=3",
-                                                        "render.shadows.size=1024"])]
-    renderers = [(label, make_renderer(gl, scene, base + extra)) for label, extra in variants]
-    for _, r in renderers:
-        r.render(0)
-    times = {label: [] for label, _ in renderers}
-    errors = {label: [] for label, _ in renderers}
-    for _ in range(repeats):
-        for f in frames:
-            for label, r in renderers:
-                started = time.perf_counter()
-                pixels = r.render(f).pixels
-                gl.finish()
-                times[label].append(time.perf_counter() - started)
-                report = compare(references[f], pixels)
-                errors[label].append((report.mean_abs, report.worst_tile, report.psnr))
-    rows = [f"| setting ({size[0]}x{size[1]}, showcase, AO off) | ms/frame | vs default | mean error (levels) | "
-            "worst 8x8 tile | PSNR dB |", "|---|---|---|---|---|---|"]
-    default = statistics.median(times["samples 4, pcf 3 (default)"])
-    for label, r in renderers:
-        t = statistics.median(times[label])
-        mean = np.mean([e[0] for e in errors[label]])
-        tile = np.max([e[1] for e in errors[label]])
-        psnr = np.mean([e[2] for e in errors[label]])
-        rows.append(f"| {label} | {t * 1000:.0f} | {t / default:.2f}x | {mean:.2f} | {tile:.1f} | {psnr:.1f} |")
-        r.release()
     return rows
 
 
@@ -181,13 +126,13 @@ def memory(gl, frames: int) -> list[str]:
         if i % step == 0 or i == frames - 1:
             rows.append(f"| {i + 1} | {rss_mb():.1f} |")
     rows.append(f"| ({frames / (time.perf_counter() - started):.0f} frames/s at 160x120) | |")
-    renderer.release()
+    renderer.close()
     return rows
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--only", nargs="*", default=["startup", "throughput", "caching", "quality"])
+    parser.add_argument("--only", nargs="*", default=["startup", "throughput", "caching"])
     parser.add_argument("--memory", type=int, default=0, help="also run N frames and report RSS")
     args = parser.parse_args()
     from scenerender.gpu.context import create_context
@@ -195,7 +140,7 @@ def main() -> None:
     gl = create_context()
     print(f"machine: {machine_line(gl)}\n")
     sections = {"startup": lambda: startup(), "throughput": lambda: throughput(),
-                "caching": lambda: caching(gl), "quality": lambda: quality(gl)}
+                "caching": lambda: caching(gl)}
     for name in args.only:
         print(f"## {name}\n")
         print("\n".join(sections[name]()) + "\n", flush=True)

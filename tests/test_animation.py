@@ -129,7 +129,7 @@ def test_an_existing_video_is_kept_unless_overwrite(tmp_path):
 
 def test_gpu_resources_stay_the_same_over_many_frames(gl):
     """One context, one set of resources: nothing is created per frame after the first."""
-    from scenerender.render.renderer import Renderer
+    from scenerender.rendering.renderer import Renderer
     from scenerender.world.build import build_world
 
     world = build_world(load(SCENES / "showcase.yaml", SMALL), Warnings())
@@ -148,18 +148,17 @@ def test_gpu_resources_stay_the_same_over_many_frames(gl):
 
 
 def test_static_shadow_maps_render_once_for_a_flythrough(gl):
-    from scenerender.render.renderer import Renderer
-    from scenerender.world.build import build_world
+    """The lantern's cube map depends only on still lights and casters: rendered once. The
+    sun's map is fitted to what the camera sees, so it follows the moving camera."""
+    import scenerender
 
-    world = build_world(load(SCENES / "showcase.yaml", SMALL), Warnings())
-    renderer = Renderer(world, gl, profile=True)
-    try:
+    scene = scenerender.load(SCENES / "showcase.yaml", SMALL)
+    with scenerender.Renderer(scene, gl=gl, profile=True) as renderer:
         for i in range(4):
             renderer.render(i)
-        assert len(renderer.timings["shadow:sun"]) == 1 and len(renderer.timings["shadow:lantern"]) == 1
-        assert len(renderer.timings["opaque"]) == 4
-    finally:
-        renderer.release()
+        timings = renderer.timings
+    assert len(timings["shadow:lantern"]) == 1
+    assert len(timings["shadow:sun"]) == 4 and len(timings["opaque"]) == 4
 
 
 @pytest.mark.gl

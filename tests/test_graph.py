@@ -8,7 +8,7 @@ import pytest
 
 from scenerender.errors import Warnings
 from scenerender.graph import FrameGraph, RenderPass, ResourceDesc
-from scenerender.render.renderer import plan
+from scenerender.rendering.renderer import plan
 from scenerender.scene import load_scene
 from scenerender.scene.loading import load_scene_text
 from scenerender.world.build import build_world
@@ -135,26 +135,72 @@ def test_showcase_graph_has_every_feature_pass_and_caches_shadows():
     _, motion, compiled = _compiled(SCENES / "showcase.yaml")
     names = compiled.pass_names
     for name in ("shadow:sun", "shadow:lantern", "gbuffer", "ssao", "ssao_blur", "opaque", "skybox",
-                 "outline", "transparent", "resolve", "output_transform", "readback"):
+                 "outline", "transparent", "resolve+output_transform", "readback"):
         assert name in names
     assert compiled.culled_names == []
-    # the camera orbits, nothing else moves: shadow maps render once for all 120 frames
+    # the camera orbits, nothing else moves: the lantern's shadow map renders once for all
+    # 120 frames; the sun's follows the camera, being fitted to the receivers in view
     assert motion.geometry_static and not motion.camera_static
-    shadow_passes = [n.render_pass for n in compiled.passes if n.render_pass.name.startswith("shadow:")]
-    assert all(compiled.is_static(p) for p in shadow_passes)
+    static = {n.render_pass.name: compiled.is_static(n.render_pass) for n in compiled.passes
+              if n.render_pass.name.startswith("shadow:")}
+    assert static == {"shadow:lantern": True, "shadow:sun": False}
     assert not compiled.is_static(compiled.passes[names.index("opaque")].render_pass)
 
 
 def test_a_plain_scene_gets_only_what_it_uses(tmp_path):
     text = "objects:\n  - mesh: {primitive: box}\n"
     _, _, compiled = _compiled(text, tmp_path=tmp_path)
-    assert compiled.pass_names == ["opaque", "resolve", "output_transform", "readback"]
+    assert compiled.pass_names == ["opaque", "resolve+output_transform", "readback"]
 
 
 def test_samples_1_drops_the_resolve(tmp_path):
     text = "render: {samples: 1}\nobjects:\n  - mesh: {primitive: box}\n"
     _, _, compiled = _compiled(text, tmp_path=tmp_path)
-    assert "resolve" not in compiled.pass_names
+    assert compiled.pass_names == ["opaque", "readback"]  # the sRGB target holds the output values
+
+
+def test_gamma_output_resolves_and_transforms_in_one_pass(tmp_path):
+    from scenerender.rendering.passes.output import ResolveOutputPass
+
+    text = "render: {output_transform: gamma}\nobjects:\n  - mesh: {primitive: box}\n"
+    _, _, compiled = _compiled(text, tmp_path=tmp_path)
+    assert compiled.pass_names == ["opaque", "resolve+output_transform", "readback"]
+    assert isinstance(compiled.passes[1].render_pass, ResolveOutputPass)
+
+
+def test_linear_output_keeps_the_resolved_hdr_image(tmp_path):
+    """EXR reads the resolved linear image, so resolve and output transform stay apart."""
+    loaded = load_scene_text("objects:\n  - mesh: {primitive: box}\n", tmp_path, [])
+    world = build_world(loaded, Warnings())
+    _, _, compiled = plan(world, world.render.size, 4, want_linear=True)
+    assert compiled.pass_names == ["opaque", "resolve", "output_transform", "readback"]
+
+
+def _opaque(compiled):
+    return next(n.render_pass for n in compiled.passes if n.render_pass.name == "opaque")
+
+
+def test_depth_prepass_only_where_surfaces_overlap_many_times():
+    overdraw = Path(__file__).resolve().parent.parent / "benchmarks" / "scenes" / "overdraw.yaml"
+    assert _opaque(_compiled(overdraw, ["render.samples=1"])[2]).prepass
+    assert not _opaque(_compiled(overdraw)[2]).prepass  # MSAA: hidden fragments are shaded anyway
+    assert not _opaque(_compiled(SCENES / "showcase.yaml", ["render.samples=1"])[2]).prepass
+    assert "depth prepass" in _compiled(overdraw, ["render.samples=1"])[2].dump()
+
+
+def test_shadow_views_are_compile_time_constants(tmp_path):
+    """Each light's first shadow view is a constant in the shader; unshadowed lights get -1."""
+    from scenerender.rendering.features import SceneFeatures
+
+    text = ("lights:\n  - {type: directional, shadows: true}\n  - {type: point, shadows: true}\n"
+            "  - {type: point}\n  - {type: ambient}\n  - {type: spot, position: [0, 3, 0], shadows: true}\n"
+            "objects:\n  - mesh: {primitive: box}\n")
+    world = build_world(load_scene_text(text, tmp_path, []), Warnings())
+    defines = SceneFeatures.of(world).lighting_defines()
+    assert defines["DIR_SHADOW_VIEWS"] == "0"
+    assert defines["POINT_SHADOW_VIEWS"] == "1, -1"  # six cube faces from view 1
+    assert defines["SPOT_SHADOW_VIEWS"] == "7"
+    assert defines["N_SHADOW_VIEWS"] == 8 and defines["LIGHTS_IN_UNIFORM_BLOCK"]
 
 
 def test_depth_mode_culls_shading_shadows_and_sky():

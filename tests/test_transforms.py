@@ -125,9 +125,21 @@ def test_near_far_enclose_the_bounds_with_a_bounded_ratio():
     bounds = np.array([[-1.0, -1.0, -11.0], [1.0, 1.0, -9.0]])
     near, far = fit_near_far(bounds, np.zeros(3), np.eye(3), False)
     assert 8.5 < near < 9.0 and 11.0 < far < 11.5
-    # camera inside the bounds: near stays positive and at most 10^4 below far
-    near, far = fit_near_far(np.array([[-50.0] * 3, [50.0] * 3]), np.zeros(3), np.eye(3), False)
+    # camera inside the bounds: near stays positive and at most 10^4 below far (the
+    # fixed-point depth fallback's cap)
+    near, far = fit_near_far(np.array([[-50.0] * 3, [50.0] * 3]), np.zeros(3), np.eye(3), False, 1e4)
     assert near > 0 and far / near <= 10000.0 + 1e-6
+
+
+def test_near_far_without_a_ratio_cap_reach_the_nearest_corner():
+    """Reversed-Z float depth: near follows the nearest bound however far the farthest is."""
+    bounds = np.array([[-0.01, -0.01, -0.06], [0.01, 0.01, -0.05]])
+    backdrop = np.array([[-1e4, -1e4, -5e4], [1e4, 1e4, -5e4]])
+    everything = np.array([np.minimum(bounds[0], backdrop[0]), np.maximum(bounds[1], backdrop[1])])
+    near, far = fit_near_far(everything, np.zeros(3), np.eye(3), False)
+    assert far >= 5e4 and near > 0
+    capped_near, _ = fit_near_far(everything, np.zeros(3), np.eye(3), False, 1e4)
+    assert capped_near > 5.0  # the cap would clip a box 5 cm away
 
 
 def test_near_far_are_the_same_far_from_the_origin():

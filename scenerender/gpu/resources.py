@@ -3,19 +3,36 @@ from __future__ import annotations
 
 import moderngl
 
-_COLOR_FORMATS = {  # format -> (components, dtype)
-    "rgba8": (4, "f1"),
-    "rgba16f": (4, "f2"),
-    "rg16f": (2, "f2"),
-    "r8": (1, "f1"),
-    "r16f": (1, "f2"),
+GL_SRGB8_ALPHA8 = 0x8C43
+GL_FRAMEBUFFER_SRGB = 0x8DB9
+
+_COLOR_FORMATS = {  # format -> (components, dtype, internal format or None for the default)
+    "rgba8": (4, "f1", None),
+    # linear colour stored sRGB-encoded in 8 bits: with GL_FRAMEBUFFER_SRGB on, writes
+    # encode and blending decodes in the driver, and sampling returns linear values
+    "srgba8": (4, "f1", GL_SRGB8_ALPHA8),
+    "rgba16f": (4, "f2", None),
+    "rg16f": (2, "f2", None),
+    "r8": (1, "f1", None),
+    "r16f": (1, "f2", None),
 }
 
 
-def allocate(ctx, desc):
-    """A moderngl texture or renderbuffer for a ``graph.ResourceDesc``."""
+def allocate(ctx, desc, depth_convention=None):
+    """A moderngl texture or renderbuffer for a ``graph.ResourceDesc``.
+
+    "camera_depth" is the depth format ``depth_convention`` (gpu.depth.DepthConvention)
+    picks for the device. "depth32f" targets are renderbuffers whose storage the
+    convention turns into 32-bit float: they are only ever attached, never sampled."""
     size = tuple(int(v) for v in desc.size)
     multisampled = desc.samples > 1
+    depth_format = desc.format
+    if depth_format == "camera_depth":
+        depth_format = depth_convention.depth_format if depth_convention is not None else "depth24"
+    if desc.kind == "depth" and depth_format == "depth32f":
+        buffer = ctx.depth_renderbuffer(size, samples=desc.samples if multisampled else 0)
+        depth_convention.make_float_depth(buffer, size, desc.samples if multisampled else 0)
+        return buffer
     if desc.kind == "depth":
         if multisampled:
             return ctx.depth_renderbuffer(size, samples=desc.samples)
@@ -23,10 +40,12 @@ def allocate(ctx, desc):
         texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
         texture.repeat_x = texture.repeat_y = False
         return texture
-    components, dtype = _COLOR_FORMATS[desc.format]
+    components, dtype, internal_format = _COLOR_FORMATS[desc.format]
+    # multisampled colour is a texture too, so a pass can read its samples (sampler2DMS)
+    texture = ctx.texture(size, components, dtype=dtype, samples=desc.samples if multisampled else 0,
+                          internal_format=internal_format)
     if multisampled:
-        return ctx.renderbuffer(size, components, samples=desc.samples, dtype=dtype)
-    texture = ctx.texture(size, components, dtype=dtype)
+        return texture
     texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
     texture.repeat_x = texture.repeat_y = False
     return texture

@@ -60,6 +60,7 @@ class ProgramCache:
         self.ctx = ctx
         self.root = root or shader_dir()
         self._programs: dict = {}
+        self._by_key: dict = {}
 
     def get(self, vertex: str, fragment: str, defines: dict | None = None):
         defines = dict(defines or {})
@@ -68,6 +69,14 @@ class ProgramCache:
         if program is None:
             program = self._compile(vertex, fragment, defines)
             self._programs[key] = program
+        return program
+
+    def memo(self, key, make):
+        """The program ``make()`` returns for ``key``, asked once: for callers whose
+        defines are costly to work out on every draw (a material's shader variant)."""
+        program = self._by_key.get(key)
+        if program is None:
+            program = self._by_key[key] = make()
         return program
 
     def _compile(self, vertex: str, fragment: str, defines: dict):
@@ -86,3 +95,4 @@ class ProgramCache:
         for program in self._programs.values():
             program.release()
         self._programs.clear()
+        self._by_key.clear()

@@ -21,7 +21,8 @@ class ResourceDesc:
 
     kind:    "color" | "depth" (textures) or "buffer".
     size:    (width, height) in texels.
-    format:  "rgba8" | "rgba16f" | "rg16f" | "r8" | "r16f" | "depth24" | "depth32f".
+    format:  "rgba8" | "rgba16f" | "rg16f" | "r8" | "r16f" | "depth24" | "depth32f" | "camera_depth"
+             (the device's choice, gpu.depth).
     samples: MSAA sample count; 0 or 1 means single-sampled (a texture), more means a
              multisampled renderbuffer that must be resolved before sampling.
     """

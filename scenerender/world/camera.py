@@ -115,12 +115,19 @@ def orthographic(height: float, aspect: float, near: float, far: float) -> np.nd
     return m
 
 
+# With float reversed-Z depth near may be this small a fraction of far: it only matters
+# when the camera is inside the scene's bounds (no nearest corner in front of it).
+FLOAT_DEPTH_MIN_NEAR = 1e-7
+
+
 def fit_near_far(bounds: np.ndarray | None, position: np.ndarray, rotation: np.ndarray,
-                 orthographic_view: bool) -> tuple[float, float]:
+                 orthographic_view: bool, max_ratio: float | None = None) -> tuple[float, float]:
     """Clip distances that enclose ``bounds`` (2, 3) seen from the camera.
 
     The far plane sits just behind the farthest corner; the near plane just before the
-    nearest, but never closer than far / 10000, which keeps a 24-bit depth buffer precise.
+    nearest. ``max_ratio``: the largest far / near the depth buffer keeps precise (1e4
+    for 24-bit fixed point); None for reversed-Z float depth, where near is bounded only
+    by ``FLOAT_DEPTH_MIN_NEAR`` * far.
     """
     if bounds is None:
         return 0.1, 100.0
@@ -130,7 +137,8 @@ def fit_near_far(bounds: np.ndarray | None, position: np.ndarray, rotation: np.n
     if orthographic_view:
         extent = max(float(np.linalg.norm(bounds[1] - bounds[0])), 1e-3)
         return min(float(depths.min()), 0.0) - 0.01 * extent, far + 0.01 * extent
-    near = max(float(depths.min()) * 0.98, far / 10000.0)
+    floor = far / max_ratio if max_ratio is not None else far * FLOAT_DEPTH_MIN_NEAR
+    near = max(float(depths.min()) * 0.98, floor)
     return near, max(far, near * 1.001)
 
 

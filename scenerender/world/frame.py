@@ -14,7 +14,7 @@ from scenerender.world.camera import (
     CameraState, fit_near_far, framing_position, look_rotation, orthographic, perspective, yaw_pitch_forward,
 )
 from scenerender.world.lights import LightState, evaluate_lights
-from scenerender.world.shadows import AtlasLayout, light_views
+from scenerender.world.shadows import AtlasLayout, light_views, visible_region
 from scenerender.world.transforms import normal_matrices
 
 
@@ -66,8 +66,10 @@ class FrameState:
 class FrameEvaluator:
     """Turns times into FrameStates for one World and output size."""
 
-    def __init__(self, world: World, size: tuple, atlas: AtlasLayout | None):
+    def __init__(self, world: World, size: tuple, atlas: AtlasLayout | None, max_depth_ratio: float | None = None):
+        """max_depth_ratio: the cap on far / near of `near/far: auto` (fit_near_far)."""
         self.world = world
+        self.max_depth_ratio = max_depth_ratio
         self.size = size
         self.aspect = size[0] / size[1]
         self.atlas = atlas
@@ -79,7 +81,12 @@ class FrameEvaluator:
         visible = [bool(obj.visible(time)) for obj in world.objects]
         bounds = scene_bounds(world.objects, matrices, visible)
         if self._first_bounds is None:
-            self._first_bounds = bounds if bounds is not None else np.array([[-1.0] * 3, [1.0] * 3])
+            # the default camera frames frame 0 (t = 0), whichever frame a run starts
+            # with: a resumed or --frames run must draw what a full run draws
+            start = bounds if time == 0.0 else scene_bounds(
+                world.objects, [obj.matrices(0.0) for obj in world.objects],
+                [bool(obj.visible(0.0)) for obj in world.objects])
+            self._first_bounds = start if start is not None else np.array([[-1.0] * 3, [1.0] * 3])
         camera = self._camera(time, bounds)
         planes = frustum_planes(camera.view_proj_relative())
         objects = [self._object(obj, m, v, camera.position, planes)
@@ -92,7 +99,7 @@ class FrameEvaluator:
             background=np.asarray(render.background(time), dtype=np.float64),
             fog_color=np.asarray(fog.color(time), dtype=np.float64)[:3] if fog else np.zeros(3),
             fog_density=fog.density(time) if fog else 0.0,
-            bounds=bounds, shadow_views=self._shadow_views(lights, world, objects, bounds),
+            bounds=bounds, shadow_views=self._shadow_views(lights, world, objects, bounds, camera),
             materials={id(m): _material_values(m, time) for m in world.materials()},
         )
 
@@ -104,7 +111,7 @@ class FrameEvaluator:
         position, forward = self._aim(spec, t, fov)
         rotation = look_rotation(forward, up)
         ortho = spec is not None and spec.projection == "orthographic"
-        near, far = fit_near_far(bounds, position, rotation, ortho)
+        near, far = fit_near_far(bounds, position, rotation, ortho, self.max_depth_ratio)
         if spec is not None and spec.near != "auto":
             near = spec.near
         if spec is not None and spec.far != "auto":
@@ -149,9 +156,10 @@ class FrameEvaluator:
         return ObjectFrame(visible, rel.astype(np.float32), normal_matrices(world).astype(np.float32),
                            bounds, (bounds[0] + bounds[1]) / 2.0, int(inside.sum()) if visible else 0)
 
-    def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds) -> dict:
+    def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:
             return {}
+        visible = visible_region(camera, bounds)
         caster_boxes = [f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows]
         casters = None
         if caster_boxes:
@@ -161,7 +169,8 @@ class FrameEvaluator:
         non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
         for state_index, def_index in enumerate(non_ambient):
             if def_index in self.atlas.tiles:
-                views[state_index] = light_views(lights[state_index], self.atlas.tiles[def_index], casters, bounds)
+                views[state_index] = light_views(lights[state_index], self.atlas.tiles[def_index], casters, bounds,
+                                                 visible)
         return views
 
 

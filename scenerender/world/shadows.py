@@ -5,8 +5,13 @@ square tile, point lights six (one per cube face). One texture means one sampler
 many lights cast shadows, so there is no cap on shadowed lights beyond atlas size.
 
 Depth in the atlas is linear: (d - near) / (far - near), where d is the distance along the
-light's axis (directional, spot) or from the light (point). Bias values in the scene are
-therefore fractions of that depth range, the same meaning for every light type.
+light's axis (directional, spot) or from the light (point). The shader's bias is in world
+units, a multiple of the shadow texel's world size at the receiver, so it means the same
+at any scene scale (shaders/lighting/shadows.glsl).
+
+A directional light's view covers only what can both be seen and be shadowed: the part of
+the scene's bounds inside the camera's frustum, within the casters' footprint. Its texels
+are then as small as the visible region allows, not as the whole scene forces.
 """
 from __future__ import annotations
 
@@ -103,15 +108,18 @@ class ShadowView:
     tile: Tile
 
 
-def light_views(state, tiles: list, casters: np.ndarray | None, everything: np.ndarray | None) -> list[ShadowView]:
+def light_views(state, tiles: list, casters: np.ndarray | None, everything: np.ndarray | None,
+                visible: np.ndarray | None = None) -> list[ShadowView]:
     """The views of one shadowed light ``state`` (a LightState), fitted to the scene.
 
-    casters: (2, 3) bounds of shadow-casting objects; everything: (2, 3) bounds of all.
+    casters: (2, 3) bounds of shadow-casting objects; everything: (2, 3) bounds of all;
+    visible: (K, 3) float64 points whose hull is the receivers the camera sees
+    (``visible_region``), or None to cover the casters' whole footprint.
     """
     if casters is None or everything is None:
         casters = everything = np.array([[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]])
     if state.kind == "directional":
-        return [_directional(state.direction, casters, everything, tiles[0])]
+        return [_directional(state.direction, casters, everything, tiles[0], visible)]
     if state.kind == "spot":
         return [_spot(state, everything, tiles[0])]
     return [_cube_face(state.position, face, everything, tile) for face, tile in zip(CUBE_FACES, tiles)]
@@ -124,19 +132,85 @@ def _view(rotation: np.ndarray, eye: np.ndarray) -> np.ndarray:
     return m
 
 
-def _directional(direction, casters, everything, tile) -> ShadowView:
-    """An orthographic view covering the casters' footprint; depth spans casters and
-    receivers so nothing between them is clipped."""
+def _directional(direction, casters, everything, tile, visible=None) -> ShadowView:
+    """An orthographic view across the light covering the casters' footprint where the
+    camera sees receivers (``visible``); depth spans all casters and receivers so nothing
+    between them is clipped."""
     rotation = look_rotation(direction, (0.0, 1.0, 0.0))
-    eye = (casters[0] + casters[1]) / 2.0
-    c = (box_corners(casters) - eye) @ rotation.T
-    a = (box_corners(everything) - eye) @ rotation.T
-    half = max(np.abs(c[:, 0]).max(), np.abs(c[:, 1]).max(), 1e-4) * 1.02
-    depth_all = -np.concatenate([c[:, 2], a[:, 2]])
+    c = box_corners(casters) @ rotation.T
+    a = box_corners(everything) @ rotation.T
+    lo, hi = c[:, :2].min(axis=0), c[:, :2].max(axis=0)
+    if visible is not None and len(visible):
+        seen = visible @ rotation[:2].T
+        lo, hi = np.maximum(lo, seen.min(axis=0)), np.minimum(hi, seen.max(axis=0))
+        if np.any(hi <= lo):  # no visible receiver can be shadowed: any small view will do
+            lo, hi = seen.min(axis=0), seen.min(axis=0) + 1e-3
+    center = (lo + hi) / 2.0
+    half = max(float((hi - lo).max()) / 2.0, 1e-4) * 1.02
+    # the eye sits on the view's centre line level with the casters' centre, so the
+    # matrices' translations stay small wherever the scene is (float32 on the GPU)
+    eye_depth = float(c[:, 2].mean())
+    eye = rotation.T @ np.array([center[0], center[1], eye_depth])
+    depth_all = eye_depth - np.concatenate([c[:, 2], a[:, 2]])
     margin = 0.01 * max(float(depth_all.max() - depth_all.min()), 1e-3)
     near, far = float(depth_all.min()) - margin, float(depth_all.max()) + margin
     projection = orthographic(2.0 * half, 1.0, near, far)
     return ShadowView(_view(rotation, eye), projection, near, far, False, tile)
+
+
+def visible_region(camera, bounds: np.ndarray | None) -> np.ndarray | None:
+    """(K, 3) float64 world points whose convex hull is ``bounds`` (2, 3) clipped to the
+    camera's frustum, or None when the two do not meet.
+
+    The vertices of the intersection of two convex solids are where the edges of each
+    cross the other: each solid's 12 edges are clipped to the other solid (in clip space
+    for the frustum, where its planes are linear), and the clipped ends kept.
+    """
+    if bounds is None:
+        return None
+    clip = camera.view_proj_relative()
+    inverse = np.linalg.inv(clip)
+    cube = np.array([[x, y, z, 1.0] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+    frustum = cube @ inverse.T
+    frustum = frustum[:, :3] / frustum[:, 3:4] + camera.position
+    points = []
+    for start, end in _box_edges(frustum):
+        points.extend(_clip_segment(start, end, lambda p: np.concatenate([p - bounds[0], bounds[1] - p], axis=-1)))
+    box = box_corners(bounds)
+
+    def inside_frustum(p):
+        h = np.concatenate([p - camera.position, np.ones(p.shape[:-1] + (1,))], axis=-1) @ clip.T
+        w = h[..., 3:4]
+        return np.concatenate([w - h[..., :3], w + h[..., :3]], axis=-1)
+
+    for start, end in _box_edges(box):
+        points.extend(_clip_segment(start, end, inside_frustum))
+    return np.array(points) if points else None
+
+
+def _box_edges(corners: np.ndarray):
+    """The 12 edges of a box given as 8 corners indexed by (x, y, z) bits (x slowest)."""
+    for a in range(8):
+        for bit in (1, 2, 4):
+            if not a & bit:
+                yield corners[a], corners[a | bit]
+
+
+def _clip_segment(start: np.ndarray, end: np.ndarray, constraints) -> list:
+    """The part of start..end where every value of ``constraints(point)`` is >= 0 (each
+    linear along the segment): [] or its two ends."""
+    f0, f1 = constraints(start), constraints(end)
+    t0, t1 = 0.0, 1.0
+    for a, b in zip(f0, f1):
+        if a < 0 and b < 0:
+            return []
+        if a < 0:
+            t0 = max(t0, a / (a - b))
+        elif b < 0:
+            t1 = min(t1, a / (a - b))
+    if t0 > t1:
+        return []
+    return [start + t0 * (end - start), start + t1 * (end - start)]
 
 
 def _depth_range(eye: np.ndarray, rotation: np.ndarray, bounds: np.ndarray, radial: bool) -> tuple[float, float]:

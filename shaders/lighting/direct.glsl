@@ -3,6 +3,16 @@
 #include "lighting/specular.glsl"
 #ifdef HAS_SHADOWS
 #include "lighting/shadows.glsl"
+// First shadow view of each light, or -1 (compile-time constants, see render/features.py)
+#ifdef DIR_SHADOW_VIEWS
+const int dir_shadow_view[N_DIR_LIGHTS] = int[](DIR_SHADOW_VIEWS);
+#endif
+#ifdef POINT_SHADOW_VIEWS
+const int point_shadow_view[N_POINT_LIGHTS] = int[](POINT_SHADOW_VIEWS);
+#endif
+#ifdef SPOT_SHADOW_VIEWS
+const int spot_shadow_view[N_SPOT_LIGHTS] = int[](SPOT_SHADOW_VIEWS);
+#endif
 #endif
 
 vec3 shade_one(vec3 l, vec3 radiance, vec3 n, vec3 v, Surface s) {
@@ -15,14 +25,17 @@ vec3 shade_one(vec3 l, vec3 radiance, vec3 n, vec3 v, Surface s) {
 
 vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
     vec3 total = vec3(0.0);
+    // derivatives here, in uniform control flow, for the shadow and cone filters
+    vec3 dpdx = dFdx(p);
+    vec3 dpdy = dFdy(p);
 #if N_DIR_LIGHTS > 0
     for (int i = 0; i < N_DIR_LIGHTS; ++i) {
         DirLight light = dir_lights[i];
         vec3 l = -light.direction.xyz;
         vec3 radiance = light.color.rgb;
 #ifdef HAS_SHADOWS
-        if (light.shadow.x >= 0.0 && dot(n, l) > 0.0) {
-            radiance *= shadow_visibility(int(light.shadow.x), p, n, dot(n, l));
+        if (dir_shadow_view[i] >= 0 && dot(n, l) > 0.0) {
+            radiance *= shadow_lookup(dir_shadow_view[i], p, n, dot(n, l), false, false, dpdx, dpdy);
         }
 #endif
         total += shade_one(l, radiance, n, v, s);
@@ -36,8 +49,8 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         vec3 l = safe_normalize(to_light, n);
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance);
 #ifdef HAS_SHADOWS
-        if (light.shadow.x >= 0.0 && dot(n, l) > 0.0 && max_component(radiance) > 1e-4) {
-            radiance *= shadow_visibility(int(light.shadow.x) + cube_face(-to_light), p, n, dot(n, l));
+        if (point_shadow_view[i] >= 0 && dot(n, l) > 0.0 && max_component(radiance) > 1e-4) {
+            radiance *= shadow_lookup(point_shadow_view[i] + cube_face(-to_light), p, n, dot(n, l), true, true, dpdx, dpdy);
         }
 #endif
         total += shade_one(l, radiance, n, v, s);
@@ -49,11 +62,13 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         vec3 to_light = light.position.xyz - p;
         float distance = length(to_light);
         vec3 l = safe_normalize(to_light, n);
-        float cone = spot_cone(light.cone, dot(-l, light.direction.xyz));
+        float cos_angle = dot(-l, light.direction.xyz);
+        float cone = spot_cone(light.cone, cos_angle,
+                               spot_pixel(to_light, cos_angle, light.direction.xyz, dpdx, dpdy));
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance) * cone;
 #ifdef HAS_SHADOWS
-        if (light.shadow.x >= 0.0 && dot(n, l) > 0.0 && max_component(radiance) > 1e-4) {
-            radiance *= shadow_visibility(int(light.shadow.x), p, n, dot(n, l));
+        if (spot_shadow_view[i] >= 0 && dot(n, l) > 0.0 && max_component(radiance) > 1e-4) {
+            radiance *= shadow_lookup(spot_shadow_view[i], p, n, dot(n, l), true, false, dpdx, dpdy);
         }
 #endif
         total += shade_one(l, radiance, n, v, s);

@@ -1,6 +1,8 @@
-// Light data in a storage buffer, one array per light type. The counts are compile-time
-// constants of the scene (N_DIR_LIGHTS...), so a scene without spot lights has no spot
-// code at all, and there is no fixed cap on lights of any type.
+// Light data, one array per light type. The counts are compile-time constants of the
+// scene (N_DIR_LIGHTS...), so a scene without spot lights has no spot code at all. The
+// arrays sit in a uniform block when they fit (LIGHTS_IN_UNIFORM_BLOCK: the cheapest
+// memory for a shader to read), else in a storage buffer, so there is no fixed cap on
+// lights of any type. Every member is a vec4: std140 and std430 lay them out alike.
 //
 // Positions are camera-relative world space, like v_position; directions are the way the
 // light travels. color = rgb * intensity (zero while disabled).
@@ -27,7 +29,11 @@ struct SpotLight {
     vec4 shadow;
 };
 
+#ifdef LIGHTS_IN_UNIFORM_BLOCK
+layout(std140, binding = 0) uniform Lights {
+#else
 layout(std430, binding = 0) readonly buffer Lights {
+#endif
 #if N_DIR_LIGHTS > 0
     DirLight dir_lights[N_DIR_LIGHTS];
 #endif
@@ -46,10 +52,25 @@ float attenuation(vec4 coefficients, float distance) {
 }
 
 // 1 inside the inner cone, 0 outside the outer, smooth between; inner == outer is a hard edge.
-float spot_cone(vec4 cone, float cos_angle) {
+// An edge sharper than the pixel is anti-aliased: the factor is the fraction of the pixel
+// inside the cone, a ramp ``pixel`` wide (cos_angle's change across the pixel, spot_pixel)
+// centred on the edge.
+float spot_cone(vec4 cone, float cos_angle, float pixel) {
     float width = cone.x - cone.y;
-    if (width <= 0.0) {
-        return cos_angle >= cone.y ? 1.0 : 0.0;
+    if (width <= pixel) {
+        float edge = cone.y + 0.5 * max(width, 0.0);
+        return clamp((cos_angle - edge) / max(pixel, 1e-20) + 0.5, 0.0, 1.0);
     }
     return smoothstep(0.0, 1.0, clamp((cos_angle - cone.y) / width, 0.0, 1.0));
+}
+
+// How much cos_angle = dot(-l, direction) changes across one pixel, |d/dx| + |d/dy| (the
+// width of a pixel square seen across a straight edge), from the position's derivatives
+// dpdx, dpdy: analytic rather than fwidth(cos_angle), whose value some drivers get wrong
+// for data read from storage buffers at triangle edges.
+float spot_pixel(vec3 to_light, float cos_angle, vec3 direction, vec3 dpdx, vec3 dpdy) {
+    float distance = max(length(to_light), 1e-20);
+    // gradient of dot(normalize(p - light), direction) with respect to p
+    vec3 gradient = (direction + cos_angle * to_light / distance) / distance;
+    return abs(dot(gradient, dpdx)) + abs(dot(gradient, dpdy));
 }

@@ -44,6 +44,11 @@ void main() {
     gl_Position = u_view_proj * world;
 #ifdef DEPTH_NUDGE
     // overlay lines: pull slightly towards the camera so they win the depth test
+#ifdef REVERSED_DEPTH
+    // reversed-Z depth is ~ near / distance: a relative nudge (0.1% of the distance)
+    gl_Position.z *= 1.001;
+#else
     gl_Position.z -= 2e-4 * gl_Position.w;
+#endif
 #endif
 }

@@ -12,6 +12,8 @@ out vec4 frag_color;
 
 void main() {
     vec3 n = safe_normalize(gl_FrontFacing ? v_normal : -v_normal);
+    vec3 dpdx = dFdx(v_position);
+    vec3 dpdy = dFdy(v_position);
     int view = u_first_view;
     vec3 l;
     if (u_point_light == 1) {
@@ -20,6 +22,6 @@ void main() {
     } else {
         l = -u_light_vector;
     }
-    float visibility = shadow_visibility(view, v_position, n, max(dot(n, l), 0.0));
+    float visibility = shadow_visibility(view, v_position, n, max(dot(n, l), 0.0), dpdx, dpdy);
     frag_color = vec4(vec3(visibility), 1.0);
 }

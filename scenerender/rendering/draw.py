@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.render.features import TEXTURE_UNITS
+from scenerender.rendering.features import TEXTURE_UNITS
 
 
 @dataclass(frozen=True)
@@ -54,10 +54,10 @@ def begin_camera_pass(ctx, colors, depth, clear_color) -> object:
 
     fbo = ctx.framebuffer(colors, depth)
     fbo.use()
-    fbo.clear(*clear_color, depth=1.0)
+    fbo.clear(*clear_color, depth=ctx.depth.clear_value)
     ctx.gl.enable(moderngl.DEPTH_TEST)
     ctx.gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
-    ctx.gl.depth_func = "<"
+    ctx.gl.depth_func = ctx.depth.nearer
     return fbo
 
 

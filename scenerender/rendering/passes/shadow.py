@@ -5,7 +5,7 @@ import numpy as np
 
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.render.draw import draw_object, light_objects
+from scenerender.rendering.draw import draw_object, light_objects
 
 
 class ShadowMapPass(RenderPass):
@@ -41,6 +41,7 @@ class ShadowMapPass(RenderPass):
         defines = {"RADIAL_DEPTH": True} if self.light.kind == "point" else {}
         program = ctx.programs.get("shadow/depth.vert", "shadow/depth.frag", defines)
         gl.enable(moderngl.DEPTH_TEST)
+        gl.depth_func = "<"  # the atlas keeps linear depth, nearest = 0, whatever the camera's convention
         gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
         to_world = np.eye(4)
         to_world[:3, 3] = ctx.frame.camera.position
@@ -50,7 +51,7 @@ class ShadowMapPass(RenderPass):
             region = (tile.x, tile.y, tile.size, tile.size)
             fbo.viewport = region
             fbo.clear(depth=1.0, viewport=region)
-            set_uniforms(program, u_light_view=view.view @ to_world, u_light_projection=view.projection,
+            set_uniforms(program, u_light_view=view.view @ to_world, u_light_projection=ctx.depth.clip_projection(view.projection),
                          u_depth_range=(view.near, view.far))
             for index in casters:
                 draw_object(ctx, program, index, all_instances=True)

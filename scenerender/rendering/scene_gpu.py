@@ -20,7 +20,7 @@ class GpuScene:
         self.ctx = ctx
         self.world = world
         self.atlas = atlas
-        self.textures = TextureCache(ctx)
+        self.textures = TextureCache(ctx, getattr(world, "images", None))
         self.meshes = self._upload_meshes()
         self.instance_buffers = [ctx.buffer(reserve=obj.instances.count * INSTANCE_FLOATS * 4, dynamic=True)
                                  for obj in world.objects]
@@ -56,8 +56,11 @@ class GpuScene:
         views = self._pack_shadow_views(frame)
         self._write(self.shadow_buffer, views)
         self._write(self.light_buffer, self._pack_lights(frame))
-        self.light_buffer.bind_to_storage_buffer(LIGHT_BINDING)
-        self.shadow_buffer.bind_to_storage_buffer(SHADOW_VIEW_BINDING)
+        # the same buffers serve programs declaring them as uniform blocks (when they fit)
+        # and as storage buffers: the two binding namespaces are separate
+        for buffer, binding in ((self.light_buffer, LIGHT_BINDING), (self.shadow_buffer, SHADOW_VIEW_BINDING)):
+            buffer.bind_to_storage_buffer(binding)
+            buffer.bind_to_uniform_block(binding)
 
     def _write(self, buffer, data: bytes) -> None:
         if len(data) > buffer.size:
@@ -65,26 +68,18 @@ class GpuScene:
         buffer.write(data)
 
     def _pack_shadow_views(self, frame: FrameState) -> bytes:
-        """std430 ShadowView structs (see shaders/lighting/shadows.glsl), in light order."""
+        """ShadowView structs (see shaders/lighting/shadows.glsl), in light order."""
         rows = []
         self.first_shadow_view = {}
         if self.atlas is None:
             return np.zeros(4, dtype=np.float32).tobytes()
-        width, height = self.atlas.size
         to_world = np.eye(4)
         to_world[:3, 3] = frame.camera.position  # camera-relative -> absolute world
         for light_index in frame.shadowed_lights():
             settings = frame.lights[light_index].definition.shadow
             self.first_shadow_view[light_index] = len(rows)
             for view in frame.shadow_views[light_index]:
-                tile = view.tile
-                rows.append(np.concatenate([
-                    (view.view @ to_world).T.reshape(-1), view.projection.T.reshape(-1),
-                    [tile.x / width, tile.y / height, tile.size / width, tile.size / height],
-                    [view.near, view.far, settings.bias, settings.slope_bias],
-                    [1.0 if view.radial else 0.0, settings.pcf, 1.0 / width, 1.0 / height],
-                    _texel_world_size(view),
-                ]))
+                rows.append(_shadow_view_row(view, to_world, settings, self.atlas.size))
         if not rows:
             return np.zeros(4, dtype=np.float32).tobytes()
         return np.asarray(rows, dtype=np.float32).tobytes()
@@ -145,6 +140,47 @@ class GpuScene:
             vao = self.ctx.vertex_array(program, content, index_buffer=mesh.indices, index_element_size=4)
             self._vaos[key] = vao
         return vao
+
+
+def _shadow_view_row(view, to_world: np.ndarray, settings, atlas_size) -> np.ndarray:
+    """One ShadowView as 36 float64s (see shaders/lighting/shadows.glsl).
+
+    Everything the lookup needs per fragment is folded into one matrix here, once per
+    frame: camera-relative world -> (atlas u * w, atlas v * w, linear depth, w), so the
+    shader does one matrix product instead of a view, a projection and a tile transform.
+    """
+    width, height = atlas_size
+    tile = view.tile
+    to_light = view.view @ to_world
+    clip = view.projection @ to_light
+    origin = np.array([tile.x / width, tile.y / height])
+    extent = np.array([tile.size / width, tile.size / height])
+    to_atlas = np.empty((4, 4))
+    to_atlas[:2] = 0.5 * extent[:, None] * clip[:2] + (origin + 0.5 * extent)[:, None] * clip[3]
+    depth_range = view.far - view.near
+    to_atlas[2] = (-to_light[2] - view.near * np.array([0.0, 0.0, 0.0, 1.0])) / depth_range
+    to_atlas[3] = clip[3]
+    light_position = np.linalg.inv(to_light)[:3, 3]  # the light's eye, camera-relative
+    return np.concatenate([
+        to_atlas.T.reshape(-1),
+        [*light_position, 1.0 if view.radial else 0.0],
+        [*origin, *(origin + extent)],
+        [view.near, 1.0 / depth_range, *shadow_bias_texels(settings)],
+        [1.0 / width, 1.0 / height, settings.pcf, 0.0],
+        _texel_world_size(view),
+    ])
+
+
+# The constant depth bias every lookup gets, in shadow texels: covers the depth a texel's
+# centre and a point elsewhere in it can differ by on a surface facing the light.
+BASE_BIAS_TEXELS = 0.5
+
+
+def shadow_bias_texels(settings) -> tuple[float, float]:
+    """(constant, slope) depth bias in shadow texels at the receiver (see
+    shaders/lighting/shadows.glsl): the built-in amounts plus the light's ``bias`` and
+    ``slope_bias``. The slope term covers the filter's reach, pcf / 2 texels."""
+    return BASE_BIAS_TEXELS + settings.bias, 0.5 * settings.pcf + settings.slope_bias
 
 
 def _texel_world_size(view) -> list:

@@ -6,11 +6,11 @@ import numpy as np
 
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.render.draw import (
+from scenerender.rendering.draw import (
     begin_camera_pass, bind_shadow_atlas, bind_texture_units, camera_objects, draw_object,
 )
-from scenerender.render.features import TEXTURE_UNITS
-from scenerender.render.passes.forward import MESH_VERTEX, fullscreen
+from scenerender.rendering.features import TEXTURE_UNITS
+from scenerender.rendering.passes.forward import MESH_VERTEX, fullscreen
 
 
 class _FullscreenView(RenderPass):
@@ -119,7 +119,7 @@ class ShadowFactorViewPass(RenderPass):
     def setup(self, builder):
         builder.read(self.atlas)
         self.ldr = builder.create("view", ResourceDesc("color", self.size, "rgba8"))
-        self.depth = builder.create("view_depth", ResourceDesc("depth", self.size, "depth24"))
+        self.depth = builder.create("view_depth", ResourceDesc("depth", self.size, "camera_depth"))
         return self.ldr
 
     def execute(self, ctx) -> None:

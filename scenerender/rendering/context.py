@@ -16,6 +16,7 @@ class PassContext:
     resources: dict     # resource index -> moderngl texture/renderbuffer
     framebuffers: object  # gpu.resources.FramebufferCache
     outputs: dict       # what side-effect passes leave for the executor (e.g. "pixels")
+    depth: object = None  # gpu.depth.DepthConvention of the camera passes
 
     def resource(self, handle: Handle):
         return self.resources[handle.resource]

@@ -1,7 +1,8 @@
 """What changes over the animation, which decides the passes that can be cached.
 
-A shadow map depends only on its light's placement and the shadow casters, never on the
-camera; everything drawn from the camera depends on all of it.
+A shadow map depends on its light's placement and the shadow casters; a directional
+light's also on the camera, since its view is fitted to the receivers the camera sees
+(world.shadows). Everything drawn from the camera depends on all of it.
 """
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ class Motion:
 
     def shadow_static(self, light) -> bool:
         """The light's shadow map can be rendered once for the whole animation."""
-        if light.attach_camera and not self.camera_static:
+        if (light.attach_camera or light.kind == "directional") and not self.camera_static:
             return False
         moves = light.moves() if not light.attach_camera else False
         return self.geometry_static and not moves

@@ -6,11 +6,11 @@ import numpy as np
 
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.render.draw import (
+from scenerender.rendering.draw import (
     begin_camera_pass, bind_material, bind_shadow_atlas, bind_texture_units, camera_objects, draw_item,
     draw_object, opaque_items, transparent_items,
 )
-from scenerender.render.features import TEXTURE_UNITS
+from scenerender.rendering.features import TEXTURE_UNITS
 
 MESH_VERTEX = "mesh/mesh.vert"
 FORWARD_FRAGMENT = "mesh/forward.frag"
@@ -35,9 +35,13 @@ def _bind_shared_inputs(ctx, atlas, ao) -> None:
 
 
 def forward_program(ctx, material, with_ao: bool):
-    program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, ctx.features.forward_defines(material, with_ao))
-    bind_texture_units(program)
-    return program
+    """The material's shader variant (worked out on its first draw of the run)."""
+    def make():
+        program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, ctx.features.forward_defines(material, with_ao))
+        bind_texture_units(program)
+        return program
+
+    return ctx.programs.memo(("forward", id(material), with_ao), make)
 
 
 def draw_shaded(ctx, items, with_ao: bool, mode=None) -> None:
@@ -58,8 +62,11 @@ class OpaquePass(RenderPass):
 
     name = "opaque"
 
-    def __init__(self, size, samples: int, atlas=None, ao=None, fill: str = "solid", dynamic: bool = True):
+    def __init__(self, size, samples: int, atlas=None, ao=None, fill: str = "solid", dynamic: bool = True,
+                 prepass: bool = True, color_format: str = "rgba16f"):
         self.size = size
+        self.color_format = color_format  # "rgba16f", or "srgba8" where no value above 1 is needed
+        self.prepass = prepass and fill == "solid"
         self.samples = samples
         self.atlas = atlas
         self.ao = ao
@@ -71,13 +78,18 @@ class OpaquePass(RenderPass):
             if handle is not None:
                 builder.read(handle)
         samples = self.samples if self.samples > 1 else 0
-        self.color = builder.create("hdr_color", ResourceDesc("color", self.size, "rgba16f", samples))
-        self.depth = builder.create("depth", ResourceDesc("depth", self.size, "depth24", samples))
+        name = "hdr_color" if self.color_format == "rgba16f" else "color"
+        self.color = builder.create(name, ResourceDesc("color", self.size, self.color_format, samples))
+        self.depth = builder.create("depth", ResourceDesc("depth", self.size, "camera_depth", samples))
         return self.color, self.depth
 
     def describe(self) -> str:
-        extras = [f"{self.samples}x MSAA" if self.samples > 1 else "no MSAA"]
-        extras.append("depth prepass" if self.fill == "solid" else self.fill)
+        extras = [f"{self.samples}x MSAA" if self.samples > 1 else "no MSAA",
+                  "float16 target" if self.color_format == "rgba16f" else "8-bit sRGB target"]
+        if self.fill != "solid":
+            extras.append(self.fill)
+        elif self.prepass:
+            extras.append("depth prepass")
         if self.atlas is not None:
             extras.append("shadows")
         if self.ao is not None:
@@ -99,14 +111,14 @@ class OpaquePass(RenderPass):
         gl.line_width = ctx.world.render.line_width
         items = opaque_items(ctx.world, ctx.frame)
         try:
-            if self.fill == "solid":
+            if self.prepass:
                 depth_prepass(ctx, items, fbo)
             draw_shaded(ctx, items, self.ao is not None, mode)
         finally:
             gl.wireframe = False
             fbo.color_mask = (True, True, True, True)
             fbo.depth_mask = True
-            gl.depth_func = "<"
+            gl.depth_func = ctx.depth.nearer
 
 
 class DrawOverPass(RenderPass):
@@ -137,13 +149,14 @@ class SkyboxPass(DrawOverPass):
         fbo = ctx.framebuffer([self.color], self.depth_in)
         fbo.use()
         gl.enable(moderngl.DEPTH_TEST)
-        gl.depth_func = "<="
+        gl.depth_func = ctx.depth.nearer_or_equal
         program = ctx.programs.get("skybox/skybox.vert", "skybox/skybox.frag")
         bind_texture_units(program)
-        set_uniforms(program, u_inverse_view_proj=np.linalg.inv(ctx.frame.camera.view_proj_relative()))
+        set_uniforms(program, u_inverse_view_proj=np.linalg.inv(ctx.frame.camera.view_proj_relative()),
+                     u_ndc_near_far=ctx.depth.ndc_near_far)
         ctx.scene.skybox.use(TEXTURE_UNITS["u_skybox"])
         fullscreen(ctx, program)
-        gl.depth_func = "<"
+        gl.depth_func = ctx.depth.nearer
 
 
 class OutlinePass(DrawOverPass):
@@ -159,6 +172,7 @@ class OutlinePass(DrawOverPass):
         ctx.framebuffer([self.color], self.depth_in).use()
         program = ctx.programs.get(MESH_VERTEX, "mesh/solid_color.frag", {"OUTLINE": True})
         gl.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+        gl.depth_func = ctx.depth.nearer
         gl.disable(moderngl.BLEND)
         gl.cull_face = "front"
         set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative())
@@ -192,6 +206,7 @@ class TransparentPass(DrawOverPass):
         fbo.use()
         fbo.depth_mask = False
         gl.enable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
+        gl.depth_func = ctx.depth.nearer
         gl.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         _bind_shared_inputs(ctx, self.atlas, self.ao)
         try:
@@ -215,9 +230,10 @@ class WireframeOverlayPass(DrawOverPass):
 
         gl = ctx.gl
         ctx.framebuffer([self.color], self.depth_in).use()
-        program = ctx.programs.get(MESH_VERTEX, "mesh/solid_color.frag", {"DEPTH_NUDGE": True})
+        program = ctx.programs.get(MESH_VERTEX, "mesh/solid_color.frag",
+                                   {"DEPTH_NUDGE": True, **({"REVERSED_DEPTH": True} if ctx.depth.reversed else {})})
         gl.enable(moderngl.DEPTH_TEST)
-        gl.depth_func = "<="
+        gl.depth_func = ctx.depth.nearer_or_equal
         gl.wireframe = True
         gl.line_width = ctx.world.render.line_width
         set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative(), u_color=(0.0, 0.0, 0.0, 1.0))
@@ -226,7 +242,7 @@ class WireframeOverlayPass(DrawOverPass):
                 draw_object(ctx, program, index)
         finally:
             gl.wireframe = False
-            gl.depth_func = "<"
+            gl.depth_func = ctx.depth.nearer
 
 
 def depth_prepass(ctx, items, fbo) -> None:
@@ -240,7 +256,7 @@ def depth_prepass(ctx, items, fbo) -> None:
         draw_item(ctx, program, item)
     fbo.color_mask = (True, True, True, True)
     fbo.depth_mask = False
-    ctx.gl.depth_func = "<="
+    ctx.gl.depth_func = ctx.depth.nearer_or_equal
 
 
 def fullscreen(ctx, program) -> None:

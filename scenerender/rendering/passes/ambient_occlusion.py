@@ -6,9 +6,9 @@ import numpy as np
 
 from scenerender.graph import ResourceDesc, RenderPass
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.render.draw import begin_camera_pass, bind_texture_units, camera_objects, draw_object
-from scenerender.render.features import TEXTURE_UNITS
-from scenerender.render.passes.forward import MESH_VERTEX, fullscreen
+from scenerender.rendering.draw import begin_camera_pass, bind_texture_units, camera_objects, draw_object
+from scenerender.rendering.features import TEXTURE_UNITS
+from scenerender.rendering.passes.forward import MESH_VERTEX, fullscreen
 
 NOISE_SIZE = 4
 
@@ -24,7 +24,7 @@ class GBufferPass(RenderPass):
 
     def setup(self, builder):
         self.gbuffer = builder.create("gbuffer", ResourceDesc("color", self.size, "rgba16f"))
-        self.depth = builder.create("gbuffer_depth", ResourceDesc("depth", self.size, "depth24"))
+        self.depth = builder.create("gbuffer_depth", ResourceDesc("depth", self.size, "camera_depth"))
         return self.gbuffer
 
     def execute(self, ctx) -> None:

@@ -1,0 +1,221 @@
+"""One scene's frames rendered by several processes: local workers (``--workers N``) or the
+workers of a Dask cluster (``--scheduler tcp://host:port``).
+
+The parent plans the run exactly as a single process does (the run manifest decides which
+frames are due), cuts the due frames into chunks and hands each chunk to a worker as a
+``ChunkTask``. A worker loads the scene once, keeps one GL context and renderer for every
+chunk it gets, and writes each frame file whole into the output folder; a video's frames
+are staged as PNG files and encoded in order by the parent. Every frame is a pure function
+of the scene and its index, so the files are byte-identical to a single-process run.
+
+A chunk may run twice (Dask retries a chunk whose worker died): a frame file already
+written by the earlier attempt is kept, never written again. The parent deletes the due
+frames' old files before it starts, so an existing file can only be such a fresh one.
+"""
+from __future__ import annotations
+
+import math
+import multiprocessing
+import shutil
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from scenerender.errors import EnvironmentProblem, SourceLocation, UserError
+
+CHUNKS_PER_WORKER = 4  # small enough to balance uneven frames, large enough to amortise start-up
+STAGED_PATTERN = "frame_{frame:08d}"
+
+
+@dataclass(frozen=True)
+class ChunkTask:
+    """What a worker needs to render some frames; plain data, so it pickles to any machine.
+    Paths are absolute and must mean the same on every worker (shared storage)."""
+
+    scene: str
+    overrides: tuple
+    asset_roots: tuple
+    limits: object
+    folder: str          # where the frame files go
+    fmt: str             # png | jpg | tga | exr
+    pattern: str         # file stem pattern with {frame}
+    quality: int
+    indices: tuple
+
+
+@dataclass
+class ChunkResult:
+    """What a worker did: the GL renderer it used and the files now complete."""
+
+    gl: dict = field(default_factory=dict)
+    written: list = field(default_factory=list)   # (index, file name)
+    error: str | None = None                      # a UserError's one-line message
+
+
+# ---------------------------------------------------------------------------------------
+# the worker side
+
+_worker_state: dict = {}  # one loaded scene + renderer per worker process, reused by later chunks
+
+
+def render_chunk(task: ChunkTask) -> ChunkResult:
+    """Render ``task.indices`` into ``task.folder`` (runs in a worker process)."""
+    from scenerender.sinks import ImageSequenceSink, ThreadedSink
+
+    try:
+        renderer, gl = _renderer_for(task)
+        sink = ImageSequenceSink(Path(task.folder), task.fmt, task.pattern, task.quality)
+        result = ChunkResult(gl=gl)
+        writer = ThreadedSink(sink)
+        try:
+            for index in task.indices:
+                if not sink.path_for(index).is_file():  # else written by an earlier try of this chunk
+                    writer.write(renderer.render(index))
+                result.written.append((index, sink.path_for(index).name))
+            writer.close()
+        except BaseException:
+            writer.abort()
+            raise
+        return result
+    except UserError as exc:
+        return ChunkResult(error=str(exc))
+
+
+def _renderer_for(task: ChunkTask):
+    from scenerender.api import Renderer, load
+    from scenerender.gpu.context import gl_info
+
+    key = (task.scene, task.overrides, task.asset_roots, repr(task.limits), task.fmt)
+    if _worker_state.get("key") != key:
+        if "renderer" in _worker_state:
+            _worker_state.pop("renderer").close()
+        scene = load(task.scene, list(task.overrides), asset_roots=task.asset_roots, limits=task.limits)
+        renderer = Renderer(scene, want_linear=task.fmt == "exr")
+        _worker_state.update(key=key, renderer=renderer, gl=gl_info(renderer.gl))
+    return _worker_state["renderer"], {k: str(v) for k, v in _worker_state["gl"].items()}
+
+
+# ---------------------------------------------------------------------------------------
+# the parent side
+
+
+def chunk_tasks(base: ChunkTask, todo: list, workers: int) -> list[ChunkTask]:
+    """``todo`` cut into about CHUNKS_PER_WORKER chunks per worker, in frame order."""
+    size = max(1, math.ceil(len(todo) / (workers * CHUNKS_PER_WORKER)))
+    return [ChunkTask(**{**base.__dict__, "indices": tuple(todo[i:i + size])}) for i in range(0, len(todo), size)]
+
+
+class LocalWorkers:
+    """``count`` worker processes on this machine, each with its own GL context."""
+
+    def __init__(self, count: int):
+        self.count = count
+        # spawn, not fork: a forked child would share the parent's driver state
+        self._pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
+
+    def results(self, tasks: list[ChunkTask]):
+        futures = [self._pool.submit(render_chunk, task) for task in tasks]
+        for future in as_completed(futures):
+            yield future.result()
+
+    def close(self) -> None:
+        self._pool.shutdown(wait=True, cancel_futures=True)
+
+
+class DaskWorkers:
+    """The workers of a Dask distributed cluster. A chunk whose worker dies is retried."""
+
+    RETRIES = 3
+    CONNECT_TIMEOUT = "10s"
+
+    def __init__(self, address: str):
+        try:
+            from distributed import Client
+        except ImportError:
+            raise EnvironmentProblem("--scheduler needs Dask distributed: pip install 'scenerender[distributed]'") from None
+        try:
+            self._client = Client(address, timeout=self.CONNECT_TIMEOUT)
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise UserError(f"cannot reach the Dask scheduler at {address} ({exc})",
+                            SourceLocation("--scheduler")) from None
+        self.count = max(1, len(self._client.scheduler_info().get("workers", {})))
+        self._futures: list = []
+
+    def results(self, tasks: list[ChunkTask]):
+        from distributed import as_completed as dask_completed
+
+        self._futures = [self._client.submit(render_chunk, task, retries=self.RETRIES, pure=False)
+                         for task in tasks]
+        for future in dask_completed(self._futures):  # completion events come from the scheduler
+            yield future.result()
+
+    def close(self) -> None:
+        for future in self._futures:
+            future.cancel()
+        self._client.close()
+
+
+def open_workers(count: int, scheduler: str | None):
+    return DaskWorkers(scheduler) if scheduler else LocalWorkers(count)
+
+
+def render_with_workers(scene, options, plan, progress) -> None:
+    """Render ``plan.todo`` of ``scene`` (an ``api.Scene`` loaded from a file) on workers;
+    frames enter ``plan.manifest`` as chunks finish, and a video is encoded in frame order
+    at the end."""
+    from scenerender.sinks import ImageSequenceSink
+
+    sequence = isinstance(plan.sink, ImageSequenceSink)
+    folder = Path(plan.sink.folder) if sequence else _staging_folder(plan.sink.path)
+    for index in plan.todo:  # old files of due frames are not vouched for: start clean
+        if sequence:
+            plan.sink.path_for(index).unlink(missing_ok=True)
+    source = scene.source
+    if source is None:
+        raise UserError("rendering on several workers needs a scene file (workers load it themselves); "
+                        "this scene was built in code", SourceLocation("--workers"))
+    base = ChunkTask(scene=str(source.path), overrides=tuple(source.overrides),
+                     asset_roots=tuple(str(Path(r).resolve()) for r in source.asset_roots), limits=source.limits,
+                     folder=str(folder.resolve()), fmt=plan.sink.fmt if sequence else "png",
+                     pattern=plan.sink.pattern if sequence else STAGED_PATTERN,
+                     quality=getattr(plan.sink, "quality", 90), indices=())
+    workers = open_workers(options.workers, options.scheduler)
+    try:
+        started = False
+        for result in workers.results(chunk_tasks(base, plan.todo, workers.count)):
+            if result.error:
+                raise UserError(result.error)
+            if not started:
+                plan.manifest.start(result.gl)
+                started = True
+            for index, name in result.written:
+                if sequence:
+                    plan.manifest.record(name, index, folder / name)
+                progress.advance()
+    finally:
+        workers.close()
+    if sequence:
+        plan.manifest.save()
+    else:
+        _encode_staged(plan, folder)
+
+
+def _staging_folder(video: Path) -> Path:
+    return Path(video).parent / f".{Path(video).name}.frames"
+
+
+def _encode_staged(plan, folder: Path) -> None:
+    """Feed the staged PNG frames to the video sink in frame order, then remove them."""
+    from scenerender.compare.sources import read_image
+    from scenerender.rendering.renderer import FrameResult
+
+    try:
+        for index in plan.todo:
+            pixels = read_image(folder / (STAGED_PATTERN.format(frame=index) + ".png"))
+            plan.recording.write(FrameResult(index, 0.0, pixels))
+        plan.recording.close()
+    except BaseException:
+        plan.recording.abort()
+        raise
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)

@@ -1,0 +1,128 @@
+"""Which shader features a scene and its materials need -> GLSL defines.
+
+Features are decided once per run from the scene: light counts per type, shadows, fog
+mode, specular model, AO; and per material: texture maps, unlit, mirrored wrap.
+
+Which lights cast shadows, and where their views sit in the shadow-view array, never
+changes during a run, so those are compile-time constants too: an unshadowed light has no
+shadow code at all, and a shadowed one reads its view at a constant index.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+# Light and shadow data live in uniform blocks (fast on every driver) up to the size every
+# OpenGL implementation must offer; beyond that, in storage buffers (no cap on lights).
+UNIFORM_BLOCK_BYTES = 16384
+SHADOW_VIEW_BYTES = 144  # one ShadowView (shaders/lighting/shadows.glsl)
+
+TEXTURE_UNITS = {
+    "u_diffuse_map": 0, "u_specular_map": 1, "u_normal_map": 2, "u_opacity_map": 3,
+    "u_shadow_atlas": 4, "u_ao": 5, "u_skybox": 6, "u_gbuffer": 7, "u_noise": 8, "u_color": 9, "u_atlas": 10,
+}
+
+
+@dataclass(frozen=True)
+class SceneFeatures:
+    n_dir: int
+    n_point: int
+    n_spot: int
+    shadows: bool
+    fog_mode: str | None
+    specular: str
+    unlit: bool
+    ambient_occlusion: bool
+    # per light type, in light order: index of the light's first shadow view, or -1
+    dir_shadow_views: tuple = ()
+    point_shadow_views: tuple = ()
+    spot_shadow_views: tuple = ()
+    n_shadow_views: int = 0
+    shadow_footprint_samples: int = 1  # points a pixel's shadow is averaged over (MSAA samples)
+
+    @classmethod
+    def of(cls, world, samples: int = 1) -> "SceneFeatures":
+        """samples: the MSAA samples the run renders with (the device may give fewer than
+        the scene asks for)."""
+        kinds = [light.kind for light in world.lights]
+        render = world.render
+        first_views = _first_shadow_views(world.lights)
+        return cls(
+            n_dir=kinds.count("directional"), n_point=kinds.count("point"), n_spot=kinds.count("spot"),
+            shadows=any(light.shadow is not None for light in world.lights),
+            fog_mode=render.fog.mode if render.fog is not None else None,
+            specular=render.shading, unlit=render.shading == "unlit",
+            ambient_occlusion=render.ambient_occlusion is not None,
+            shadow_footprint_samples=_footprint_samples(samples),
+            **first_views,
+        )
+
+    def lighting_defines(self) -> dict:
+        defines = {"N_DIR_LIGHTS": self.n_dir, "N_POINT_LIGHTS": self.n_point, "N_SPOT_LIGHTS": self.n_spot}
+        if self.specular == "phong":
+            defines["SPECULAR_PHONG"] = True
+        if self.shadows:
+            defines["HAS_SHADOWS"] = True
+            for kind in ("dir", "point", "spot"):
+                views = getattr(self, f"{kind}_shadow_views")
+                if views:
+                    defines[f"{kind.upper()}_SHADOW_VIEWS"] = ", ".join(str(v) for v in views)
+            if self.shadow_footprint_samples > 1:
+                defines["SHADOW_FOOTPRINT_SAMPLES"] = self.shadow_footprint_samples
+            if self.n_shadow_views * SHADOW_VIEW_BYTES <= UNIFORM_BLOCK_BYTES:
+                defines["N_SHADOW_VIEWS"] = self.n_shadow_views
+        if self.light_bytes <= UNIFORM_BLOCK_BYTES:
+            defines["LIGHTS_IN_UNIFORM_BLOCK"] = True
+        return defines
+
+    @property
+    def light_bytes(self) -> int:
+        """Size of the light block (see shaders/lighting/lights.glsl)."""
+        return 48 * self.n_dir + 64 * self.n_point + 96 * self.n_spot + 16
+
+    def forward_defines(self, material, with_ao: bool) -> dict:
+        defines = {}
+        if self.fog_mode is not None:
+            defines["HAS_FOG"] = True
+            defines[f"FOG_{self.fog_mode.upper()}"] = True
+        if self.unlit or material.unlit:
+            defines["UNLIT"] = True
+        else:
+            defines.update(self.lighting_defines())
+            if with_ao:
+                defines["HAS_AO"] = True
+        defines.update(material_defines(material))
+        return defines
+
+
+def _footprint_samples(samples: int) -> int:
+    """The largest sample pattern (1, 2, 4, 8, 16) with no more points than ``samples``."""
+    count = 1
+    while count * 2 <= min(samples, 16):
+        count *= 2
+    return count
+
+
+def _first_shadow_views(lights) -> dict:
+    """Where each light's views start in the shadow-view array: shadowed lights in light
+    order, one view each, six for a point light (the order GpuScene packs them in)."""
+    firsts = {"dir_shadow_views": [], "point_shadow_views": [], "spot_shadow_views": []}
+    key = {"directional": "dir_shadow_views", "point": "point_shadow_views", "spot": "spot_shadow_views"}
+    count = 0
+    for light in lights:
+        if light.kind == "ambient":
+            continue
+        firsts[key[light.kind]].append(count if light.shadow is not None else -1)
+        if light.shadow is not None:
+            count += 6 if light.kind == "point" else 1
+    return {**{k: tuple(v) for k, v in firsts.items()}, "n_shadow_views": count}
+
+
+def material_defines(material) -> dict:
+    defines = {}
+    for key in material.maps:
+        defines[f"HAS_{key.upper()}"] = True
+    if "normal_map" in material.maps and not material.unlit:
+        defines["HAS_TANGENTS"] = True
+    if material.wrap == "mirror" and material.maps:
+        defines["WRAP_MIRROR"] = True
+    return defines

@@ -1,0 +1,187 @@
+"""Build the render graph for a World: which passes this scene needs, in order.
+
+The builder adds a pass only for features the scene has (a skybox pass only with a
+skybox, shadow passes only for shadowed lights...). The render mode then picks which image
+the readback takes, and compiling the graph culls every pass that image does not need:
+``mode: depth`` keeps the geometry prepass and drops shading, shadows and the sky.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.graph import FrameGraph
+from scenerender.rendering.motion import Motion
+from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
+from scenerender.rendering.passes.forward import (
+    OpaquePass, OutlinePass, SkyboxPass, TransparentPass, WireframeOverlayPass,
+)
+from scenerender.rendering.passes.output import (
+    OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass,
+)
+from scenerender.rendering.passes.shadow import ShadowMapPass
+from scenerender.rendering.passes.views import (
+    AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
+)
+from scenerender.scene.schema import AmbientOcclusion
+
+DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
+
+
+@dataclass(frozen=True)
+class GraphOptions:
+    size: tuple
+    samples: int
+    want_linear: bool = False  # also read back linear HDR (EXR output)
+    # Choices the builder normally makes per scene; set only to measure the alternatives.
+    depth_prepass: bool | None = None
+    fuse_resolve: bool = True
+    hdr_target: bool | None = None
+
+
+def build_graph(world, atlas, motion: Motion, options: GraphOptions) -> FrameGraph:
+    """The full graph for ``world``; call ``.compile()`` to cull and order it."""
+    graph = FrameGraph()
+    render = world.render
+    size, samples = options.size, options.samples
+    camera_dynamic = not motion.everything_static
+
+    shadow_handles = _add_shadow_passes(graph, world, atlas, motion)
+    atlas_final = shadow_handles[-1][1] if shadow_handles else None
+
+    gbuffer = ao = None
+    if render.ambient_occlusion is not None or render.mode in ("depth", "normals", "ambient_occlusion"):
+        gbuffer = graph.add(GBufferPass(size, camera_dynamic))
+    if render.ambient_occlusion is not None or render.mode == "ambient_occlusion":
+        settings = render.ambient_occlusion or AmbientOcclusion()
+        raw = graph.add(SSAOPass(gbuffer, size, settings, camera_dynamic))
+        ao = graph.add(SSAOBlurPass(raw, size, camera_dynamic))
+    forward_ao = ao if render.ambient_occlusion is not None else None
+
+    fill = render.mode if render.mode in ("wireframe", "points") else "solid"
+    prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
+                                   else prepass_pays(world, atlas, size, samples))
+    hdr = options.hdr_target if options.hdr_target is not None else hdr_target_pays(options, render.output_transform)
+    color, depth = graph.add(OpaquePass(size, samples, atlas_final, forward_ao, fill, camera_dynamic, prepass,
+                                        "rgba16f" if hdr else "srgba8"))
+    if render.skybox is not None:
+        color = graph.add(SkyboxPass(color, depth, dynamic=camera_dynamic))
+    if any(obj.outline is not None for obj in world.objects):
+        color = graph.add(OutlinePass(color, depth, dynamic=camera_dynamic))
+    if any(m.transparent for m in world.materials()):
+        color = graph.add(TransparentPass(color, depth, atlas_final, forward_ao, camera_dynamic))
+    if render.wireframe_overlay:
+        color = graph.add(WireframeOverlayPass(color, depth, dynamic=camera_dynamic))
+    if not hdr and render.output_transform == "srgb" and options.fuse_resolve:
+        # the 8-bit sRGB target already holds the output values: resolve by a blit (in
+        # linear light) where multisampled, and read back
+        final = graph.add(ResolveToSrgbPass(color, size, camera_dynamic)) if samples > 1 else color
+    elif samples > 1 and not options.want_linear and options.fuse_resolve:
+        # nothing needs the resolved linear image: resolve and encode in one pass
+        final = graph.add(ResolveOutputPass(color, size, samples, render.output_transform, render.gamma,
+                                            camera_dynamic))
+    else:
+        if samples > 1:
+            color = graph.add(ResolvePass(color, size, camera_dynamic))
+        final = graph.add(OutputTransformPass(color, size, render.output_transform, render.gamma, camera_dynamic))
+
+    if render.mode in DATA_MODES:
+        final = _add_view(graph, render.mode, world, gbuffer, ao, shadow_handles, atlas, size, camera_dynamic)
+    linear = color if options.want_linear and render.mode not in DATA_MODES else None
+    graph.add(ReadbackPass(final, size, linear))
+    return graph
+
+
+# A depth prepass pays only where opaque surfaces cover the image this many times over
+# (depth_complexity's estimate). Measured with Mesa llvmpipe without MSAA:
+# benchmarks/scenes/overdraw.yaml (estimate 5.9) renders 25% faster with it; the
+# benchmark scene and the showcase (1.1 and 1.3) are 10-15% slower with it.
+PREPASS_DEPTH_COMPLEXITY = 4.0
+
+
+def prepass_pays(world, atlas, size, samples: int) -> bool:
+    """Whether a depth prepass saves more shading than it costs in extra geometry work.
+
+    The prepass draws every opaque triangle a second time so the lighting shader runs only
+    for the surface each pixel finally shows. Opaque draws are already sorted near to far,
+    so that saves little unless many surfaces overlap: judged on the first frame's depth
+    complexity. With MSAA it did not pay in any scene measured on Mesa's llvmpipe, the
+    overdraw scene included: the shading draw took as long with the prepass as without,
+    so llvmpipe appears to shade hidden multisampled fragments anyway.
+    """
+    if samples > 1 or world.render.shading == "unlit":
+        return False
+    return depth_complexity(world, atlas, size) >= PREPASS_DEPTH_COMPLEXITY
+
+
+def hdr_target_pays(options: GraphOptions, output_transform: str) -> bool:
+    """Whether shading goes to a 16-bit float target rather than 8-bit sRGB-encoded.
+
+    EXR output needs the linear values above 1. A gamma or linear output transform needs
+    the linear values too: re-encoding 8-bit sRGB would round twice and lose a level
+    (linear 0.5 would become 127, not 128). sRGB output is clamped to [0, 1] and stored in
+    8 bits anyway, and the hardware's sRGB encoding stays within 0.6 levels of the exact
+    curve, as the float path does (measured over 200 grey levels on llvmpipe); the one
+    difference is that samples above 1 are clamped before the MSAA resolve rather than
+    after (a few edge pixels of highlights; golden scenes: worst 8x8 block 0.7 levels).
+    With 4x MSAA the float target costs about 14 ms more per 640x480 layer on llvmpipe
+    (writes and resolve), without MSAA about 3 ms.
+    """
+    return options.want_linear or output_transform != "srgb"
+
+
+def depth_complexity(world, atlas, size) -> float:
+    """How many times over the opaque objects' screen boxes cover the image at frame 0:
+    the sum over instances in view of their projected bounding-box area, over the image
+    area (an overestimate for round shapes; an instance reaching behind the camera counts
+    as the whole image)."""
+    from scenerender.world.frame import FrameEvaluator
+
+    frame = FrameEvaluator(world, size, atlas).evaluate(0, 0.0)
+    clip = frame.camera.view_proj_relative()
+    covered = 0.0
+    for obj, state in zip(world.objects, frame.objects):
+        if state.in_view == 0 or all(m.transparent for m in obj.materials):
+            continue
+        lo, hi = obj.mesh.bounds()
+        corners = np.array([[x, y, z, 1.0] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        points = np.einsum("ij,kjl,ml->kmi", clip, state.models_rel[:state.in_view].astype(np.float64), corners)
+        w = points[..., 3]
+        behind = np.any(w <= 1e-9, axis=1)
+        ndc = points[..., :2] / np.where(w > 1e-9, w, 1.0)[..., None]
+        extent = np.clip(ndc.max(axis=1), -1, 1) - np.clip(ndc.min(axis=1), -1, 1)
+        areas = np.where(behind, 1.0, extent[:, 0] * extent[:, 1] / 4.0)
+        covered += float(areas.sum())
+    return covered
+
+
+def _add_shadow_passes(graph, world, atlas, motion: Motion) -> list:
+    """One pass per shadowed light; returns [(light state index, atlas handle after it)].
+
+    The passes write one atlas in turn, so a pass is static only if those before it are:
+    maps rendered once per run come first in the chain. The shadow views show the first
+    shadowed light alone; there file order puts it first and culls every other pass."""
+    shadowed = [(state_index, light) for state_index, light in
+                enumerate(light for light in world.lights if light.kind != "ambient") if light.shadow is not None]
+    if world.render.mode not in ("shadow", "light_depth"):
+        shadowed.sort(key=lambda item: not motion.shadow_static(item[1]))  # stable: file order otherwise
+    handles = []
+    current = None
+    for state_index, light in shadowed:
+        current = graph.add(ShadowMapPass(state_index, light, atlas, current, dynamic=not motion.shadow_static(light)))
+        handles.append((state_index, current))
+    return handles
+
+
+def _add_view(graph, mode, world, gbuffer, ao, shadow_handles, atlas, size, dynamic):
+    if mode == "depth":
+        return graph.add(DepthViewPass(gbuffer, size, dynamic))
+    if mode == "normals":
+        return graph.add(NormalsViewPass(gbuffer, size, dynamic))
+    if mode == "ambient_occlusion":
+        return graph.add(AmbientOcclusionViewPass(ao, size, dynamic))
+    light_index, handle = shadow_handles[0]
+    if mode == "shadow":
+        return graph.add(ShadowFactorViewPass(handle, size, light_index, dynamic))
+    return graph.add(LightDepthViewPass(handle, size, light_index, atlas.size, dynamic))

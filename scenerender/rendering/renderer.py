@@ -1,0 +1,164 @@
+"""The renderer: one GL context, one compiled graph and one GpuScene for a whole run."""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, replace
+from time import perf_counter
+
+import numpy as np
+
+from scenerender.gpu.depth import DepthConvention, depth_convention
+from scenerender.gpu.resources import GL_FRAMEBUFFER_SRGB, FramebufferCache, allocate
+from scenerender.gpu.shaders import ProgramCache
+from scenerender.rendering.context import PassContext
+from scenerender.rendering.features import SceneFeatures
+from scenerender.rendering.motion import analyse
+from scenerender.rendering.pipeline import GraphOptions, build_graph
+from scenerender.rendering.profile import CPU_SETUP
+from scenerender.world.frame import FrameEvaluator
+from scenerender.world.shadows import plan_atlas
+
+
+# Debug switch: "1" fails a render whose linear colour holds NaN or Inf anywhere.
+ENV_CHECK_FINITE = "SCENERENDER_CHECK_FINITE"
+
+
+class NonFiniteOutput(RuntimeError):
+    """A frame's linear colour held NaN or Inf (checked with SCENERENDER_CHECK_FINITE=1).
+    Not bad input: a shading bug, or a value too large for the 16-bit float target."""
+
+
+def check_finite_enabled() -> bool:
+    return os.environ.get(ENV_CHECK_FINITE, "0").strip() not in ("", "0")
+
+
+def first_non_finite(linear: np.ndarray) -> str | None:
+    """None when every value of ``linear`` (H, W, 3) float is finite, else a description:
+    how many pixels are not, and the first of them (x, y from the top left)."""
+    bad = ~np.isfinite(linear).all(axis=2)
+    if not bad.any():
+        return None
+    y, x = (int(v) for v in np.argwhere(bad)[0])
+    return f"{int(bad.sum())} pixel(s) with NaN or Inf in the linear colour, the first at x {x}, y {y}"
+
+
+@dataclass
+class FrameResult:
+    """pixels: (H, W, 3) uint8 top row first; linear: (H, W, 3) float32 or None."""
+
+    index: int
+    time: float
+    pixels: np.ndarray
+    linear: np.ndarray | None = None
+
+
+class GLBackend:
+    """Executes passes on the GL context with the graph's resources."""
+
+    def __init__(self, gl, scene, programs, features, resources, timings: dict | None = None, depth=None):
+        self.gl = gl
+        self.depth = depth if depth is not None else DepthConvention(False)
+        self.timings = timings  # pass name -> list of seconds, when profiling
+        self.scene = scene
+        self.programs = programs
+        self.features = features
+        self.resources = resources
+        self.framebuffers = FramebufferCache(gl)
+        self.outputs: dict = {}
+
+    def execute(self, render_pass, frame) -> None:
+        ctx = PassContext(self.gl, frame, self.scene, self.programs, self.features, self.resources,
+                          self.framebuffers, self.outputs, self.depth)
+        if self.timings is None:
+            render_pass.execute(ctx)
+            return
+        # profiling: wait for the GPU around each pass so its time is its own
+        self.gl.finish()
+        started = perf_counter()
+        render_pass.execute(ctx)
+        self.gl.finish()
+        self.timings.setdefault(render_pass.name, []).append(perf_counter() - started)
+
+
+def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: bool = False, warn=None,
+         tuning: dict | None = None):
+    """Everything decided before GL work: atlas layout, motion, the compiled graph.
+
+    Returns (atlas, motion, compiled graph). Needs no GL context, so ``scenerender graph``
+    and the tests can inspect a scene's graph anywhere. ``tuning``: GraphOptions fields
+    that override the builder's per-scene choices (benchmarks compare them).
+    """
+    atlas = plan_atlas(world.lights, max_texture_size, warn)
+    motion = analyse(world)
+    graph = build_graph(world, atlas, motion, GraphOptions(tuple(size), samples, want_linear, **(tuning or {})))
+    return atlas, motion, graph.compile()
+
+
+class Renderer:
+    """Renders frames of one World at one size. Create once, call ``render`` per frame."""
+
+    def __init__(self, world, gl, size=None, samples=None, warn=None, want_linear: bool = False,
+                 profile: bool = False, cache_static_passes: bool = True, tuning: dict | None = None):
+        render = world.render
+        self.world = world
+        self.gl = gl
+        self.size = tuple(size or render.size)
+        wanted = samples if samples is not None else render.samples
+        self.samples = min(wanted, gl.max_samples) if wanted > 1 else 1
+        if self.samples < wanted and warn is not None:
+            warn(f"render.samples {wanted} is more than this device offers; using {self.samples}")
+        max_size = int(gl.info.get("GL_MAX_TEXTURE_SIZE", 16384))
+        # the finite check reads the linear (float) colour back, whether the caller wants it or not
+        self.check_finite = check_finite_enabled()
+        self.want_linear = want_linear
+        self.atlas, self.motion, self.compiled = plan(world, self.size, self.samples, max_size,
+                                                      want_linear or self.check_finite, warn, tuning)
+        self.features = SceneFeatures.of(world, self.samples)
+        # encode linear -> sRGB on writes to (only) sRGB-format targets, decode for blending
+        gl.enable_direct(GL_FRAMEBUFFER_SRGB)
+        self.programs = ProgramCache(gl)
+        from scenerender.rendering.scene_gpu import GpuScene
+
+        self.scene = GpuScene(gl, world, self.atlas)
+        self.depth = depth_convention(gl)
+        resources = {index: allocate(gl, desc, self.depth) for index, _, desc in self.compiled.resources()}
+        self.timings: dict | None = {} if profile else None
+        self.backend = GLBackend(gl, self.scene, self.programs, self.features, resources, self.timings, self.depth)
+        self.evaluator = FrameEvaluator(world, self.size, self.atlas, max_depth_ratio=self.depth.max_depth_ratio)
+        self.cache_static_passes = cache_static_passes  # off only to measure what caching saves
+        self._rendered_any = False
+
+    def release(self) -> None:
+        """Free every GL object this renderer made (the context itself stays)."""
+        for resource in self.backend.resources.values():
+            resource.release()
+        self.backend.framebuffers.release()
+        self.programs.release()
+        self.scene.release()
+
+    def frame_time(self, index: int) -> float:
+        """Time of frame ``index`` in seconds: index / fps, in float64."""
+        return index / float(self.world.output.fps)
+
+    def render(self, index: int) -> FrameResult:
+        time = self.frame_time(index)
+        started = perf_counter()
+        frame = self.evaluator.evaluate(index, time)
+        frame.camera = replace(frame.camera, projection=self.depth.camera_projection(frame.camera.projection))
+        self.scene.upload(frame)
+        if self.timings is not None:
+            self.timings.setdefault(CPU_SETUP, []).append(perf_counter() - started)
+        first = not self._rendered_any or not self.cache_static_passes
+        self.depth.begin_frame()
+        try:
+            self.compiled.run_frame(self.backend, frame, first=first)
+        finally:
+            self.depth.end_frame()
+        self._rendered_any = True
+        outputs = self.backend.outputs
+        pixels, linear = outputs.pop("pixels"), outputs.pop("linear", None)
+        if self.check_finite and linear is not None:
+            problem = first_non_finite(linear)
+            if problem is not None:
+                raise NonFiniteOutput(f"frame {index}: {problem} ({ENV_CHECK_FINITE} is on)")
+        return FrameResult(index, time, pixels, linear if self.want_linear else None)

@@ -1,0 +1,21 @@
+// Linear HDR colour -> display values: the exact sRGB transfer function (IEC 61966-2-1,
+// not pow(1/2.2)), a plain gamma, or linear; then 8-bit storage rounds to nearest.
+uniform float u_gamma;
+
+vec3 srgb_encode(vec3 c) {
+    vec3 low = c * 12.92;
+    vec3 high = 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055;
+    return mix(low, high, step(vec3(0.0031308), c));
+}
+
+vec4 encode_output(vec4 c) {
+    vec3 linear = clamp(c.rgb, 0.0, 1.0);
+#if defined(OUTPUT_SRGB)
+    vec3 encoded = srgb_encode(linear);
+#elif defined(OUTPUT_GAMMA)
+    vec3 encoded = pow(linear, vec3(1.0 / u_gamma));
+#else
+    vec3 encoded = linear;
+#endif
+    return vec4(encoded, clamp(c.a, 0.0, 1.0));
+}
