@@ -1,0 +1,346 @@
+"""The CPU reference renderer for ``render.mode: shaded``.
+
+For each pixel, spp x spp stratified (jittered) primary rays; each hit is shaded with
+scenerender.raytrace.shading (the GPU's equations), with exact hard shadows from shadow
+rays to every shadowed light; the samples are averaged in linear light (a box filter, what
+MSAA converges to), then encoded like the output pass. The scene, camera and lights come
+from the same World and frame evaluator the GPU path uses.
+
+Diffuse and specular maps are sampled at the base level, bilinearly, for every sample
+(scenerender.raytrace.textures). What it leaves out (one warning line names what a scene
+has of it): normal and opacity maps, screen-space ambient occlusion, transparency (every
+surface is opaque), outlines, the skybox (the background colour shows), the wireframe
+overlay.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.errors import UserError
+from scenerender.raytrace import shading
+from scenerender.raytrace.geometry import Soup, frame_soup
+from scenerender.raytrace.rays import TriangleCaster
+from scenerender.raytrace.textures import MapSampler
+from scenerender.scene.messages import single_error
+from scenerender.world.frame import FrameEvaluator
+
+# Samples shaded at once; bounds the memory of one chunk to a few hundred MB.
+_CHUNK_SAMPLES = 400_000
+
+
+@dataclass
+class ReferenceFrame:
+    """One reference frame.
+
+    linear:   (H, W, 3) float32 mean of the samples' linear colour (unclamped).
+    pixels:   (H, W, 3) uint8 display-encoded, as the scene's output transform says.
+    shadow:   (H, W, S) float32 per shadowed light (S of them, in scene order), the fraction
+              of the pixel's samples blocked from it; samples facing away from the light or
+              missing the scene count as not blocked.
+    cone:     (H, W, C) float32 per spot light, the mean spot-cone factor of the samples.
+    object:   (H, W) int32 scene-object index seen by the pixel's middle sample, -1 for none.
+    mixed:    (H, W) bool: the pixel's samples see more than one object (or background), or
+              surfaces facing more than ~25 degrees apart (an edge of one object).
+    spp:      samples per pixel along each axis.
+    """
+
+    index: int
+    time: float
+    linear: np.ndarray
+    pixels: np.ndarray
+    shadow: np.ndarray
+    cone: np.ndarray
+    object: np.ndarray
+    mixed: np.ndarray
+    spp: int
+
+
+def unsupported_features(world) -> list[str]:
+    """Names of what ``world`` uses that the reference draws without."""
+    render = world.render
+    found = []
+    if any("normal_map" in m.maps for m in world.materials()):
+        found.append("normal maps")
+    if any("opacity_map" in m.maps for m in world.materials()):
+        found.append("opacity maps")
+    if render.ambient_occlusion is not None:
+        found.append("ambient occlusion")
+    if any(m.transparent for m in world.materials()):
+        found.append("transparency")
+    if any(obj.outline for obj in world.objects):
+        found.append("outlines")
+    if render.skybox is not None:
+        found.append("skybox")
+    if render.wireframe_overlay:
+        found.append("wireframe overlay")
+    return found
+
+
+def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None = None,
+                     warn=None) -> ReferenceFrame:
+    """Frame ``index`` of ``world`` (a World or a scenerender.Scene), spp x spp rays a pixel.
+
+    size: (width, height), default the scene's render.size. ``warn`` receives one line
+    naming what the reference leaves out, when the scene has any of it."""
+    world = getattr(world, "_world", world)
+    if world.render.mode != "shaded":
+        raise single_error(f"the reference renders mode 'shaded' only, not '{world.render.mode}'",
+                           ("render", "mode"), world.scene.source)
+    if spp < 1:
+        raise UserError(f"spp must be at least 1, got {spp}")
+    missing = unsupported_features(world)
+    if missing and warn is not None:
+        warn(f"the reference renders without {', '.join(missing)}")
+    width, height = size or tuple(int(v) for v in world.render.size)
+    time = index / float(world.output.fps)
+    frame = FrameEvaluator(world, (width, height), atlas=None).evaluate(index, time)
+    scene = _FrameScene(world, frame, warn)
+    rng = np.random.Generator(np.random.PCG64(index))
+    rows_per_chunk = max(1, _CHUNK_SAMPLES // (width * spp * spp))
+    chunks = [scene.render_rows(y0, min(height, y0 + rows_per_chunk), width, height, spp, rng)
+              for y0 in range(0, height, rows_per_chunk)]
+    linear, shadow, cone, objects, mixed = (np.concatenate(parts) for parts in zip(*chunks))
+    pixels = shading.encode_output(linear, world.render.output_transform, world.render.gamma)
+    return ReferenceFrame(index, time, linear.astype(np.float32), pixels, shadow, cone, objects, mixed, spp)
+
+
+class _FrameScene:
+    """One frame's geometry, lights and materials, ready to shade samples."""
+
+    def __init__(self, world, frame, warn):
+        self.world = world
+        self.frame = frame
+        self.soup: Soup = frame_soup(world, frame)
+        self.primary = TriangleCaster(self.soup.corners, warn)
+        self.casters = TriangleCaster(self.soup.corners[self.soup.casts], warn)
+        self.lights = list(frame.lights)
+        self.shadowed = [i for i, light in enumerate(self.lights) if light.definition.shadow is not None]
+        self.spots = [i for i, light in enumerate(self.lights) if light.kind == "spot"]
+        self.table = _material_table(self.soup.materials)
+        self.maps = _material_maps(self.soup.materials, world.images)
+        self.model = world.render.shading
+        extent = frame.bounds[1] - frame.bounds[0] if frame.bounds is not None else np.ones(3)
+        self.extent = max(float(np.linalg.norm(extent)), 1e-9)
+        self.depth_range = _depth_range(world, frame.camera)
+
+    # -- rays -----------------------------------------------------------------------------
+    def render_rows(self, y0: int, y1: int, width: int, height: int, spp: int, rng):
+        """Rows y0..y1-1: (linear (h, W, 3), shadow (h, W, S), cone (h, W, C), object (h, W),
+        mixed (h, W))."""
+        rows = y1 - y0
+        sx, sy = _sample_positions(rows, width, spp, rng)          # (rows, W, n) pixel coords
+        sy = sy + y0
+        ndc_x = 2.0 * sx / width - 1.0
+        ndc_y = 1.0 - 2.0 * sy / height
+        origins, directions = self._camera_rays(ndc_x.reshape(-1), ndc_y.reshape(-1))
+        color, shadow, cone, objects, normals = self._trace(origins, directions)
+        n = spp * spp
+        shape = (rows, width, n)
+        color = color.reshape(shape + (3,)).mean(axis=2)
+        shadow = shadow.reshape(shape + (-1,)).mean(axis=2)
+        cone = cone.reshape(shape + (-1,)).mean(axis=2)
+        objects = objects.reshape(shape)
+        mixed = np.any(objects != objects[:, :, :1], axis=2) | _creased(normals.reshape(shape + (3,)))
+        return color, shadow.astype(np.float32), cone.astype(np.float32), objects[:, :, n // 2], mixed
+
+    def _camera_rays(self, ndc_x: np.ndarray, ndc_y: np.ndarray):
+        """Camera-relative (origins (R, 3), directions (R, 3)); a perspective direction has
+        view depth 1, so a hit's ray parameter is its view depth."""
+        camera = self.frame.camera
+        to_world = camera.rotation.T
+        p = camera.projection
+        if camera.orthographic:
+            local = np.stack([ndc_x / p[0, 0], ndc_y / p[1, 1], np.zeros_like(ndc_x)], axis=1)
+            directions = np.broadcast_to(to_world @ np.array([0.0, 0.0, -1.0]), local.shape).copy()
+            return local @ to_world.T, directions
+        local = np.stack([ndc_x / p[0, 0], ndc_y / p[1, 1], -np.ones_like(ndc_x)], axis=1)
+        return np.zeros_like(local), local @ to_world.T
+
+    def _trace(self, origins: np.ndarray, directions: np.ndarray):
+        near, far = self.depth_range
+        start = origins + directions * near
+        triangles = self.primary.first_hit(start, directions)
+        t = np.full(len(origins), np.inf)
+        hit = triangles >= 0
+        u = v = np.zeros(0)
+        if hit.any():
+            t_hit, u, v = self.primary.hit_parameters(triangles[hit], origins[hit], directions[hit])
+            t[hit] = t_hit
+        in_range = hit & (t <= far)
+        background = self.frame.background[:3]
+        color = np.broadcast_to(background, origins.shape).copy()
+        shadow = np.zeros((len(origins), len(self.shadowed)))
+        cone = np.zeros((len(origins), len(self.spots)))
+        objects = np.full(len(origins), -1, np.int32)
+        normals = np.zeros_like(origins)
+        keep = in_range[hit]
+        rows = np.flatnonzero(in_range)
+        if len(rows):
+            tri = triangles[rows]
+            color[rows], shadow[rows], cone[rows], normals[rows] = self._shade(
+                tri, origins[rows] + directions[rows] * t[rows, None], directions[rows], u[keep], v[keep])
+            objects[rows] = self.soup.object[tri]
+        return color, shadow, cone, objects, normals
+
+    # -- shading --------------------------------------------------------------------------
+    def _shade(self, tri: np.ndarray, p: np.ndarray, ray: np.ndarray, u: np.ndarray, v: np.ndarray):
+        """Colour (P, 3), shadow flags (P, S), cone factors (P, C) and shading normals
+        (P, 3) at hit points ``p`` (camera-relative (P, 3)) on triangles ``tri`` (P,),
+        barycentric (u, v)."""
+        soup, table = self.soup, self.table
+        corners = soup.corners[tri]
+        geometric = shading.safe_normalize(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
+        vn = soup.normals[tri]
+        interpolated = vn[:, 0] * (1.0 - u - v)[:, None] + vn[:, 1] * u[:, None] + vn[:, 2] * v[:, None]
+        n = shading.safe_normalize(interpolated, geometric)
+        # two-sided, as gl_FrontFacing: a face seen from behind uses the flipped normal
+        back = np.sum(geometric * ray, axis=1) > 0.0
+        n = np.where(back[:, None], -n, n)
+        facing = np.where(back[:, None], -geometric, geometric)
+        view = shading.safe_normalize(-p, n)
+        m = soup.material[tri]
+        base, ka, ks, ke = table["diffuse"][m], table["ambient"][m], table["specular"][m], table["emissive"][m]
+        if self.maps:
+            base, ks = self._apply_maps(m, soup.uvs[tri], u, v, base, ks)
+        shininess = table["shininess"][m]
+        color = shading.ambient_term(self.frame.ambient, ka, base) + ke
+        shadow = np.zeros((len(p), len(self.shadowed)))
+        cone = np.zeros((len(p), len(self.spots)))
+        for light_index, light in enumerate(self.lights):
+            l, radiance, in_cone = self._light_at(light, p, n)
+            if light.kind == "spot":
+                cone[:, self.spots.index(light_index)] = in_cone
+            if light_index in self.shadowed:
+                blocked = self._blocked(light, p, l, facing, n)
+                shadow[:, self.shadowed.index(light_index)] = blocked
+                radiance = radiance * (~blocked)[:, None]
+            color += shading.direct_term(n, l, view, radiance, base, ks, shininess, self.model)
+        unlit = table["unlit"][m]
+        color = np.where(unlit[:, None], base + ke, color)
+        fog = self.world.render.fog
+        if fog is not None:
+            color = shading.apply_fog(color, np.linalg.norm(p, axis=1), self.frame.fog_color, fog.mode,
+                                      self.frame.fog_density, fog.start, fog.end)
+        return color, shadow, cone, n
+
+    def _apply_maps(self, m: np.ndarray, corner_uvs: np.ndarray, u: np.ndarray, v: np.ndarray,
+                    base: np.ndarray, ks: np.ndarray):
+        """base and Ks (P, 3) times the diffuse and specular maps of each point's material."""
+        uv = corner_uvs[:, 0] * (1.0 - u - v)[:, None] + corner_uvs[:, 1] * u[:, None] + corner_uvs[:, 2] * v[:, None]
+        base, ks = base.copy(), ks.copy()
+        for material_index, samplers in self.maps.items():
+            rows = np.flatnonzero(m == material_index)
+            if not len(rows):
+                continue
+            if "diffuse_map" in samplers:
+                base[rows] *= samplers["diffuse_map"].sample(uv[rows])[:, :3]
+            if "specular_map" in samplers:
+                ks[rows] *= samplers["specular_map"].sample(uv[rows])[:, :3]
+        return base, ks
+
+    def _light_at(self, light, p: np.ndarray, n: np.ndarray):
+        """(l (P, 3) unit towards the light, radiance (P, 3), cone factor (P,))."""
+        if light.kind == "directional":
+            l = np.broadcast_to(-light.direction, p.shape)
+            return l, np.broadcast_to(light.color, p.shape), np.ones(len(p))
+        to_light = (light.position - self.frame.camera.position)[None, :] - p
+        distance = np.linalg.norm(to_light, axis=1)
+        l = shading.safe_normalize(to_light, n)
+        radiance = light.color[None, :] * shading.attenuation(light.definition.attenuation, distance)[:, None]
+        cone = np.ones(len(p))
+        if light.kind == "spot":
+            cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1))
+            radiance = radiance * cone[:, None]
+        return l, radiance, cone
+
+    def _blocked(self, light, p: np.ndarray, l: np.ndarray, facing: np.ndarray, n: np.ndarray) -> np.ndarray:
+        """(P,) bool: a shadow caster lies between each lit point and ``light``. Points not
+        facing the light (N.L <= 0) get no light anyway and count as not blocked."""
+        lit = np.sum(n * l, axis=1) > 0.0
+        blocked = np.zeros(len(p), bool)
+        rows = np.flatnonzero(lit)
+        if not len(rows):
+            return blocked
+        # leave the surface on the light's side: float32 in the engine must not re-hit it
+        side = np.sign(np.sum(facing[rows] * l[rows], axis=1))[:, None]
+        epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p[rows], axis=1)
+        origins = p[rows] + facing[rows] * side * epsilon[:, None]
+        directions = l[rows]
+        triangles = self.casters.first_hit(origins, directions)
+        hits = triangles >= 0
+        if light.kind == "directional":
+            blocked[rows[hits]] = True
+            return blocked
+        reach = np.linalg.norm((light.position - self.frame.camera.position)[None, :] - origins, axis=1)
+        t = np.full(len(rows), np.inf)
+        if hits.any():
+            t[hits] = self.casters.hit_parameters(triangles[hits], origins[hits], directions[hits])[0]
+        blocked[rows] = t < reach
+        return blocked
+
+
+def _material_table(materials: list) -> dict:
+    """Per-material arrays gathered by triangle: (K, 3) colours, (K,) shininess and unlit."""
+    if not materials:
+        materials = [(None, {"ambient": np.ones(3), "diffuse": np.ones(4), "specular": np.zeros(3),
+                             "emissive": np.zeros(3), "shininess": 1.0})]
+    values = [v for _, v in materials]
+    return {
+        "ambient": np.array([v["ambient"][:3] for v in values], dtype=np.float64),
+        "diffuse": np.array([v["diffuse"][:3] for v in values], dtype=np.float64),
+        "specular": np.array([v["specular"][:3] for v in values], dtype=np.float64),
+        "emissive": np.array([v["emissive"][:3] for v in values], dtype=np.float64),
+        "shininess": np.array([v["shininess"] for v in values], dtype=np.float64),
+        "unlit": np.array([bool(getattr(m, "unlit", False)) for m, _ in materials]),
+    }
+
+
+def _material_maps(materials: list, images) -> dict:
+    """{material index: {"diffuse_map" / "specular_map": MapSampler}} for the materials that
+    have those maps."""
+    maps = {}
+    for index, (material, _) in enumerate(materials):
+        samplers = {key: MapSampler.for_source(material.maps[key], material, images)
+                    for key in ("diffuse_map", "specular_map") if key in material.maps}
+        if samplers:
+            maps[index] = samplers
+    return maps
+
+
+def _depth_range(world, camera) -> tuple[float, float]:
+    """(near, far) ray-parameter range: the scene's explicit clip planes, else everything in
+    front of the camera (an ideal camera has no depth buffer to protect); orthographic
+    cameras keep the planes the frame evaluator fitted (they may lie behind the eye)."""
+    spec = world.spec.camera
+    near = 0.0
+    far = np.inf
+    if camera.orthographic:
+        return camera.near, camera.far
+    if spec is not None and spec.near != "auto":
+        near = float(spec.near)
+    if spec is not None and spec.far != "auto":
+        far = float(spec.far)
+    return near, far
+
+
+def _creased(normals: np.ndarray, cos_limit: float = 0.9) -> np.ndarray:
+    """(rows, W) bool: a pixel's samples face directions more than ~25 degrees apart (a
+    box's edge, a cylinder's rim): a shading discontinuity inside one object.
+    normals: (rows, W, n, 3), zero for samples that miss."""
+    mean = normals.sum(axis=2, keepdims=True)
+    mean = mean / np.maximum(np.linalg.norm(mean, axis=3, keepdims=True), 1e-12)
+    cosines = np.sum(normals * mean, axis=3)
+    hit = np.any(normals != 0.0, axis=3)
+    return np.any(hit & (cosines < cos_limit), axis=2)
+
+
+def _sample_positions(rows: int, width: int, spp: int, rng):
+    """Jittered stratified sample positions in pixel units: two (rows, W, spp*spp) arrays,
+    one sample in each cell of an spp x spp grid per pixel."""
+    cells = (np.arange(spp * spp) % spp, np.arange(spp * spp) // spp)
+    jitter = rng.random((2, rows, width, spp * spp))
+    x = np.arange(width)[None, :, None] + (cells[0][None, None, :] + jitter[0]) / spp
+    y = np.arange(rows)[:, None, None] + (cells[1][None, None, :] + jitter[1]) / spp
+    return x, y

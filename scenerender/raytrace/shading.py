@@ -1,0 +1,114 @@
+"""The shading equations of ``render.mode: shaded``, once, in NumPy.
+
+This is the lighting model of docs/scene-notes.md ("Lighting model"), the same formulas the
+GPU evaluates in shaders/lighting/*.glsl, written for arrays of surface points so the
+reference renderer can shade every sample of a frame at once. Tests hold both
+implementations to each other (tests/test_raytrace_shading.py).
+
+Conventions: every function is vectorised over a leading axis of P points; vectors are
+float64 arrays of shape (P, 3), scalars per point (P,). Light directions are the way light
+travels; ``l`` below is the unit vector from the point towards the light.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+def safe_normalize(v: np.ndarray, fallback: np.ndarray | None = None) -> np.ndarray:
+    """(P, 3) float64 -> unit vectors; rows with squared length <= 1e-20 become ``fallback``
+    ((P, 3) or (3,), default +Y), so no NaN ever leaves here, as in shaders/common/math.glsl."""
+    length2 = np.sum(v * v, axis=-1, keepdims=True)
+    if fallback is None:
+        fallback = np.array([0.0, 1.0, 0.0])
+    fallback = np.broadcast_to(fallback, v.shape)
+    ok = length2 > 1e-20
+    return np.where(ok, v / np.sqrt(np.where(ok, length2, 1.0)), fallback)
+
+
+def attenuation(coefficients, distance: np.ndarray) -> np.ndarray:
+    """1 / (c + l d + q d^2) for (3,) coefficients (c, l, q) and (P,) distances -> (P,)."""
+    c, linear, quadratic = (float(x) for x in coefficients)
+    return 1.0 / np.maximum(c + linear * distance + quadratic * distance * distance, 1e-6)
+
+
+def spot_cone(cos_inner: float, cos_outer: float, cos_angle: np.ndarray) -> np.ndarray:
+    """(P,) cone factor: 1 inside the inner cone, 0 outside the outer, smoothstep between;
+    ``cos_inner == cos_outer`` is a hard edge (a point exactly on it is lit)."""
+    width = cos_inner - cos_outer
+    if width <= 0.0:
+        return (cos_angle >= cos_outer).astype(np.float64)
+    x = np.clip((cos_angle - cos_outer) / width, 0.0, 1.0)
+    return x * x * (3.0 - 2.0 * x)
+
+
+def specular_lobe(n: np.ndarray, l: np.ndarray, v: np.ndarray, shininess: np.ndarray,
+                  model: str) -> np.ndarray:
+    """(P,) lobe: (R.V)^Ns for ``model`` "phong", (N.H)^Ns for "blinn_phong"; 0 where the
+    cosine is not positive, so Ns = 0 gives a flat lobe, never NaN.
+
+    n, l, v: (P, 3) unit vectors; shininess: (P,) or scalar."""
+    if model == "phong":
+        reflected = 2.0 * np.sum(n * l, axis=-1, keepdims=True) * n - l
+        c = np.sum(reflected * v, axis=-1)
+    else:
+        c = np.sum(n * safe_normalize(l + v, n), axis=-1)
+    positive = c > 0.0
+    return np.where(positive, np.power(np.where(positive, c, 1.0), shininess), 0.0)
+
+
+def direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.ndarray, base: np.ndarray,
+                specular: np.ndarray, shininess: np.ndarray, model: str) -> np.ndarray:
+    """One light's contribution, (P, 3): radiance * (base * max(N.L, 0) + Ks * lobe), and
+    zero where N.L <= 0 (the lobe too: an unlit side has no highlight).
+
+    radiance: (P, 3) light colour x intensity x attenuation x cone x visibility;
+    base, specular: (P, 3) linear Kd (times its map) and Ks; shininess (P,)."""
+    n_dot_l = np.sum(n * l, axis=-1)
+    lit = n_dot_l > 0.0
+    lobe = specular_lobe(n, l, v, shininess, model)
+    term = radiance * (base * n_dot_l[:, None] + specular * lobe[:, None])
+    return np.where(lit[:, None], term, 0.0)
+
+
+def ambient_term(ambient: np.ndarray, ka: np.ndarray, base: np.ndarray) -> np.ndarray:
+    """(P, 3) La * Ka * base: ambient (3,) summed ambient light, ka and base (P, 3)."""
+    return ambient[None, :] * ka * base
+
+
+def fog_visibility(distance: np.ndarray, mode: str, density: float, start: float, end: float) -> np.ndarray:
+    """(P,) fraction of the surface colour that survives fog at eye distance ``distance``:
+    exp(-d rho), exp(-(d rho)^2) or (end - d) / (end - start) clamped to [0, 1]."""
+    if mode == "exp":
+        return np.exp(-distance * density)
+    if mode == "exp2":
+        return np.exp(-(distance * density) ** 2)
+    return np.clip((end - distance) / (end - start), 0.0, 1.0)
+
+
+def apply_fog(color: np.ndarray, distance: np.ndarray, fog_color: np.ndarray, mode: str, density: float,
+              start: float, end: float) -> np.ndarray:
+    """(P, 3) colour mixed towards ``fog_color`` (3,) in linear light."""
+    keep = fog_visibility(distance, mode, density, start, end)[:, None]
+    return fog_color[None, :] * (1.0 - keep) + color * keep
+
+
+def srgb_encode(linear: np.ndarray) -> np.ndarray:
+    """The exact sRGB transfer function (IEC 61966-2-1) of values clamped to [0, 1]; any
+    shape, float64 in and out (0..1)."""
+    c = np.clip(linear, 0.0, 1.0)
+    return np.where(c < 0.0031308, c * 12.92, 1.055 * np.power(c, 1.0 / 2.4) - 0.055)
+
+
+def encode_output(linear: np.ndarray, transform: str, gamma: float = 2.2) -> np.ndarray:
+    """Linear colour -> 8-bit display values as the output pass stores them.
+
+    transform: "srgb" | "gamma" | "linear". Any (..., 3) float array -> same shape uint8,
+    rounded to nearest."""
+    c = np.clip(linear, 0.0, 1.0)
+    if transform == "srgb":
+        encoded = srgb_encode(c)
+    elif transform == "gamma":
+        encoded = np.power(c, 1.0 / gamma)
+    else:
+        encoded = c
+    return np.floor(encoded * 255.0 + 0.5).astype(np.uint8)

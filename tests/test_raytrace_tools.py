@@ -1,0 +1,116 @@
+"""The reference's ray engine fallback, the error regions, the Pareto front, and the
+`reference` and `bench` commands."""
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from scenerender.cli import main
+from scenerender.raytrace import bench, rays
+from scenerender.raytrace.quality import region_masks
+from scenerender.raytrace.render import ReferenceFrame
+
+SCENE = """
+render: {size: [40, 30], samples: 4}
+camera: {position: [0, 3, 4], target: [0, 0, 0]}
+lights:
+  - {type: point, position: [1, 3, 1], shadows: {size: 256}}
+objects:
+  - mesh: {primitive: plane, size: 6}
+  - mesh: {primitive: box}
+    position: [0, 0.5, 0]
+"""
+
+
+def test_numpy_fallback_finds_the_hits_embree_finds(monkeypatch):
+    rng = np.random.default_rng(3)
+    triangles = rng.uniform(-1, 1, (40, 3, 3))
+    origins = np.tile([0.0, 0.0, 5.0], (200, 1))
+    directions = np.column_stack([rng.uniform(-0.2, 0.2, (200, 2)), -np.ones(200)])
+    fast = rays.TriangleCaster(triangles).first_hit(origins, directions)
+    monkeypatch.setattr(rays, "embree_available", lambda: False)
+    monkeypatch.setattr(rays, "_SLOW_WARNED", False)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        slow = rays.TriangleCaster(triangles).first_hit(origins, directions)
+    assert any("slow" in str(w.message) for w in caught)
+    assert (fast >= 0).sum() > 50
+    assert np.array_equal(fast, slow)
+
+
+def test_hit_parameters_are_float64_exact():
+    caster = rays.TriangleCaster(np.array([[[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]]) + 1e7)
+    origin = np.array([[1e7 + 0.25, 1e7 + 0.5, 3.0]])
+    t, u, v = caster.hit_parameters(np.array([0]), origin, np.array([[0.0, 0.0, -1.0]]))
+    assert t[0] == pytest.approx(3.0 - 1e7, abs=1e-6) and (u[0], v[0]) == pytest.approx((0.25, 0.5), abs=1e-9)
+
+
+def _frame(shadow: np.ndarray, cone: np.ndarray | None = None, mixed=None) -> ReferenceFrame:
+    h, w = shadow.shape
+    return ReferenceFrame(0, 0.0, np.zeros((h, w, 3), np.float32), np.zeros((h, w, 3), np.uint8),
+                          shadow[:, :, None], np.zeros((h, w, 0)) if cone is None else cone[:, :, None],
+                          np.zeros((h, w), np.int32), np.zeros((h, w), bool) if mixed is None else mixed, 1)
+
+
+def test_shadow_edge_region_follows_the_shadow_boundary():
+    shadow = np.zeros((20, 20))
+    shadow[:, 10:] = 1.0          # a boundary between columns 9 and 10, at a pixel edge
+    masks = region_masks(_frame(shadow), radius=2)
+    columns = np.flatnonzero(masks["shadow_edge"].any(axis=0))
+    assert columns.tolist() == list(range(7, 13))
+    assert not (masks["interior"] & masks["shadow_edge"]).any()
+    assert masks["interior"][:, :7].all() and masks["interior"][:, 13:].all()
+
+
+def test_a_smooth_cone_falloff_is_not_an_edge_but_a_hard_one_is():
+    ramp = np.tile(np.linspace(0, 1, 20), (20, 1))  # 0.05 a pixel
+    hard = (ramp > 0.5).astype(float)
+    assert not region_masks(_frame(np.zeros((20, 20)), ramp))["cone_edge"].any()
+    assert region_masks(_frame(np.zeros((20, 20)), hard))["cone_edge"].any()
+
+
+def test_pareto_front_keeps_only_unbeaten_rows():
+    rows = [bench.BenchRow(bench.Variant(name, "size" if name == "smaller" else "k"), ms, errors={"rmse_linear": err})
+            for name, ms, err in [("fast", 10, 3.0), ("good", 30, 1.0), ("worse", 40, 2.0), ("tie", 30, 1.0),
+                                  ("mid", 20, 2.0), ("smaller", 1, 0.1)]]
+    bench.mark_pareto(rows)
+    # another image size is measured against another reference: it neither joins nor beats
+    assert [r.variant.name for r in rows if r.pareto] == ["fast", "good", "tie", "mid"]
+
+
+def test_reference_command_writes_exr_and_png(tmp_path):
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SCENE)
+    result = CliRunner().invoke(main, ["reference", str(scene), "-o", str(tmp_path / "ref"), "--spp", "2"])
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in (tmp_path / "ref").iterdir()) == ["frame_0000.exr", "frame_0000.png"]
+
+
+def test_reference_command_refuses_other_modes_in_one_line(tmp_path):
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SCENE)
+    result = CliRunner().invoke(main, ["reference", str(scene), "-o", str(tmp_path / "ref"),
+                                       "--set", "render.mode=depth"])
+    assert result.exit_code == 2
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and "render.mode" in lines[0] and "'shaded' only" in lines[0]
+    assert not (tmp_path / "ref").exists()
+
+
+def test_bench_command_writes_table_json_and_plot(gl, tmp_path):
+    scene = tmp_path / "tiny.yaml"
+    scene.write_text(SCENE)
+    result = CliRunner().invoke(main, ["bench", str(scene), "-o", str(tmp_path / "q"), "--knob", "ao",
+                                       "--frames", "1", "--rounds", "1", "--spp", "2", "--json"])
+    assert result.exit_code == 0, result.output
+    rows = json.loads(result.output[result.output.index("["):result.output.rindex("]") + 1])
+    assert [r["name"] for r in rows] == ["default", "ao on"]
+    assert all(r["ms_per_frame"] > 0 and r["rmse_linear"] is not None for r in rows)
+    assert any(r["pareto"] for r in rows)
+    written = sorted(p.name for p in (tmp_path / "q").iterdir())
+    assert written == ["tiny.json", "tiny.md", "tiny.png"]
+    assert (tmp_path / "q" / "tiny.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
