@@ -1,7 +1,7 @@
 # scenerender developer tasks. `make test` is what CI runs (.ci/run).
 PYTHON ?= python3
 
-.PHONY: install test test-fast showcase goldens bench assets clean
+.PHONY: install test test-fast fuzz showcase goldens bench assets clean
 
 install:
 	$(PYTHON) -m pip install --quiet -e '.[test]'
@@ -12,6 +12,12 @@ test: install
 # everything except the tests that need an OpenGL context
 test-fast: install
 	$(PYTHON) -m pytest -q -m "not gl"
+
+# many random scene, OBJ, MTL and image inputs (the normal test run tries a few fixed ones);
+# FUZZ_EXAMPLES per test. Whatever it finds: fix it, then keep the input in tests/corpus/.
+FUZZ_EXAMPLES ?= 5000
+fuzz: install
+	SCENERENDER_FUZZ=1 SCENERENDER_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(PYTHON) -m pytest -q tests/fuzz
 
 showcase: install
 	$(PYTHON) -m scenerender render scenes/showcase.yaml -o out/
@@ -27,4 +33,4 @@ assets:
 	$(PYTHON) scenes/assets/make_assets.py
 
 clean:
-	rm -rf out build dist .pytest_cache tests/output
+	rm -rf out build dist .pytest_cache tests/output .hypothesis
