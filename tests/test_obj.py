@@ -576,3 +576,16 @@ def test_a_gltf_whose_faces_name_missing_vertices_is_a_user_error(tmp_path):
     path = write(tmp_path, "bad.gltf", json.dumps(gltf))
     with pytest.raises(UserError, match="faces refer to vertex 7 but the file has 3 vertices"):
         load_mesh(path, warnings=Warnings())
+
+
+def test_far_texture_coordinates_move_towards_zero_by_whole_even_numbers():
+    from scenerender.mesh.obj import recentred_texcoords
+
+    near = np.array([[0.0, 0.0], [1.5, -3.0]])
+    assert recentred_texcoords(near) is near  # ordinary coordinates are left alone
+    far = np.array([[10000.0, 0.25], [10000.25, 0.5]])
+    moved = recentred_texcoords(far)
+    assert np.array_equal(moved[:, 1], far[:, 1])  # only the far axis moves
+    shift = far[:, 0] - moved[:, 0]
+    assert shift[0] == shift[1] and shift[0] % 2 == 0  # period 2: repeat and mirrored repeat agree
+    assert np.abs(moved[:, 0]).max() < 2

@@ -45,7 +45,7 @@ from scenerender.scene.files import read_regular_file
 
 # Bump whenever the OBJ reader or the normals code would give other arrays for the same
 # file: old entries then stop matching.
-LOADER_VERSION = 1
+LOADER_VERSION = 2
 ENTRY_FORMAT = 1
 # Smaller files parse faster than the hash and the entry read cost; not caching them also
 # keeps the folder free of every small model a user ever opened.

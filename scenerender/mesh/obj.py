@@ -128,6 +128,25 @@ class _Warners:
     libraries: Warnings
 
 
+# Texture coordinates are stored and interpolated in float32: near 1e4 a step is about
+# 1e-3, a sixteenth of a texel of a 64-pixel texture. Beyond this magnitude a mesh's
+# coordinates are moved towards 0 before rounding to float32.
+FAR_TEXCOORD = 256.0
+
+
+def recentred_texcoords(texcoords: np.ndarray) -> np.ndarray:
+    """(N, 2) float64 texture coordinates, shifted per axis by a whole even number when they
+    lie far from 0 (see FAR_TEXCOORD). Repeat and mirrored repeat (period 2) sample exactly
+    the same texels after the shift, with any whole-number texture scale; the shift is what
+    keeps them sharp after the float32 upload."""
+    if len(texcoords) == 0 or np.abs(texcoords).max() <= FAR_TEXCOORD:
+        return texcoords
+    centre = (texcoords.min(axis=0) + texcoords.max(axis=0)) / 2.0
+    shift = 2.0 * np.round(centre / 2.0)
+    shift[np.abs(centre) <= FAR_TEXCOORD] = 0.0
+    return texcoords - shift
+
+
 def _parse_text(text: str, path: Path, shown: str, warners: _Warners, assets: AssetPolicy,
                 budget: TriangleBudget) -> MeshData:
     warnings = warners.obj
@@ -153,7 +172,7 @@ def _parse_text(text: str, path: Path, shown: str, warners: _Warners, assets: As
     if corners.has_vt.any():
         uvs = np.zeros((len(unique_vt), 2), dtype=np.float32)
         named = unique_vt >= 0
-        uvs[named] = texcoords[unique_vt[named]]
+        uvs[named] = recentred_texcoords(texcoords[unique_vt[named]])
     normals = None
     if len(corners.has_vn) and corners.has_vn.all():
         normals = file_normals[unique_vn].astype(np.float32)
