@@ -14,7 +14,6 @@ import stat
 import subprocess
 import sys
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -38,14 +37,7 @@ ANIMATED = ("render: {size: [32, 24], samples: 1}\n"
             "objects:\n"
             "  - mesh: {primitive: box}\n"
             "    rotation: {keys: [[0, [0, 0, 0]], [1, [30, 180, 0]]]}\n")
-W, H = 32, 24
-
-
-@dataclass
-class Frame:
-    index: int
-    pixels: np.ndarray
-    linear: np.ndarray
+from test_sinks import H, W, Frame  # the sinks' synthetic frames
 
 
 def frame(index: int = 0) -> Frame:
