@@ -31,13 +31,14 @@ from scenerender.sinks import images as images_module
 from scenerender.sinks import video as video_module
 from scenerender.sinks.names import name_template_problem
 
+from test_sinks import H, W, Frame  # the sinks' synthetic frames
+
 LAUNCHER = Path(__file__).with_name("fault_launcher.py")
 ANIMATED = ("render: {size: [32, 24], samples: 1}\n"
             "output: {frames: 12, fps: 12}\n"
             "objects:\n"
             "  - mesh: {primitive: box}\n"
             "    rotation: {keys: [[0, [0, 0, 0]], [1, [30, 180, 0]]]}\n")
-from test_sinks import H, W, Frame  # the sinks' synthetic frames
 
 
 def frame(index: int = 0) -> Frame:
