@@ -56,8 +56,9 @@ class SceneRegression:
             raise ValueError("overrides apply when a scene is loaded: pass them to scenerender.load")
         render_to(scene, output, overwrite=True, **options)
         target, root = _only_output(output), self.test_dir / "scene_references" / label
-        if not self.update and not has_references(reference_path(target, root)):
-            pytest.fail(f"scene {label}: no references in {reference_path(target, root)}; run pytest "
+        reference = reference_path(target, root)
+        if not self.update and not has_references(reference):
+            pytest.fail(f"scene {label}: no references in {reference}; run pytest "
                         "--scenerender-update to write them, look at them, and commit them", pytrace=False)
         summary_lines: list[str] = []
         result = check_output(target, root, update=self.update, echo=summary_lines.append, rule=rule)

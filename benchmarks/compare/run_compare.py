@@ -115,8 +115,8 @@ def table(results: dict, sizes) -> str:
         values = results.get((renderer, size, samples), {}).get(key)
         return statistics.median(values) if values else None
 
-    lines = [f"| renderer | size | MSAA | frames/s with PNG writes | vs pyrender | vs floor | frames/s render-only "
-             f"| vs floor | render-only, no MSAA | vs floor | first frame | peak RSS |",
+    lines = ["| renderer | size | MSAA | frames/s with PNG writes | vs pyrender | vs floor | frames/s render-only "
+             "| vs floor | render-only, no MSAA | vs floor | first frame | peak RSS |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for size in sizes:
         for renderer in RENDERERS:

@@ -13,14 +13,11 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, display_path
-from scenerender.world.images import PLACEHOLDER_SIZE, ImageStore, decode_image, placeholder_pixels
+from scenerender.world.images import PLACEHOLDER_SIZE, ImageStore, placeholder_pixels
 
 GL_SRGB8_ALPHA8 = 0x8C43
 
-# Kept for callers of the former GL-side decoder: (H, W, 4) uint8 RGBA, raises UserError.
-read_image = decode_image
-
-__all__ = ["GL_SRGB8_ALPHA8", "PLACEHOLDER_SIZE", "TextureCache", "placeholder_pixels", "read_image"]
+__all__ = ["GL_SRGB8_ALPHA8", "PLACEHOLDER_SIZE", "TextureCache", "placeholder_pixels"]
 
 
 class TextureCache:
