@@ -251,24 +251,45 @@ def schema(output, markdown):
 @_asset_root_option
 @_limit_option
 def graph(scene, dot, sets, size, samples, asset_roots, limit_texts):
-    """Print the render graph SCENE compiles to: passes kept (static ones render once per
-    run), passes culled, and the resources between them. Needs no GL context."""
+    """Print the render graph SCENE compiles to: the world's inputs (static or animated),
+    the passes kept (static ones render once per run, derived from what they read), passes
+    culled, and the images between them. Works without a GL device; where one is at hand,
+    the MSAA samples are what it offers."""
     from scenerender.api import load
-    from scenerender.rendering.renderer import plan
+    from scenerender.rendering.renderer import device_samples, plan
 
     loaded_scene = load(scene, _overrides(sets, size, samples), asset_roots=asset_roots, limits=_limits(limit_texts),
                         on_warning=lambda t: click.echo(t, err=True))
     world = loaded_scene._world
-    render_spec = world.render
-    _, motion, compiled = plan(world, render_spec.size, render_spec.samples)
+    settings = world.settings
+    max_samples = _device_max_samples()
+    used = device_samples(settings.samples, max_samples if max_samples is not None else settings.samples)
+    compiled = plan(world, settings.size, used).compiled
     if dot:
         click.echo(compiled.dot())
         return
-    frames = loaded_scene.frame_count
-    click.echo(f"render graph of {scene}: mode {render_spec.mode}, {render_spec.size[0]}x{render_spec.size[1]}, "
-               f"{frames} frame(s); geometry {'static' if motion.geometry_static else 'animated'}, "
-               f"camera {'static' if motion.camera_static else 'animated'}")
+    msaa = f"{used}x MSAA" if used > 1 else "no MSAA"
+    if used < settings.samples:
+        msaa += f" ({settings.samples} asked; this device offers {max_samples})"
+    elif max_samples is None and settings.samples > 1:
+        msaa += " (no GL device to ask: a device may offer fewer)"
+    click.echo(f"render graph of {scene}: mode {settings.mode}, {settings.size[0]}x{settings.size[1]}, {msaa}, "
+               f"{loaded_scene.frame_count} frame(s)")
     click.echo(compiled.dump())
+
+
+def _device_max_samples() -> int | None:
+    """The MSAA samples the default GL device offers; None when there is no device."""
+    from scenerender.gpu.context import create_context
+
+    try:
+        gl = create_context()
+    except EnvironmentProblem:
+        return None
+    try:
+        return gl.max_samples
+    finally:
+        gl.release()
 
 
 @main.command()

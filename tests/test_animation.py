@@ -137,11 +137,11 @@ def test_gpu_resources_stay_the_same_over_many_frames(gl):
     try:
         renderer.render(0)
         before = (len(renderer.scene._vaos), renderer.programs.count, renderer.scene.textures.count,
-                  len(renderer.backend.framebuffers._fbos), len(renderer.scene._extras))
+                  len(renderer.backend.run.framebuffers._fbos), len(renderer.scene._extras))
         for i in range(1, 40, 3):
             renderer.render(i)
         after = (len(renderer.scene._vaos), renderer.programs.count, renderer.scene.textures.count,
-                 len(renderer.backend.framebuffers._fbos), len(renderer.scene._extras))
+                 len(renderer.backend.run.framebuffers._fbos), len(renderer.scene._extras))
         assert before == after
     finally:
         renderer.release()

@@ -150,7 +150,8 @@ def test_graph_lists_passes(scenes):
     result = cli("graph", "good.yaml")
     assert result.exit_code == 0, result.output
     lines = result.stdout.splitlines()
-    assert lines[0].startswith("render graph of good.yaml: mode shaded, 32x24, 1 frame(s)")
+    assert lines[0].startswith("render graph of good.yaml: mode shaded, 32x24, 4x MSAA")
+    assert lines[0].endswith(", 1 frame(s)")
     for name in ("opaque", "resolve", "output_transform", "readback"):
         assert any(name in line for line in lines), name
 
@@ -160,6 +161,20 @@ def test_graph_size_and_samples_options(scenes):
     assert result.exit_code == 0, result.output
     assert "20x10" in result.stdout.splitlines()[0]
     assert "4x MSAA" not in result.stdout
+
+
+def test_graph_shows_the_samples_the_device_gives(scenes):
+    """64 samples are allowed in a scene, but a device offers fewer: the graph says what runs."""
+    from scenerender.cli import _device_max_samples
+
+    offered = _device_max_samples()
+    result = cli("graph", "good.yaml", "--samples", "64")
+    assert result.exit_code == 0, result.output
+    if offered is not None:
+        assert f"{offered}x MSAA (64 asked; this device offers {offered})" in result.stdout.splitlines()[0]
+        assert "64x MSAA" not in result.stdout
+    else:
+        assert "no GL device to ask" in result.stdout
 
 
 def test_graph_dot(scenes):

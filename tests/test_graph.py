@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from scenerender.errors import Warnings
-from scenerender.graph import FrameGraph, RenderPass, ResourceDesc
+from scenerender.graph import FrameGraph, InputDesc, RenderPass, ResourceDesc
 from scenerender.rendering.renderer import plan
 from scenerender.scene import load_scene
 from scenerender.scene.loading import load_scene_text
@@ -23,34 +23,33 @@ class NullBackend:
     def __init__(self):
         self.log = []
 
-    def execute(self, render_pass, frame):
-        self.log.append((frame, render_pass.name))
+    def execute(self, node, frame):
+        self.log.append((frame, node.render_pass.name))
 
     def ran(self, frame):
         return [name for f, name in self.log if f == frame]
 
 
-class Make(RenderPass):
-    def __init__(self, name, dynamic=True):
-        self.name, self.dynamic = name, dynamic
-
-    def setup(self, builder):
-        return builder.create(self.name + "_out", COLOR)
-
-
 class Use(RenderPass):
     """Reads ``inputs``; writes ``target`` (a new version) or creates its own output."""
 
-    def __init__(self, name, inputs=(), target=None, dynamic=True, side_effect=False):
-        self.name, self.inputs, self.target = name, inputs, target
-        self.dynamic, self.side_effect = dynamic, side_effect
+    def __init__(self, name, inputs=(), target=None, side_effect=False):
+        self.name, self.inputs, self.target, self.side_effect = name, inputs, target, side_effect
 
     def setup(self, builder):
-        for handle in self.inputs:
-            builder.read(handle)
+        builder.read(*self.inputs)
         if self.target is not None:
             return builder.write(self.target)
         return builder.create(self.name + "_out", COLOR)
+
+
+def Make(name, *inputs):
+    return Use(name, inputs)
+
+
+def _inputs(graph):
+    """A static and a dynamic world input."""
+    return graph.import_input("still", InputDesc(False)), graph.import_input("moving", InputDesc(True))
 
 
 def test_passes_no_output_needs_are_culled():
@@ -86,9 +85,10 @@ def test_writing_an_old_version_is_an_error():
 
 def test_static_passes_run_once_and_dynamic_ones_every_frame():
     g = FrameGraph()
-    shadow = g.add(Make("shadow", dynamic=False))
-    sky = g.add(Make("sky", dynamic=False))
-    lit = g.add(Use("forward", [shadow, sky], dynamic=True))
+    still, moving = _inputs(g)
+    shadow = g.add(Make("shadow", still))
+    sky = g.add(Make("sky", still))
+    lit = g.add(Use("forward", [shadow, sky, moving]))
     g.add(Use("present", [lit], side_effect=True))
     compiled = g.compile()
     backend = NullBackend()
@@ -100,11 +100,62 @@ def test_static_passes_run_once_and_dynamic_ones_every_frame():
 
 def test_a_pass_reading_a_dynamic_pass_is_not_static():
     g = FrameGraph()
-    moving = g.add(Make("moving_shadow", dynamic=True))
-    post = g.add(Use("post", [moving], dynamic=False))
+    still, moving = _inputs(g)
+    shadow = g.add(Make("moving_shadow", moving))
+    post = g.add(Use("post", [shadow, still]))
     g.add(Use("present", [post], side_effect=True))
     compiled = g.compile()
     assert not compiled.is_static(compiled.passes[1].render_pass)
+
+
+def test_static_ness_follows_only_from_what_a_pass_reads():
+    g = FrameGraph()
+    still, moving = _inputs(g)
+    a = g.add(Make("reads_still", still))
+    b = g.add(Make("reads_moving", moving))
+    c = g.add(Make("reads_nothing"))
+    g.add(Use("present", [a, b, c], side_effect=True))
+    compiled = g.compile()
+    assert [compiled.is_static(n.render_pass) for n in compiled.passes] == [True, False, True, False]
+    assert compiled.readers("moving") == ["reads_moving"]
+
+
+def test_a_pass_drawn_over_by_a_dynamic_pass_is_not_static():
+    """The outline (dynamic) draws over the opaque image in place: were the opaque pass
+    cached, the outline would draw over its own last frame."""
+    g = FrameGraph()
+    still, moving = _inputs(g)
+    opaque = g.add(Make("opaque", still))
+    outlined = g.add(Use("outline", [moving], target=opaque))
+    g.add(Use("present", [outlined], side_effect=True))
+    compiled = g.compile()
+    assert [compiled.is_static(n.render_pass) for n in compiled.passes] == [False, False, False]
+
+
+def test_writes_to_a_pass_own_region_leave_earlier_results_cached():
+    """Shadow passes share one atlas, each writing only its own tiles."""
+    g = FrameGraph()
+    still, moving = _inputs(g)
+    fixed_light = g.add(Make("shadow:fixed", still))
+
+    class OwnTiles(Use):
+        def setup(self, builder):
+            builder.read(*self.inputs)
+            return builder.write(self.target, own_region=True)
+
+    atlas = g.add(OwnTiles("shadow:moving", [moving], target=fixed_light))
+    g.add(Use("present", [atlas], side_effect=True))
+    compiled = g.compile()
+    assert [compiled.is_static(n.render_pass) for n in compiled.passes] == [True, False, False]
+
+
+def test_inputs_cannot_be_written_and_images_must_be_known_formats():
+    g = FrameGraph()
+    still, _ = _inputs(g)
+    with pytest.raises(ValueError, match="read-only"):
+        g.add(Use("bad", target=still))
+    with pytest.raises(ValueError, match="depth32f"):
+        ResourceDesc("depth", (8, 8), "depth32f")
 
 
 def test_dump_and_dot_name_every_pass():
@@ -121,18 +172,19 @@ def test_dump_and_dot_name_every_pass():
 
 # -- graphs of real scenes -------------------------------------------------------------
 
-def _compiled(path_or_text, overrides=(), tmp_path=None):
+def _world(path_or_text, overrides=(), tmp_path=None):
     if tmp_path is not None:
-        loaded = load_scene_text(path_or_text, tmp_path, overrides)
-    else:
-        loaded = load_scene(path_or_text, list(overrides))
-    world = build_world(loaded, Warnings())
-    size = world.render.size
-    return plan(world, size, world.render.samples)
+        return build_world(load_scene_text(path_or_text, tmp_path, overrides), Warnings())
+    return build_world(load_scene(path_or_text, list(overrides)), Warnings())
+
+
+def _compiled(path_or_text, overrides=(), tmp_path=None):
+    world = _world(path_or_text, overrides, tmp_path)
+    return plan(world, world.settings.size, world.settings.samples).compiled
 
 
 def test_showcase_graph_has_every_feature_pass_and_caches_shadows():
-    _, motion, compiled = _compiled(SCENES / "showcase.yaml")
+    compiled = _compiled(SCENES / "showcase.yaml")
     names = compiled.pass_names
     for name in ("shadow:sun", "shadow:lantern", "gbuffer", "ssao", "ssao_blur", "opaque", "skybox",
                  "outline", "transparent", "resolve+output_transform", "readback"):
@@ -140,7 +192,8 @@ def test_showcase_graph_has_every_feature_pass_and_caches_shadows():
     assert compiled.culled_names == []
     # the camera orbits, nothing else moves: the lantern's shadow map renders once for all
     # 120 frames; the sun's follows the camera, being fitted to the receivers in view
-    assert motion.geometry_static and not motion.camera_static
+    inputs = {name: desc.dynamic for _, name, desc in compiled.inputs()}
+    assert not inputs["objects"] and inputs["camera"]
     static = {n.render_pass.name: compiled.is_static(n.render_pass) for n in compiled.passes
               if n.render_pass.name.startswith("shadow:")}
     assert static == {"shadow:lantern": True, "shadow:sun": False}
@@ -149,13 +202,13 @@ def test_showcase_graph_has_every_feature_pass_and_caches_shadows():
 
 def test_a_plain_scene_gets_only_what_it_uses(tmp_path):
     text = "objects:\n  - mesh: {primitive: box}\n"
-    _, _, compiled = _compiled(text, tmp_path=tmp_path)
+    compiled = _compiled(text, tmp_path=tmp_path)
     assert compiled.pass_names == ["opaque", "resolve+output_transform", "readback"]
 
 
 def test_samples_1_drops_the_resolve(tmp_path):
     text = "render: {samples: 1}\nobjects:\n  - mesh: {primitive: box}\n"
-    _, _, compiled = _compiled(text, tmp_path=tmp_path)
+    compiled = _compiled(text, tmp_path=tmp_path)
     assert compiled.pass_names == ["opaque", "readback"]  # the sRGB target holds the output values
 
 
@@ -163,7 +216,7 @@ def test_gamma_output_resolves_and_transforms_in_one_pass(tmp_path):
     from scenerender.rendering.passes.output import ResolveOutputPass
 
     text = "render: {output_transform: gamma}\nobjects:\n  - mesh: {primitive: box}\n"
-    _, _, compiled = _compiled(text, tmp_path=tmp_path)
+    compiled = _compiled(text, tmp_path=tmp_path)
     assert compiled.pass_names == ["opaque", "resolve+output_transform", "readback"]
     assert isinstance(compiled.passes[1].render_pass, ResolveOutputPass)
 
@@ -172,7 +225,7 @@ def test_linear_output_keeps_the_resolved_hdr_image(tmp_path):
     """EXR reads the resolved linear image, so resolve and output transform stay apart."""
     loaded = load_scene_text("objects:\n  - mesh: {primitive: box}\n", tmp_path, [])
     world = build_world(loaded, Warnings())
-    _, _, compiled = plan(world, world.render.size, 4, want_linear=True)
+    compiled = plan(world, world.render.size, 4, want_linear=True).compiled
     assert compiled.pass_names == ["opaque", "resolve", "output_transform", "readback"]
 
 
@@ -182,10 +235,10 @@ def _opaque(compiled):
 
 def test_depth_prepass_only_where_surfaces_overlap_many_times():
     overdraw = Path(__file__).resolve().parent.parent / "benchmarks" / "scenes" / "overdraw.yaml"
-    assert _opaque(_compiled(overdraw, ["render.samples=1"])[2]).prepass
-    assert not _opaque(_compiled(overdraw)[2]).prepass  # MSAA: hidden fragments are shaded anyway
-    assert not _opaque(_compiled(SCENES / "showcase.yaml", ["render.samples=1"])[2]).prepass
-    assert "depth prepass" in _compiled(overdraw, ["render.samples=1"])[2].dump()
+    assert _opaque(_compiled(overdraw, ["render.samples=1"])).prepass
+    assert not _opaque(_compiled(overdraw)).prepass  # MSAA: hidden fragments are shaded anyway
+    assert not _opaque(_compiled(SCENES / "showcase.yaml", ["render.samples=1"])).prepass
+    assert "depth prepass" in _compiled(overdraw, ["render.samples=1"]).dump()
 
 
 def test_shadow_views_are_compile_time_constants(tmp_path):
@@ -204,19 +257,19 @@ def test_shadow_views_are_compile_time_constants(tmp_path):
 
 
 def test_depth_mode_culls_shading_shadows_and_sky():
-    _, _, compiled = _compiled(SCENES / "showcase.yaml", ["render.mode=depth"])
+    compiled = _compiled(SCENES / "showcase.yaml", ["render.mode=depth"])
     assert compiled.pass_names == ["gbuffer", "view:depth", "readback"]
     assert {"shadow:sun", "opaque", "skybox", "transparent"} <= set(compiled.culled_names)
 
 
 def test_light_depth_mode_keeps_only_the_first_shadowed_light():
-    _, _, compiled = _compiled(SCENES / "foggy_road.yaml", ["render.mode=light_depth"])
+    compiled = _compiled(SCENES / "foggy_road.yaml", ["render.mode=light_depth"])
     assert compiled.pass_names == ["shadow:moon", "view:light_depth", "readback"]
     assert "shadow:streetlight_far" in compiled.culled_names
 
 
 def test_moving_light_makes_its_shadow_dynamic_but_not_the_others():
-    _, motion, compiled = _compiled(SCENES / "primitives.yaml")
+    compiled = _compiled(SCENES / "primitives.yaml")
     by_name = {n.render_pass.name: n.render_pass for n in compiled.passes}
     assert compiled.is_static(by_name["shadow:key"])
     assert not compiled.is_static(by_name["shadow:mover"])
@@ -225,8 +278,8 @@ def test_moving_light_makes_its_shadow_dynamic_but_not_the_others():
 def test_static_scene_renders_camera_passes_once_over_many_frames(tmp_path):
     text = ("output: {frames: 5}\nlights: [{type: directional, shadows: true}]\n"
             "objects:\n  - mesh: {primitive: sphere}\n")
-    _, motion, compiled = _compiled(text, tmp_path=tmp_path)
-    assert motion.everything_static
+    compiled = _compiled(text, tmp_path=tmp_path)
+    assert not any(desc.dynamic for _, _, desc in compiled.inputs())
     backend = NullBackend()
     for frame in range(5):
         compiled.run_frame(backend, frame, first=frame == 0)
@@ -237,5 +290,5 @@ def test_static_scene_renders_camera_passes_once_over_many_frames(tmp_path):
 def test_every_scene_compiles_in_every_mode():
     for scene in sorted(SCENES.glob("*.yaml")):
         for mode in ("shaded", "depth", "normals", "wireframe", "points", "ambient_occlusion", "shadow", "light_depth"):
-            _, _, compiled = _compiled(scene, [f"render.mode={mode}"])
+            compiled = _compiled(scene, [f"render.mode={mode}"])
             assert compiled.pass_names[-1] == "readback", (scene.name, mode)

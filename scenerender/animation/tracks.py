@@ -130,3 +130,42 @@ def shared_constant(value, kind: str = "float") -> Track:
             _SHARED_CONSTANTS.clear()
         _SHARED_CONSTANTS[key] = track
     return track
+
+
+def animated_keys(value, skip: tuple = ()) -> list[str]:
+    """The key paths under ``value`` whose Track changes over time, e.g. ["position", "fov"].
+
+    Looks through Tracks, dataclasses, pydantic models, lists, tuples and dicts at any
+    depth, so a key added to a model later is found without being listed anywhere.
+    ``skip``: field names not to look into at the top level (values that are separate
+    inputs, such as an object's materials).
+    """
+    found = []
+    seen = set()
+    stack = [("", value, skip)]
+    while stack:
+        path, item, skipped = stack.pop()
+        if isinstance(item, Track):
+            if not item.is_constant:
+                found.append(path or "(value)")
+            continue
+        if id(item) in seen:
+            continue
+        seen.add(id(item))
+        stack.extend((f"{path}.{key}" if path and not key.startswith("[") else f"{path}{key}", child, ())
+                     for key, child in reversed(_children(item)) if key not in skipped)
+    return found
+
+
+def _children(item) -> list:
+    """(key, value) pairs of a container worth looking into; [] for plain values."""
+    if isinstance(item, (list, tuple)):
+        return [(f"[{i}]", v) for i, v in enumerate(item)]
+    if isinstance(item, dict):
+        return [(f"[{k!r}]", v) for k, v in item.items()]
+    fields = getattr(type(item), "model_fields", None)  # a pydantic model
+    if fields is None:
+        fields = getattr(type(item), "__dataclass_fields__", None)
+    if isinstance(fields, dict):
+        return [(name, getattr(item, name, None)) for name in fields]
+    return []

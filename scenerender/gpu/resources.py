@@ -12,18 +12,17 @@ _COLOR_FORMATS = {  # format -> (components, dtype, internal format or None for 
     # encode and blending decodes in the driver, and sampling returns linear values
     "srgba8": (4, "f1", GL_SRGB8_ALPHA8),
     "rgba16f": (4, "f2", None),
-    "rg16f": (2, "f2", None),
     "r8": (1, "f1", None),
-    "r16f": (1, "f2", None),
 }
 
 
 def allocate(ctx, desc, depth_convention=None):
     """A moderngl texture or renderbuffer for a ``graph.ResourceDesc``.
 
+    Makes every format the graph offers (graph.COLOR_FORMATS, graph.DEPTH_FORMATS).
     "camera_depth" is the depth format ``depth_convention`` (gpu.depth.DepthConvention)
-    picks for the device. "depth32f" targets are renderbuffers whose storage the
-    convention turns into 32-bit float: they are only ever attached, never sampled."""
+    picks for the device: 24-bit, or 32-bit float renderbuffers whose storage the
+    convention sets up (only ever attached, never sampled)."""
     size = tuple(int(v) for v in desc.size)
     multisampled = desc.samples > 1
     depth_format = desc.format

@@ -1,30 +1,97 @@
-"""What a pass's ``execute`` receives: the GL context, the frame, and resource lookups."""
+"""What a pass's ``execute`` receives: the GL state of the run, and the resources its
+``setup`` declared, nothing else."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from scenerender.graph import Handle
+from scenerender.graph import Handle, UndeclaredResource
+
+if TYPE_CHECKING:
+    import moderngl
+
+    from scenerender.gpu.depth import DepthConvention
+    from scenerender.gpu.resources import FramebufferCache
+    from scenerender.gpu.shaders import ProgramCache
+    from scenerender.rendering.features import SceneFeatures
+    from scenerender.rendering.scene_gpu import GpuScene
 
 
-@dataclass
+@dataclass(frozen=True)
+class RunState:
+    """What stays the same for every pass of a run: the context and the caches on it."""
+
+    gl: moderngl.Context
+    programs: ProgramCache
+    features: SceneFeatures
+    depth: DepthConvention
+    framebuffers: FramebufferCache
+    gpu: GpuScene
+
+
+@dataclass(frozen=True)
 class PassContext:
-    gl: object          # moderngl.Context
-    frame: object       # world.frame.FrameState
-    scene: object       # render.scene_gpu.GpuScene
-    programs: object    # gpu.shaders.ProgramCache
-    features: object    # render.features.SceneFeatures
-    resources: dict     # resource index -> moderngl texture/renderbuffer
-    framebuffers: object  # gpu.resources.FramebufferCache
-    outputs: dict       # what side-effect passes leave for the executor (e.g. "pixels")
-    depth: object = None  # gpu.depth.DepthConvention of the camera passes
+    """One pass's view of one frame.
 
-    def resource(self, handle: Handle):
-        return self.resources[handle.resource]
+    images:  resource index -> moderngl texture or renderbuffer, for every image of the run.
+    inputs:  resource index -> this frame's value of every world input.
+    outputs: what side-effect passes leave for the renderer (e.g. "pixels").
+    Only the indices in ``declared`` resolve; anything else raises UndeclaredResource.
+    """
 
-    def framebuffer(self, colors, depth: Handle | None = None):
-        return self.framebuffers.get(tuple(self.resource(h) for h in colors),
-                                     self.resource(depth) if depth is not None else None)
+    run: RunState
+    pass_name: str
+    declared: frozenset
+    images: dict
+    inputs: dict
+    outputs: dict
 
     @property
-    def world(self):
-        return self.scene.world
+    def gl(self) -> moderngl.Context:
+        return self.run.gl
+
+    @property
+    def programs(self) -> ProgramCache:
+        return self.run.programs
+
+    @property
+    def features(self) -> SceneFeatures:
+        return self.run.features
+
+    @property
+    def depth(self) -> DepthConvention:
+        """The depth convention of the passes drawn from the camera."""
+        return self.run.depth
+
+    def image(self, handle: Handle):
+        """The texture or renderbuffer of a declared image."""
+        self._check(handle, self.images, "image")
+        return self.images[handle.resource]
+
+    def input(self, handle: Handle):
+        """This frame's value of a declared world input (rendering.inputs)."""
+        self._check(handle, self.inputs, "input")
+        return self.inputs[handle.resource]
+
+    def framebuffer(self, colors, depth: Handle | None = None) -> moderngl.Framebuffer:
+        """A framebuffer over declared images (cached for the run)."""
+        return self.run.framebuffers.get(tuple(self.image(h) for h in colors),
+                                         self.image(depth) if depth is not None else None)
+
+    def fullscreen(self, program) -> None:
+        """Draw one viewport-covering triangle with ``program`` (no vertex buffers)."""
+        self.run.gpu.fullscreen_array(program).render(vertices=3)
+
+    def shared(self, key: str, make):
+        """A GL object passes share for the whole run (noise textures, samplers), made once
+        by ``make(gl)``."""
+        return self.run.gpu.cached(key, make)
+
+    def _check(self, handle: Handle, kind_table: dict, kind: str) -> None:
+        if not isinstance(handle, Handle):
+            raise TypeError(f"pass {self.pass_name!r} asked for {handle!r}, which is not a graph handle")
+        if handle.resource not in self.declared:
+            raise UndeclaredResource(f"pass {self.pass_name!r} uses {handle.name!r}, which its setup does not "
+                                     "declare: add builder.read() for it")
+        if handle.resource not in kind_table:
+            raise UndeclaredResource(f"pass {self.pass_name!r} asks for {handle.name!r} as an {kind}, which it is not")

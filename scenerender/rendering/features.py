@@ -44,7 +44,7 @@ class SceneFeatures:
         """samples: the MSAA samples the run renders with (the device may give fewer than
         the scene asks for)."""
         kinds = [light.kind for light in world.lights]
-        render = world.render
+        render = world.settings
         first_views = _first_shadow_views(world.lights)
         return cls(
             n_dir=kinds.count("directional"), n_point=kinds.count("point"), n_spot=kinds.count("spot"),

@@ -12,10 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.graph import FrameGraph
-from scenerender.rendering.motion import Motion
+from scenerender.rendering.inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
 from scenerender.rendering.passes.forward import (
-    OpaquePass, OutlinePass, SkyboxPass, TransparentPass, WireframeOverlayPass,
+    OpaquePass, OutlinePass, Shading, SkyboxPass, TransparentPass, WireframeOverlayPass,
 )
 from scenerender.rendering.passes.output import (
     OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass,
@@ -24,7 +24,7 @@ from scenerender.rendering.passes.shadow import ShadowMapPass
 from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
-from scenerender.scene.schema import AmbientOcclusion
+from scenerender.world.settings import AmbientOcclusionSettings
 
 DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
 
@@ -32,7 +32,7 @@ DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
 @dataclass(frozen=True)
 class GraphOptions:
     size: tuple
-    samples: int
+    samples: int  # what the device gives (Renderer clamps the scene's request to it)
     want_linear: bool = False  # also read back linear HDR (EXR output)
     # Choices the builder normally makes per scene; set only to measure the alternatives.
     depth_prepass: bool | None = None
@@ -40,57 +40,57 @@ class GraphOptions:
     hdr_target: bool | None = None
 
 
-def build_graph(world, atlas, motion: Motion, options: GraphOptions) -> FrameGraph:
-    """The full graph for ``world``; call ``.compile()`` to cull and order it."""
+def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputHandles]:
+    """The full graph for ``world`` and the handles of its inputs; call ``.compile()`` on
+    the graph to cull and order it."""
     graph = FrameGraph()
-    render = world.render
+    inputs = import_inputs(graph, world)
+    settings = world.settings
     size, samples = options.size, options.samples
-    camera_dynamic = not motion.everything_static
 
-    shadow_handles = _add_shadow_passes(graph, world, atlas, motion)
-    atlas_final = shadow_handles[-1][1] if shadow_handles else None
+    shadow_passes = _add_shadow_passes(graph, world, atlas, inputs)
+    atlas_final = shadow_passes[-1][1] if shadow_passes else None
 
     gbuffer = ao = None
-    if render.ambient_occlusion is not None or render.mode in ("depth", "normals", "ambient_occlusion"):
-        gbuffer = graph.add(GBufferPass(size, camera_dynamic))
-    if render.ambient_occlusion is not None or render.mode == "ambient_occlusion":
-        settings = render.ambient_occlusion or AmbientOcclusion()
-        raw = graph.add(SSAOPass(gbuffer, size, settings, camera_dynamic))
-        ao = graph.add(SSAOBlurPass(raw, size, camera_dynamic))
-    forward_ao = ao if render.ambient_occlusion is not None else None
+    if settings.ambient_occlusion is not None or settings.mode in ("depth", "normals", "ambient_occlusion"):
+        gbuffer = graph.add(GBufferPass(size, inputs.camera, inputs.objects)).color
+    if settings.ambient_occlusion is not None or settings.mode == "ambient_occlusion":
+        raw = graph.add(SSAOPass(gbuffer, inputs.camera, size, settings.ambient_occlusion or AmbientOcclusionSettings.default())).image
+        ao = graph.add(SSAOBlurPass(raw, size)).image
+    shading = Shading(inputs, atlas_final, ao if settings.ambient_occlusion is not None else None)
 
-    fill = render.mode if render.mode in ("wireframe", "points") else "solid"
+    fill = settings.mode if settings.mode in ("wireframe", "points") else "solid"
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else prepass_pays(world, atlas, size, samples))
-    hdr = options.hdr_target if options.hdr_target is not None else hdr_target_pays(options, render.output_transform)
-    color, depth = graph.add(OpaquePass(size, samples, atlas_final, forward_ao, fill, camera_dynamic, prepass,
-                                        "rgba16f" if hdr else "srgba8"))
-    if render.skybox is not None:
-        color = graph.add(SkyboxPass(color, depth, dynamic=camera_dynamic))
-    if any(obj.outline is not None for obj in world.objects):
-        color = graph.add(OutlinePass(color, depth, dynamic=camera_dynamic))
+    hdr = options.hdr_target if options.hdr_target is not None else hdr_target_pays(options, settings.output_transform)
+    opaque = graph.add(OpaquePass(size, samples, shading, inputs.background, fill, prepass,
+                                  "rgba16f" if hdr else "srgba8", settings.line_width, settings.point_size))
+    color, depth = opaque.color, opaque.depth
+    if inputs.skybox is not None:
+        color = graph.add(SkyboxPass(color, depth, inputs.camera, inputs.skybox)).image
+    if inputs.outlines is not None:
+        color = graph.add(OutlinePass(color, depth, inputs.camera, inputs.objects, inputs.outlines)).image
     if any(m.transparent for m in world.materials()):
-        color = graph.add(TransparentPass(color, depth, atlas_final, forward_ao, camera_dynamic))
-    if render.wireframe_overlay:
-        color = graph.add(WireframeOverlayPass(color, depth, dynamic=camera_dynamic))
-    if not hdr and render.output_transform == "srgb" and options.fuse_resolve:
+        color = graph.add(TransparentPass(color, depth, shading)).image
+    if settings.wireframe_overlay:
+        color = graph.add(WireframeOverlayPass(color, depth, inputs.camera, inputs.objects, settings.line_width)).image
+    if not hdr and settings.output_transform == "srgb" and options.fuse_resolve:
         # the 8-bit sRGB target already holds the output values: resolve by a blit (in
         # linear light) where multisampled, and read back
-        final = graph.add(ResolveToSrgbPass(color, size, camera_dynamic)) if samples > 1 else color
+        final = graph.add(ResolveToSrgbPass(color, size)).image if samples > 1 else color
     elif samples > 1 and not options.want_linear and options.fuse_resolve:
         # nothing needs the resolved linear image: resolve and encode in one pass
-        final = graph.add(ResolveOutputPass(color, size, samples, render.output_transform, render.gamma,
-                                            camera_dynamic))
+        final = graph.add(ResolveOutputPass(color, size, settings.output_transform, settings.gamma, samples)).image
     else:
         if samples > 1:
-            color = graph.add(ResolvePass(color, size, camera_dynamic))
-        final = graph.add(OutputTransformPass(color, size, render.output_transform, render.gamma, camera_dynamic))
+            color = graph.add(ResolvePass(color, size)).image
+        final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma)).image
 
-    if render.mode in DATA_MODES:
-        final = _add_view(graph, render.mode, world, gbuffer, ao, shadow_handles, atlas, size, camera_dynamic)
-    linear = color if options.want_linear and render.mode not in DATA_MODES else None
+    if settings.mode in DATA_MODES:
+        final = _add_view(graph, settings.mode, inputs, gbuffer, ao, shadow_passes, atlas, size)
+    linear = color if options.want_linear and settings.mode not in DATA_MODES else None
     graph.add(ReadbackPass(final, size, linear))
-    return graph
+    return graph, inputs
 
 
 # A depth prepass pays only where opaque surfaces cover the image this many times over
@@ -110,7 +110,7 @@ def prepass_pays(world, atlas, size, samples: int) -> bool:
     overdraw scene included: the shading draw took as long with the prepass as without,
     so llvmpipe appears to shade hidden multisampled fragments anyway.
     """
-    if samples > 1 or world.render.shading == "unlit":
+    if samples > 1 or world.settings.shading == "unlit":
         return False
     return depth_complexity(world, atlas, size) >= PREPASS_DEPTH_COMPLEXITY
 
@@ -156,32 +156,39 @@ def depth_complexity(world, atlas, size) -> float:
     return covered
 
 
-def _add_shadow_passes(graph, world, atlas, motion: Motion) -> list:
-    """One pass per shadowed light; returns [(light state index, atlas handle after it)].
+def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> list:
+    """One pass per shadowed light; returns [(light index, atlas handle after it)].
 
     The passes write one atlas in turn, so a pass is static only if those before it are:
-    maps rendered once per run come first in the chain. The shadow views show the first
-    shadowed light alone; there file order puts it first and culls every other pass."""
-    shadowed = [(state_index, light) for state_index, light in
-                enumerate(light for light in world.lights if light.kind != "ambient") if light.shadow is not None]
-    if world.render.mode not in ("shadow", "light_depth"):
-        shadowed.sort(key=lambda item: not motion.shadow_static(item[1]))  # stable: file order otherwise
+    maps whose inputs are all static come first in the chain. The shadow views show the
+    first shadowed light alone; there file order puts it first and culls every other pass."""
+    lights = [light for light in world.lights if light.kind != "ambient"]
+    passes = []
+    for light_index, views in inputs.shadow_views:
+        light = lights[light_index]
+        fitted_to_camera = light.kind == "directional" or light.attach_camera
+        passes.append((light_index, light, views, inputs.camera if fitted_to_camera else None))
+    if world.settings.mode not in ("shadow", "light_depth"):
+        passes.sort(key=lambda p: any(graph.is_dynamic(h) for h in (p[2], inputs.objects, p[3]) if h is not None))
     handles = []
     current = None
-    for state_index, light in shadowed:
-        current = graph.add(ShadowMapPass(state_index, light, atlas, current, dynamic=not motion.shadow_static(light)))
-        handles.append((state_index, current))
+    for light_index, light, views, camera in passes:
+        current = graph.add(ShadowMapPass(light.name, light.kind, light.shadow.size, light.shadow.pcf, atlas.size,
+                                          views, inputs.objects, camera, current)).atlas
+        handles.append((light_index, current))
     return handles
 
 
-def _add_view(graph, mode, world, gbuffer, ao, shadow_handles, atlas, size, dynamic):
+def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, atlas, size):
     if mode == "depth":
-        return graph.add(DepthViewPass(gbuffer, size, dynamic))
+        return graph.add(DepthViewPass(gbuffer, size, inputs.camera)).image
     if mode == "normals":
-        return graph.add(NormalsViewPass(gbuffer, size, dynamic))
+        return graph.add(NormalsViewPass(gbuffer, size, inputs.camera)).image
     if mode == "ambient_occlusion":
-        return graph.add(AmbientOcclusionViewPass(ao, size, dynamic))
-    light_index, handle = shadow_handles[0]
+        return graph.add(AmbientOcclusionViewPass(ao, size)).image
+    light_index, handle = shadow_passes[0]
+    views = inputs.shadow_view(light_index)
     if mode == "shadow":
-        return graph.add(ShadowFactorViewPass(handle, size, light_index, dynamic))
-    return graph.add(LightDepthViewPass(handle, size, light_index, atlas.size, dynamic))
+        return graph.add(ShadowFactorViewPass(handle, size, inputs.camera, inputs.objects, inputs.lights[light_index],
+                                              views)).color
+    return graph.add(LightDepthViewPass(handle, size, views, atlas.size)).image

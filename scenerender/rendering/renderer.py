@@ -7,13 +7,15 @@ from time import perf_counter
 
 import numpy as np
 
-from scenerender.gpu.depth import DepthConvention, depth_convention
+from scenerender.graph import CompiledGraph
+from scenerender.gpu.depth import depth_convention
 from scenerender.gpu.resources import GL_FRAMEBUFFER_SRGB, FramebufferCache, allocate
 from scenerender.gpu.shaders import ProgramCache
-from scenerender.rendering.context import PassContext
+from scenerender.rendering.context import PassContext, RunState
 from scenerender.rendering.features import SceneFeatures
-from scenerender.rendering.motion import analyse
+from scenerender.rendering.inputs import InputHandles, input_values
 from scenerender.rendering.pipeline import GraphOptions, build_graph
+from scenerender.rendering.scene_gpu import GpuScene
 from scenerender.rendering.profile import CPU_SETUP
 from scenerender.world.frame import FrameEvaluator
 from scenerender.world.shadows import plan_atlas
@@ -53,45 +55,60 @@ class FrameResult:
 
 
 class GLBackend:
-    """Executes passes on the GL context with the graph's resources."""
+    """Executes passes on the GL context: each gets a PassContext that resolves only the
+    resources its setup declared."""
 
-    def __init__(self, gl, scene, programs, features, resources, timings: dict | None = None, depth=None):
-        self.gl = gl
-        self.depth = depth if depth is not None else DepthConvention(False)
+    def __init__(self, run: RunState, images: dict, timings: dict | None = None):
+        self.run = run
+        self.images = images
         self.timings = timings  # pass name -> list of seconds, when profiling
-        self.scene = scene
-        self.programs = programs
-        self.features = features
-        self.resources = resources
-        self.framebuffers = FramebufferCache(gl)
+        self.inputs: dict = {}  # this frame's input values (rendering.inputs.input_values)
         self.outputs: dict = {}
 
-    def execute(self, render_pass, frame) -> None:
-        ctx = PassContext(self.gl, frame, self.scene, self.programs, self.features, self.resources,
-                          self.framebuffers, self.outputs, self.depth)
+    def execute(self, node, frame) -> None:
+        ctx = PassContext(self.run, node.render_pass.name, node.declared, self.images, self.inputs, self.outputs)
         if self.timings is None:
-            render_pass.execute(ctx)
+            node.render_pass.execute(ctx, node.data)
             return
         # profiling: wait for the GPU around each pass so its time is its own
-        self.gl.finish()
+        gl = self.run.gl
+        gl.finish()
         started = perf_counter()
-        render_pass.execute(ctx)
-        self.gl.finish()
-        self.timings.setdefault(render_pass.name, []).append(perf_counter() - started)
+        node.render_pass.execute(ctx, node.data)
+        gl.finish()
+        self.timings.setdefault(node.render_pass.name, []).append(perf_counter() - started)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Everything decided before GL work.
+
+    atlas:   the shadow atlas layout (world.shadows.AtlasLayout) or None.
+    inputs:  the graph handles of the world's inputs (rendering.inputs.InputHandles).
+    compiled: the culled graph, static passes marked.
+    """
+
+    atlas: object
+    inputs: InputHandles
+    compiled: CompiledGraph
 
 
 def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: bool = False, warn=None,
-         tuning: dict | None = None):
-    """Everything decided before GL work: atlas layout, motion, the compiled graph.
-
-    Returns (atlas, motion, compiled graph). Needs no GL context, so ``scenerender graph``
-    and the tests can inspect a scene's graph anywhere. ``tuning``: GraphOptions fields
-    that override the builder's per-scene choices (benchmarks compare them).
+         tuning: dict | None = None) -> Plan:
+    """The atlas layout and the compiled graph for ``world`` at ``size`` with ``samples``
+    (what the device gives). Needs no GL context, so ``scenerender graph`` and the tests
+    can inspect a scene's graph anywhere. ``tuning``: GraphOptions fields that override
+    the builder's per-scene choices (benchmarks compare them).
     """
     atlas = plan_atlas(world.lights, max_texture_size, warn)
-    motion = analyse(world)
-    graph = build_graph(world, atlas, motion, GraphOptions(tuple(size), samples, want_linear, **(tuning or {})))
-    return atlas, motion, graph.compile()
+    graph, inputs = build_graph(world, atlas, GraphOptions(tuple(size), samples, want_linear, **(tuning or {})))
+    return Plan(atlas, inputs, graph.compile())
+
+
+def device_samples(wanted: int, max_samples: int) -> int:
+    """The MSAA samples a run gets: the scene's request, at most what the device offers;
+    1 for no multisampling."""
+    return min(wanted, max_samples) if wanted > 1 else 1
 
 
 class Renderer:
@@ -99,40 +116,39 @@ class Renderer:
 
     def __init__(self, world, gl, size=None, samples=None, warn=None, want_linear: bool = False,
                  profile: bool = False, cache_static_passes: bool = True, tuning: dict | None = None):
-        render = world.render
+        render = world.settings
         self.world = world
         self.gl = gl
         self.size = tuple(size or render.size)
         wanted = samples if samples is not None else render.samples
-        self.samples = min(wanted, gl.max_samples) if wanted > 1 else 1
+        self.samples = device_samples(wanted, gl.max_samples)
         if self.samples < wanted and warn is not None:
             warn(f"render.samples {wanted} is more than this device offers; using {self.samples}")
         max_size = int(gl.info.get("GL_MAX_TEXTURE_SIZE", 16384))
         # the finite check reads the linear (float) colour back, whether the caller wants it or not
         self.check_finite = check_finite_enabled()
         self.want_linear = want_linear
-        self.atlas, self.motion, self.compiled = plan(world, self.size, self.samples, max_size,
-                                                      want_linear or self.check_finite, warn, tuning)
+        self.plan = plan(world, self.size, self.samples, max_size, want_linear or self.check_finite, warn, tuning)
+        self.atlas, self.compiled = self.plan.atlas, self.plan.compiled
         self.features = SceneFeatures.of(world, self.samples)
         # encode linear -> sRGB on writes to (only) sRGB-format targets, decode for blending
         gl.enable_direct(GL_FRAMEBUFFER_SRGB)
         self.programs = ProgramCache(gl)
-        from scenerender.rendering.scene_gpu import GpuScene
-
         self.scene = GpuScene(gl, world, self.atlas)
         self.depth = depth_convention(gl)
-        resources = {index: allocate(gl, desc, self.depth) for index, _, desc in self.compiled.resources()}
+        images = {index: allocate(gl, desc, self.depth) for index, _, desc in self.compiled.resources()}
         self.timings: dict | None = {} if profile else None
-        self.backend = GLBackend(gl, self.scene, self.programs, self.features, resources, self.timings, self.depth)
+        run = RunState(gl, self.programs, self.features, self.depth, FramebufferCache(gl), self.scene)
+        self.backend = GLBackend(run, images, self.timings)
         self.evaluator = FrameEvaluator(world, self.size, self.atlas, max_depth_ratio=self.depth.max_depth_ratio)
         self.cache_static_passes = cache_static_passes  # off only to measure what caching saves
         self._rendered_any = False
 
     def release(self) -> None:
         """Free every GL object this renderer made (the context itself stays)."""
-        for resource in self.backend.resources.values():
-            resource.release()
-        self.backend.framebuffers.release()
+        for image in self.backend.images.values():
+            image.release()
+        self.backend.run.framebuffers.release()
         self.programs.release()
         self.scene.release()
 
@@ -144,8 +160,9 @@ class Renderer:
         time = self.frame_time(index)
         started = perf_counter()
         frame = self.evaluator.evaluate(index, time)
-        frame.camera = replace(frame.camera, projection=self.depth.camera_projection(frame.camera.projection))
+        camera = replace(frame.camera, projection=self.depth.camera_projection(frame.camera.projection))
         self.scene.upload(frame)
+        self.backend.inputs = input_values(self.plan.inputs, frame, camera, self.scene, self.world)
         if self.timings is not None:
             self.timings.setdefault(CPU_SETUP, []).append(perf_counter() - started)
         first = not self._rendered_any or not self.cache_static_passes

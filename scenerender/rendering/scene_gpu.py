@@ -43,10 +43,8 @@ class GpuScene:
         return meshes
 
     def _skybox(self):
-        faces = self.world.render.skybox
-        if faces is None:
-            return None
-        return self.textures.cube_map([faces.posx, faces.negx, faces.posy, faces.negy, faces.posz, faces.negz])
+        faces = self.world.settings.skybox
+        return self.textures.cube_map(list(faces)) if faces is not None else None
 
     # -- per frame ---------------------------------------------------------------------
     def upload(self, frame: FrameState) -> None:

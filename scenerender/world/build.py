@@ -5,6 +5,7 @@ Still no GL: the World is CPU data the GPU layer uploads once per run.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -17,6 +18,7 @@ from scenerender.world import materials as mats
 from scenerender.world import texture_files
 from scenerender.world.images import DEFAULT_MAX_PIXELS, ImageStore
 from scenerender.world.lights import LightDef, light_defs
+from scenerender.world.settings import OutlineSettings, RenderSettings
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance
 
 
@@ -42,7 +44,13 @@ class World:
 
     @property
     def render(self):
+        """The validated ``render:`` section; the renderer reads ``settings`` instead."""
         return self.scene.spec.render
+
+    @cached_property
+    def settings(self) -> RenderSettings:
+        """``render:`` as plain frozen values."""
+        return RenderSettings.of(self.scene.spec.render)
 
     @property
     def output(self):
@@ -122,7 +130,7 @@ class _Loader:
             instances = random_instances(obj.instances.random)
         return RenderObject(name=name, path=path, mesh=mesh, mesh_key=key, materials=materials,
                             position=obj.position, rotation=obj.rotation, scale=obj.scale, visible=obj.visible,
-                            cast_shadows=obj.cast_shadows, outline=obj.outline, instances=instances)
+                            cast_shadows=obj.cast_shadows, outline=_outline(obj.outline), instances=instances)
 
     def load(self, obj, path: tuple):
         key = _mesh_key(obj)
@@ -189,3 +197,7 @@ def scene_bounds(objects: list, matrices: list, visible: list) -> np.ndarray | N
         return None
     stacked = np.stack(boxes)
     return np.stack([stacked[:, 0].min(axis=0), stacked[:, 1].max(axis=0)])
+
+
+def _outline(spec) -> OutlineSettings | None:
+    return OutlineSettings(spec.color, spec.width) if spec is not None else None

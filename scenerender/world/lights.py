@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.animation import Track
+from scenerender.world.settings import ShadowMapSettings
 
 DEFAULT_AMBIENT = (0.12, 0.12, 0.12)
 
@@ -21,7 +22,7 @@ class LightDef:
     """One light of the scene, its animatable values as Tracks.
 
     kind: "directional" | "point" | "spot" | "ambient".  path: its key path in the scene
-    (for messages). shadow: merged ShadowSettings when it casts shadows, else None.
+    (for messages). shadow: its ShadowMapSettings when it casts shadows, else None.
     """
 
     kind: str
@@ -36,7 +37,7 @@ class LightDef:
     inner_angle: Track | None = None
     outer_angle: Track | None = None
     attach_camera: bool = False
-    shadow: object = None
+    shadow: ShadowMapSettings | None = None
 
     def moves(self) -> bool:
         """True when position or direction can change (what a shadow map depends on)."""
@@ -111,7 +112,8 @@ def _merged_shadow(option, defaults, kind: str):
         values.update({k: v for k, v in SPOT_SHADOW_DEFAULTS.items() if k not in defaults.model_fields_set})
     if option is not True:
         values.update({k: v for k, v in option.model_dump().items() if v is not None})
-    return type(defaults).model_validate(values)
+    merged = type(defaults).model_validate(values)  # checks the combination
+    return ShadowMapSettings(merged.size, merged.pcf, merged.bias, merged.slope_bias)
 
 
 def _from_spec(index: int, light, shadows_default) -> LightDef:

@@ -7,6 +7,7 @@ import numpy as np
 
 from scenerender.animation import Track
 from scenerender.mesh import MeshData
+from scenerender.world.settings import OutlineSettings
 from scenerender.world.transforms import model_matrices, model_matrix, transformed_bounds
 
 
@@ -79,7 +80,7 @@ class RenderObject:
     scale: Track
     visible: Track
     cast_shadows: bool
-    outline: object
+    outline: OutlineSettings | None
     instances: InstanceSet
 
     @property

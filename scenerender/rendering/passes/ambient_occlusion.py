@@ -2,38 +2,46 @@
 estimate, and a blur. The prepass also feeds the depth and normals views."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+import moderngl
 import numpy as np
 
-from scenerender.graph import ResourceDesc, RenderPass
+from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.rendering.draw import begin_camera_pass, bind_texture_units, camera_objects, draw_object
+from scenerender.rendering.draw import (
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_texture_units,
+)
 from scenerender.rendering.features import TEXTURE_UNITS
-from scenerender.rendering.passes.forward import MESH_VERTEX, fullscreen
+from scenerender.rendering.passes.data import ImageData, TargetData
+from scenerender.world.settings import AmbientOcclusionSettings
 
 NOISE_SIZE = 4
 
 
+@dataclass(frozen=True)
 class GBufferPass(RenderPass):
     """View-space normal (rgb) and linear view depth (a; 0 where empty), single-sampled."""
 
+    size: tuple
+    camera: Handle
+    objects: Handle
+
     name = "gbuffer"
 
-    def __init__(self, size, dynamic: bool = True):
-        self.size = size
-        self.dynamic = dynamic
+    def setup(self, builder) -> TargetData:
+        builder.read(self.camera, self.objects)
+        return TargetData(builder.create("gbuffer", ResourceDesc("color", self.size, "rgba16f")),
+                           builder.create("gbuffer_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
-    def setup(self, builder):
-        self.gbuffer = builder.create("gbuffer", ResourceDesc("color", self.size, "rgba16f"))
-        self.depth = builder.create("gbuffer_depth", ResourceDesc("depth", self.size, "camera_depth"))
-        return self.gbuffer
-
-    def execute(self, ctx) -> None:
-        begin_camera_pass(ctx, [self.gbuffer], self.depth, (0.0, 0.0, 0.0, 0.0))
+    def execute(self, ctx, data: TargetData) -> None:
+        begin_camera_pass(ctx, [data.color], data.depth, (0.0, 0.0, 0.0, 0.0))
         program = ctx.programs.get(MESH_VERTEX, "mesh/gbuffer.frag")
-        camera = ctx.frame.camera
+        camera = ctx.input(self.camera)
         set_uniforms(program, u_view_proj=camera.view_proj_relative(), u_view_rotation=camera.rotation)
-        for index in camera_objects(ctx):
-            draw_object(ctx, program, index)
+        objects = ctx.input(self.objects)
+        for index in objects.in_camera_view():
+            objects.draw(program, index)
 
 
 def hemisphere_kernel(count: int, seed: int = 1) -> np.ndarray:
@@ -56,69 +64,58 @@ def rotation_noise(seed: int = 2) -> bytes:
 
 
 def _noise_texture(gl):
-    import moderngl
-
     texture = gl.texture((NOISE_SIZE, NOISE_SIZE), 3, rotation_noise())
     texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
     texture.repeat_x = texture.repeat_y = True
     return texture
 
 
+@dataclass(frozen=True)
 class SSAOPass(RenderPass):
+    gbuffer: Handle
+    camera: Handle
+    size: tuple
+    settings: AmbientOcclusionSettings
+
     name = "ssao"
 
-    def __init__(self, gbuffer, size, settings, dynamic: bool = True):
-        self.gbuffer_in = gbuffer
-        self.size = size
-        self.settings = settings
-        self.dynamic = dynamic
-
-    def setup(self, builder):
-        builder.read(self.gbuffer_in)
-        self.ao = builder.create("ao_raw", ResourceDesc("color", self.size, "r8"))
-        return self.ao
+    def setup(self, builder) -> ImageData:
+        builder.read(self.gbuffer, self.camera)
+        return ImageData(builder.create("ao_raw", ResourceDesc("color", self.size, "r8")))
 
     def describe(self) -> str:
         return f"{self.settings.samples} samples, radius {self.settings.radius:g}"
 
-    def execute(self, ctx) -> None:
-        import moderngl
-
-        noise = ctx.scene.cached("ssao_noise", _noise_texture)
-        ctx.framebuffer([self.ao]).use()
-        ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+    def execute(self, ctx, data: ImageData) -> None:
+        begin_fullscreen_pass(ctx, data.image)
+        camera = ctx.input(self.camera)
         defines = {"AO_SAMPLES": self.settings.samples}
-        if ctx.frame.camera.orthographic:
+        if camera.orthographic:
             defines["ORTHO_CAMERA"] = True
-        program = ctx.programs.get("common/fullscreen.vert", "post/ssao.frag", defines)
+        program = ctx.programs.get(FULLSCREEN_VERTEX, "post/ssao.frag", defines)
         bind_texture_units(program)
-        ctx.resource(self.gbuffer_in).use(TEXTURE_UNITS["u_gbuffer"])
-        noise.use(TEXTURE_UNITS["u_noise"])
+        ctx.image(self.gbuffer).use(TEXTURE_UNITS["u_gbuffer"])
+        ctx.shared("ssao_noise", _noise_texture).use(TEXTURE_UNITS["u_noise"])
         set_uniforms(program, u_kernel=hemisphere_kernel(self.settings.samples).tobytes(),
-                     u_projection=ctx.frame.camera.projection, u_screen=self.size,
+                     u_projection=camera.projection, u_screen=self.size,
                      u_radius=self.settings.radius, u_strength=self.settings.strength)
-        fullscreen(ctx, program)
+        ctx.fullscreen(program)
 
 
+@dataclass(frozen=True)
 class SSAOBlurPass(RenderPass):
+    raw: Handle
+    size: tuple
+
     name = "ssao_blur"
 
-    def __init__(self, ao, size, dynamic: bool = True):
-        self.ao_in = ao
-        self.size = size
-        self.dynamic = dynamic
+    def setup(self, builder) -> ImageData:
+        builder.read(self.raw)
+        return ImageData(builder.create("ao", ResourceDesc("color", self.size, "r8")))
 
-    def setup(self, builder):
-        builder.read(self.ao_in)
-        self.ao = builder.create("ao", ResourceDesc("color", self.size, "r8"))
-        return self.ao
-
-    def execute(self, ctx) -> None:
-        import moderngl
-
-        ctx.framebuffer([self.ao]).use()
-        ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        program = ctx.programs.get("common/fullscreen.vert", "post/ssao_blur.frag")
+    def execute(self, ctx, data: ImageData) -> None:
+        begin_fullscreen_pass(ctx, data.image)
+        program = ctx.programs.get(FULLSCREEN_VERTEX, "post/ssao_blur.frag")
         bind_texture_units(program)
-        ctx.resource(self.ao_in).use(TEXTURE_UNITS["u_ao"])
-        fullscreen(ctx, program)
+        ctx.image(self.raw).use(TEXTURE_UNITS["u_ao"])
+        ctx.fullscreen(program)

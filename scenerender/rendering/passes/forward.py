@@ -1,87 +1,99 @@
 """Forward passes from the camera: opaque meshes, skybox, outlines, transparent meshes and
-the wireframe overlay, all into the (multisampled) HDR colour target."""
+the wireframe overlay, all into the (multisampled) colour target."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+import moderngl
 import numpy as np
 
-from scenerender.graph import ResourceDesc, RenderPass
+from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
-    begin_camera_pass, bind_material, bind_shadow_atlas, bind_texture_units, camera_objects, draw_item,
-    draw_object, opaque_items, transparent_items,
+    MESH_VERTEX, begin_camera_pass, bind_material, bind_shadow_atlas, bind_texture_units,
+    draw_item, opaque_items, transparent_items,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
+from scenerender.rendering.inputs import InputHandles
+from scenerender.rendering.passes.data import ImageData, TargetData
 
-MESH_VERTEX = "mesh/mesh.vert"
 FORWARD_FRAGMENT = "mesh/forward.frag"
 
 
-def _camera_uniforms(ctx, program) -> None:
-    set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative(), u_ambient=ctx.frame.ambient)
+@dataclass(frozen=True)
+class Shading:
+    """What lit shading reads: the world's inputs, plus the shadow atlas and the AO image
+    when the scene has them."""
+
+    inputs: InputHandles
+    atlas: Handle | None = None
+    ao: Handle | None = None
+
+    def declare(self, builder) -> None:
+        builder.read(*self.inputs.shading(), *(h for h in (self.atlas, self.ao) if h is not None))
+
+    def bind(self, ctx) -> None:
+        if self.atlas is not None:
+            bind_shadow_atlas(ctx, self.atlas)
+        if self.ao is not None:
+            ctx.image(self.ao).use(TEXTURE_UNITS["u_ao"])
+
+    def draw(self, ctx, items, mode=None) -> None:
+        """Shade ``items`` with each material's program variant."""
+        camera = ctx.input(self.inputs.camera)
+        objects = ctx.input(self.inputs.objects)
+        materials = ctx.input(self.inputs.materials)
+        view_proj = camera.view_proj_relative()
+        ambient = ctx.input(self.inputs.ambient)
+        fog = ctx.input(self.inputs.fog) if self.inputs.fog is not None else None
+        for item in items:
+            program = self._program(ctx, item.material)
+            set_uniforms(program, u_view_proj=view_proj, u_ambient=ambient)
+            if fog is not None:
+                set_uniforms(program, u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
+            bind_material(program, item.material, materials)
+            draw_item(objects, program, item, mode)
+
+    def _program(self, ctx, material):
+        """The material's shader variant (worked out on its first draw of the run)."""
+        with_ao = self.ao is not None
+
+        def make():
+            program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, ctx.features.forward_defines(material, with_ao))
+            bind_texture_units(program)
+            return program
+
+        return ctx.programs.memo(("forward", id(material), with_ao), make)
 
 
-def _fog_uniforms(ctx, program) -> None:
-    fog = ctx.world.render.fog
-    if fog is not None:
-        set_uniforms(program, u_fog_color=ctx.frame.fog_color, u_fog_density=ctx.frame.fog_density,
-                     u_fog_range=(fog.start, fog.end))
-
-
-def _bind_shared_inputs(ctx, atlas, ao) -> None:
-    if atlas is not None:
-        bind_shadow_atlas(ctx, atlas)
-    if ao is not None:
-        ctx.resource(ao).use(TEXTURE_UNITS["u_ao"])
-
-
-def forward_program(ctx, material, with_ao: bool):
-    """The material's shader variant (worked out on its first draw of the run)."""
-    def make():
-        program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, ctx.features.forward_defines(material, with_ao))
-        bind_texture_units(program)
-        return program
-
-    return ctx.programs.memo(("forward", id(material), with_ao), make)
-
-
-def draw_shaded(ctx, items, with_ao: bool, mode=None) -> None:
-    """Shade ``items`` with each material's program variant."""
-    for item in items:
-        program = forward_program(ctx, item.material, with_ao)
-        _camera_uniforms(ctx, program)
-        _fog_uniforms(ctx, program)
-        bind_material(ctx, program, item.material)
-        draw_item(ctx, program, item, mode)
-
-
+@dataclass(frozen=True)
 class OpaquePass(RenderPass):
     """Clears to the background and draws every opaque surface, lit and shadowed.
 
-    ``fill``: "solid", or "wireframe" / "points" for those render modes.
+    fill: "solid", or "wireframe" / "points" for those render modes (drawn with
+    ``line_width`` / ``point_size``). color_format: "rgba16f", or "srgba8" where no value
+    above 1 is needed. prepass: lay down depth first (see pipeline.prepass_pays).
     """
+
+    size: tuple
+    samples: int
+    shading: Shading
+    background: Handle
+    fill: str = "solid"
+    prepass: bool = False
+    color_format: str = "rgba16f"
+    line_width: float = 1.0
+    point_size: float = 3.0
 
     name = "opaque"
 
-    def __init__(self, size, samples: int, atlas=None, ao=None, fill: str = "solid", dynamic: bool = True,
-                 prepass: bool = True, color_format: str = "rgba16f"):
-        self.size = size
-        self.color_format = color_format  # "rgba16f", or "srgba8" where no value above 1 is needed
-        self.prepass = prepass and fill == "solid"
-        self.samples = samples
-        self.atlas = atlas
-        self.ao = ao
-        self.fill = fill
-        self.dynamic = dynamic
-
-    def setup(self, builder):
-        for handle in (self.atlas, self.ao):
-            if handle is not None:
-                builder.read(handle)
+    def setup(self, builder) -> TargetData:
+        self.shading.declare(builder)
+        builder.read(self.background)
         samples = self.samples if self.samples > 1 else 0
         name = "hdr_color" if self.color_format == "rgba16f" else "color"
-        self.color = builder.create(name, ResourceDesc("color", self.size, self.color_format, samples))
-        self.depth = builder.create("depth", ResourceDesc("depth", self.size, "camera_depth", samples))
-        return self.color, self.depth
+        return TargetData(builder.create(name, ResourceDesc("color", self.size, self.color_format, samples)),
+                          builder.create("depth", ResourceDesc("depth", self.size, "camera_depth", samples)))
 
     def describe(self) -> str:
         extras = [f"{self.samples}x MSAA" if self.samples > 1 else "no MSAA",
@@ -90,175 +102,184 @@ class OpaquePass(RenderPass):
             extras.append(self.fill)
         elif self.prepass:
             extras.append("depth prepass")
-        if self.atlas is not None:
+        if self.shading.atlas is not None:
             extras.append("shadows")
-        if self.ao is not None:
+        if self.shading.ao is not None:
             extras.append("AO")
         return ", ".join(extras)
 
-    def execute(self, ctx) -> None:
-        import moderngl
-
+    def execute(self, ctx, data: TargetData) -> None:
         gl = ctx.gl
-        fbo = begin_camera_pass(ctx, [self.color], self.depth, (*ctx.frame.background[:3], 1.0))
-        _bind_shared_inputs(ctx, self.atlas, self.ao)
+        background = ctx.input(self.background)
+        fbo = begin_camera_pass(ctx, [data.color], data.depth, (*background[:3], 1.0))
+        self.shading.bind(ctx)
         mode = None
         if self.fill == "wireframe":
             gl.wireframe = True
         elif self.fill == "points":
             mode = moderngl.POINTS
-            gl.point_size = ctx.world.render.point_size
-        gl.line_width = ctx.world.render.line_width
-        items = opaque_items(ctx.world, ctx.frame)
+            gl.point_size = self.point_size
+        gl.line_width = self.line_width
+        items = opaque_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
         try:
             if self.prepass:
-                depth_prepass(ctx, items, fbo)
-            draw_shaded(ctx, items, self.ao is not None, mode)
+                self._depth_prepass(ctx, items, fbo)
+            self.shading.draw(ctx, items, mode)
         finally:
             gl.wireframe = False
             fbo.color_mask = (True, True, True, True)
             fbo.depth_mask = True
             gl.depth_func = ctx.depth.nearer
 
-
-class DrawOverPass(RenderPass):
-    """A pass that draws over the opaque pass's colour, depth-tested against its depth.
-    ``inputs`` are further resources it samples (shadow atlas, AO)."""
-
-    def __init__(self, color, depth, *inputs, dynamic: bool = True):
-        self.color_in, self.depth_in = color, depth
-        self.inputs = [h for h in inputs if h is not None]
-        self.dynamic = dynamic
-
-    def setup(self, builder):
-        for handle in [self.depth_in, *self.inputs]:
-            builder.read(handle)
-        self.color = builder.write(self.color_in)
-        return self.color
+    def _depth_prepass(self, ctx, items, fbo) -> None:
+        """Lay down depth for every opaque item without shading, then leave the depth test
+        at 'equal or nearer' with depth writes off: the shading draw that follows runs the
+        expensive fragment shader only for the surface each pixel finally shows."""
+        program = ctx.programs.get(MESH_VERTEX, "mesh/depth_only.frag")
+        set_uniforms(program, u_view_proj=ctx.input(self.shading.inputs.camera).view_proj_relative())
+        objects = ctx.input(self.shading.inputs.objects)
+        fbo.color_mask = (False, False, False, False)
+        for item in items:
+            draw_item(objects, program, item)
+        fbo.color_mask = (True, True, True, True)
+        fbo.depth_mask = False
+        ctx.gl.depth_func = ctx.depth.nearer_or_equal
 
 
-class SkyboxPass(DrawOverPass):
+@dataclass(frozen=True)
+class SkyboxPass(RenderPass):
     """Draws the cube-map sky where nothing else was drawn (depth still at the far plane)."""
+
+    color: Handle
+    depth: Handle
+    camera: Handle
+    skybox: Handle
 
     name = "skybox"
 
-    def execute(self, ctx) -> None:
-        import moderngl
+    def setup(self, builder) -> ImageData:
+        builder.read(self.depth, self.camera, self.skybox)
+        return ImageData(builder.write(self.color))
 
+    def execute(self, ctx, data: ImageData) -> None:
         gl = ctx.gl
-        fbo = ctx.framebuffer([self.color], self.depth_in)
-        fbo.use()
+        ctx.framebuffer([data.image], self.depth).use()
         gl.enable(moderngl.DEPTH_TEST)
         gl.depth_func = ctx.depth.nearer_or_equal
         program = ctx.programs.get("skybox/skybox.vert", "skybox/skybox.frag")
         bind_texture_units(program)
-        set_uniforms(program, u_inverse_view_proj=np.linalg.inv(ctx.frame.camera.view_proj_relative()),
+        set_uniforms(program, u_inverse_view_proj=np.linalg.inv(ctx.input(self.camera).view_proj_relative()),
                      u_ndc_near_far=ctx.depth.ndc_near_far)
-        ctx.scene.skybox.use(TEXTURE_UNITS["u_skybox"])
-        fullscreen(ctx, program)
+        ctx.input(self.skybox).use(TEXTURE_UNITS["u_skybox"])
+        ctx.fullscreen(program)
         gl.depth_func = ctx.depth.nearer
 
 
-class OutlinePass(DrawOverPass):
+@dataclass(frozen=True)
+class OutlinePass(RenderPass):
     """Selection outlines: each outlined object's back faces, pushed out along the normals
     and drawn in a flat colour; the object itself hides all but the rim."""
 
+    color: Handle
+    depth: Handle
+    camera: Handle
+    objects: Handle
+    outlines: Handle
+
     name = "outline"
 
-    def execute(self, ctx) -> None:
-        import moderngl
+    def setup(self, builder) -> ImageData:
+        builder.read(self.depth, self.camera, self.objects, self.outlines)
+        return ImageData(builder.write(self.color))
 
+    def execute(self, ctx, data: ImageData) -> None:
         gl = ctx.gl
-        ctx.framebuffer([self.color], self.depth_in).use()
+        ctx.framebuffer([data.image], self.depth).use()
         program = ctx.programs.get(MESH_VERTEX, "mesh/solid_color.frag", {"OUTLINE": True})
         gl.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
         gl.depth_func = ctx.depth.nearer
         gl.disable(moderngl.BLEND)
         gl.cull_face = "front"
-        set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative())
-        for index in camera_objects(ctx):
-            obj = ctx.world.objects[index]
-            if obj.outline is None:
-                continue
-            set_uniforms(program, u_color=np.asarray(obj.outline.color(ctx.frame.time)),
-                         u_outline_width=obj.outline.width)
-            draw_object(ctx, program, index, welded_normals=True)
+        set_uniforms(program, u_view_proj=ctx.input(self.camera).view_proj_relative())
+        objects = ctx.input(self.objects)
+        outlines = ctx.input(self.outlines)
+        for index in objects.in_camera_view():
+            if index in outlines:
+                color, width = outlines[index]
+                set_uniforms(program, u_color=color, u_outline_width=width)
+                objects.draw(program, index, welded_normals=True)
         gl.disable(moderngl.CULL_FACE)
         gl.cull_face = "back"
 
 
-class TransparentPass(DrawOverPass):
+@dataclass(frozen=True)
+class TransparentPass(RenderPass):
     """Transparent surfaces after everything opaque, sorted far to near, blended, with depth
     test but no depth writes. Each object draws its back faces first, then its front faces,
     which orders a convex object's own surfaces correctly."""
 
+    color: Handle
+    depth: Handle
+    shading: Shading
+
     name = "transparent"
 
-    def __init__(self, color, depth, atlas=None, ao=None, dynamic: bool = True):
-        super().__init__(color, depth, atlas, ao, dynamic=dynamic)
-        self.atlas, self.ao = atlas, ao
+    def setup(self, builder) -> ImageData:
+        builder.read(self.depth)
+        self.shading.declare(builder)
+        return ImageData(builder.write(self.color))
 
-    def execute(self, ctx) -> None:
-        import moderngl
-
+    def execute(self, ctx, data: ImageData) -> None:
         gl = ctx.gl
-        fbo = ctx.framebuffer([self.color], self.depth_in)
+        fbo = ctx.framebuffer([data.image], self.depth)
         fbo.use()
         fbo.depth_mask = False
         gl.enable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
         gl.depth_func = ctx.depth.nearer
         gl.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
-        _bind_shared_inputs(ctx, self.atlas, self.ao)
+        self.shading.bind(ctx)
+        items = transparent_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
         try:
-            for item in transparent_items(ctx.world, ctx.frame):
+            for item in items:
                 for side in ("front", "back"):  # cull front = draw back faces first
                     gl.cull_face = side
-                    draw_shaded(ctx, [item], self.ao is not None)
+                    self.shading.draw(ctx, [item])
         finally:
             fbo.depth_mask = True
             gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
             gl.cull_face = "back"
 
 
-class WireframeOverlayPass(DrawOverPass):
+@dataclass(frozen=True)
+class WireframeOverlayPass(RenderPass):
     """Mesh edges drawn over the shaded image (``render.wireframe_overlay``)."""
+
+    color: Handle
+    depth: Handle
+    camera: Handle
+    objects: Handle
+    line_width: float = 1.0
 
     name = "wireframe_overlay"
 
-    def execute(self, ctx) -> None:
-        import moderngl
+    def setup(self, builder) -> ImageData:
+        builder.read(self.depth, self.camera, self.objects)
+        return ImageData(builder.write(self.color))
 
+    def execute(self, ctx, data: ImageData) -> None:
         gl = ctx.gl
-        ctx.framebuffer([self.color], self.depth_in).use()
+        ctx.framebuffer([data.image], self.depth).use()
         program = ctx.programs.get(MESH_VERTEX, "mesh/solid_color.frag",
                                    {"DEPTH_NUDGE": True, **({"REVERSED_DEPTH": True} if ctx.depth.reversed else {})})
         gl.enable(moderngl.DEPTH_TEST)
         gl.depth_func = ctx.depth.nearer_or_equal
         gl.wireframe = True
-        gl.line_width = ctx.world.render.line_width
-        set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative(), u_color=(0.0, 0.0, 0.0, 1.0))
+        gl.line_width = self.line_width
+        set_uniforms(program, u_view_proj=ctx.input(self.camera).view_proj_relative(), u_color=(0.0, 0.0, 0.0, 1.0))
+        objects = ctx.input(self.objects)
         try:
-            for index in camera_objects(ctx):
-                draw_object(ctx, program, index)
+            for index in objects.in_camera_view():
+                objects.draw(program, index)
         finally:
             gl.wireframe = False
             gl.depth_func = ctx.depth.nearer
-
-
-def depth_prepass(ctx, items, fbo) -> None:
-    """Lay down depth for every opaque item without shading, then leave the depth test at
-    'equal or nearer' with depth writes off: the shading draw that follows runs the
-    expensive fragment shader only for the surface each pixel finally shows."""
-    program = ctx.programs.get(MESH_VERTEX, "mesh/depth_only.frag")
-    set_uniforms(program, u_view_proj=ctx.frame.camera.view_proj_relative())
-    fbo.color_mask = (False, False, False, False)
-    for item in items:
-        draw_item(ctx, program, item)
-    fbo.color_mask = (True, True, True, True)
-    fbo.depth_mask = False
-    ctx.gl.depth_func = ctx.depth.nearer_or_equal
-
-
-def fullscreen(ctx, program) -> None:
-    """Draw one viewport-covering triangle with ``program`` (no vertex buffers)."""
-    ctx.scene.fullscreen_array(program).render(vertices=3)

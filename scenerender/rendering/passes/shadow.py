@@ -1,52 +1,68 @@
-"""Shadow maps: the scene's depth from one light into that light's tiles of the atlas."""
+"""Shadow maps: each shadowed light's casters rendered into its tiles of one depth atlas."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+import moderngl
 import numpy as np
 
-from scenerender.graph import ResourceDesc, RenderPass
+from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.rendering.draw import draw_object, light_objects
 
 
+@dataclass(frozen=True)
+class ShadowMapData:
+    atlas: Handle
+
+
+@dataclass(frozen=True)
 class ShadowMapPass(RenderPass):
-    """Renders the shadow casters' depth from light ``light_index`` (index among the
-    frame's non-ambient lights). The first shadow pass creates the atlas; later ones write
-    their own tiles of it and leave the others untouched."""
+    """Renders the shadow casters' depth from one light into its tiles of the atlas. The
+    first shadow pass creates the atlas; later ones write their own tiles of it and leave
+    the others untouched.
 
-    def __init__(self, light_index: int, light, atlas_layout, atlas_in=None, dynamic: bool = True):
-        self.light_index = light_index
-        self.light = light
-        self.layout = atlas_layout
-        self.atlas_in = atlas_in
-        self.dynamic = dynamic
-        self.name = f"shadow:{light.name}"
+    light_name, kind, map_size, pcf: what the dump shows. atlas_size: (width, height). views: the light's
+    ``shadow_views`` input; camera: the camera input where the views are fitted to it.
+    """
 
-    def setup(self, builder):
+    light_name: str
+    kind: str
+    map_size: int
+    pcf: int
+    atlas_size: tuple
+    views: Handle
+    objects: Handle
+    camera: Handle | None = None
+    atlas_in: Handle | None = None
+
+    @property
+    def name(self) -> str:
+        return f"shadow:{self.light_name}"
+
+    def setup(self, builder) -> ShadowMapData:
+        builder.read(self.views, self.objects, *([self.camera] if self.camera is not None else []))
         if self.atlas_in is None:
-            self.atlas = builder.create("shadow_atlas", ResourceDesc("depth", self.layout.size, "depth24"))
-        else:
-            self.atlas = builder.write(self.atlas_in)
-        return self.atlas
+            return ShadowMapData(builder.create("shadow_atlas", ResourceDesc("depth", self.atlas_size, "depth24")))
+        return ShadowMapData(builder.write(self.atlas_in, own_region=True))  # its own tiles
 
     def describe(self) -> str:
-        views = "6 cube faces" if self.light.kind == "point" else "1 view"
-        return f"{self.light.kind} light, {views}, {self.light.shadow.size}px, pcf {self.light.shadow.pcf}"
+        views = "6 cube faces" if self.kind == "point" else "1 view"
+        return f"{self.kind} light, {views}, {self.map_size}px, pcf {self.pcf}"
 
-    def execute(self, ctx) -> None:
-        import moderngl
-
+    def execute(self, ctx, data: ShadowMapData) -> None:
         gl = ctx.gl
-        fbo = ctx.framebuffer([], self.atlas)
+        fbo = ctx.framebuffer([], data.atlas)
         fbo.use()
-        defines = {"RADIAL_DEPTH": True} if self.light.kind == "point" else {}
+        defines = {"RADIAL_DEPTH": True} if self.kind == "point" else {}
         program = ctx.programs.get("shadow/depth.vert", "shadow/depth.frag", defines)
         gl.enable(moderngl.DEPTH_TEST)
         gl.depth_func = "<"  # the atlas keeps linear depth, nearest = 0, whatever the camera's convention
         gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
+        objects = ctx.input(self.objects)
         to_world = np.eye(4)
-        to_world[:3, 3] = ctx.frame.camera.position
-        casters = light_objects(ctx)
-        for view in ctx.frame.shadow_views[self.light_index]:
+        to_world[:3, 3] = objects.origin  # uploaded transforms are relative to it
+        casters = objects.shadow_casters()
+        for view in ctx.input(self.views).views:
             tile = view.tile
             region = (tile.x, tile.y, tile.size, tile.size)
             fbo.viewport = region
@@ -54,4 +70,4 @@ class ShadowMapPass(RenderPass):
             set_uniforms(program, u_light_view=view.view @ to_world, u_light_projection=ctx.depth.clip_projection(view.projection),
                          u_depth_range=(view.near, view.far))
             for index in casters:
-                draw_object(ctx, program, index, all_instances=True)
+                objects.draw(program, index, all_instances=True)

@@ -1,0 +1,156 @@
+"""The world's per-frame inputs as graph resources, and their values for one frame.
+
+``import_inputs`` imports every input of ``world.inputs.world_inputs`` into the graph and
+returns their handles; passes declare the ones they read. Each frame,
+``input_values`` turns the evaluated FrameState (and the GPU scene it was uploaded to)
+into the value each handle resolves to in ``PassContext.input``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from scenerender.graph import FrameGraph, Handle, InputDesc
+from scenerender.world.camera import CameraState
+from scenerender.world.frame import FrameState
+from scenerender.world.inputs import WorldInput, world_inputs
+
+
+@dataclass(frozen=True)
+class InputHandles:
+    """Handles of the world's inputs in one graph (see world.inputs.WorldInputs)."""
+
+    camera: Handle
+    objects: Handle
+    materials: Handle
+    background: Handle
+    ambient: Handle
+    lights: tuple             # one per non-ambient light, FrameState.lights order
+    shadow_views: tuple       # (light index, handle) per shadowed light
+    fog: Handle | None
+    outlines: Handle | None
+    skybox: Handle | None
+
+    def shading(self) -> tuple:
+        """Everything lit shading reads: camera, objects, materials, every light, every
+        shadow view (the lookups), fog."""
+        extra = (self.fog,) if self.fog is not None else ()
+        return (self.camera, self.objects, self.materials, self.ambient, *self.lights,
+                *(handle for _, handle in self.shadow_views), *extra)
+
+    def shadow_view(self, light_index: int) -> Handle:
+        return dict(self.shadow_views)[light_index]
+
+
+def import_inputs(graph: FrameGraph, world) -> InputHandles:
+    inputs = world_inputs(world)
+
+    def imported(world_input: WorldInput | None) -> Handle | None:
+        if world_input is None:
+            return None
+        return graph.import_input(world_input.name, InputDesc(world_input.dynamic, world_input.describe()))
+
+    return InputHandles(
+        camera=imported(inputs.camera), objects=imported(inputs.objects), materials=imported(inputs.materials),
+        background=imported(inputs.background), ambient=imported(inputs.ambient),
+        lights=tuple(imported(i) for i in inputs.lights),
+        shadow_views=tuple((index, imported(i)) for index, i in inputs.shadow_views.items()),
+        fog=imported(inputs.fog), outlines=imported(inputs.outlines), skybox=imported(inputs.skybox),
+    )
+
+
+# -- values ------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ObjectsInput:
+    """The objects at one instant, ready to draw.
+
+    definitions: world RenderObjects (static: mesh, materials, cast_shadows).
+    frames:      world.frame.ObjectFrame per object (transforms, instances in view).
+    origin:      (3,) float64 world position the uploaded transforms are relative to (the
+                 camera's position this frame; shadow passes undo it).
+    """
+
+    definitions: list
+    frames: list
+    origin: np.ndarray
+    gpu: object  # rendering.scene_gpu.GpuScene: vertex arrays over this frame's instance buffers
+
+    def in_camera_view(self) -> list[int]:
+        """Indices of objects with at least one instance in the camera's view."""
+        return [i for i, state in enumerate(self.frames) if state.in_view > 0]
+
+    def shadow_casters(self) -> list[int]:
+        """Indices of visible objects that cast shadows (seen from a light, view culling does
+        not apply: a caster outside the camera's view still shadows what is in it)."""
+        return [i for i, obj in enumerate(self.definitions) if obj.cast_shadows and self.frames[i].visible]
+
+    def draw(self, program, index: int, *, all_instances: bool = False, mode=None, group: int | None = None,
+             welded_normals: bool = False) -> None:
+        """Draw object ``index`` (one mesh ``group`` of it, or all) with ``program``: the
+        instances in the camera's view, or all of them (``all_instances``, for passes drawn
+        from a light)."""
+        state = self.frames[index]
+        count = state.count if all_instances else state.in_view
+        if count == 0:
+            return
+        mesh = self.definitions[index].mesh
+        first, vertices = 0, mesh.triangle_count * 3
+        if group is not None:
+            first, vertices = mesh.groups[group].first * 3, mesh.groups[group].count * 3
+        vao = self.gpu.vertex_array(program, index, welded_normals)
+        vao.render(mode if mode is not None else moderngl.TRIANGLES, vertices=vertices, first=first, instances=count)
+
+
+@dataclass(frozen=True)
+class MaterialsInput:
+    """values: id(Material) -> this frame's uniform values; textures: gpu.textures.TextureCache."""
+
+    values: dict
+    textures: object
+
+
+@dataclass(frozen=True)
+class FogInput:
+    """color: (3,) linear RGB; density; range: (start, end) of linear fog."""
+
+    color: np.ndarray
+    density: float
+    range: tuple
+
+
+@dataclass(frozen=True)
+class ShadowViewsInput:
+    """One light's shadow views this frame (world.shadows.ShadowView) and the index of
+    the first of them in the shadow-view buffer the lighting shaders read."""
+
+    views: list
+    first_view: int
+
+
+def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, gpu, world) -> dict:
+    """resource index -> value of every input for ``frame``; ``camera`` is the frame's
+    camera with the device's projection, ``gpu`` the GpuScene the frame was uploaded to."""
+    values = {
+        handles.camera.resource: camera,
+        handles.objects.resource: ObjectsInput(world.objects, frame.objects, frame.camera.position, gpu),
+        handles.materials.resource: MaterialsInput(frame.materials, gpu.textures),
+        handles.background.resource: frame.background,
+        handles.ambient.resource: frame.ambient,
+    }
+    for handle, light in zip(handles.lights, frame.lights):
+        values[handle.resource] = light
+    for light_index, handle in handles.shadow_views:
+        values[handle.resource] = ShadowViewsInput(frame.shadow_views[light_index], gpu.first_shadow_view[light_index])
+    if handles.fog is not None:
+        fog = world.settings.fog
+        values[handles.fog.resource] = FogInput(frame.fog_color, frame.fog_density, (fog.start, fog.end))
+    if handles.outlines is not None:
+        values[handles.outlines.resource] = {
+            i: (np.asarray(obj.outline.color(frame.time)), obj.outline.width)
+            for i, obj in enumerate(world.objects) if obj.outline is not None}
+    if handles.skybox is not None:
+        values[handles.skybox.resource] = gpu.skybox
+    return values

@@ -1,0 +1,117 @@
+"""What the world hands each frame, and which of it changes over the animation.
+
+The render graph imports each of these as an input (``rendering.inputs``); a pass is
+cached across frames exactly when everything it reads is static. Whether an input is
+dynamic is worked out here from the scene's tracks, by looking through the input's whole
+definition for a Track that changes (``animation.animated_keys``): nothing lists the
+animatable keys, so a key added to the format later is covered without being listed.
+
+Where one input is computed from another, the dependency is written here once:
+- the camera's automatic near/far planes fit the scene's bounds, so they follow the objects;
+- a light attached to the camera follows the camera;
+- a shadow map's views fit the scene's bounds, and a directional light's also the part of
+  the scene the camera sees.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from scenerender.animation import animated_keys
+
+# A light's keys that change how much light it gives but not where it points or from where
+# (a shadow map does not depend on them). Every other key counts as placement, so a key
+# added later makes shadow maps dynamic, never stale.
+LIGHT_APPEARANCE_KEYS = ("color", "intensity", "enabled", "inner_angle", "attenuation")
+
+# An object's keys that are inputs of their own.
+OBJECT_LOOK_KEYS = ("materials", "outline")
+
+
+@dataclass(frozen=True)
+class WorldInput:
+    """One per-frame input.
+
+    name:     its name in graph dumps ("camera", "light:sun", "shadow_views:sun"...).
+    dynamic:  True when it can change over the animation.
+    because:  why it is dynamic: the animated key paths, or the input it follows.
+    """
+
+    name: str
+    dynamic: bool
+    because: tuple = ()
+
+    def describe(self) -> str:
+        if not self.dynamic:
+            return ""
+        shown = ", ".join(self.because[:3])
+        return shown + (f" and {len(self.because) - 3} more" if len(self.because) > 3 else "")
+
+
+@dataclass(frozen=True)
+class WorldInputs:
+    """Every input a scene has. ``lights`` follow ``world.lights`` order without ambient
+    lights (the order of FrameState.lights); ``ambient`` is the ambient lights' sum;
+    ``shadow_views`` has one entry per shadowed light, keyed by its index in ``lights``."""
+
+    camera: WorldInput
+    objects: WorldInput
+    materials: WorldInput
+    background: WorldInput
+    lights: tuple
+    ambient: WorldInput
+    shadow_views: dict
+    fog: WorldInput | None
+    outlines: WorldInput | None
+    skybox: WorldInput | None
+
+    def all(self) -> list[WorldInput]:
+        fixed = [self.camera, self.objects, self.materials, self.background, *self.lights, self.ambient,
+                 *self.shadow_views.values()]
+        return fixed + [i for i in (self.fog, self.outlines, self.skybox) if i is not None]
+
+
+def _input(name: str, keys: list, follows: tuple = ()) -> WorldInput:
+    because = tuple(keys) + tuple(f"follows {i.name}" for i in follows if i.dynamic)
+    return WorldInput(name, bool(because), because)
+
+
+def world_inputs(world) -> WorldInputs:
+    """The inputs of ``world`` (a world.build.World) with their static/dynamic state."""
+    spec, render = world.spec, world.render
+    objects = _input("objects", [f"{obj.name}.{key}" for obj in world.objects
+                                 for key in animated_keys(obj, skip=OBJECT_LOOK_KEYS)])
+    auto_planes = spec.camera is None or "auto" in (spec.camera.near, spec.camera.far)
+    camera = _input("camera", animated_keys(spec.camera), (objects,) if auto_planes else ())
+    names = _unique_names(world.lights)
+    lights, ambient_keys, views = [], [], {}
+    for light, name in zip(world.lights, names):
+        if light.kind == "ambient":
+            ambient_keys += [f"{name}.{key}" for key in animated_keys(light)]
+            continue
+        follows = (camera,) if light.attach_camera else ()
+        light_input = _input(f"light:{name}", animated_keys(light), follows)
+        if light.shadow is not None:
+            fitted_to = (objects, camera) if light.kind == "directional" or light.attach_camera else (objects,)
+            views[len(lights)] = _input(f"shadow_views:{name}", animated_keys(light, skip=LIGHT_APPEARANCE_KEYS),
+                                        fitted_to)
+        lights.append(light_input)
+    outlined = [obj for obj in world.objects if obj.outline is not None]
+    return WorldInputs(
+        camera=camera, objects=objects,
+        materials=_input("materials", [f"{m.name}.{key}" for m in world.materials() for key in animated_keys(m)]),
+        background=_input("background", animated_keys(render.background)),
+        lights=tuple(lights), ambient=_input("ambient", ambient_keys), shadow_views=views,
+        fog=_input("fog", animated_keys(render.fog)) if render.fog is not None else None,
+        outlines=_input("outlines", [f"{o.name}.outline.{k}" for o in outlined for k in animated_keys(o.outline)])
+        if outlined else None,
+        skybox=_input("skybox", []) if render.skybox is not None else None,
+    )
+
+
+def _unique_names(lights) -> list[str]:
+    """Light names, with a suffix where two lights share one."""
+    names, seen = [], {}
+    for light in lights:
+        seen[light.name] = seen.get(light.name, 0) + 1
+        names.append(light.name if seen[light.name] == 1 else f"{light.name}({seen[light.name]})")
+    return names

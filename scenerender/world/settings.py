@@ -1,0 +1,85 @@
+"""The scene's render settings as plain frozen values: what the renderer needs of
+``render:`` without the validated scene model (which stays in scene/ and world/)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+
+@dataclass(frozen=True)
+class FogSettings:
+    """mode: "exp" | "exp2" | "linear"; start, end: distances of linear fog."""
+
+    mode: str
+    start: float
+    end: float
+
+
+@dataclass(frozen=True)
+class AmbientOcclusionSettings:
+    radius: float
+    samples: int
+    strength: float
+
+    @classmethod
+    def of(cls, spec) -> "AmbientOcclusionSettings":
+        return cls(spec.radius, spec.samples, spec.strength)
+
+    @classmethod
+    def default(cls) -> "AmbientOcclusionSettings":
+        """The format's defaults (what `mode: ambient_occlusion` shows without settings)."""
+        from scenerender.scene.schema import AmbientOcclusion
+
+        return cls.of(AmbientOcclusion())
+
+
+@dataclass(frozen=True)
+class ShadowMapSettings:
+    """One light's shadow map: size in texels, pcf taps across, biases in extra texels."""
+
+    size: int
+    pcf: int
+    bias: float
+    slope_bias: float
+
+
+@dataclass(frozen=True)
+class OutlineSettings:
+    """An object's selection outline: colour (an RGBA Track) and width in world units."""
+
+    color: object
+    width: float
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """size: (width, height); skybox: the six face paths (+x -x +y -y +z -z) or None."""
+
+    size: tuple
+    samples: int
+    shading: str
+    mode: str
+    output_transform: str
+    gamma: float
+    wireframe_overlay: bool
+    line_width: float
+    point_size: float
+    fog: FogSettings | None
+    ambient_occlusion: AmbientOcclusionSettings | None
+    skybox: tuple[Path, ...] | None
+
+    @classmethod
+    def of(cls, render) -> "RenderSettings":
+        """From the validated ``render:`` section (scene.schema.RenderSettings)."""
+        fog = render.fog
+        ao = render.ambient_occlusion
+        sky = render.skybox
+        return cls(
+            size=tuple(render.size), samples=render.samples, shading=render.shading, mode=render.mode,
+            output_transform=render.output_transform, gamma=render.gamma,
+            wireframe_overlay=render.wireframe_overlay, line_width=render.line_width, point_size=render.point_size,
+            fog=FogSettings(fog.mode, fog.start, fog.end) if fog is not None else None,
+            ambient_occlusion=AmbientOcclusionSettings.of(ao) if ao is not None else None,
+            skybox=tuple(Path(getattr(sky, face)) for face in ("posx", "negx", "posy", "negy", "posz", "negz"))
+            if sky is not None else None,
+        )
