@@ -9,10 +9,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scenerender.animation import animated_keys
 from scenerender.world.build import World, scene_bounds
 from scenerender.world.camera import (
     CameraState, fit_near_far, framing_position, look_rotation, orthographic, perspective, yaw_pitch_forward,
 )
+from scenerender.world.inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lights import LightState, evaluate_lights
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
 from scenerender.world.transforms import normal_matrices
@@ -74,12 +76,17 @@ class FrameEvaluator:
         self.aspect = size[0] / size[1]
         self.atlas = atlas
         self._first_bounds = None
+        # objects that never move: index -> (matrices, float32 normal matrices, world bounds),
+        # so a frame's work for them is the camera-relative shift and the view test
+        self._fixed = {i: self._placement(obj, obj.matrices(0.0)) for i, obj in enumerate(world.objects)
+                       if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
 
     def evaluate(self, index: int, time: float) -> FrameState:
         world = self.world
-        matrices = [obj.matrices(time) for obj in world.objects]
+        placements = [self._fixed.get(i) or self._placement(obj, obj.matrices(time))
+                      for i, obj in enumerate(world.objects)]
         visible = [bool(obj.visible(time)) for obj in world.objects]
-        bounds = scene_bounds(world.objects, matrices, visible)
+        bounds = _union([p[2] for p, v in zip(placements, visible) if v])
         if self._first_bounds is None:
             # the default camera frames frame 0 (t = 0), whichever frame a run starts
             # with: a resumed or --frames run must draw what a full run draws
@@ -89,8 +96,8 @@ class FrameEvaluator:
             self._first_bounds = start if start is not None else np.array([[-1.0] * 3, [1.0] * 3])
         camera = self._camera(time, bounds)
         planes = frustum_planes(camera.view_proj_relative())
-        objects = [self._object(obj, m, v, camera.position, planes)
-                   for obj, m, v in zip(world.objects, matrices, visible)]
+        objects = [self._object(obj, p, v, camera.position, planes)
+                   for obj, p, v in zip(world.objects, placements, visible)]
         lights, ambient = evaluate_lights(world.lights, time, camera)
         render = world.render
         fog = render.fog
@@ -145,16 +152,22 @@ class FrameEvaluator:
 
     # -- objects and shadows -------------------------------------------------------------
     @staticmethod
-    def _object(obj, matrices: np.ndarray, visible: bool, camera_position: np.ndarray,
+    def _placement(obj, matrices: np.ndarray) -> tuple:
+        """(matrices (K, 4, 4) float64, normal matrices (K, 3, 3) float32, world bounds (2, 3))."""
+        return matrices, normal_matrices(matrices).astype(np.float32), obj.world_bounds(matrices)
+
+    @staticmethod
+    def _object(obj, placement: tuple, visible: bool, camera_position: np.ndarray,
                 planes: np.ndarray) -> ObjectFrame:
+        matrices, normals, bounds = placement
         rel = matrices.copy()
         rel[:, :3, 3] -= camera_position
         inside = instances_in_view(obj.mesh.bounds(), rel, planes)
         order = np.argsort(~inside, kind="stable")  # in-view instances first
-        rel, world = rel[order], matrices[order]
-        bounds = obj.world_bounds(matrices)
-        return ObjectFrame(visible, rel.astype(np.float32), normal_matrices(world).astype(np.float32),
-                           bounds, (bounds[0] + bounds[1]) / 2.0, int(inside.sum()) if visible else 0)
+        if len(order) > 1:
+            rel, normals = rel[order], normals[order]
+        return ObjectFrame(visible, rel.astype(np.float32), normals, bounds, (bounds[0] + bounds[1]) / 2.0,
+                           int(inside.sum()) if visible else 0)
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:
@@ -172,6 +185,14 @@ class FrameEvaluator:
                 views[state_index] = light_views(lights[state_index], self.atlas.tiles[def_index], casters, bounds,
                                                  visible)
         return views
+
+
+def _union(boxes: list) -> np.ndarray | None:
+    """(2, 3) bounds around (2, 3) boxes, or None for none."""
+    if not boxes:
+        return None
+    stacked = np.stack(boxes)
+    return np.stack([stacked[:, 0].min(axis=0), stacked[:, 1].max(axis=0)])
 
 
 def frustum_planes(clip: np.ndarray) -> np.ndarray:
