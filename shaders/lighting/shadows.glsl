@@ -68,17 +68,18 @@ const vec2 footprint_offsets[2] = vec2[](vec2(4, 4), vec2(-4, -4));
 
 // One hardware-filtered lookup (2 x 2 texels) at ``point``, moved by ``offset`` atlas
 // texels; 1 where the map recorded nothing there.
-float shadow_tap(int index, vec3 point, vec2 offset, float bias, bool radial) {
+float shadow_tap(int index, vec3 point, vec2 offset, float bias, bool perspective, bool radial) {
     vec4 light = shadow_views[index].light;
     vec4 depth_params = shadow_views[index].depth;
     vec4 tile = shadow_views[index].tile;
     vec2 texel = shadow_views[index].sampling.xy;
     vec4 q = shadow_views[index].to_atlas * vec4(point, 1.0);
     float depth = radial ? (distance(point, light.xyz) - depth_params.x) * depth_params.y : q.z;
-    vec2 uv = q.xy / q.w;
+    // an orthographic view's w is exactly 1: no division, and nothing is behind it
+    vec2 uv = perspective ? q.xy / q.w : q.xy;
     // behind the light or beyond its range (nothing recorded), or outside the light's
     // view: lit, rather than a hard black edge
-    bool outside = q.w <= 0.0 || depth > 1.0 || any(lessThan(uv, tile.xy)) || any(greaterThan(uv, tile.zw));
+    bool outside = (perspective && q.w <= 0.0) || depth > 1.0 || any(lessThan(uv, tile.xy)) || any(greaterThan(uv, tile.zw));
     vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
     float visible = textureLod(u_shadow_atlas, vec3(tap, depth - bias), 0.0);
     return outside ? 1.0 : visible;
@@ -135,7 +136,7 @@ float shadow_lookup(int index, int taps, vec3 p, vec3 n, float n_dot_l, bool per
             offset = vec2(0.0);
         }
 #endif
-        float visible = shadow_tap(index, point, offset, bias, radial);
+        float visible = shadow_tap(index, point, offset, bias, perspective, radial);
         lit += k < count ? visible : 0.0;
     }
     return lit / float(count);
