@@ -38,6 +38,11 @@ class SceneFeatures:
     spot_shadow_views: tuple = ()
     n_shadow_views: int = 0
     shadow_footprint_samples: int = 1  # points a pixel's shadow is averaged over (MSAA samples)
+    # per light type, in light order: hardware-filtered taps per side of the light's "pcf"
+    # filter (max(pcf - 1, 1)), or 0: compile-time, so the shader's tap loops unroll
+    dir_shadow_taps: tuple = ()
+    point_shadow_taps: tuple = ()
+    spot_shadow_taps: tuple = ()
 
     @classmethod
     def of(cls, world, samples: int = 1) -> "SceneFeatures":
@@ -66,6 +71,9 @@ class SceneFeatures:
                 views = getattr(self, f"{kind}_shadow_views")
                 if views:
                     defines[f"{kind.upper()}_SHADOW_VIEWS"] = ", ".join(str(v) for v in views)
+                taps = getattr(self, f"{kind}_shadow_taps")
+                if views and len(taps) == len(views):
+                    defines[f"{kind.upper()}_SHADOW_TAPS"] = ", ".join(str(t) for t in taps)
             if self.shadow_footprint_samples > 1:
                 defines["SHADOW_FOOTPRINT_SAMPLES"] = self.shadow_footprint_samples
             if self.n_shadow_views * SHADOW_VIEW_BYTES <= UNIFORM_BLOCK_BYTES:
@@ -104,14 +112,16 @@ def _footprint_samples(samples: int) -> int:
 
 def _first_shadow_views(lights) -> dict:
     """Where each light's views start in the shadow-view array: shadowed lights in light
-    order, one view each, six for a point light (the order GpuScene packs them in)."""
-    firsts = {"dir_shadow_views": [], "point_shadow_views": [], "spot_shadow_views": []}
-    key = {"directional": "dir_shadow_views", "point": "point_shadow_views", "spot": "spot_shadow_views"}
+    order, one view each, six for a point light (the order GpuScene packs them in); and
+    each light's filter taps per side (shaders/lighting/shadows.glsl, filter_taps)."""
+    firsts = {f"{kind}_shadow_{what}": [] for kind in ("dir", "point", "spot") for what in ("views", "taps")}
+    key = {"directional": "dir", "point": "point", "spot": "spot"}
     count = 0
     for light in lights:
         if light.kind == "ambient":
             continue
-        firsts[key[light.kind]].append(count if light.shadow is not None else -1)
+        firsts[f"{key[light.kind]}_shadow_views"].append(count if light.shadow is not None else -1)
+        firsts[f"{key[light.kind]}_shadow_taps"].append(max(light.shadow.pcf - 1, 1) if light.shadow is not None else 0)
         if light.shadow is not None:
             count += 6 if light.kind == "point" else 1
     return {**{k: tuple(v) for k, v in firsts.items()}, "n_shadow_views": count}

@@ -66,14 +66,34 @@ const vec2 footprint_offsets[4] = vec2[](vec2(-2, -6), vec2(6, -2), vec2(-6, 2),
 const vec2 footprint_offsets[2] = vec2[](vec2(4, 4), vec2(-4, -4));
 #endif
 
-float shadow_sample(int index, vec3 shifted, vec4 light, vec4 depth_params, float bias, bool radial, int taps);
+// One hardware-filtered lookup (2 x 2 texels) at ``point``, moved by ``offset`` atlas
+// texels; 1 where the map recorded nothing there.
+float shadow_tap(int index, vec3 point, vec2 offset, float bias, bool perspective, bool radial) {
+    vec4 light = shadow_views[index].light;
+    vec4 depth_params = shadow_views[index].depth;
+    vec4 tile = shadow_views[index].tile;
+    vec2 texel = shadow_views[index].sampling.xy;
+    vec4 q = shadow_views[index].to_atlas * vec4(point, 1.0);
+    float depth = radial ? (distance(point, light.xyz) - depth_params.x) * depth_params.y : q.z;
+    // an orthographic view's w is exactly 1: no division, and nothing is behind it
+    vec2 uv = perspective ? q.xy / q.w : q.xy;
+    // behind the light or beyond its range (nothing recorded), or outside the light's
+    // view: lit, rather than a hard black edge
+    bool outside = (perspective && q.w <= 0.0) || depth > 1.0 || any(lessThan(uv, tile.xy)) || any(greaterThan(uv, tile.zw));
+    vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
+    float visible = textureLod(u_shadow_atlas, vec3(tap, depth - bias), 0.0);
+    return outside ? 1.0 : visible;
+}
 
 // Hardware-filtered taps per side for the view's "pcf: N" (each tap blends 2 x 2 texels).
 int filter_taps(int index) {
     return max(int(shadow_views[index].sampling.z) - 1, 1);
 }
 
-float shadow_lookup(int index, vec3 p, vec3 n, float n_dot_l, bool perspective, bool radial, vec3 dpdx, vec3 dpdy) {
+// taps: filter_taps(index), passed in by callers that know it at compile time (then every
+// loop below unrolls: a software rasterizer such as llvmpipe runs both sides of every
+// branch, and every loop trip, for all the pixels it shades together).
+float shadow_lookup(int index, int taps, vec3 p, vec3 n, float n_dot_l, bool perspective, bool radial, vec3 dpdx, vec3 dpdy) {
     vec4 light = shadow_views[index].light;
     vec4 depth_params = shadow_views[index].depth;
     vec4 texel_world = shadow_views[index].texel;
@@ -83,56 +103,48 @@ float shadow_lookup(int index, vec3 p, vec3 n, float n_dot_l, bool perspective, 
     // tan(angle) of the light to the surface, capped at grazing incidence (84 degrees)
     float tan_angle = min(grazing / max(n_dot_l, 1e-4), 10.0);
     float bias = texel_size * (depth_params.z + depth_params.w * tan_angle) * depth_params.y;
+    // Either the "pcf" filter's taps around one point, or (where the pixel covers more
+    // than a texel) one tap at each of the pixel's footprint points; one loop does both.
 #if SHADOW_FOOTPRINT_SAMPLES > 1
     // the pixel's extent in texels, along the light's view plane (an estimate: the
     // footprint on the surface seen from the light is no larger)
     float footprint = max(length(dpdx), length(dpdy)) / max(texel_size, 1e-30);
-    if (footprint > 1.0) {
-        // the points spread over more than a texel and are themselves the filter: one
-        // hardware-filtered tap (2 x 2 texels) each, whatever "pcf" asks for. Measured on
-        // the benchmarks/quality scenes with pcf 3: shadow-edge RMSE 2.5-2.9 % against
-        // 2.4-2.6 % with the full filter at each point, for a quarter of the taps.
-        float lit = 0.0;
-        for (int i = 0; i < SHADOW_FOOTPRINT_SAMPLES; ++i) {
-            vec2 o = footprint_offsets[i] / 16.0;
-            lit += shadow_sample(index, shifted + dpdx * o.x + dpdy * o.y, light, depth_params, bias, radial, 1);
-        }
-        return lit / float(SHADOW_FOOTPRINT_SAMPLES);
-    }
+    // Where the points spread over more than a texel they are themselves the filter: one
+    // hardware-filtered tap each, whatever "pcf" asks for. Measured on the
+    // benchmarks/quality scenes with pcf 3: shadow-edge RMSE 2.5-2.9 % against 2.4-2.6 %
+    // with the full filter at each point, for a quarter of the taps.
+    bool spread = footprint > 1.0;
+#else
+    const bool spread = false;
 #endif
-    return shadow_sample(index, shifted, light, depth_params, bias, radial, filter_taps(index));
-}
-
-// Filtered visibility at one (normal-offset) point; bias in linear depth units.
-float shadow_sample(int index, vec3 shifted, vec4 light, vec4 depth_params, float bias, bool radial, int taps) {
-    vec4 q = shadow_views[index].to_atlas * vec4(shifted, 1.0);
-    float depth = radial ? (distance(shifted, light.xyz) - depth_params.x) * depth_params.y : q.z;
-    if (q.w <= 0.0 || depth > 1.0) {
-        return 1.0;  // behind the light or beyond its range: nothing recorded, so lit
-    }
-    vec2 uv = q.xy / q.w;
-    vec4 tile = shadow_views[index].tile;
-    if (any(lessThan(uv, tile.xy)) || any(greaterThan(uv, tile.zw))) {
-        return 1.0;  // outside the light's view: lit rather than a hard black edge
-    }
-    vec4 sampling = shadow_views[index].sampling;
-    vec2 texel = sampling.xy;
-    vec2 lo = tile.xy + texel;
-    vec2 hi = tile.zw - texel;
+    int count = spread ? SHADOW_FOOTPRINT_SAMPLES : taps * taps;
+    int bound = max(SHADOW_FOOTPRINT_SAMPLES, taps * taps);
     float first = -0.5 * float(taps - 1);
     float lit = 0.0;
-    for (int j = 0; j < taps; ++j) {
-        for (int i = 0; i < taps; ++i) {
-            vec2 tap = uv + vec2(first + float(i), first + float(j)) * texel;
-            lit += texture(u_shadow_atlas, vec3(clamp(tap, lo, hi), depth - bias));
+    int column = 0, row = 0;  // of the filter's taps (no integer division: it is slow on SIMD)
+    for (int k = 0; k < bound; ++k) {
+        vec3 point = shifted;
+        vec2 offset = vec2(first + float(column), first + float(row));
+        if (++column == taps) {
+            column = 0;
+            ++row;
         }
+#if SHADOW_FOOTPRINT_SAMPLES > 1
+        if (spread) {
+            vec2 o = footprint_offsets[min(k, SHADOW_FOOTPRINT_SAMPLES - 1)] / 16.0;
+            point = shifted + dpdx * o.x + dpdy * o.y;
+            offset = vec2(0.0);
+        }
+#endif
+        float visible = shadow_tap(index, point, offset, bias, perspective, radial);
+        lit += k < count ? visible : 0.0;
     }
-    return lit / float(taps * taps);
+    return lit / float(count);
 }
 
 // The same for a view of any light type (read from the view itself).
 float shadow_visibility(int index, vec3 p, vec3 n, float n_dot_l, vec3 dpdx, vec3 dpdy) {
-    return shadow_lookup(index, p, n, n_dot_l, shadow_views[index].texel.x > 0.0,
+    return shadow_lookup(index, filter_taps(index), p, n, n_dot_l, shadow_views[index].texel.x > 0.0,
                          shadow_views[index].light.w > 0.5, dpdx, dpdy);
 }
 

@@ -53,7 +53,9 @@ class ShadowMapPass(RenderPass):
         gl = ctx.gl
         fbo = ctx.framebuffer([], data.atlas)
         fbo.use()
-        defines = {"RADIAL_DEPTH": True} if self.kind == "point" else {}
+        # directional views are orthographic: window depth is linear depth already (their
+        # range spans every caster and receiver, so nothing needs the shader's clamp)
+        defines = {"point": {"RADIAL_DEPTH": True}, "directional": {"ORTHOGRAPHIC": True}}.get(self.kind, {})
         program = ctx.programs.get("shadow/depth.vert", "shadow/depth.frag", defines)
         gl.enable(moderngl.DEPTH_TEST)
         gl.depth_func = "<"  # the atlas keeps linear depth, nearest = 0, whatever the camera's convention
