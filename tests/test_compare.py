@@ -17,7 +17,7 @@ from PIL import Image
 from scenerender.cli import main
 from scenerender.compare import DEFAULT_RULE, DiffRule, compare_images, compare_paths, write_html_report
 from scenerender.compare.metrics import flip_available, measure, unexplained_difference
-from scenerender.compare.sources import srgb_encode
+from scenerender.compare.sources import srgb_bytes
 
 SUPERSAMPLE = 4
 
@@ -191,8 +191,8 @@ def test_exr_frames_are_compared_after_the_srgb_encode(tmp_path):
     with OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage},
                       {"RGB": linear}) as exr:
         exr.write(str(tmp_path / "frame.exr"))
-    save(tmp_path / "frame.png", srgb_encode(linear))
-    assert srgb_encode(np.array([[[0.5, 0.0, 1.0]]]))[0, 0].tolist() == [188, 0, 255]
+    save(tmp_path / "frame.png", srgb_bytes(linear))
+    assert srgb_bytes(np.array([[[0.5, 0.0, 1.0]]]))[0, 0].tolist() == [188, 0, 255]
     assert compare_paths(tmp_path / "frame.png", tmp_path / "frame.exr").passed
 
 

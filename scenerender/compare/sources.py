@@ -14,6 +14,8 @@ from typing import Iterator
 
 import numpy as np
 
+from scenerender.colorspace import srgb_encode
+
 from scenerender.errors import SourceLocation, UserError, display_path
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr")
@@ -72,11 +74,9 @@ def read_provenance(path: Path) -> Provenance:
 
 # -- reading frames ----------------------------------------------------------------------
 
-def srgb_encode(linear: np.ndarray) -> np.ndarray:
+def srgb_bytes(linear: np.ndarray) -> np.ndarray:
     """(H, W, 3) float linear light -> (H, W, 3) uint8 with the exact sRGB curve."""
-    x = np.clip(np.nan_to_num(linear.astype(np.float64)), 0.0, 1.0)
-    encoded = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
-    return np.round(encoded * 255.0).astype(np.uint8)
+    return np.round(srgb_encode(np.nan_to_num(linear.astype(np.float64))) * 255.0).astype(np.uint8)
 
 
 def _read_exr(path: Path) -> np.ndarray:
@@ -90,7 +90,7 @@ def _read_exr(path: Path) -> np.ndarray:
             linear = np.stack([np.asarray(channels[c].pixels, dtype=np.float32) for c in "RGB"], axis=2)
         else:
             raise _bad(path, f"EXR without R, G, B channels (has {', '.join(sorted(channels))})")
-    return srgb_encode(linear[..., :3])
+    return srgb_bytes(linear[..., :3])
 
 
 def read_image(path: Path) -> np.ndarray:

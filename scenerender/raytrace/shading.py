@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from scenerender.colorspace import srgb_encode
+
 
 def safe_normalize(v: np.ndarray, fallback: np.ndarray | None = None) -> np.ndarray:
     """(P, 3) float64 -> unit vectors; rows with squared length <= 1e-20 become ``fallback``
@@ -90,13 +92,6 @@ def apply_fog(color: np.ndarray, distance: np.ndarray, fog_color: np.ndarray, mo
     """(P, 3) colour mixed towards ``fog_color`` (3,) in linear light."""
     keep = fog_visibility(distance, mode, density, start, end)[:, None]
     return fog_color[None, :] * (1.0 - keep) + color * keep
-
-
-def srgb_encode(linear: np.ndarray) -> np.ndarray:
-    """The exact sRGB transfer function (IEC 61966-2-1) of values clamped to [0, 1]; any
-    shape, float64 in and out (0..1)."""
-    c = np.clip(linear, 0.0, 1.0)
-    return np.where(c < 0.0031308, c * 12.92, 1.055 * np.power(c, 1.0 / 2.4) - 0.055)
 
 
 def encode_output(linear: np.ndarray, transform: str, gamma: float = 2.2) -> np.ndarray:

@@ -7,12 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from scenerender.colorspace import srgb_decode
 from scenerender.world.images import placeholder_pixels
-
-
-def srgb_decode(encoded: np.ndarray) -> np.ndarray:
-    """Display values in [0, 1] -> linear light (the exact sRGB curve), any shape."""
-    return np.where(encoded <= 0.04045, encoded / 12.92, ((encoded + 0.055) / 1.055) ** 2.4)
 
 
 class MapSampler:
