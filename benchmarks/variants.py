@@ -1,0 +1,79 @@
+"""Where a scene's frame time goes under variants of its settings, measured in one process.
+
+Each variant is a renderer of its own on one GL context; frames are rendered by the
+variants in turn (A B C A B C ...), so a busy machine slows them alike, and each pass is
+timed GPU-synchronised (the --profile timings). Prints one Markdown row per variant: the
+median ms per pass.
+
+    python benchmarks/variants.py scenes/foggy_road.yaml --set "render.size=[640,360]" \\
+        --variant no-msaa=render.samples=1 --variant unlit=render.shading=unlit --variant no-footprint
+    python benchmarks/variants.py benchmarks/scenes/bench/bench.yaml --variant no-msaa=render.samples=1
+
+A variant is NAME=KEY=VALUE[;KEY=VALUE...] (scene overrides, as --set), or "no-footprint":
+shadow visibility taken once per pixel instead of averaged over its MSAA sample points.
+"""
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+from contextlib import contextmanager
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import scenerender  # noqa: E402
+from scenerender.gpu.context import create_context  # noqa: E402
+from scenerender.rendering import features  # noqa: E402
+from scenerender.rendering.renderer import Renderer  # noqa: E402
+
+NO_FOOTPRINT = "no-footprint"
+
+
+@contextmanager
+def footprint_off():
+    """Renderers made inside take shadow visibility at one point per pixel."""
+    original = features._footprint_samples
+    features._footprint_samples = lambda samples: 1
+    try:
+        yield
+    finally:
+        features._footprint_samples = original
+
+
+def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tuple[str, Renderer]:
+    if variant == NO_FOOTPRINT:
+        with footprint_off():
+            return variant, Renderer(scenerender.load(scene_path, base_overrides)._world, gl, profile=True)
+    name, _, overrides = variant.partition("=")
+    extra = [o for o in overrides.split(";") if o] if overrides else []
+    return name, Renderer(scenerender.load(scene_path, base_overrides + extra)._world, gl, profile=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("scene")
+    parser.add_argument("--set", dest="sets", action="append", default=[], help="override for every variant")
+    parser.add_argument("--variant", dest="variants", action="append", default=[])
+    parser.add_argument("--frames", type=int, default=10, help="frames per variant after the first (default 10)")
+    args = parser.parse_args()
+    gl = create_context()
+    renderers = [make_renderer(gl, args.scene, args.sets, "default=")]
+    renderers += [make_renderer(gl, args.scene, args.sets, v) for v in args.variants]
+    for _, renderer in renderers:
+        renderer.render(0)  # shaders compiled, static passes drawn
+        renderer.timings.clear()
+    for index in range(1, args.frames + 1):
+        for _, renderer in renderers:
+            renderer.render(index)
+    passes = list(dict.fromkeys(name for _, r in renderers for name in r.timings))
+    print("| variant | " + " | ".join(passes) + " |")
+    print("|---" * (len(passes) + 1) + "|")
+    for name, renderer in renderers:
+        cells = [f"{statistics.median(renderer.timings[p]) * 1000:.1f}" if p in renderer.timings else "-"
+                 for p in passes]
+        print(f"| {name} | " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()
