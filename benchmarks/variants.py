@@ -9,8 +9,9 @@ median ms per pass.
         --variant no-msaa=render.samples=1 --variant unlit=render.shading=unlit --variant no-footprint
     python benchmarks/variants.py benchmarks/scenes/bench/bench.yaml --variant no-msaa=render.samples=1
 
-A variant is NAME=KEY=VALUE[;KEY=VALUE...] (scene overrides, as --set), or "no-footprint":
-shadow visibility taken once per pixel instead of averaged over its MSAA sample points.
+A variant is NAME=KEY=VALUE[;KEY=VALUE...] (scene overrides, as --set), or one of:
+  no-footprint     shadow visibility taken once per pixel, not averaged over its MSAA samples
+  no-face-culling  every face of closed surfaces drawn, also those the camera cannot see
 """
 from __future__ import annotations
 
@@ -26,8 +27,19 @@ import scenerender  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
 from scenerender.rendering import features  # noqa: E402
 from scenerender.rendering.renderer import Renderer  # noqa: E402
+from scenerender.world import frame  # noqa: E402
 
-NO_FOOTPRINT = "no-footprint"
+
+class NoFaceCulling(Renderer):
+    """Draws the faces the camera cannot see too."""
+
+    def render(self, index: int):
+        original = frame.hidden_faces
+        frame.hidden_faces = lambda winding, bounds, camera: None
+        try:
+            return super().render(index)
+        finally:
+            frame.hidden_faces = original
 
 
 @contextmanager
@@ -42,9 +54,11 @@ def footprint_off():
 
 
 def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tuple[str, Renderer]:
-    if variant == NO_FOOTPRINT:
+    if variant == "no-footprint":
         with footprint_off():
             return variant, Renderer(scenerender.load(scene_path, base_overrides)._world, gl, profile=True)
+    if variant == "no-face-culling":
+        return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides)._world, gl, profile=True)
     name, _, overrides = variant.partition("=")
     extra = [o for o in overrides.split(";") if o] if overrides else []
     return name, Renderer(scenerender.load(scene_path, base_overrides + extra)._world, gl, profile=True)

@@ -43,6 +43,7 @@ class MeshData:
     materials: dict = field(default_factory=dict)
     source: str = ""
     _bounds: np.ndarray | None = field(default=None, init=False, repr=False, compare=False)
+    _winding: int | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not self.groups:
@@ -69,3 +70,12 @@ class MeshData:
                 p = self.positions.astype(np.float64)
                 self._bounds = np.stack([p.min(axis=0), p.max(axis=0)])
         return self._bounds
+
+    def closed_winding(self) -> int:
+        """+1: a closed surface wound counter-clockwise seen from outside; -1: closed,
+        clockwise; 0: open or inconsistent (mesh.topology.closed_winding). Computed once."""
+        if self._winding is None:
+            from scenerender.mesh.topology import closed_winding
+
+            self._winding = closed_winding(self.positions, self.indices)
+        return self._winding

@@ -59,6 +59,24 @@ def draw_item(objects: ObjectsInput, program, item: DrawItem, mode=None) -> None
     objects.draw(program, item.object_index, mode=mode, group=item.group_index)
 
 
+def cull_hidden_faces(gl, objects: ObjectsInput, index: int) -> None:
+    """Before drawing object ``index`` opaque from the camera: skip the faces the camera
+    cannot see (world.frame.hidden_faces), or none. The image is the same either way; the
+    skipped faces cost nothing (with MSAA, llvmpipe shades every rasterised fragment,
+    hidden or not). Callers end with ``stop_culling``."""
+    face = objects.frames[index].hidden_faces
+    if face is None:
+        gl.disable(moderngl.CULL_FACE)
+    else:
+        gl.enable(moderngl.CULL_FACE)
+        gl.cull_face = face
+
+
+def stop_culling(gl) -> None:
+    gl.disable(moderngl.CULL_FACE)
+    gl.cull_face = "back"
+
+
 def begin_camera_pass(ctx, colors, depth, clear_color) -> moderngl.Framebuffer:
     """Bind and clear a colour + depth target for drawing meshes from the camera, with the
     depth test on and blending and culling off. Returns the framebuffer."""

@@ -17,7 +17,7 @@ from scenerender.world.camera import (
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lights import LightState, evaluate_lights
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
-from scenerender.world.transforms import normal_matrices
+from scenerender.world.transforms import box_corners, normal_matrices
 
 
 @dataclass
@@ -30,6 +30,10 @@ class ObjectFrame:
     in_view:    how many of the K instances (the first ones) the camera can see; passes
                 drawn from the camera draw only those, shadow passes draw all K.
     bounds:     (2, 3) float64 world AABB of all instances.
+    hidden_faces: "back" or "front": the faces the camera cannot see this frame (a closed,
+                opaque surface seen from outside shows only the faces turned towards it),
+                which passes drawing opaque surfaces from the camera may skip; None when
+                every face may show (see hidden_faces).
     """
 
     visible: bool
@@ -38,6 +42,7 @@ class ObjectFrame:
     bounds: np.ndarray
     center: np.ndarray
     in_view: int
+    hidden_faces: str | None = None
 
     @property
     def count(self) -> int:
@@ -96,8 +101,7 @@ class FrameEvaluator:
             self._first_bounds = start if start is not None else np.array([[-1.0] * 3, [1.0] * 3])
         camera = self._camera(time, bounds)
         planes = frustum_planes(camera.view_proj_relative())
-        objects = [self._object(obj, p, v, camera.position, planes)
-                   for obj, p, v in zip(world.objects, placements, visible)]
+        objects = [self._object(obj, p, v, camera, planes) for obj, p, v in zip(world.objects, placements, visible)]
         lights, ambient = evaluate_lights(world.lights, time, camera)
         render = world.render
         fog = render.fog
@@ -153,21 +157,26 @@ class FrameEvaluator:
     # -- objects and shadows -------------------------------------------------------------
     @staticmethod
     def _placement(obj, matrices: np.ndarray) -> tuple:
-        """(matrices (K, 4, 4) float64, normal matrices (K, 3, 3) float32, world bounds (2, 3))."""
-        return matrices, normal_matrices(matrices).astype(np.float32), obj.world_bounds(matrices)
+        """(matrices (K, 4, 4) float64, normal matrices (K, 3, 3) float32, world bounds (2, 3),
+        winding): winding is +1 or -1 for a closed, opaque surface whose instances all keep
+        (+1) or all mirror (-1) its triangles' winding, else 0."""
+        winding = obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) else 0
+        if winding:
+            signs = np.sign(np.linalg.det(matrices[:, :3, :3]))
+            winding *= int(signs[0]) if np.all(signs == signs[0]) else 0
+        return matrices, normal_matrices(matrices).astype(np.float32), obj.world_bounds(matrices), winding
 
     @staticmethod
-    def _object(obj, placement: tuple, visible: bool, camera_position: np.ndarray,
-                planes: np.ndarray) -> ObjectFrame:
-        matrices, normals, bounds = placement
+    def _object(obj, placement: tuple, visible: bool, camera: CameraState, planes: np.ndarray) -> ObjectFrame:
+        matrices, normals, bounds, winding = placement
         rel = matrices.copy()
-        rel[:, :3, 3] -= camera_position
+        rel[:, :3, 3] -= camera.position
         inside = instances_in_view(obj.mesh.bounds(), rel, planes)
         order = np.argsort(~inside, kind="stable")  # in-view instances first
         if len(order) > 1:
             rel, normals = rel[order], normals[order]
         return ObjectFrame(visible, rel.astype(np.float32), normals, bounds, (bounds[0] + bounds[1]) / 2.0,
-                           int(inside.sum()) if visible else 0)
+                           int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera))
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:
@@ -185,6 +194,25 @@ class FrameEvaluator:
                 views[state_index] = light_views(lights[state_index], self.atlas.tiles[def_index], casters, bounds,
                                                  visible)
         return views
+
+
+def hidden_faces(winding: int, bounds: np.ndarray, camera: CameraState) -> str | None:
+    """The faces of a closed surface the camera cannot see: "back" for counter-clockwise
+    winding (+1), "front" for clockwise (-1); None for an open surface (0), or when the
+    camera might see the surface from inside, that is unless one of these holds:
+    - the surface's bounds lie wholly beyond the near plane;
+    - the bounds are farther from the camera than the near plane's corners (so the near
+      plane cannot cut into the surface, and the camera is outside it).
+    Orthographic cameras never skip faces (their near plane is as wide as the view)."""
+    if winding == 0 or camera.orthographic:
+        return None
+    depths = (box_corners(bounds) - camera.position) @ camera.forward
+    p = camera.projection
+    reach = camera.near * float(np.sqrt(1.0 + 1.0 / p[0, 0] ** 2 + 1.0 / p[1, 1] ** 2))
+    outside_by = np.linalg.norm(np.maximum(np.maximum(bounds[0] - camera.position, camera.position - bounds[1]), 0.0))
+    if depths.min() <= camera.near and outside_by <= reach:
+        return None
+    return "back" if winding > 0 else "front"
 
 
 def _union(boxes: list) -> np.ndarray | None:

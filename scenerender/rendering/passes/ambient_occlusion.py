@@ -10,7 +10,8 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
-    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_texture_units,
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_texture_units, cull_hidden_faces,
+    stop_culling,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.passes.data import ImageData, TargetData
@@ -41,7 +42,9 @@ class GBufferPass(RenderPass):
         set_uniforms(program, u_view_proj=camera.view_proj_relative(), u_view_rotation=camera.rotation)
         objects = ctx.input(self.objects)
         for index in objects.in_camera_view():
+            cull_hidden_faces(ctx.gl, objects, index)
             objects.draw(program, index)
+        stop_culling(ctx.gl)
 
 
 def hemisphere_kernel(count: int, seed: int = 1) -> np.ndarray:

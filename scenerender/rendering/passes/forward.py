@@ -10,8 +10,8 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
-    MESH_VERTEX, begin_camera_pass, bind_material, bind_shadow_atlas, bind_texture_units,
-    draw_item, opaque_items, transparent_items,
+    MESH_VERTEX, begin_camera_pass, bind_material, bind_shadow_atlas, bind_texture_units, cull_hidden_faces,
+    draw_item, opaque_items, stop_culling, transparent_items,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.inputs import InputHandles
@@ -38,8 +38,9 @@ class Shading:
         if self.ao is not None:
             ctx.image(self.ao).use(TEXTURE_UNITS["u_ao"])
 
-    def draw(self, ctx, items, mode=None) -> None:
-        """Shade ``items`` with each material's program variant."""
+    def draw(self, ctx, items, mode=None, cull_hidden: bool = False) -> None:
+        """Shade ``items`` with each material's program variant; ``cull_hidden``: skip the
+        faces the camera cannot see (opaque surfaces only)."""
         camera = ctx.input(self.inputs.camera)
         objects = ctx.input(self.inputs.objects)
         materials = ctx.input(self.inputs.materials)
@@ -52,6 +53,8 @@ class Shading:
             if fog is not None:
                 set_uniforms(program, u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
             bind_material(program, item.material, materials)
+            if cull_hidden:
+                cull_hidden_faces(ctx.gl, objects, item.object_index)
             draw_item(objects, program, item, mode)
 
     def _program(self, ctx, material):
@@ -121,11 +124,13 @@ class OpaquePass(RenderPass):
             gl.point_size = self.point_size
         gl.line_width = self.line_width
         items = opaque_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
+        solid = self.fill == "solid"  # wireframes and points show every face's edges
         try:
             if self.prepass:
                 self._depth_prepass(ctx, items, fbo)
-            self.shading.draw(ctx, items, mode)
+            self.shading.draw(ctx, items, mode, cull_hidden=solid)
         finally:
+            stop_culling(gl)
             gl.wireframe = False
             fbo.color_mask = (True, True, True, True)
             fbo.depth_mask = True
@@ -140,7 +145,9 @@ class OpaquePass(RenderPass):
         objects = ctx.input(self.shading.inputs.objects)
         fbo.color_mask = (False, False, False, False)
         for item in items:
+            cull_hidden_faces(ctx.gl, objects, item.object_index)
             draw_item(objects, program, item)
+        stop_culling(ctx.gl)
         fbo.color_mask = (True, True, True, True)
         fbo.depth_mask = False
         ctx.gl.depth_func = ctx.depth.nearer_or_equal
