@@ -79,6 +79,22 @@ def test_cached_load_equals_a_fresh_parse(tmp_path, cache_dir, monkeypatch):
     assert cached.materials["red"].diffuse_map.path.name == "red.png"
 
 
+def test_an_entry_keeps_the_closed_surface_analysis(tmp_path, cache_dir, monkeypatch):
+    """A cube: closed, wound outwards; the cached load does not work it out again."""
+    folder = tmp_path / "cube"
+    folder.mkdir()
+    corners = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    quads = [(2, 4, 3, 1), (7, 8, 6, 5), (5, 6, 2, 1), (4, 8, 7, 3), (3, 7, 5, 1), (6, 8, 4, 2)]
+    (folder / "cube.obj").write_text("".join(f"v {x} {y} {z}\n" for x, y, z in corners)
+                                     + "".join(f"f {a} {b} {c} {d}\n" for a, b, c, d in quads))
+    assert load(folder / "cube.obj").closed_winding() == 1
+    forbid_parsing(monkeypatch)
+    from scenerender.mesh import topology
+
+    monkeypatch.setattr(topology, "closed_winding", lambda *a: pytest.fail("analysed again"))
+    assert load(folder / "cube.obj").closed_winding() == 1
+
+
 def test_other_options_or_a_changed_file_miss(tmp_path, cache_dir):
     path = write_model(tmp_path / "m")
     first = load(path)

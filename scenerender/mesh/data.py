@@ -79,3 +79,8 @@ class MeshData:
 
             self._winding = closed_winding(self.positions, self.indices)
         return self._winding
+
+    def record_winding(self, winding: int) -> None:
+        """Set what ``closed_winding`` returns, known from an earlier analysis of the same
+        positions and indices (the mesh cache keeps it)."""
+        self._winding = int(winding)
