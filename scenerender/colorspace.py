@@ -1,5 +1,5 @@
-"""The exact sRGB transfer function (IEC 61966-2-1) on NumPy arrays, both ways; the same
-curves as shaders/common/srgb.glsl."""
+"""The exact sRGB transfer function (IEC 61966-2-1) on NumPy arrays, both ways; the curve
+shaders/post/encode.glsl applies."""
 from __future__ import annotations
 
 import numpy as np

@@ -15,7 +15,6 @@ from typing import Iterator
 import numpy as np
 
 from scenerender.colorspace import srgb_encode
-
 from scenerender.errors import SourceLocation, UserError, display_path
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr")

@@ -283,8 +283,8 @@ class FrameGraph:
                 producers = self._resources[handle.resource].producers
                 for version, index in producers.items():
                     writer = kept_by_index.get(index)
-                    if version > handle.version and writer is not None and not any(
-                            h.resource == handle.resource and h.version == version for h in writer.own_region_writes):
+                    if version > handle.version and writer is not None \
+                            and Handle(handle.resource, version, handle.name) not in writer.own_region_writes:
                         found.add(index)
             later[node.index] = found
         return later

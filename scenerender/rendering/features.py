@@ -68,11 +68,9 @@ class SceneFeatures:
         if self.shadows:
             defines["HAS_SHADOWS"] = True
             for kind in ("dir", "point", "spot"):
-                views = getattr(self, f"{kind}_shadow_views")
+                views, taps = getattr(self, f"{kind}_shadow_views"), getattr(self, f"{kind}_shadow_taps")
                 if views:
                     defines[f"{kind.upper()}_SHADOW_VIEWS"] = ", ".join(str(v) for v in views)
-                taps = getattr(self, f"{kind}_shadow_taps")
-                if views and len(taps) == len(views):
                     defines[f"{kind.upper()}_SHADOW_TAPS"] = ", ".join(str(t) for t in taps)
             if self.shadow_footprint_samples > 1:
                 defines["SHADOW_FOOTPRINT_SAMPLES"] = self.shadow_footprint_samples

@@ -163,18 +163,15 @@ def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> list:
     maps whose inputs are all static come first in the chain. The shadow views show the
     first shadowed light alone; there file order puts it first and culls every other pass."""
     lights = [light for light in world.lights if light.kind != "ambient"]
-    passes = []
-    for light_index, views in inputs.shadow_views:
-        light = lights[light_index]
-        fitted_to_camera = light.kind == "directional" or light.attach_camera
-        passes.append((light_index, light, views, inputs.camera if fitted_to_camera else None))
+    passes = list(inputs.shadow_views)  # (light index, its shadow_views input)
     if world.settings.mode not in ("shadow", "light_depth"):
-        passes.sort(key=lambda p: any(graph.is_dynamic(h) for h in (p[2], inputs.objects, p[3]) if h is not None))
+        passes.sort(key=lambda p: graph.is_dynamic(p[1]) or graph.is_dynamic(inputs.objects))
     handles = []
     current = None
-    for light_index, light, views, camera in passes:
+    for light_index, views in passes:
+        light = lights[light_index]
         current = graph.add(ShadowMapPass(light.name, light.kind, light.shadow.size, light.shadow.pcf, atlas.size,
-                                          views, inputs.objects, camera, current)).atlas
+                                          views, inputs.objects, current)).atlas
         handles.append((light_index, current))
     return handles
 

@@ -129,7 +129,6 @@ class Renderer:
         self.check_finite = check_finite_enabled()
         self.want_linear = want_linear
         self.plan = plan(world, self.size, self.samples, max_size, want_linear or self.check_finite, warn, tuning)
-        self.atlas, self.compiled = self.plan.atlas, self.plan.compiled
         self.features = SceneFeatures.of(world, self.samples)
         # encode linear -> sRGB on writes to (only) sRGB-format targets, decode for blending
         gl.enable_direct(GL_FRAMEBUFFER_SRGB)
@@ -143,6 +142,14 @@ class Renderer:
         self.evaluator = FrameEvaluator(world, self.size, self.atlas, max_depth_ratio=self.depth.max_depth_ratio)
         self.cache_static_passes = cache_static_passes  # off only to measure what caching saves
         self._rendered_any = False
+
+    @property
+    def atlas(self):
+        return self.plan.atlas
+
+    @property
+    def compiled(self) -> CompiledGraph:
+        return self.plan.compiled
 
     def release(self) -> None:
         """Free every GL object this renderer made (the context itself stays)."""

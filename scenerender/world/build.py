@@ -20,6 +20,7 @@ from scenerender.world.images import DEFAULT_MAX_PIXELS, ImageStore
 from scenerender.world.lights import LightDef, light_defs
 from scenerender.world.settings import OutlineSettings, RenderSettings
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance
+from scenerender.world.transforms import union_bounds
 
 
 @dataclass
@@ -192,11 +193,7 @@ def _default_name(obj, index: int) -> str:
 
 def scene_bounds(objects: list, matrices: list, visible: list) -> np.ndarray | None:
     """(2, 3) float64 world AABB of the visible objects, or None when nothing is visible."""
-    boxes = [obj.world_bounds(m) for obj, m, v in zip(objects, matrices, visible) if v]
-    if not boxes:
-        return None
-    stacked = np.stack(boxes)
-    return np.stack([stacked[:, 0].min(axis=0), stacked[:, 1].max(axis=0)])
+    return union_bounds([obj.world_bounds(m) for obj, m, v in zip(objects, matrices, visible) if v])
 
 
 def _outline(spec) -> OutlineSettings | None:

@@ -17,7 +17,7 @@ from scenerender.world.camera import (
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lights import LightState, evaluate_lights
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
-from scenerender.world.transforms import box_corners, normal_matrices
+from scenerender.world.transforms import box_corners, normal_matrices, union_bounds
 
 
 @dataclass
@@ -81,17 +81,20 @@ class FrameEvaluator:
         self.aspect = size[0] / size[1]
         self.atlas = atlas
         self._first_bounds = None
-        # objects that never move: index -> (matrices, float32 normal matrices, world bounds),
-        # so a frame's work for them is the camera-relative shift and the view test
-        self._fixed = {i: self._placement(obj, obj.matrices(0.0)) for i, obj in enumerate(world.objects)
-                       if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
+        # +1 / -1 for closed, opaque surfaces (their winding), 0 for the rest
+        self._windings = [obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) else 0
+                          for obj in world.objects]
+        # objects that never move: index -> their placement (see _placement), so a frame's
+        # work for them is the camera-relative shift and the view test
+        self._fixed = {i: self._placement(obj, obj.matrices(0.0), self._windings[i])
+                       for i, obj in enumerate(world.objects) if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
 
     def evaluate(self, index: int, time: float) -> FrameState:
         world = self.world
-        placements = [self._fixed.get(i) or self._placement(obj, obj.matrices(time))
+        placements = [self._fixed.get(i) or self._placement(obj, obj.matrices(time), self._windings[i])
                       for i, obj in enumerate(world.objects)]
         visible = [bool(obj.visible(time)) for obj in world.objects]
-        bounds = _union([p[2] for p, v in zip(placements, visible) if v])
+        bounds = union_bounds([p[2] for p, v in zip(placements, visible) if v])
         if self._first_bounds is None:
             # the default camera frames frame 0 (t = 0), whichever frame a run starts
             # with: a resumed or --frames run must draw what a full run draws
@@ -156,11 +159,10 @@ class FrameEvaluator:
 
     # -- objects and shadows -------------------------------------------------------------
     @staticmethod
-    def _placement(obj, matrices: np.ndarray) -> tuple:
+    def _placement(obj, matrices: np.ndarray, winding: int) -> tuple:
         """(matrices (K, 4, 4) float64, normal matrices (K, 3, 3) float32, world bounds (2, 3),
-        winding): winding is +1 or -1 for a closed, opaque surface whose instances all keep
-        (+1) or all mirror (-1) its triangles' winding, else 0."""
-        winding = obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) else 0
+        winding): the surface's ``winding`` where its instances all keep it, reversed where
+        they all mirror it, else 0."""
         if winding:
             signs = np.sign(np.linalg.det(matrices[:, :3, :3]))
             winding *= int(signs[0]) if np.all(signs == signs[0]) else 0
@@ -182,11 +184,7 @@ class FrameEvaluator:
         if self.atlas is None:
             return {}
         visible = visible_region(camera, bounds)
-        caster_boxes = [f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows]
-        casters = None
-        if caster_boxes:
-            stacked = np.stack(caster_boxes)
-            casters = np.stack([stacked[:, 0].min(axis=0), stacked[:, 1].max(axis=0)])
+        casters = union_bounds([f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows])
         views = {}
         non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
         for state_index, def_index in enumerate(non_ambient):
@@ -213,14 +211,6 @@ def hidden_faces(winding: int, bounds: np.ndarray, camera: CameraState) -> str |
     if depths.min() <= camera.near and outside_by <= reach:
         return None
     return "back" if winding > 0 else "front"
-
-
-def _union(boxes: list) -> np.ndarray | None:
-    """(2, 3) bounds around (2, 3) boxes, or None for none."""
-    if not boxes:
-        return None
-    stacked = np.stack(boxes)
-    return np.stack([stacked[:, 0].min(axis=0), stacked[:, 1].max(axis=0)])
 
 
 def frustum_planes(clip: np.ndarray) -> np.ndarray:

@@ -39,13 +39,6 @@ class LightDef:
     attach_camera: bool = False
     shadow: ShadowMapSettings | None = None
 
-    def moves(self) -> bool:
-        """True when position or direction can change (what a shadow map depends on)."""
-        if self.attach_camera:
-            return True
-        tracks = [t for t in (self.position, self.direction, self.outer_angle) if t is not None]
-        return not all(t.is_constant for t in tracks)
-
 
 @dataclass(frozen=True)
 class LightState:

@@ -90,10 +90,6 @@ class Material:
             return True
         return float(np.min(self.diffuse.values[:, 3])) < 1.0
 
-    @property
-    def is_static(self) -> bool:
-        return all(getattr(self, k).is_constant for k in COLOR_KEYS + ("shininess", "opacity"))
-
 
 def _color_track(rgb_or_rgba) -> Track:
     values = tuple(float(v) for v in rgb_or_rgba)

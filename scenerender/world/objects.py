@@ -26,12 +26,6 @@ class InstanceSet:
     def count(self) -> int:
         return len(self.tracks) if self.tracks is not None else len(self.fixed)
 
-    @property
-    def is_static(self) -> bool:
-        if self.tracks is None:
-            return True
-        return all(track.is_constant for triple in self.tracks for track in triple)
-
     def matrices(self, t: float) -> np.ndarray:
         if self.tracks is None:
             return self.fixed
@@ -82,11 +76,6 @@ class RenderObject:
     cast_shadows: bool
     outline: OutlineSettings | None
     instances: InstanceSet
-
-    @property
-    def is_static(self) -> bool:
-        own = (self.position, self.rotation, self.scale, self.visible)
-        return all(t.is_constant for t in own) and self.instances.is_static
 
     def object_matrix(self, t: float) -> np.ndarray:
         return model_matrix(self.position(t), self.rotation(t), _scale3(self.scale(t)))

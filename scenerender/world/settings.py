@@ -71,6 +71,8 @@ class RenderSettings:
     @classmethod
     def of(cls, render) -> "RenderSettings":
         """From the validated ``render:`` section (scene.schema.RenderSettings)."""
+        from scenerender.scene.schema import SKY_FACES
+
         fog = render.fog
         ao = render.ambient_occlusion
         sky = render.skybox
@@ -80,6 +82,5 @@ class RenderSettings:
             wireframe_overlay=render.wireframe_overlay, line_width=render.line_width, point_size=render.point_size,
             fog=FogSettings(fog.mode, fog.start, fog.end) if fog is not None else None,
             ambient_occlusion=AmbientOcclusionSettings.of(ao) if ao is not None else None,
-            skybox=tuple(Path(getattr(sky, face)) for face in ("posx", "negx", "posy", "negy", "posz", "negz"))
-            if sky is not None else None,
+            skybox=tuple(Path(getattr(sky, face)) for face in SKY_FACES) if sky is not None else None,
         )

@@ -92,6 +92,14 @@ def box_corners(bounds: np.ndarray) -> np.ndarray:
     return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
 
 
+def union_bounds(boxes: list) -> np.ndarray | None:
+    """(2, 3) min/max around (2, 3) boxes; None for no boxes."""
+    if not boxes:
+        return None
+    stacked = np.stack(boxes)
+    return np.stack([stacked[:, 0].min(axis=0), stacked[:, 1].max(axis=0)])
+
+
 def transformed_bounds(bounds: np.ndarray, models: np.ndarray) -> np.ndarray:
     """World AABB (2, 3) of a local AABB (2, 3) placed by each of (K, 4, 4) matrices."""
     corners = box_corners(bounds)

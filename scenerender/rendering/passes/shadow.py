@@ -21,8 +21,8 @@ class ShadowMapPass(RenderPass):
     first shadow pass creates the atlas; later ones write their own tiles of it and leave
     the others untouched.
 
-    light_name, kind, map_size, pcf: what the dump shows. atlas_size: (width, height). views: the light's
-    ``shadow_views`` input; camera: the camera input where the views are fitted to it.
+    light_name, kind, map_size, pcf: what the dump shows. atlas_size: (width, height).
+    views: the light's ``shadow_views`` input, dynamic wherever the views follow the camera.
     """
 
     light_name: str
@@ -32,7 +32,6 @@ class ShadowMapPass(RenderPass):
     atlas_size: tuple
     views: Handle
     objects: Handle
-    camera: Handle | None = None
     atlas_in: Handle | None = None
 
     @property
@@ -40,7 +39,7 @@ class ShadowMapPass(RenderPass):
         return f"shadow:{self.light_name}"
 
     def setup(self, builder) -> ShadowMapData:
-        builder.read(self.views, self.objects, *([self.camera] if self.camera is not None else []))
+        builder.read(self.views, self.objects)
         if self.atlas_in is None:
             return ShadowMapData(builder.create("shadow_atlas", ResourceDesc("depth", self.atlas_size, "depth24")))
         return ShadowMapData(builder.write(self.atlas_in, own_region=True))  # its own tiles
