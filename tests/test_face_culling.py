@@ -134,3 +134,75 @@ def test_skipping_hidden_faces_leaves_the_image_as_it_was(gl, tmp_path, monkeypa
         verdict = compare_images("cull", a, b, DEFAULT_RULE, keep_images=False)
         assert verdict.passed, verdict
         assert (np.abs(a.astype(int) - b.astype(int)).max(axis=2) > 0).mean() < 0.002  # silhouette ties at most
+
+
+# -- shadow maps skip the faces turned away from the light ------------------------------
+
+def _light_view(kind: str, eye=(0.0, 0.0, 5.0)):
+    from scenerender.world.shadows import ShadowView, Tile
+    camera = _camera(eye, near=0.1, ortho=kind == "directional")
+    view = np.eye(4)
+    view[:3, :3] = camera.rotation
+    view[:3, 3] = -camera.rotation @ camera.position
+    return ShadowView(view, camera.projection, 0.1, 100.0, kind == "point", Tile(0, 0, 64))
+
+
+def test_a_directional_view_sees_every_closed_surface_from_outside():
+    from scenerender.world.shadows import hidden_from_light
+    assert hidden_from_light(_light_view("directional", (0, 0, 0.5)), 1, UNIT) == "back"
+    assert hidden_from_light(_light_view("directional"), -1, UNIT) == "front"
+    assert hidden_from_light(_light_view("directional"), 0, UNIT) is None
+
+
+def test_a_light_inside_a_closed_surface_sees_its_inner_faces():
+    from scenerender.world.shadows import hidden_from_light
+    assert hidden_from_light(_light_view("point", (0, 0, 0.5)), 1, UNIT) is None  # a lamp in a shade
+    assert hidden_from_light(_light_view("point", (0, 0, 5)), 1, UNIT) == "back"
+
+
+SHADOW_SCENE = {
+    "render": {"size": [96, 72], "mode": "light_depth"},
+    "output": {"frames": 2, "fps": 1},
+    "camera": {"position": {"keys": [[0, [0, 2, 6]], [1, [3, 1.5, 4]]]}, "target": [0, 0.5, 0]},
+    "objects": [
+        {"mesh": {"primitive": "plane", "size": 8}},
+        {"mesh": {"primitive": "sphere"}, "position": [0, 1, 0]},
+        {"mesh": {"primitive": "box"}, "position": [1.5, 0.5, 0], "rotation": [0, 30, 0]},
+        {"mesh": {"primitive": "cone"}, "position": [-1.5, 0.5, 0], "scale": [1, 1, -1]},  # mirrored
+    ],
+}
+
+
+def _light_depth(light: dict, tmp_path, gl, faces=None, monkeypatch=None):
+    from scenerender.rendering.passes import shadow as shadow_module
+    if faces is not None:
+        monkeypatch.setattr(shadow_module, "hidden_from_light", faces)
+    scene = {**SHADOW_SCENE, "lights": [light]}
+    with scenerender.Renderer(scenerender.Scene.from_dict(scene, base_dir=tmp_path), gl=gl) as renderer:
+        pixels = [renderer.render(i).pixels.astype(int) for i in range(2)]
+    if monkeypatch is not None:
+        monkeypatch.undo()
+    return pixels
+
+
+def _towards_the_light(view, winding, bounds):
+    """Skips the faces turned towards the light instead: a regression the test must catch."""
+    from scenerender.world.shadows import hidden_from_light
+    return {"back": "front", "front": "back"}.get(hidden_from_light(view, winding, bounds))
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("light, skips", [
+    ({"type": "directional", "direction": [-1, -2, -1], "shadows": True}, True),
+    ({"type": "point", "position": [0.5, 2.5, 1.5], "shadows": True}, True),
+    ({"type": "point", "position": [0, 1, 0], "shadows": True}, False),  # inside the sphere: it skips none
+], ids=["directional", "point", "point-inside"])
+def test_skipping_faces_turned_from_the_light_leaves_its_map_as_it_was(gl, tmp_path, monkeypatch, light, skips):
+    """The light's depth map with the faces skipped against every face drawn; and skipping
+    the wrong faces (the ones turned towards the light) is caught."""
+    culled = _light_depth(light, tmp_path, gl)
+    drawn = _light_depth(light, tmp_path, gl, lambda view, winding, bounds: None, monkeypatch)
+    wrong = _light_depth(light, tmp_path, gl, _towards_the_light, monkeypatch)
+    for a, b, c in zip(drawn, culled, wrong):
+        assert (np.abs(a - b).max(axis=2) > 0).mean() < 0.002  # texel-centre ties on silhouettes at most
+        assert ((np.abs(a - c).max(axis=2) > 8).mean() > 0.02) == skips

@@ -200,6 +200,36 @@ def test_showcase_graph_has_every_feature_pass_and_caches_shadows():
     assert not compiled.is_static(compiled.passes[names.index("opaque")].render_pass)
 
 
+def test_maps_drawn_once_and_maps_redrawn_each_frame_live_on_separate_pages():
+    """The sun's map follows the camera; the lantern's is drawn once. Each page is one
+    texture, cleared whole by its first pass, so the sun's redraw never touches the
+    lantern's tiles and never pays for a clear of part of a texture."""
+    world = _world(SCENES / "showcase.yaml")
+    showcase = plan(world, world.settings.size, world.settings.samples)
+    compiled, atlas = showcase.compiled, showcase.atlas
+    shadow = {n.render_pass.name: n for n in compiled.passes if n.render_pass.name.startswith("shadow:")}
+    pages = {name: node.render_pass.page for name, node in shadow.items()}
+    assert pages == {"shadow:lantern": 0, "shadow:sun": 1}
+    assert atlas.pages == ((1024, 1536), (2048, 2048))  # six 512px cube faces; one 2048px tile
+    read = [str(h) for h in compiled.node("opaque").reads if h.name.startswith("shadow_atlas")]
+    assert read == ["shadow_atlas#1", "shadow_atlas_2#1"]
+
+
+def test_one_page_when_every_map_is_drawn_alike(tmp_path):
+    from scenerender.world.shadows import plan_atlas
+
+    text = ("lights:\n  - {type: directional, shadows: true}\n  - {type: point, shadows: {size: 256}}\n"
+            "objects:\n  - mesh: {primitive: box}\n")
+    world = _world(text, tmp_path=tmp_path)
+    assert plan_atlas(world.lights).pages == ((2048, 2048 + 256),)  # 2048 + a row of six 256px faces
+    redrawn = plan_atlas(world.lights, redrawn=frozenset({0, 1}))
+    assert redrawn.pages == ((2048, 2048 + 256),)
+    apart = plan_atlas(world.lights, redrawn=frozenset({1}))
+    assert apart.pages == ((2048, 2048), (512, 768)) and apart.page_of(0) == 0 and apart.page_of(1) == 1
+    small = plan_atlas(world.lights, max_size=1024, redrawn=frozenset({1}))
+    assert small.pages == ((1024, 1024), (256, 384))  # every page halved alike to fit
+
+
 def test_a_plain_scene_gets_only_what_it_uses(tmp_path):
     text = "objects:\n  - mesh: {primitive: box}\n"
     compiled = _compiled(text, tmp_path=tmp_path)

@@ -64,12 +64,17 @@ def cull_hidden_faces(gl, objects: ObjectsInput, index: int) -> None:
     cannot see (world.frame.hidden_faces), or none. The image is the same either way; the
     skipped faces cost nothing (with MSAA, llvmpipe shades every rasterised fragment,
     hidden or not). Callers end with ``stop_culling``."""
-    face = objects.frames[index].hidden_faces
-    if face is None:
+    skip_faces(gl, objects.frames[index].hidden_faces)
+
+
+def skip_faces(gl, faces: str | None) -> None:
+    """Skip ``faces`` ("back" or "front") in the draws that follow, or none. Callers end
+    with ``stop_culling``."""
+    if faces is None:
         gl.disable(moderngl.CULL_FACE)
     else:
         gl.enable(moderngl.CULL_FACE)
-        gl.cull_face = face
+        gl.cull_face = faces
 
 
 def stop_culling(gl) -> None:
@@ -95,12 +100,12 @@ def begin_fullscreen_pass(ctx, target) -> None:
     ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
 
 
-def bind_shadow_atlas(ctx, atlas) -> None:
-    """The shadow atlas on its unit, set for hardware-filtered depth comparison."""
+def bind_shadow_atlas(ctx, atlas, page: int = 0) -> None:
+    """Shadow atlas page ``page`` on its unit, set for hardware-filtered depth comparison."""
     texture = ctx.image(atlas)
     texture.compare_func = "<="
     texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
-    texture.use(TEXTURE_UNITS["u_shadow_atlas"])
+    texture.use(TEXTURE_UNITS["u_shadow_atlas" if page == 0 else f"u_shadow_atlas_{page + 1}"])
 
 
 def bind_texture_units(program) -> None:

@@ -5,7 +5,8 @@ mode, specular model, AO; and per material: texture maps, unlit, mirrored wrap.
 
 Which lights cast shadows, and where their views sit in the shadow-view array, never
 changes during a run, so those are compile-time constants too: an unshadowed light has no
-shadow code at all, and a shadowed one reads its view at a constant index.
+shadow code at all, and a shadowed one reads its view at a constant index, from a constant
+atlas page.
 """
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ SHADOW_VIEW_BYTES = 144  # one ShadowView (shaders/lighting/shadows.glsl)
 TEXTURE_UNITS = {
     "u_diffuse_map": 0, "u_specular_map": 1, "u_normal_map": 2, "u_opacity_map": 3,
     "u_shadow_atlas": 4, "u_ao": 5, "u_skybox": 6, "u_gbuffer": 7, "u_noise": 8, "u_color": 9, "u_atlas": 10,
+    "u_shadow_atlas_2": 11,
 }
 
 
@@ -43,14 +45,19 @@ class SceneFeatures:
     dir_shadow_taps: tuple = ()
     point_shadow_taps: tuple = ()
     spot_shadow_taps: tuple = ()
+    # per light type, in light order: the atlas page holding the light's maps (0 unshadowed)
+    dir_shadow_pages: tuple = ()
+    point_shadow_pages: tuple = ()
+    spot_shadow_pages: tuple = ()
+    shadow_pages: int = 1
 
     @classmethod
-    def of(cls, world, samples: int = 1) -> "SceneFeatures":
+    def of(cls, world, samples: int = 1, atlas=None) -> "SceneFeatures":
         """samples: the MSAA samples the run renders with (the device may give fewer than
-        the scene asks for)."""
+        the scene asks for); atlas: the run's world.shadows.AtlasLayout (None: one page)."""
         kinds = [light.kind for light in world.lights]
         render = world.settings
-        first_views = _first_shadow_views(world.lights)
+        first_views = _first_shadow_views(world.lights, atlas)
         return cls(
             n_dir=kinds.count("directional"), n_point=kinds.count("point"), n_spot=kinds.count("spot"),
             shadows=any(light.shadow is not None for light in world.lights),
@@ -68,10 +75,11 @@ class SceneFeatures:
         if self.shadows:
             defines["HAS_SHADOWS"] = True
             for kind in ("dir", "point", "spot"):
-                views, taps = getattr(self, f"{kind}_shadow_views"), getattr(self, f"{kind}_shadow_taps")
-                if views:
-                    defines[f"{kind.upper()}_SHADOW_VIEWS"] = ", ".join(str(v) for v in views)
-                    defines[f"{kind.upper()}_SHADOW_TAPS"] = ", ".join(str(t) for t in taps)
+                for what in ("views", "taps", "pages"):
+                    values = getattr(self, f"{kind}_shadow_{what}")
+                    if values:
+                        defines[f"{kind.upper()}_SHADOW_{what.upper()}"] = ", ".join(str(v) for v in values)
+            defines["SHADOW_PAGES"] = self.shadow_pages
             if self.shadow_footprint_samples > 1:
                 defines["SHADOW_FOOTPRINT_SAMPLES"] = self.shadow_footprint_samples
             if self.n_shadow_views * SHADOW_VIEW_BYTES <= UNIFORM_BLOCK_BYTES:
@@ -108,21 +116,25 @@ def _footprint_samples(samples: int) -> int:
     return count
 
 
-def _first_shadow_views(lights) -> dict:
+def _first_shadow_views(lights, atlas) -> dict:
     """Where each light's views start in the shadow-view array: shadowed lights in light
-    order, one view each, six for a point light (the order GpuScene packs them in); and
-    each light's filter taps per side (shaders/lighting/shadows.glsl, filter_taps)."""
-    firsts = {f"{kind}_shadow_{what}": [] for kind in ("dir", "point", "spot") for what in ("views", "taps")}
+    order, one view each, six for a point light (the order GpuScene packs them in); each
+    light's filter taps per side (shaders/lighting/shadows.glsl, filter_taps); and the
+    atlas page holding its maps."""
+    firsts = {f"{kind}_shadow_{what}": [] for kind in ("dir", "point", "spot") for what in ("views", "taps", "pages")}
     key = {"directional": "dir", "point": "point", "spot": "spot"}
     count = 0
-    for light in lights:
+    for index, light in enumerate(lights):
         if light.kind == "ambient":
             continue
-        firsts[f"{key[light.kind]}_shadow_views"].append(count if light.shadow is not None else -1)
-        firsts[f"{key[light.kind]}_shadow_taps"].append(max(light.shadow.pcf - 1, 1) if light.shadow is not None else 0)
-        if light.shadow is not None:
+        shadowed = light.shadow is not None
+        firsts[f"{key[light.kind]}_shadow_views"].append(count if shadowed else -1)
+        firsts[f"{key[light.kind]}_shadow_taps"].append(max(light.shadow.pcf - 1, 1) if shadowed else 0)
+        firsts[f"{key[light.kind]}_shadow_pages"].append(atlas.page_of(index) if shadowed and atlas else 0)
+        if shadowed:
             count += 6 if light.kind == "point" else 1
-    return {**{k: tuple(v) for k, v in firsts.items()}, "n_shadow_views": count}
+    pages = len(atlas.pages) if atlas is not None else 1
+    return {**{k: tuple(v) for k, v in firsts.items()}, "n_shadow_views": count, "shadow_pages": pages}
 
 
 def material_defines(material) -> dict:

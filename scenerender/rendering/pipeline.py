@@ -48,8 +48,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     settings = world.settings
     size, samples = options.size, options.samples
 
-    shadow_passes = _add_shadow_passes(graph, world, atlas, inputs)
-    atlas_final = shadow_passes[-1][1] if shadow_passes else None
+    shadow_passes, atlas_pages = _add_shadow_passes(graph, world, atlas, inputs)
 
     gbuffer = ao = None
     if settings.ambient_occlusion is not None or settings.mode in ("depth", "normals", "ambient_occlusion"):
@@ -57,7 +56,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     if settings.ambient_occlusion is not None or settings.mode == "ambient_occlusion":
         raw = graph.add(SSAOPass(gbuffer, inputs.camera, size, settings.ambient_occlusion or AmbientOcclusionSettings.default())).image
         ao = graph.add(SSAOBlurPass(raw, size)).image
-    shading = Shading(inputs, atlas_final, ao if settings.ambient_occlusion is not None else None)
+    shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None)
 
     fill = settings.mode if settings.mode in ("wireframe", "points") else "solid"
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
@@ -87,7 +86,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma)).image
 
     if settings.mode in DATA_MODES:
-        final = _add_view(graph, settings.mode, inputs, gbuffer, ao, shadow_passes, atlas, size)
+        final = _add_view(graph, settings.mode, inputs, gbuffer, ao, shadow_passes, size)
     linear = color if options.want_linear and settings.mode not in DATA_MODES else None
     graph.add(ReadbackPass(final, size, linear))
     return graph, inputs
@@ -156,27 +155,29 @@ def depth_complexity(world, atlas, size) -> float:
     return covered
 
 
-def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> list:
-    """One pass per shadowed light; returns [(light index, atlas handle after it)].
+def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> tuple[list, tuple]:
+    """One pass per shadowed light. Returns [(light index, its page's handle after it)]
+    and the final handle of each atlas page, in page order.
 
-    The passes write one atlas in turn, so a pass is static only if those before it are:
-    maps whose inputs are all static come first in the chain. The shadow views show the
-    first shadowed light alone; there file order puts it first and culls every other pass."""
+    The passes of one page write it in turn; a page holds either maps drawn once or maps
+    redrawn every frame (world.shadows), so its passes are all static or all dynamic. The
+    shadow views show the first shadowed light alone; there file order puts it first and
+    culls every other pass."""
     lights = [light for light in world.lights if light.kind != "ambient"]
+    non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
     passes = list(inputs.shadow_views)  # (light index, its shadow_views input)
-    if world.settings.mode not in ("shadow", "light_depth"):
-        passes.sort(key=lambda p: graph.is_dynamic(p[1]) or graph.is_dynamic(inputs.objects))
     handles = []
-    current = None
+    current: dict = {}
     for light_index, views in passes:
         light = lights[light_index]
-        current = graph.add(ShadowMapPass(light.name, light.kind, light.shadow.size, light.shadow.pcf, atlas.size,
-                                          views, inputs.objects, current)).atlas
-        handles.append((light_index, current))
-    return handles
+        page = atlas.page_of(non_ambient[light_index])
+        current[page] = graph.add(ShadowMapPass(light.name, light.kind, light.shadow.size, light.shadow.pcf, page,
+                                                atlas.pages[page], views, inputs.objects, current.get(page))).atlas
+        handles.append((light_index, current[page]))
+    return handles, tuple(current[page] for page in sorted(current))
 
 
-def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, atlas, size):
+def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, size):
     if mode == "depth":
         return graph.add(DepthViewPass(gbuffer, size, inputs.camera)).image
     if mode == "normals":
@@ -188,4 +189,4 @@ def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, atl
     if mode == "shadow":
         return graph.add(ShadowFactorViewPass(handle, size, inputs.camera, inputs.objects, inputs.lights[light_index],
                                               views)).color
-    return graph.add(LightDepthViewPass(handle, size, views, atlas.size)).image
+    return graph.add(LightDepthViewPass(handle, size, views)).image

@@ -18,6 +18,7 @@ from scenerender.rendering.pipeline import GraphOptions, build_graph
 from scenerender.rendering.scene_gpu import GpuScene
 from scenerender.rendering.profile import CPU_SETUP
 from scenerender.world.frame import FrameEvaluator
+from scenerender.world.inputs import redrawn_shadow_maps
 from scenerender.world.shadows import plan_atlas
 
 
@@ -100,7 +101,7 @@ def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: 
     can inspect a scene's graph anywhere. ``tuning``: GraphOptions fields that override
     the builder's per-scene choices (benchmarks compare them).
     """
-    atlas = plan_atlas(world.lights, max_texture_size, warn)
+    atlas = plan_atlas(world.lights, max_texture_size, warn, redrawn_shadow_maps(world))
     graph, inputs = build_graph(world, atlas, GraphOptions(tuple(size), samples, want_linear, **(tuning or {})))
     return Plan(atlas, inputs, graph.compile())
 
@@ -129,7 +130,7 @@ class Renderer:
         self.check_finite = check_finite_enabled()
         self.want_linear = want_linear
         self.plan = plan(world, self.size, self.samples, max_size, want_linear or self.check_finite, warn, tuning)
-        self.features = SceneFeatures.of(world, self.samples)
+        self.features = SceneFeatures.of(world, self.samples, self.plan.atlas)
         # encode linear -> sRGB on writes to (only) sRGB-format targets, decode for blending
         gl.enable_direct(GL_FRAMEBUFFER_SRGB)
         self.programs = ProgramCache(gl)

@@ -77,7 +77,7 @@ class GpuScene:
             settings = frame.lights[light_index].definition.shadow
             self.first_shadow_view[light_index] = len(rows)
             for view in frame.shadow_views[light_index]:
-                rows.append(_shadow_view_row(view, to_world, settings, self.atlas.size))
+                rows.append(_shadow_view_row(view, to_world, settings, self.atlas.pages[view.tile.page]))
         if not rows:
             return np.zeros(4, dtype=np.float32).tobytes()
         return np.asarray(rows, dtype=np.float32).tobytes()
@@ -140,14 +140,15 @@ class GpuScene:
         return vao
 
 
-def _shadow_view_row(view, to_world: np.ndarray, settings, atlas_size) -> np.ndarray:
-    """One ShadowView as 36 float64s (see shaders/lighting/shadows.glsl).
+def _shadow_view_row(view, to_world: np.ndarray, settings, page_size) -> np.ndarray:
+    """One ShadowView as 36 float64s (see shaders/lighting/shadows.glsl); page_size:
+    (width, height) of the atlas page holding the view's tile.
 
     Everything the lookup needs per fragment is folded into one matrix here, once per
-    frame: camera-relative world -> (atlas u * w, atlas v * w, linear depth, w), so the
+    frame: camera-relative world -> (page u * w, page v * w, linear depth, w), so the
     shader does one matrix product instead of a view, a projection and a tile transform.
     """
-    width, height = atlas_size
+    width, height = page_size
     tile = view.tile
     to_light = view.view @ to_world
     clip = view.projection @ to_light

@@ -16,8 +16,9 @@ from scenerender.world.camera import (
 )
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lights import LightState, evaluate_lights
+from scenerender.world.facing import hidden_from_eye
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
-from scenerender.world.transforms import box_corners, normal_matrices, union_bounds
+from scenerender.world.transforms import normal_matrices, union_bounds
 
 
 @dataclass
@@ -34,6 +35,8 @@ class ObjectFrame:
                 opaque surface seen from outside shows only the faces turned towards it),
                 which passes drawing opaque surfaces from the camera may skip; None when
                 every face may show (see hidden_faces).
+    winding:    +1 / -1 where the surface is closed and opaque and every instance keeps
+                (+1) or mirrors (-1) its counter-clockwise outward winding, else 0.
     """
 
     visible: bool
@@ -43,6 +46,7 @@ class ObjectFrame:
     center: np.ndarray
     in_view: int
     hidden_faces: str | None = None
+    winding: int = 0
 
     @property
     def count(self) -> int:
@@ -178,7 +182,7 @@ class FrameEvaluator:
         if len(order) > 1:
             rel, normals = rel[order], normals[order]
         return ObjectFrame(visible, rel.astype(np.float32), normals, bounds, (bounds[0] + bounds[1]) / 2.0,
-                           int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera))
+                           int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding)
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:
@@ -195,22 +199,12 @@ class FrameEvaluator:
 
 
 def hidden_faces(winding: int, bounds: np.ndarray, camera: CameraState) -> str | None:
-    """The faces of a closed surface the camera cannot see: "back" for counter-clockwise
-    winding (+1), "front" for clockwise (-1); None for an open surface (0), or when the
-    camera might see the surface from inside, that is unless one of these holds:
-    - the surface's bounds lie wholly beyond the near plane;
-    - the bounds are farther from the camera than the near plane's corners (so the near
-      plane cannot cut into the surface, and the camera is outside it).
-    Orthographic cameras never skip faces (their near plane is as wide as the view)."""
-    if winding == 0 or camera.orthographic:
+    """The faces of a closed surface the camera cannot see (world.facing.hidden_from_eye),
+    or None. Orthographic cameras never skip faces (their near plane is as wide as the
+    view, so it may cut into any surface)."""
+    if camera.orthographic:
         return None
-    depths = (box_corners(bounds) - camera.position) @ camera.forward
-    p = camera.projection
-    reach = camera.near * float(np.sqrt(1.0 + 1.0 / p[0, 0] ** 2 + 1.0 / p[1, 1] ** 2))
-    outside_by = np.linalg.norm(np.maximum(np.maximum(bounds[0] - camera.position, camera.position - bounds[1]), 0.0))
-    if depths.min() <= camera.near and outside_by <= reach:
-        return None
-    return "back" if winding > 0 else "front"
+    return hidden_from_eye(winding, bounds, camera.position, camera.forward, camera.near, camera.projection)
 
 
 def frustum_planes(clip: np.ndarray) -> np.ndarray:

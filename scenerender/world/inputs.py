@@ -115,3 +115,10 @@ def _unique_names(lights) -> list[str]:
         seen[light.name] = seen.get(light.name, 0) + 1
         names.append(light.name if seen[light.name] == 1 else f"{light.name}({seen[light.name]})")
     return names
+
+
+def redrawn_shadow_maps(world) -> frozenset:
+    """Indices in ``world.lights`` of the shadowed lights whose views change during the
+    run (their maps are redrawn every frame)."""
+    non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
+    return frozenset(non_ambient[i] for i, views in world_inputs(world).shadow_views.items() if views.dynamic)

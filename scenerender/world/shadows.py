@@ -1,10 +1,15 @@
 """Shadow-map planning: the atlas layout (once per run) and each frame's light views.
 
-All shadow maps share one depth texture, the *atlas*: directional and spot lights take one
-square tile, point lights six (one per cube face). One texture means one sampler however
-many lights cast shadows, so there is no cap on shadowed lights beyond atlas size.
+Shadow maps live in depth textures called *pages*; directional and spot lights take one
+square tile of a page, point lights six (one per cube face). One page holds the maps drawn
+once per run, another the maps redrawn every frame (views that follow the camera or moving
+objects), so the shaders bind at most two textures however many lights cast shadows, and
+there is no cap on shadowed lights beyond page size. Splitting by redraw keeps each
+frame's clear a clear of a whole texture: Mesa llvmpipe clears a 2048 x 2048 depth texture
+in about 1.4 ms, but a 2048 x 2048 region of a larger one in 5-10 ms (it draws the region),
+and cached maps are never touched.
 
-Depth in the atlas is linear: (d - near) / (far - near), where d is the distance along the
+Depth in a page is linear: (d - near) / (far - near), where d is the distance along the
 light's axis (directional, spot) or from the light (point). The shader's bias is in world
 units, a multiple of the shadow texel's world size at the receiver, so it means the same
 at any scene scale (shaders/lighting/shadows.glsl).
@@ -21,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.world.camera import look_rotation, orthographic, perspective
+from scenerender.world.facing import hidden_from_eye, hidden_side
 from scenerender.world.transforms import box_corners
 
 # Cube faces as (forward, up) pairs; a face is chosen by the major axis of light->point.
@@ -37,56 +43,75 @@ SPOT_MARGIN_DEGREES = 2.0
 
 @dataclass(frozen=True)
 class Tile:
-    """A square region of the atlas in texels: x, y (lower-left) and size."""
+    """A square region of a page in texels: x, y (lower-left) and size; page: which."""
 
     x: int
     y: int
     size: int
+    page: int = 0
 
 
 @dataclass(frozen=True)
 class AtlasLayout:
-    """size: (width, height) of the atlas texture; tiles[light_def_index]: its tiles."""
+    """pages: (width, height) of each page texture; tiles[light_def_index]: its tiles."""
 
-    size: tuple
+    pages: tuple
     tiles: dict
 
+    def page_of(self, light_def_index: int) -> int:
+        return self.tiles[light_def_index][0].page
 
-def plan_atlas(lights: list, max_size: int = 16384, warn=None) -> AtlasLayout | None:
+
+def plan_atlas(lights: list, max_size: int = 16384, warn=None, redrawn: frozenset = frozenset()) -> AtlasLayout | None:
     """Pack every shadowed light's tiles into rows (largest first); None when no shadows.
 
-    If the atlas would exceed ``max_size`` the tiles are halved until it fits, with a warning.
+    redrawn: indices of the lights whose views change during the run; their tiles get a
+    page of their own, after the page of the others (see the module's docstring).
+    If a page would exceed ``max_size`` the tiles are halved until it fits, with a warning.
     """
     requests = [(i, light.shadow.size, 6 if light.kind == "point" else 1)
                 for i, light in enumerate(lights) if light.shadow is not None]
     if not requests:
         return None
+    groups = [group for group in ([r for r in requests if r[0] not in redrawn], [r for r in requests if r[0] in redrawn])
+              if group]
     scale = 1
     while True:
-        layout = _pack([(i, max(16, size // scale), n) for i, size, n in requests])
-        if max(layout.size) <= max_size:
+        packed = [_pack([(i, max(16, size // scale), n) for i, size, n in group], page)
+                  for page, group in enumerate(groups)]
+        if max(max(size) for size, _ in packed) <= max_size:
             break
         scale *= 2
     if scale > 1 and warn is not None:
         warn(f"shadow maps reduced to 1/{scale} of their size to fit a {max_size}px atlas")
-    return layout
+    tiles = {owner: owned for _, page_tiles in packed for owner, owned in page_tiles.items()}
+    return AtlasLayout(tuple(size for size, _ in packed), tiles)
 
 
-def _pack(requests) -> AtlasLayout:
+def _pack(requests, page: int) -> tuple:
+    """((width, height), {owner: [Tile]}) of one page: tiles in rows, largest first, at
+    the width (a multiple of the largest tile) that gives the smallest page (a page is
+    cleared whole, so its area is time)."""
     tiles_wanted = [(size, i) for i, size, n in requests for _ in range(n)]
     tiles_wanted.sort(key=lambda item: -item[0])
-    area = sum(size * size for size, _ in tiles_wanted)
     largest = tiles_wanted[0][0]
-    width = max(largest, int(math.ceil(math.sqrt(area) / largest)) * largest)
-    tiles: dict = {i: [] for i, _, _ in requests}
+    widths = [largest * k for k in range(1, len(tiles_wanted) + 1)]
+    packed = [_rows(tiles_wanted, width, page) for width in widths]
+    return min(packed, key=lambda p: (p[0][0] * p[0][1], max(p[0])))
+
+
+def _rows(tiles_wanted, width: int, page: int) -> tuple:
+    tiles: dict = {}
     x = y = row_height = 0
+    used = 0
     for size, owner in tiles_wanted:
         if x + size > width:
             x, y, row_height = 0, y + row_height, 0
-        tiles[owner].append(Tile(x, y, size))
+        tiles.setdefault(owner, []).append(Tile(x, y, size, page))
         x += size
+        used = max(used, x)
         row_height = max(row_height, size)
-    return AtlasLayout((width, y + row_height), tiles)
+    return (used, y + row_height), tiles
 
 
 @dataclass(frozen=True)
@@ -106,6 +131,17 @@ class ShadowView:
     far: float
     radial: bool
     tile: Tile
+
+
+def hidden_from_light(view: ShadowView, winding: int, bounds: np.ndarray) -> str | None:
+    """The faces of a closed surface (world bounds (2, 3)) that ``view`` cannot see, which
+    its shadow map may skip (world.facing), or None. An orthographic (directional) view's
+    depth range spans every caster, so it sees every closed surface from outside."""
+    if view.projection[3, 3] == 1.0:
+        return hidden_side(winding)
+    rotation = view.view[:3, :3]
+    eye = -rotation.T @ view.view[:3, 3]
+    return hidden_from_eye(winding, bounds, eye, -rotation[2], view.near, view.projection)
 
 
 def light_views(state, tiles: list, casters: np.ndarray | None, everything: np.ndarray | None,

@@ -3,19 +3,22 @@
 #include "lighting/specular.glsl"
 #ifdef HAS_SHADOWS
 #include "lighting/shadows.glsl"
-// First shadow view of each light, or -1, and its filter's taps per side (compile-time
-// constants, see rendering/features.py)
+// First shadow view of each light, or -1, its filter's taps per side and its atlas page
+// (compile-time constants, see rendering/features.py)
 #ifdef DIR_SHADOW_VIEWS
 const int dir_shadow_view[N_DIR_LIGHTS] = int[](DIR_SHADOW_VIEWS);
 const int dir_shadow_taps[N_DIR_LIGHTS] = int[](DIR_SHADOW_TAPS);
+const int dir_shadow_page[N_DIR_LIGHTS] = int[](DIR_SHADOW_PAGES);
 #endif
 #ifdef POINT_SHADOW_VIEWS
 const int point_shadow_view[N_POINT_LIGHTS] = int[](POINT_SHADOW_VIEWS);
 const int point_shadow_taps[N_POINT_LIGHTS] = int[](POINT_SHADOW_TAPS);
+const int point_shadow_page[N_POINT_LIGHTS] = int[](POINT_SHADOW_PAGES);
 #endif
 #ifdef SPOT_SHADOW_VIEWS
 const int spot_shadow_view[N_SPOT_LIGHTS] = int[](SPOT_SHADOW_VIEWS);
 const int spot_shadow_taps[N_SPOT_LIGHTS] = int[](SPOT_SHADOW_TAPS);
+const int spot_shadow_page[N_SPOT_LIGHTS] = int[](SPOT_SHADOW_PAGES);
 #endif
 #endif
 
@@ -39,7 +42,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         vec3 radiance = light.color.rgb;
 #ifdef HAS_SHADOWS
         if (dir_shadow_view[i] >= 0 && dot(n, l) > 0.0) {
-            radiance *= shadow_lookup(dir_shadow_view[i], dir_shadow_taps[i], p, n, dot(n, l), false, false, dpdx, dpdy);
+            radiance *= shadow_lookup(dir_shadow_view[i], dir_shadow_page[i], dir_shadow_taps[i], p, n, dot(n, l), false, false, dpdx, dpdy);
         }
 #endif
         total += shade_one(l, radiance, n, v, s);
@@ -54,7 +57,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance);
 #ifdef HAS_SHADOWS
         if (point_shadow_view[i] >= 0 && dot(n, l) > 0.0 && max_component(radiance) > 1e-4) {
-            radiance *= shadow_lookup(point_shadow_view[i] + cube_face(-to_light), point_shadow_taps[i], p, n, dot(n, l), true, true, dpdx, dpdy);
+            radiance *= shadow_lookup(point_shadow_view[i] + cube_face(-to_light), point_shadow_page[i], point_shadow_taps[i], p, n, dot(n, l), true, true, dpdx, dpdy);
         }
 #endif
         total += shade_one(l, radiance, n, v, s);
@@ -72,7 +75,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance) * cone;
 #ifdef HAS_SHADOWS
         if (spot_shadow_view[i] >= 0 && dot(n, l) > 0.0 && max_component(radiance) > 1e-4) {
-            radiance *= shadow_lookup(spot_shadow_view[i], spot_shadow_taps[i], p, n, dot(n, l), true, false, dpdx, dpdy);
+            radiance *= shadow_lookup(spot_shadow_view[i], spot_shadow_page[i], spot_shadow_taps[i], p, n, dot(n, l), true, false, dpdx, dpdy);
         }
 #endif
         total += shade_one(l, radiance, n, v, s);

@@ -1,7 +1,9 @@
 // Shadow lookups in the shadow atlas: every shadowed light's depth map is a tile (or six,
-// for point lights) of one depth texture. Stored depth is linear in the view's depth
-// range; bias is worked out in world units from the texel's footprint at the receiver,
-// so it means the same for every light type and at every scene scale.
+// for point lights) of an atlas page, a depth texture: page 1 holds the maps drawn once,
+// page 2 (when the scene has both kinds) the maps redrawn every frame. Stored depth is
+// linear in the view's depth range; bias is worked out in world units from the texel's
+// footprint at the receiver, so it means the same for every light type and at every
+// scene scale.
 
 struct ShadowView {
     mat4 to_atlas;    // camera-relative world -> (atlas u * w, atlas v * w, linear depth, w)
@@ -24,6 +26,9 @@ layout(std430, binding = 1) readonly buffer ShadowViews {
 #endif
 
 uniform sampler2DShadow u_shadow_atlas;
+#if SHADOW_PAGES > 1
+uniform sampler2DShadow u_shadow_atlas_2;
+#endif
 
 // Fraction of light reaching p (1 lit, 0 shadowed) for one view. n is the surface normal.
 //
@@ -67,8 +72,9 @@ const vec2 footprint_offsets[2] = vec2[](vec2(4, 4), vec2(-4, -4));
 #endif
 
 // One hardware-filtered lookup (2 x 2 texels) at ``point``, moved by ``offset`` atlas
-// texels; 1 where the map recorded nothing there.
-float shadow_tap(int index, vec3 point, vec2 offset, float bias, bool perspective, bool radial) {
+// texels; 1 where the map recorded nothing there. page: 0 or 1, a compile-time constant
+// wherever the caller passes one (then only that page's lookup is compiled).
+float shadow_tap(int index, int page, vec3 point, vec2 offset, float bias, bool perspective, bool radial) {
     vec4 light = shadow_views[index].light;
     vec4 depth_params = shadow_views[index].depth;
     vec4 tile = shadow_views[index].tile;
@@ -81,7 +87,12 @@ float shadow_tap(int index, vec3 point, vec2 offset, float bias, bool perspectiv
     // view: lit, rather than a hard black edge
     bool outside = (perspective && q.w <= 0.0) || depth > 1.0 || any(lessThan(uv, tile.xy)) || any(greaterThan(uv, tile.zw));
     vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
+#if SHADOW_PAGES > 1
+    float visible = page == 0 ? textureLod(u_shadow_atlas, vec3(tap, depth - bias), 0.0)
+                              : textureLod(u_shadow_atlas_2, vec3(tap, depth - bias), 0.0);
+#else
     float visible = textureLod(u_shadow_atlas, vec3(tap, depth - bias), 0.0);
+#endif
     return outside ? 1.0 : visible;
 }
 
@@ -93,7 +104,7 @@ int filter_taps(int index) {
 // taps: filter_taps(index), passed in by callers that know it at compile time (then every
 // loop below unrolls: a software rasterizer such as llvmpipe runs both sides of every
 // branch, and every loop trip, for all the pixels it shades together).
-float shadow_lookup(int index, int taps, vec3 p, vec3 n, float n_dot_l, bool perspective, bool radial, vec3 dpdx, vec3 dpdy) {
+float shadow_lookup(int index, int page, int taps, vec3 p, vec3 n, float n_dot_l, bool perspective, bool radial, vec3 dpdx, vec3 dpdy) {
     vec4 light = shadow_views[index].light;
     vec4 depth_params = shadow_views[index].depth;
     vec4 texel_world = shadow_views[index].texel;
@@ -136,15 +147,15 @@ float shadow_lookup(int index, int taps, vec3 p, vec3 n, float n_dot_l, bool per
             offset = vec2(0.0);
         }
 #endif
-        float visible = shadow_tap(index, point, offset, bias, perspective, radial);
+        float visible = shadow_tap(index, page, point, offset, bias, perspective, radial);
         lit += k < count ? visible : 0.0;
     }
     return lit / float(count);
 }
 
-// The same for a view of any light type (read from the view itself).
+// The same for a view of any light type (read from the view itself), on the first page.
 float shadow_visibility(int index, vec3 p, vec3 n, float n_dot_l, vec3 dpdx, vec3 dpdy) {
-    return shadow_lookup(index, filter_taps(index), p, n, n_dot_l, shadow_views[index].texel.x > 0.0,
+    return shadow_lookup(index, 0, filter_taps(index), p, n, n_dot_l, shadow_views[index].texel.x > 0.0,
                          shadow_views[index].light.w > 0.5, dpdx, dpdy);
 }
 

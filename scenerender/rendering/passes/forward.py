@@ -22,19 +22,19 @@ FORWARD_FRAGMENT = "mesh/forward.frag"
 
 @dataclass(frozen=True)
 class Shading:
-    """What lit shading reads: the world's inputs, plus the shadow atlas and the AO image
-    when the scene has them."""
+    """What lit shading reads: the world's inputs, plus the shadow atlas pages (in page
+    order, none without shadows) and the AO image when the scene has them."""
 
     inputs: InputHandles
-    atlas: Handle | None = None
+    atlas_pages: tuple = ()
     ao: Handle | None = None
 
     def declare(self, builder) -> None:
-        builder.read(*self.inputs.shading(), *(h for h in (self.atlas, self.ao) if h is not None))
+        builder.read(*self.inputs.shading(), *self.atlas_pages, *((self.ao,) if self.ao is not None else ()))
 
     def bind(self, ctx) -> None:
-        if self.atlas is not None:
-            bind_shadow_atlas(ctx, self.atlas)
+        for page, handle in enumerate(self.atlas_pages):
+            bind_shadow_atlas(ctx, handle, page)
         if self.ao is not None:
             ctx.image(self.ao).use(TEXTURE_UNITS["u_ao"])
 
@@ -105,7 +105,7 @@ class OpaquePass(RenderPass):
             extras.append(self.fill)
         elif self.prepass:
             extras.append("depth prepass")
-        if self.shading.atlas is not None:
+        if self.shading.atlas_pages:
             extras.append("shadows")
         if self.shading.ao is not None:
             extras.append("AO")

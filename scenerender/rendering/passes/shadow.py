@@ -1,4 +1,4 @@
-"""Shadow maps: each shadowed light's casters rendered into its tiles of one depth atlas."""
+"""Shadow maps: each shadowed light's casters rendered into its tiles of an atlas page."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -8,6 +8,8 @@ import numpy as np
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
+from scenerender.rendering.draw import skip_faces, stop_culling
+from scenerender.world.shadows import hidden_from_light
 
 
 @dataclass(frozen=True)
@@ -17,19 +19,23 @@ class ShadowMapData:
 
 @dataclass(frozen=True)
 class ShadowMapPass(RenderPass):
-    """Renders the shadow casters' depth from one light into its tiles of the atlas. The
-    first shadow pass creates the atlas; later ones write their own tiles of it and leave
-    the others untouched.
+    """Renders the shadow casters' depth from one light into its tiles of an atlas page
+    (world.shadows). The first pass of a page creates and clears the whole page (a clear
+    of a whole texture is the fast one); later ones write their own tiles of it and leave
+    the others untouched. A page's passes all run in the same frames: the page holds maps
+    drawn once, or maps redrawn every frame.
 
-    light_name, kind, map_size, pcf: what the dump shows. atlas_size: (width, height).
-    views: the light's ``shadow_views`` input, dynamic wherever the views follow the camera.
+    light_name, kind, map_size, pcf: what the dump shows. page: which page;
+    page_size: its (width, height). views: the light's ``shadow_views`` input, dynamic
+    wherever the views follow the camera.
     """
 
     light_name: str
     kind: str
     map_size: int
     pcf: int
-    atlas_size: tuple
+    page: int
+    page_size: tuple
     views: Handle
     objects: Handle
     atlas_in: Handle | None = None
@@ -41,7 +47,8 @@ class ShadowMapPass(RenderPass):
     def setup(self, builder) -> ShadowMapData:
         builder.read(self.views, self.objects)
         if self.atlas_in is None:
-            return ShadowMapData(builder.create("shadow_atlas", ResourceDesc("depth", self.atlas_size, "depth24")))
+            name = "shadow_atlas" if self.page == 0 else f"shadow_atlas_{self.page + 1}"
+            return ShadowMapData(builder.create(name, ResourceDesc("depth", self.page_size, "depth24")))
         return ShadowMapData(builder.write(self.atlas_in, own_region=True))  # its own tiles
 
     def describe(self) -> str:
@@ -58,17 +65,22 @@ class ShadowMapPass(RenderPass):
         program = ctx.programs.get("shadow/depth.vert", "shadow/depth.frag", defines)
         gl.enable(moderngl.DEPTH_TEST)
         gl.depth_func = "<"  # the atlas keeps linear depth, nearest = 0, whatever the camera's convention
-        gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
+        gl.disable(moderngl.BLEND)
+        if self.atlas_in is None:
+            fbo.viewport = (0, 0, *self.page_size)
+            fbo.clear(depth=1.0)
         objects = ctx.input(self.objects)
         to_world = np.eye(4)
         to_world[:3, 3] = objects.origin  # uploaded transforms are relative to it
         casters = objects.shadow_casters()
         for view in ctx.input(self.views).views:
             tile = view.tile
-            region = (tile.x, tile.y, tile.size, tile.size)
-            fbo.viewport = region
-            fbo.clear(depth=1.0, viewport=region)
+            fbo.viewport = (tile.x, tile.y, tile.size, tile.size)
             set_uniforms(program, u_light_view=view.view @ to_world, u_light_projection=ctx.depth.clip_projection(view.projection),
                          u_depth_range=(view.near, view.far))
             for index in casters:
+                frame = objects.frames[index]
+                # faces turned away from the light never hold the nearest depth
+                skip_faces(gl, hidden_from_light(view, frame.winding, frame.bounds))
                 objects.draw(program, index, all_instances=True)
+        stop_culling(gl)

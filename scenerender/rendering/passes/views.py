@@ -95,7 +95,6 @@ class LightDepthViewPass(_FullscreenView):
     """The first shadowed light's depth map(s) as seen from the light."""
 
     views: Handle
-    atlas_size: tuple
 
     name = "view:light_depth"
     fragment = "views/light_depth.frag"
@@ -113,7 +112,7 @@ class LightDepthViewPass(_FullscreenView):
             sampler.clear(TEXTURE_UNITS["u_atlas"])
 
     def uniforms(self, ctx, program) -> None:
-        width, height = self.atlas_size
+        width, height = ctx.image(self.source).size  # the atlas page holding the light's tiles
         views = ctx.input(self.views).views
         tiles = np.zeros((6, 4), dtype=np.float32)
         for i, view in enumerate(views):
