@@ -31,17 +31,23 @@ void main() {
     vec3 n = normalize(g.xyz);
     vec3 random = texture(u_noise, gl_FragCoord.xy / 4.0).xyz * 2.0 - 1.0;
     vec3 t = normalize(random - n * dot(random, n) + vec3(1e-4, 0.0, 0.0) * step(abs(dot(random, n)), 0.999));
-    mat3 tbn = mat3(t, cross(n, t), n);
+    // The kernel's offsets scaled to the radius, and their projections: a sample's clip
+    // position is the pixel's plus a linear map of the kernel point, so each sample costs
+    // one 4x3 product rather than a rotation and a full projection.
+    mat3 basis = mat3(t, cross(n, t), n) * u_radius;
+    vec4 clip_p = u_projection * vec4(p, 1.0);
+    mat3x4 clip_basis = mat3x4(u_projection) * basis;
+    vec3 depth_row = -vec3(basis[0].z, basis[1].z, basis[2].z);  // a sample's view depth, less the pixel's
+    float occluded_at = -p.z - 0.02 * u_radius;
     float occlusion = 0.0;
     for (int i = 0; i < AO_SAMPLES; ++i) {
-        vec3 sample_p = p + tbn * u_kernel[i] * u_radius;
-        vec4 clip = u_projection * vec4(sample_p, 1.0);
+        vec4 clip = clip_p + clip_basis * u_kernel[i];
         vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
         float scene_depth = texelFetch(u_gbuffer, ivec2(uv * u_screen), 0).w;
         if (scene_depth <= 0.0) continue;
         float range = smoothstep(0.0, 1.0, u_radius / max(abs(g.w - scene_depth), 1e-4));
-        occlusion += (scene_depth <= -sample_p.z - 0.02 * u_radius ? 1.0 : 0.0) * range;
+        occlusion += (scene_depth <= occluded_at + dot(depth_row, u_kernel[i]) ? 1.0 : 0.0) * range;
     }
     ao = clamp(1.0 - u_strength * occlusion / float(AO_SAMPLES), 0.0, 1.0);
 }
