@@ -4,18 +4,25 @@ Decoding is CPU work in ``scenerender.world.images`` (checked, GL-free); the wor
 every image while it is built, and this cache uploads those pixels.
 
 Colour maps are uploaded as sRGB textures so the GPU linearises them *before* filtering,
-which is what makes mipmaps and bilinear filtering of colour correct.
+which is what makes bilinear filtering of colour correct. Mipmap levels are made on the
+CPU (``world.mipmaps``, averaged in linear light) and uploaded with the image.
 """
 from __future__ import annotations
 
+import ctypes
+from functools import lru_cache
 from pathlib import Path
 
+import moderngl
 import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, display_path
 from scenerender.world.images import PLACEHOLDER_SIZE, ImageStore, placeholder_pixels
+from scenerender.world.mipmaps import mip_chain
 
 GL_SRGB8_ALPHA8 = 0x8C43
+_GL_RGBA8, _GL_RGBA, _GL_UNSIGNED_BYTE = 0x8058, 0x1908, 0x1401
+_GL_TEXTURE_2D, _GL_TEXTURE_CUBE_MAP_POSITIVE_X = 0x0DE1, 0x8515
 
 __all__ = ["GL_SRGB8_ALPHA8", "PLACEHOLDER_SIZE", "TextureCache", "placeholder_pixels"]
 
@@ -67,17 +74,12 @@ class TextureCache:
         height, width = flipped.shape[:2]
         texture = self.ctx.texture((width, height), 4, flipped.tobytes(),
                                    internal_format=GL_SRGB8_ALPHA8 if srgb else None)
-        # Trilinear mipmapping, no anisotropic filtering: Mesa llvmpipe's anisotropic sampler
-        # can stall for seconds (and has hung outright here) on some pixels, and leaving it off
-        # keeps software and GPU renders filtering textures the same way.
-        texture.build_mipmaps()
+        _add_mip_levels(texture, [(_GL_TEXTURE_2D, flipped)], srgb)
         return texture
 
     def _placeholder(self):
         pixels = placeholder_pixels()
         texture = self.ctx.texture((PLACEHOLDER_SIZE, PLACEHOLDER_SIZE), 4, pixels.tobytes())
-        import moderngl
-
         texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
         return texture
 
@@ -93,5 +95,48 @@ class TextureCache:
         # orientation the cube-map lookup convention expects.
         data = b"".join(np.ascontiguousarray(image).tobytes() for image in images)
         texture = self.ctx.texture_cube((size[1], size[0]), 4, data, internal_format=GL_SRGB8_ALPHA8)
-        texture.build_mipmaps()
+        faces_by_target = [(_GL_TEXTURE_CUBE_MAP_POSITIVE_X + i, image) for i, image in enumerate(images)]
+        _add_mip_levels(texture, faces_by_target, srgb=True)
         return texture
+
+
+def _add_mip_levels(texture, images: list, srgb: bool) -> None:
+    """Give ``texture`` every mipmap level below its images [(GL target, (H, W, 4) uint8)]
+    and trilinear filtering. No anisotropic filtering: Mesa llvmpipe's anisotropic sampler
+    can stall for seconds (and has hung outright here) on some pixels, and leaving it off
+    keeps software and GPU renders filtering textures the same way."""
+    tex_image = _gl_tex_image_2d()
+    if tex_image is None:  # no way to upload levels on this GL: the driver makes them
+        texture.build_mipmaps()
+        return
+    # bound on the unit moderngl keeps for its own uploads, so no material's binding moves;
+    # rows of RGBA8 need no unpack alignment beyond the 1 moderngl leaves set
+    texture.use(texture.ctx.default_texture_unit)
+    internal = GL_SRGB8_ALPHA8 if srgb else _GL_RGBA8
+    for target, image in images:
+        for level, pixels in enumerate(mip_chain(image, srgb), start=1):
+            tex_image(target, level, internal, pixels.shape[1], pixels.shape[0], 0, _GL_RGBA, _GL_UNSIGNED_BYTE,
+                      pixels.ctypes.data)
+    texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+
+
+@lru_cache(maxsize=1)
+def _gl_tex_image_2d():
+    """glTexImage2D of the current GL context (moderngl uploads level 0 only), or None."""
+    address = _gl_function(b"glTexImage2D")
+    if address is None:
+        return None
+    return ctypes.CFUNCTYPE(None, ctypes.c_uint, ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int,
+                            ctypes.c_int, ctypes.c_uint, ctypes.c_uint, ctypes.c_void_p)(address)
+
+
+def _gl_function(name: bytes) -> int | None:
+    """The address of GL function ``name`` through EGL (which resolves core functions for
+    the current context, also on GPU drivers), or None."""
+    try:
+        egl = ctypes.CDLL("libEGL.so.1")
+    except OSError:
+        return None
+    egl.eglGetProcAddress.restype = ctypes.c_void_p
+    egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
+    return egl.eglGetProcAddress(name) or None
