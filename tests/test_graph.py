@@ -23,7 +23,7 @@ class NullBackend:
     def __init__(self):
         self.log = []
 
-    def execute(self, node, frame):
+    def execute(self, node, frame, written=frozenset()):
         self.log.append((frame, node.render_pass.name))
 
     def ran(self, frame):
@@ -147,6 +147,73 @@ def test_writes_to_a_pass_own_region_leave_earlier_results_cached():
     g.add(Use("present", [atlas], side_effect=True))
     compiled = g.compile()
     assert [compiled.is_static(n.render_pass) for n in compiled.passes] == [True, False, False]
+
+
+class _Keeps(Use):
+    """A pass whose result depends only on what it reads (like a shadow map)."""
+
+    keeps_unchanged = True
+
+
+class _OwnTilesKeeps(_Keeps):
+    def setup(self, builder):
+        builder.read(*self.inputs)
+        return builder.write(self.target, own_region=True)
+
+
+class _ValueBackend(NullBackend):
+    """NullBackend with input values: ``values[frame][input name]``; an input is the same
+    for a pass when its value equals the one the pass last ran with."""
+
+    def __init__(self, values):
+        super().__init__()
+        self.values, self.frame, self.last = values, None, {}
+
+    def same_input(self, node, handle):
+        return self.last.get((node.index, handle.name)) == self.values[self.frame][handle.name]
+
+    def execute(self, node, frame, written=frozenset()):
+        super().execute(node, frame, written)
+        for handle in node.reads:
+            if handle.version == 0:
+                self.last[(node.index, handle.name)] = self.values[frame][handle.name]
+
+
+def _run(compiled, backend, frames):
+    for frame in range(frames):
+        backend.frame = frame
+        compiled.run_frame(backend, frame, first=frame == 0)
+
+
+def test_a_pass_that_keeps_unchanged_results_runs_only_when_what_it_reads_changes():
+    g = FrameGraph()
+    still, moving = _inputs(g)
+    views = g.import_input("views", InputDesc(True))
+    sun = g.add(_Keeps("shadow:sun", [views, still]))
+    g.add(Use("present", [g.add(Use("opaque", [sun, moving]))], side_effect=True))
+    compiled = g.compile()
+    values = [{"views": v, "moving": f, "still": 0} for f, v in enumerate("aabbb")]
+    backend = _ValueBackend(values)
+    _run(compiled, backend, 5)
+    assert [backend.ran(f)[0] for f in range(5)] == ["shadow:sun", "opaque", "shadow:sun", "opaque", "opaque"]
+
+
+def test_a_kept_page_makes_its_later_passes_clear_their_own_tiles_and_a_redrawn_one_redraws_them():
+    """Two maps on one page: the first pass clears the page. When it runs, the second must
+    too (its tiles were cleared); when it keeps its map, the second may keep its own or
+    redraw it alone."""
+    g = FrameGraph()
+    first_views, second_views = g.import_input("a", InputDesc(True)), g.import_input("b", InputDesc(True))
+    page = g.add(_Keeps("shadow:a", [first_views]))
+    page = g.add(_OwnTilesKeeps("shadow:b", [second_views], target=page))
+    g.add(Use("present", [page], side_effect=True))
+    compiled = g.compile()
+    backend = _ValueBackend([{"a": 0, "b": 0}, {"a": 1, "b": 0}, {"a": 1, "b": 1}, {"a": 1, "b": 1}])
+    _run(compiled, backend, 4)
+    assert [backend.ran(f) for f in range(4)] == [["shadow:a", "shadow:b", "present"],
+                                                  ["shadow:a", "shadow:b", "present"],  # b's tiles were cleared
+                                                  ["shadow:b", "present"],
+                                                  ["present"]]
 
 
 def test_inputs_cannot_be_written_and_images_must_be_known_formats():

@@ -94,10 +94,14 @@ class RenderPass:
     Passes are configuration only (frozen dataclasses in practice): ``setup`` declares and
     returns its data, it does not store anything on the pass.
     ``side_effect``: True for passes whose work leaves the graph (readback to a sink).
+    ``keeps_unchanged``: True for passes whose result is a function of what they read
+    alone: a dynamic pass like that keeps its last result in a frame where nothing it
+    reads changed (CompiledGraph.run_frame).
     """
 
     name = "pass"
     side_effect = False
+    keeps_unchanged = False
 
     def setup(self, builder: "PassBuilder"):  # pragma: no cover - interface
         """Declare reads and writes through ``builder``; return a frozen data object
@@ -340,10 +344,30 @@ class CompiledGraph:
                 if any(h.version == 0 and h.name == input_name for h in n.reads)]
 
     def run_frame(self, backend, frame, first: bool) -> None:
-        """Execute this frame's passes through ``backend``: static passes only on the first frame."""
+        """Execute this frame's passes through ``backend``: static passes only on the first
+        frame, and a pass that keeps unchanged results (RenderPass.keeps_unchanged) only
+        when something it reads changed: an image drawn into earlier this frame, or a
+        dynamic input whose value ``backend.same_input(node, handle)`` finds different from
+        the one the pass last ran with. ``backend.execute(node, frame, written)`` gets the
+        images drawn into so far this frame."""
+        written: set = set()
         for node in self.passes:
-            if first or node.index not in self.static:
-                backend.execute(node, frame)
+            if not first and (node.index in self.static or self._unchanged(node, backend, written)):
+                continue
+            backend.execute(node, frame, written)
+            written.update(h.resource for h in node.writes)
+
+    def _unchanged(self, node: PassNode, backend, written: set) -> bool:
+        if not node.render_pass.keeps_unchanged:
+            return False
+        for handle in node.reads:
+            resource = self.graph._resources[handle.resource]
+            if resource.is_input:
+                if resource.desc.dynamic and not backend.same_input(node, handle):
+                    return False
+            elif handle.resource in written:
+                return False
+        return True
 
     # -- dumps -------------------------------------------------------------------------
     def dump(self) -> str:

@@ -36,6 +36,7 @@ class PassContext:
     images:  resource index -> moderngl texture or renderbuffer, for every image of the run.
     inputs:  resource index -> this frame's value of every world input.
     outputs: what side-effect passes leave for the renderer (e.g. "pixels").
+    written: indices of the images passes drew into earlier this frame.
     Only the indices in ``declared`` resolve; anything else raises UndeclaredResource.
     """
 
@@ -45,6 +46,7 @@ class PassContext:
     images: dict
     inputs: dict
     outputs: dict
+    written: frozenset = frozenset()
 
     @property
     def gl(self) -> moderngl.Context:
@@ -72,6 +74,12 @@ class PassContext:
         """This frame's value of a declared world input (rendering.inputs)."""
         self._check(handle, self.inputs, "input")
         return self.inputs[handle.resource]
+
+    def written_this_frame(self, handle: Handle) -> bool:
+        """Whether a pass drew into the declared image ``handle`` earlier this frame (else
+        it holds what the last frame that drew it left)."""
+        self._check(handle, self.images, "image")
+        return handle.resource in self.written
 
     def framebuffer(self, colors, depth: Handle | None = None) -> moderngl.Framebuffer:
         """A framebuffer over declared images (cached for the run)."""

@@ -103,6 +103,24 @@ class ObjectsInput:
         vao = self.gpu.vertex_array(program, index, welded_normals)
         vao.render(mode if mode is not None else moderngl.TRIANGLES, vertices=vertices, first=first, instances=count)
 
+    def place_relative_to(self, index: int, eye: np.ndarray) -> None:
+        """Upload object ``index``'s instance transforms relative to the world point
+        ``eye`` (float64, rounded to float32 only after the subtraction), for
+        ``draw_relative``. What such draws make then depends on the objects and ``eye``
+        alone, not on where the camera is: a shadow map comes out the same bytes whichever
+        frame draws it."""
+        state = self.frames[index]
+        models = state.models.copy()
+        models[:, :3, 3] -= eye
+        self.gpu.write_eye_relative(index, models, state.normals)
+
+    def draw_relative(self, program, index: int) -> None:
+        """Draw every instance of object ``index`` as ``place_relative_to`` last placed them."""
+        count = self.frames[index].count
+        if count:
+            vao = self.gpu.vertex_array(program, index, eye_relative=True)
+            vao.render(moderngl.TRIANGLES, vertices=self.definitions[index].mesh.triangle_count * 3, instances=count)
+
 
 @dataclass(frozen=True)
 class MaterialsInput:
@@ -128,6 +146,23 @@ class ShadowViewsInput:
 
     views: list
     first_view: int
+
+    def same_as(self, other) -> bool:
+        """Whether ``other`` holds the same views, to the bit."""
+        return (isinstance(other, ShadowViewsInput) and self.first_view == other.first_view
+                and len(self.views) == len(other.views)
+                and all(_same_view(a, b) for a, b in zip(self.views, other.views)))
+
+
+def _same_view(a, b) -> bool:
+    return (a.tile == b.tile and a.near == b.near and a.far == b.far and a.radial == b.radial
+            and np.array_equal(a.view, b.view) and np.array_equal(a.projection, b.projection))
+
+
+def same_value(value, other) -> bool:
+    """Whether two values of one input are the same: the same object, or equal by the
+    value's own ``same_as`` (inputs without one never count as the same)."""
+    return value is other or (hasattr(value, "same_as") and value.same_as(other))
 
 
 def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, gpu, world) -> dict:

@@ -13,7 +13,7 @@ from scenerender.gpu.resources import GL_FRAMEBUFFER_SRGB, FramebufferCache, all
 from scenerender.gpu.shaders import ProgramCache
 from scenerender.rendering.context import PassContext, RunState
 from scenerender.rendering.features import SceneFeatures
-from scenerender.rendering.inputs import InputHandles, input_values
+from scenerender.rendering.inputs import InputHandles, input_values, same_value
 from scenerender.rendering.pipeline import GraphOptions, build_graph
 from scenerender.rendering.scene_gpu import GpuScene
 from scenerender.rendering.profile import CPU_SETUP
@@ -65,9 +65,20 @@ class GLBackend:
         self.timings = timings  # pass name -> list of seconds, when profiling
         self.inputs: dict = {}  # this frame's input values (rendering.inputs.input_values)
         self.outputs: dict = {}
+        self._last_inputs: dict = {}  # (pass index, input index) -> value it last ran with
 
-    def execute(self, node, frame) -> None:
-        ctx = PassContext(self.run, node.render_pass.name, node.declared, self.images, self.inputs, self.outputs)
+    def same_input(self, node, handle) -> bool:
+        """Whether input ``handle`` has the value it had when ``node`` last ran."""
+        last = self._last_inputs.get((node.index, handle.resource))
+        return last is not None and same_value(self.inputs[handle.resource], last)
+
+    def execute(self, node, frame, written=frozenset()) -> None:
+        if node.render_pass.keeps_unchanged:
+            for handle in node.reads:
+                if handle.resource in self.inputs:
+                    self._last_inputs[(node.index, handle.resource)] = self.inputs[handle.resource]
+        ctx = PassContext(self.run, node.render_pass.name, node.declared, self.images, self.inputs, self.outputs,
+                          frozenset(written))
         if self.timings is None:
             node.render_pass.execute(ctx, node.data)
             return

@@ -24,6 +24,7 @@ class GpuScene:
         self.meshes = self._upload_meshes()
         self.instance_buffers = [ctx.buffer(reserve=obj.instances.count * INSTANCE_FLOATS * 4, dynamic=True)
                                  for obj in world.objects]
+        self.eye_relative_buffers: dict = {}  # object index -> instance buffer (made on first use)
         self.light_buffer = ctx.buffer(reserve=_VEC4, dynamic=True)
         self.shadow_buffer = ctx.buffer(reserve=_VEC4, dynamic=True)
         self.first_shadow_view: dict = {}
@@ -114,7 +115,8 @@ class GpuScene:
         self._extras.clear()
         for mesh in self.meshes.values():
             mesh.release()
-        for buffer in self.instance_buffers + [self.light_buffer, self.shadow_buffer]:
+        for buffer in self.instance_buffers + list(self.eye_relative_buffers.values()) + [self.light_buffer,
+                                                                                           self.shadow_buffer]:
             buffer.release()
         self.textures.release()
 
@@ -127,17 +129,31 @@ class GpuScene:
             vao = self._vaos[key] = self.ctx.vertex_array(program, [])
         return vao
 
-    def vertex_array(self, program, object_index: int, welded_normals: bool = False):
-        """The vertex array drawing object ``object_index`` with ``program`` (cached)."""
-        key = (id(program), object_index, welded_normals)
+    def vertex_array(self, program, object_index: int, welded_normals: bool = False, eye_relative: bool = False):
+        """The vertex array drawing object ``object_index`` with ``program`` (cached): over
+        this frame's camera-relative instance buffer, or the one ``write_eye_relative``
+        fills."""
+        key = (id(program), object_index, welded_normals, eye_relative)
         vao = self._vaos.get(key)
         if vao is None:
             obj = self.world.objects[object_index]
             mesh = self.meshes[obj.mesh_key]
-            content = mesh.content(program, self.instance_buffers[object_index], welded_normals)
+            instances = self._eye_relative_buffer(object_index) if eye_relative else self.instance_buffers[object_index]
+            content = mesh.content(program, instances, welded_normals)
             vao = self.ctx.vertex_array(program, content, index_buffer=mesh.indices, index_element_size=4)
             self._vaos[key] = vao
         return vao
+
+    def write_eye_relative(self, object_index: int, models: np.ndarray, normals: np.ndarray) -> None:
+        """Fill object ``object_index``'s second instance buffer: models (K, 4, 4) relative
+        to some eye, normals (K, 3, 3)."""
+        self._write(self._eye_relative_buffer(object_index), instance_bytes(models, normals))
+
+    def _eye_relative_buffer(self, object_index: int):
+        if object_index not in self.eye_relative_buffers:
+            count = self.world.objects[object_index].instances.count
+            self.eye_relative_buffers[object_index] = self.ctx.buffer(reserve=count * INSTANCE_FLOATS * 4, dynamic=True)
+        return self.eye_relative_buffers[object_index]
 
 
 def _shadow_view_row(view, to_world: np.ndarray, settings, page_size) -> np.ndarray:

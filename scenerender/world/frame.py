@@ -27,6 +27,7 @@ class ObjectFrame:
 
     models_rel: (K, 4, 4) float32 camera-relative model matrices (translation minus camera),
                 the instances inside the camera's view first.
+    models:     (K, 4, 4) float64 world model matrices, same order.
     normals:    (K, 3, 3) float32 normal matrices, same order.
     in_view:    how many of the K instances (the first ones) the camera can see; passes
                 drawn from the camera draw only those, shadow passes draw all K.
@@ -41,6 +42,7 @@ class ObjectFrame:
 
     visible: bool
     models_rel: np.ndarray
+    models: np.ndarray
     normals: np.ndarray
     bounds: np.ndarray
     center: np.ndarray
@@ -180,8 +182,8 @@ class FrameEvaluator:
         inside = instances_in_view(obj.mesh.bounds(), rel, planes)
         order = np.argsort(~inside, kind="stable")  # in-view instances first
         if len(order) > 1:
-            rel, normals = rel[order], normals[order]
-        return ObjectFrame(visible, rel.astype(np.float32), normals, bounds, (bounds[0] + bounds[1]) / 2.0,
+            rel, normals, matrices = rel[order], normals[order], matrices[order]
+        return ObjectFrame(visible, rel.astype(np.float32), matrices, normals, bounds, (bounds[0] + bounds[1]) / 2.0,
                            int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding)
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:

@@ -1,6 +1,8 @@
 // Shadow lookups in the shadow atlas: every shadowed light's depth map is a tile (or six,
-// for point lights) of an atlas page, a depth texture: page 1 holds the maps drawn once,
-// page 2 (when the scene has both kinds) the maps redrawn every frame. Stored depth is
+// for point lights) of an atlas page, a depth texture. Maps drawn once per run and maps
+// redrawn every frame are on separate pages (world/shadows.py): page 0 (u_shadow_atlas)
+// holds the maps drawn once, or the redrawn ones in a scene with only those; page 1
+// (u_shadow_atlas_2) the redrawn ones in a scene with both. Stored depth is
 // linear in the view's depth range; bias is worked out in world units from the texel's
 // footprint at the receiver, so it means the same for every light type and at every
 // scene scale.

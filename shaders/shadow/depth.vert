@@ -1,8 +1,8 @@
 // Shadow pass: scene meshes seen from a light, into one tile of the shadow atlas.
 in vec3 in_position;
-in mat4 in_model;  // per instance, camera-relative
+in mat4 in_model;  // per instance, relative to the eye of the light's first view
 
-uniform mat4 u_light_view;        // camera-relative world -> light view
+uniform mat4 u_light_view;        // eye-relative world -> light view
 uniform mat4 u_light_projection;  // light view -> clip
 
 out vec3 v_light_position;  // light-view position, for linear depth

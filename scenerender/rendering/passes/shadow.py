@@ -30,6 +30,8 @@ class ShadowMapPass(RenderPass):
     wherever the views follow the camera.
     """
 
+    keeps_unchanged = True  # casters are drawn relative to the light, never the camera
+
     light_name: str
     kind: str
     map_size: int
@@ -69,18 +71,33 @@ class ShadowMapPass(RenderPass):
         if self.atlas_in is None:
             fbo.viewport = (0, 0, *self.page_size)
             fbo.clear(depth=1.0)
+        elif not ctx.written_this_frame(self.atlas_in):
+            # the page's first pass kept last frame's maps, so this pass clears its own tiles
+            for view in ctx.input(self.views).views:
+                fbo.clear(depth=1.0, viewport=(view.tile.x, view.tile.y, view.tile.size, view.tile.size))
         objects = ctx.input(self.objects)
-        to_world = np.eye(4)
-        to_world[:3, 3] = objects.origin  # uploaded transforms are relative to it
-        casters = objects.shadow_casters()
-        for view in ctx.input(self.views).views:
-            tile = view.tile
-            fbo.viewport = (tile.x, tile.y, tile.size, tile.size)
-            set_uniforms(program, u_light_view=view.view @ to_world, u_light_projection=ctx.depth.clip_projection(view.projection),
-                         u_depth_range=(view.near, view.far))
-            for index in casters:
-                frame = objects.frames[index]
+        views = ctx.input(self.views).views
+        # casters are drawn relative to the light's eye, not the camera: the map is then a
+        # function of the views and the objects alone (so a frame may keep it, and any
+        # frame that draws it draws the same bytes)
+        eye = _eye(views[0])
+        from_eye = np.eye(4)
+        from_eye[:3, 3] = eye
+        for index in objects.shadow_casters():
+            objects.place_relative_to(index, eye)
+            frame = objects.frames[index]
+            for view in views:
+                tile = view.tile
+                fbo.viewport = (tile.x, tile.y, tile.size, tile.size)
+                set_uniforms(program, u_light_view=view.view @ from_eye,
+                             u_light_projection=ctx.depth.clip_projection(view.projection), u_depth_range=(view.near, view.far))
                 # faces turned away from the light never hold the nearest depth
                 skip_faces(gl, hidden_from_light(view, frame.winding, frame.bounds))
-                objects.draw(program, index, all_instances=True)
+                objects.draw_relative(program, index)
         stop_culling(gl)
+
+
+def _eye(view) -> np.ndarray:
+    """(3,) float64 world position of a shadow view's eye."""
+    rotation = view.view[:3, :3]
+    return -rotation.T @ view.view[:3, 3]
