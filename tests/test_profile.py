@@ -25,6 +25,15 @@ def test_table_lists_static_passes_once_and_sums_every_frame():
     assert "**12.00**" in table  # per frame: CPU setup + opaque, not the static shadow pass
 
 
+def test_a_map_kept_in_some_frames_counts_its_mean_per_frame():
+    """A dynamic pass that kept its result in two of four frames: its median when drawn,
+    and its mean over the four frames in the per-frame total."""
+    timings = {"shadow:sun": [0.020, 0.020], "opaque": [0.010] * 4}
+    table = format_table(summarise(timings, frames=4, static_names=set()), frames=4)
+    assert "| shadow:sun | 2 | 20.00 (in 2 of 4 frames) | 40.0 |" in table
+    assert "**20.00**" in table  # 10 ms opaque + 40 ms of sun map over 4 frames
+
+
 def test_profiling_renderer_times_each_pass(gl, tmp_path):
     from scenerender.errors import Warnings
     from scenerender.rendering.profile import profile_report

@@ -3,7 +3,9 @@
 A Renderer made with ``profile=True`` waits for the GPU before and after each pass
 (``glFinish``), so each pass's time is its own and not the queue's; that makes the run
 slower than a normal one, but the shares are right. Static passes run once per run and
-are listed as such, not averaged into the per-frame figures.
+are listed as such, not averaged into the per-frame figures. A pass that keeps its result
+in frames where nothing it read changed (a shadow map whose views stayed put) shows its
+median when it ran, and adds its mean over all frames to the per-frame total.
 """
 from __future__ import annotations
 
@@ -38,11 +40,15 @@ def summarise(timings: dict, frames: int, static_names: set) -> list[PassTiming]
 def format_table(rows: list[PassTiming], frames: int) -> str:
     """A Markdown table: ms per frame (median), total ms and share of the run's total."""
     total = sum(row.total_ms for row in rows) or 1.0
-    per_frame = sum(row.median_ms for row in rows if not row.once)
+    per_frame = sum(row.median_ms if row.runs >= frames else row.total_ms / frames for row in rows if not row.once)
     lines = [f"per-pass profile over {frames} frame(s), GPU-synchronised:", "",
              "| pass | runs | ms per frame (median) | total ms | share |", "|---|---|---|---|---|"]
     for row in rows:
-        median = f"{row.median_ms:.2f} (once)" if row.once else f"{row.median_ms:.2f}"
+        median = f"{row.median_ms:.2f}"
+        if row.once:
+            median += " (once)"
+        elif row.runs < frames:
+            median += f" (in {row.runs} of {frames} frames)"
         lines.append(f"| {row.name} | {row.runs} | {median} | {row.total_ms:.1f} | "
                      f"{100.0 * row.total_ms / total:.0f}% |")
     lines.append(f"| **every frame** | | **{per_frame:.2f}** | {total:.1f} | 100% |")
