@@ -131,8 +131,10 @@ def test_signal_mid_render_then_resume_gives_identical_frames(scene, signum, cod
 @pytest.mark.gl
 def test_sigterm_during_mp4_removes_the_temporary_video(scene):
     process = launch("render", "anim.yaml", "-o", "out", "--format", "mp4", "-q", cwd=scene, FAULT_WRITE_DELAY=0.1)
-    wait_for(lambda: partials(scene / "out"), process, "the video's temporary file appeared")
-    temp = partials(scene / "out")[0]
+    # the video's own temporary file: the run manifest is written through one too, briefly
+    video_partials = (lambda: [name for name in partials(scene / "out") if name.endswith(".mp4")])
+    wait_for(video_partials, process, "the video's temporary file appeared")
+    temp = video_partials()[0]
     time.sleep(0.2)  # a frame or two into ffmpeg
     process.send_signal(signal.SIGTERM)
     _, err = process.communicate(timeout=60)
@@ -174,8 +176,10 @@ def _processes_naming(text: str) -> list[int]:
 @pytest.mark.skipif(not Path("/proc/self/cmdline").exists(), reason="needs /proc to see the orphaned ffmpeg")
 def test_sigkill_during_mp4_leaves_a_partial_the_next_run_removes(scene):
     process = launch("render", "anim.yaml", "-o", "out", "--format", "mp4", "-q", cwd=scene, FAULT_WRITE_DELAY=0.1)
-    wait_for(lambda: partials(scene / "out"), process, "the video's temporary file appeared")
-    temp = partials(scene / "out")[0]
+    # the video's own temporary file: the run manifest is written through one too, briefly
+    video_partials = (lambda: [name for name in partials(scene / "out") if name.endswith(".mp4")])
+    wait_for(video_partials, process, "the video's temporary file appeared")
+    temp = video_partials()[0]
     process.kill()
     process.communicate(timeout=60)
     deadline = time.monotonic() + 30  # the orphaned ffmpeg sees end of input and finishes
