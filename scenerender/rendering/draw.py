@@ -10,6 +10,7 @@ import numpy as np
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.inputs import MaterialsInput, ObjectsInput
+from scenerender.world.shadows import atlas_page_name
 
 # The vertex shader of every pass that draws scene meshes.
 MESH_VERTEX = "mesh/mesh.vert"
@@ -105,7 +106,7 @@ def bind_shadow_atlas(ctx, atlas, page: int = 0) -> None:
     texture = ctx.image(atlas)
     texture.compare_func = "<="
     texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
-    texture.use(TEXTURE_UNITS["u_shadow_atlas" if page == 0 else f"u_shadow_atlas_{page + 1}"])
+    texture.use(TEXTURE_UNITS["u_" + atlas_page_name(page)])
 
 
 def bind_texture_units(program) -> None:

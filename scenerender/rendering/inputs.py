@@ -70,7 +70,7 @@ class ObjectsInput:
     definitions: world RenderObjects (static: mesh, materials, cast_shadows).
     frames:      world.frame.ObjectFrame per object (transforms, instances in view).
     origin:      (3,) float64 world position the uploaded transforms are relative to (the
-                 camera's position this frame; shadow passes undo it).
+                 camera's position this frame).
     """
 
     definitions: list
@@ -87,13 +87,11 @@ class ObjectsInput:
         not apply: a caster outside the camera's view still shadows what is in it)."""
         return [i for i, obj in enumerate(self.definitions) if obj.cast_shadows and self.frames[i].visible]
 
-    def draw(self, program, index: int, *, all_instances: bool = False, mode=None, group: int | None = None,
-             welded_normals: bool = False) -> None:
+    def draw(self, program, index: int, *, mode=None, group: int | None = None, welded_normals: bool = False) -> None:
         """Draw object ``index`` (one mesh ``group`` of it, or all) with ``program``: the
-        instances in the camera's view, or all of them (``all_instances``, for passes drawn
-        from a light)."""
-        state = self.frames[index]
-        count = state.count if all_instances else state.in_view
+        instances in the camera's view (passes drawn from a light draw every instance,
+        through ``draw_relative``)."""
+        count = self.frames[index].in_view
         if count == 0:
             return
         mesh = self.definitions[index].mesh
@@ -151,12 +149,7 @@ class ShadowViewsInput:
         """Whether ``other`` holds the same views, to the bit."""
         return (isinstance(other, ShadowViewsInput) and self.first_view == other.first_view
                 and len(self.views) == len(other.views)
-                and all(_same_view(a, b) for a, b in zip(self.views, other.views)))
-
-
-def _same_view(a, b) -> bool:
-    return (a.tile == b.tile and a.near == b.near and a.far == b.far and a.radial == b.radial
-            and np.array_equal(a.view, b.view) and np.array_equal(a.projection, b.projection))
+                and all(a.same_as(b) for a, b in zip(self.views, other.views)))
 
 
 def same_value(value, other) -> bool:

@@ -163,13 +163,11 @@ def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> tuple[list,
     redrawn every frame (world.shadows), so its passes are all static or all dynamic. The
     shadow views show the first shadowed light alone; there file order puts it first and
     culls every other pass."""
-    lights = [light for light in world.lights if light.kind != "ambient"]
     non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
-    passes = list(inputs.shadow_views)  # (light index, its shadow_views input)
     handles = []
     current: dict = {}
-    for light_index, views in passes:
-        light = lights[light_index]
+    for light_index, views in inputs.shadow_views:  # light_index: among the non-ambient lights
+        light = world.lights[non_ambient[light_index]]
         page = atlas.page_of(non_ambient[light_index])
         current[page] = graph.add(ShadowMapPass(light.name, light.kind, light.shadow.size, light.shadow.pcf, page,
                                                 atlas.pages[page], views, inputs.objects, current.get(page))).atlas

@@ -132,6 +132,22 @@ class ShadowView:
     radial: bool
     tile: Tile
 
+    @property
+    def eye(self) -> np.ndarray:
+        """(3,) float64 world position of the view's eye."""
+        return -self.view[:3, :3].T @ self.view[:3, 3]
+
+    def same_as(self, other: "ShadowView") -> bool:
+        """Whether ``other`` is the same view, to the bit."""
+        return (self.tile == other.tile and self.near == other.near and self.far == other.far
+                and self.radial == other.radial and np.array_equal(self.view, other.view)
+                and np.array_equal(self.projection, other.projection))
+
+
+def atlas_page_name(page: int) -> str:
+    """The graph's name for atlas page ``page`` (its sampler is "u_" + this name)."""
+    return "shadow_atlas" if page == 0 else f"shadow_atlas_{page + 1}"
+
 
 def hidden_from_light(view: ShadowView, winding: int, bounds: np.ndarray) -> str | None:
     """The faces of a closed surface (world bounds (2, 3)) that ``view`` cannot see, which
@@ -139,9 +155,7 @@ def hidden_from_light(view: ShadowView, winding: int, bounds: np.ndarray) -> str
     depth range spans every caster, so it sees every closed surface from outside."""
     if view.projection[3, 3] == 1.0:
         return hidden_side(winding)
-    rotation = view.view[:3, :3]
-    eye = -rotation.T @ view.view[:3, 3]
-    return hidden_from_eye(winding, bounds, eye, -rotation[2], view.near, view.projection)
+    return hidden_from_eye(winding, bounds, view.eye, -view.view[2, :3], view.near, view.projection)
 
 
 def light_views(state, tiles: list, casters: np.ndarray | None, everything: np.ndarray | None,

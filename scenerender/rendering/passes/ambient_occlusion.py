@@ -120,7 +120,5 @@ class SSAOBlurPass(RenderPass):
         begin_fullscreen_pass(ctx, data.image)
         program = ctx.programs.get(FULLSCREEN_VERTEX, "post/ssao_blur.frag")
         bind_texture_units(program)
-        raw = ctx.image(self.raw)
-        raw.repeat_x = raw.repeat_y = False  # the blur's gathers clamp at the image's edges
-        raw.use(TEXTURE_UNITS["u_ao"])
+        ctx.image(self.raw).use(TEXTURE_UNITS["u_ao"])  # clamped at its edges, as every graph image
         ctx.fullscreen(program)

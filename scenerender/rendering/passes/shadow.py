@@ -9,7 +9,7 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import skip_faces, stop_culling
-from scenerender.world.shadows import hidden_from_light
+from scenerender.world.shadows import atlas_page_name, hidden_from_light
 
 
 @dataclass(frozen=True)
@@ -49,8 +49,7 @@ class ShadowMapPass(RenderPass):
     def setup(self, builder) -> ShadowMapData:
         builder.read(self.views, self.objects)
         if self.atlas_in is None:
-            name = "shadow_atlas" if self.page == 0 else f"shadow_atlas_{self.page + 1}"
-            return ShadowMapData(builder.create(name, ResourceDesc("depth", self.page_size, "depth24")))
+            return ShadowMapData(builder.create(atlas_page_name(self.page), ResourceDesc("depth", self.page_size, "depth24")))
         return ShadowMapData(builder.write(self.atlas_in, own_region=True))  # its own tiles
 
     def describe(self) -> str:
@@ -68,36 +67,32 @@ class ShadowMapPass(RenderPass):
         gl.enable(moderngl.DEPTH_TEST)
         gl.depth_func = "<"  # the atlas keeps linear depth, nearest = 0, whatever the camera's convention
         gl.disable(moderngl.BLEND)
+        views = ctx.input(self.views).views
         if self.atlas_in is None:
             fbo.viewport = (0, 0, *self.page_size)
             fbo.clear(depth=1.0)
         elif not ctx.written_this_frame(self.atlas_in):
             # the page's first pass kept last frame's maps, so this pass clears its own tiles
-            for view in ctx.input(self.views).views:
+            for view in views:
                 fbo.clear(depth=1.0, viewport=(view.tile.x, view.tile.y, view.tile.size, view.tile.size))
-        objects = ctx.input(self.objects)
-        views = ctx.input(self.views).views
         # casters are drawn relative to the light's eye, not the camera: the map is then a
         # function of the views and the objects alone (so a frame may keep it, and any
         # frame that draws it draws the same bytes)
-        eye = _eye(views[0])
+        objects = ctx.input(self.objects)
+        casters = objects.shadow_casters()
+        eye = views[0].eye  # one anchor for all of a point light's faces
+        for index in casters:
+            objects.place_relative_to(index, eye)
         from_eye = np.eye(4)
         from_eye[:3, 3] = eye
-        for index in objects.shadow_casters():
-            objects.place_relative_to(index, eye)
-            frame = objects.frames[index]
-            for view in views:
-                tile = view.tile
-                fbo.viewport = (tile.x, tile.y, tile.size, tile.size)
-                set_uniforms(program, u_light_view=view.view @ from_eye,
-                             u_light_projection=ctx.depth.clip_projection(view.projection), u_depth_range=(view.near, view.far))
+        for view in views:
+            tile = view.tile
+            fbo.viewport = (tile.x, tile.y, tile.size, tile.size)
+            set_uniforms(program, u_light_view=view.view @ from_eye,
+                         u_light_projection=ctx.depth.clip_projection(view.projection), u_depth_range=(view.near, view.far))
+            for index in casters:
+                frame = objects.frames[index]
                 # faces turned away from the light never hold the nearest depth
                 skip_faces(gl, hidden_from_light(view, frame.winding, frame.bounds))
                 objects.draw_relative(program, index)
         stop_culling(gl)
-
-
-def _eye(view) -> np.ndarray:
-    """(3,) float64 world position of a shadow view's eye."""
-    rotation = view.view[:3, :3]
-    return -rotation.T @ view.view[:3, 3]
