@@ -9,9 +9,14 @@ median ms per pass.
         --variant no-msaa=render.samples=1 --variant unlit=render.shading=unlit --variant no-footprint
     python benchmarks/variants.py benchmarks/scenes/bench/bench.yaml --variant no-msaa=render.samples=1
 
-A variant is NAME=KEY=VALUE[;KEY=VALUE...] (scene overrides, as --set), or one of:
+A variant is NAME=KEY=VALUE[;KEY=VALUE...] (scene overrides, as --set), NAME@FOLDER
+(the GLSL files from another folder, such as a copy of shaders/ taken before an edit), or
+one of:
   no-footprint     shadow visibility taken once per pixel, not averaged over its MSAA samples
   no-face-culling  every face of closed surfaces drawn, also those the camera cannot see
+
+    cp -r shaders /tmp/shaders-before   # then edit shaders/
+    python benchmarks/variants.py scenes/showcase.yaml --variant before@/tmp/shaders-before
 """
 from __future__ import annotations
 
@@ -24,6 +29,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import scenerender  # noqa: E402
+from scenerender.gpu import shaders  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
 from scenerender.rendering import features  # noqa: E402
 from scenerender.rendering.renderer import Renderer  # noqa: E402
@@ -43,6 +49,17 @@ class NoFaceCulling(Renderer):
 
 
 @contextmanager
+def shaders_from(folder: str):
+    """Renderers made inside compile their programs from ``folder``."""
+    original = shaders.shader_dir
+    shaders.shader_dir = lambda: Path(folder)
+    try:
+        yield
+    finally:
+        shaders.shader_dir = original
+
+
+@contextmanager
 def footprint_off():
     """Renderers made inside take shadow visibility at one point per pixel."""
     original = features._footprint_samples
@@ -59,6 +76,10 @@ def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tu
             return variant, Renderer(scenerender.load(scene_path, base_overrides)._world, gl, profile=True)
     if variant == "no-face-culling":
         return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides)._world, gl, profile=True)
+    if "@" in variant and "=" not in variant:
+        name, _, folder = variant.partition("@")
+        with shaders_from(folder):
+            return name, Renderer(scenerender.load(scene_path, base_overrides)._world, gl, profile=True)
     name, _, overrides = variant.partition("=")
     extra = [o for o in overrides.split(";") if o] if overrides else []
     return name, Renderer(scenerender.load(scene_path, base_overrides + extra)._world, gl, profile=True)

@@ -51,3 +51,20 @@ def test_fallback_renders_like_reversed_z(render_scene, monkeypatch):
     difference = np.abs(reversed_z.astype(int) - fixed_point.astype(int))
     assert reversed_z.std() > 10
     assert difference.max() <= 2
+
+
+def test_ambient_occlusion_shades_only_where_a_surface_was_drawn_in_both_conventions(render_scene, monkeypatch):
+    """The AO pass draws its full-screen triangle on the far plane and depth-tests it against
+    the prepass: the sky is left at 1 (open) without shading it, surfaces get occlusion.
+    Clearing the prepass depth, or the test's direction flipped, leaves every pixel at 1."""
+    overrides = ["render.mode=ambient_occlusion", "render.ambient_occlusion={radius: 0.5, samples: 8}",
+                 "camera.position=[0, 1.2, 4]"]
+    views = {}
+    for reversed_z in ("1", "0"):
+        monkeypatch.setenv(ENV_REVERSED_Z, reversed_z)
+        views[reversed_z] = render_scene(SCENE, overrides)[..., 0].astype(int)
+    for ao in views.values():
+        sky = ao[:8]  # the camera looks over the plane's far edge
+        assert (sky == 255).all()
+        assert (ao < 200).sum() > 50  # creases where the box and sphere meet the plane
+    assert np.abs(views["1"] - views["0"]).max() <= 2

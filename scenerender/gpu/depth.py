@@ -51,6 +51,11 @@ class DepthConvention:
         return ">" if self.reversed else "<"
 
     @property
+    def farther(self) -> str:
+        """The depth test that passes fragments strictly behind what is stored."""
+        return "<" if self.reversed else ">"
+
+    @property
     def nearer_or_equal(self) -> str:
         return ">=" if self.reversed else "<="
 

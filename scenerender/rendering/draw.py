@@ -101,6 +101,33 @@ def begin_fullscreen_pass(ctx, target) -> None:
     ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
 
 
+def begin_fullscreen_pass_where_drawn(ctx, target, depth, empty_value: float) -> moderngl.Framebuffer:
+    """Bind ``target`` with the single-sampled camera ``depth`` (both image handles) so that
+    a full-screen pass drawn with ``far_plane_defines`` shades only where a surface was
+    drawn: its triangle lies on the far plane and the test passes only in front of it.
+    Pixels left empty hold ``empty_value``. Without MSAA, llvmpipe skips every 4x4 block
+    the depth test rejects, so the sky costs nothing (a branch in the shader saves nothing:
+    both sides of it run). Returns the framebuffer; callers end with ``end_where_drawn``."""
+    fbo = ctx.framebuffer([target], depth)
+    fbo.use()
+    fbo.depth_mask = False  # before the clear, which then leaves the depth as it is
+    fbo.clear(empty_value, empty_value, empty_value, empty_value)
+    ctx.gl.disable(moderngl.BLEND)
+    ctx.gl.enable(moderngl.DEPTH_TEST)
+    ctx.gl.depth_func = ctx.depth.farther
+    return fbo
+
+
+def far_plane_defines(ctx) -> dict:
+    """Defines that put the full-screen triangle on the far plane (common/fullscreen.vert)."""
+    return {"FAR_PLANE_Z": ctx.depth.ndc_near_far[1]}
+
+
+def end_where_drawn(ctx, fbo: moderngl.Framebuffer) -> None:
+    fbo.depth_mask = True
+    ctx.gl.depth_func = ctx.depth.nearer
+
+
 def bind_shadow_atlas(ctx, atlas, page: int = 0) -> None:
     """Shadow atlas page ``page`` on its unit, set for hardware-filtered depth comparison."""
     texture = ctx.image(atlas)

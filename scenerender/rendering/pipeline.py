@@ -52,9 +52,11 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
 
     gbuffer = ao = None
     if settings.ambient_occlusion is not None or settings.mode in ("depth", "normals", "ambient_occlusion"):
-        gbuffer = graph.add(GBufferPass(size, inputs.camera, inputs.objects)).color
+        geometry = graph.add(GBufferPass(size, inputs.camera, inputs.objects))
+        gbuffer = geometry.color
     if settings.ambient_occlusion is not None or settings.mode == "ambient_occlusion":
-        raw = graph.add(SSAOPass(gbuffer, inputs.camera, size, settings.ambient_occlusion or AmbientOcclusionSettings.default())).image
+        raw = graph.add(SSAOPass(gbuffer, geometry.depth, inputs.camera, size,
+                                 settings.ambient_occlusion or AmbientOcclusionSettings.default())).image
         ao = graph.add(SSAOBlurPass(raw, size)).image
     shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None)
 

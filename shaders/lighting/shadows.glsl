@@ -73,15 +73,16 @@ const vec2 footprint_offsets[4] = vec2[](vec2(-2, -6), vec2(6, -2), vec2(-6, 2),
 const vec2 footprint_offsets[2] = vec2[](vec2(4, 4), vec2(-4, -4));
 #endif
 
-// One hardware-filtered lookup (2 x 2 texels) at ``point``, moved by ``offset`` atlas
-// texels; 1 where the map recorded nothing there. page: 0 or 1, a compile-time constant
-// wherever the caller passes one (then only that page's lookup is compiled).
-float shadow_tap(int index, int page, vec3 point, vec2 offset, float bias, bool perspective, bool radial) {
+// One hardware-filtered lookup (2 x 2 texels) at the point whose atlas projection is q
+// (to_atlas times the point; ``point`` itself is read only for radial depth), moved by
+// ``offset`` atlas texels; 1 where the map recorded nothing there. page: 0 or 1, a
+// compile-time constant wherever the caller passes one (then only that page's lookup is
+// compiled).
+float shadow_tap(int index, int page, vec4 q, vec3 point, vec2 offset, float bias, bool perspective, bool radial) {
     vec4 light = shadow_views[index].light;
     vec4 depth_params = shadow_views[index].depth;
     vec4 tile = shadow_views[index].tile;
     vec2 texel = shadow_views[index].sampling.xy;
-    vec4 q = shadow_views[index].to_atlas * vec4(point, 1.0);
     float depth = radial ? (distance(point, light.xyz) - depth_params.x) * depth_params.y : q.z;
     // an orthographic view's w is exactly 1: no division, and nothing is behind it
     vec2 uv = perspective ? q.xy / q.w : q.xy;
@@ -130,6 +131,15 @@ float shadow_lookup(int index, int page, int taps, vec3 p, vec3 n, float n_dot_l
 #else
     const bool spread = false;
 #endif
+    // The view's projection is linear in homogeneous coordinates, so a footprint point's
+    // projection is the pixel's plus the projected derivatives, scaled: one matrix
+    // product per lookup rather than one per tap.
+    mat4 to_atlas = shadow_views[index].to_atlas;
+    vec4 q_centre = to_atlas * vec4(shifted, 1.0);
+#if SHADOW_FOOTPRINT_SAMPLES > 1
+    vec4 q_dx = to_atlas * vec4(dpdx, 0.0);
+    vec4 q_dy = to_atlas * vec4(dpdy, 0.0);
+#endif
     int count = spread ? SHADOW_FOOTPRINT_SAMPLES : taps * taps;
     int bound = max(SHADOW_FOOTPRINT_SAMPLES, taps * taps);
     float first = -0.5 * float(taps - 1);
@@ -137,6 +147,7 @@ float shadow_lookup(int index, int page, int taps, vec3 p, vec3 n, float n_dot_l
     int column = 0, row = 0;  // of the filter's taps (no integer division: it is slow on SIMD)
     for (int k = 0; k < bound; ++k) {
         vec3 point = shifted;
+        vec4 q = q_centre;
         vec2 offset = vec2(first + float(column), first + float(row));
         if (++column == taps) {
             column = 0;
@@ -146,10 +157,11 @@ float shadow_lookup(int index, int page, int taps, vec3 p, vec3 n, float n_dot_l
         if (spread) {
             vec2 o = footprint_offsets[min(k, SHADOW_FOOTPRINT_SAMPLES - 1)] / 16.0;
             point = shifted + dpdx * o.x + dpdy * o.y;
+            q = q_centre + q_dx * o.x + q_dy * o.y;
             offset = vec2(0.0);
         }
 #endif
-        float visible = shadow_tap(index, page, point, offset, bias, perspective, radial);
+        float visible = shadow_tap(index, page, q, point, offset, bias, perspective, radial);
         lit += k < count ? visible : 0.0;
     }
     return lit / float(count);

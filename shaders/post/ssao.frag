@@ -22,11 +22,8 @@ vec3 view_position(vec2 uv, float depth) {
 }
 
 void main() {
+    // drawn only where the prepass drew a surface (the depth test skips the sky)
     vec4 g = texelFetch(u_gbuffer, ivec2(gl_FragCoord.xy), 0);
-    if (g.w <= 0.0) {
-        ao = 1.0;
-        return;
-    }
     vec3 p = view_position(v_uv, g.w);
     vec3 n = normalize(g.xyz);
     vec3 random = texture(u_noise, gl_FragCoord.xy / 4.0).xyz * 2.0 - 1.0;

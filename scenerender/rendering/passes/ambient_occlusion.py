@@ -10,8 +10,8 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
-    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_texture_units, cull_hidden_faces,
-    stop_culling,
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, begin_fullscreen_pass_where_drawn,
+    bind_texture_units, cull_hidden_faces, end_where_drawn, far_plane_defines, stop_culling,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.passes.data import ImageData, TargetData
@@ -75,7 +75,10 @@ def _noise_texture(gl):
 
 @dataclass(frozen=True)
 class SSAOPass(RenderPass):
+    """Occlusion per pixel; 1 (open) where the prepass drew nothing, without shading there."""
+
     gbuffer: Handle
+    gbuffer_depth: Handle
     camera: Handle
     size: tuple
     settings: AmbientOcclusionSettings
@@ -83,16 +86,16 @@ class SSAOPass(RenderPass):
     name = "ssao"
 
     def setup(self, builder) -> ImageData:
-        builder.read(self.gbuffer, self.camera)
+        builder.read(self.gbuffer, self.gbuffer_depth, self.camera)
         return ImageData(builder.create("ao_raw", ResourceDesc("color", self.size, "r8")))
 
     def describe(self) -> str:
         return f"{self.settings.samples} samples, radius {self.settings.radius:g}"
 
     def execute(self, ctx, data: ImageData) -> None:
-        begin_fullscreen_pass(ctx, data.image)
+        fbo = begin_fullscreen_pass_where_drawn(ctx, data.image, self.gbuffer_depth, 1.0)
         camera = ctx.input(self.camera)
-        defines = {"AO_SAMPLES": self.settings.samples}
+        defines = {"AO_SAMPLES": self.settings.samples, **far_plane_defines(ctx)}
         if camera.orthographic:
             defines["ORTHO_CAMERA"] = True
         program = ctx.programs.get(FULLSCREEN_VERTEX, "post/ssao.frag", defines)
@@ -103,6 +106,7 @@ class SSAOPass(RenderPass):
                      u_projection=camera.projection, u_screen=self.size,
                      u_radius=self.settings.radius, u_strength=self.settings.strength)
         ctx.fullscreen(program)
+        end_where_drawn(ctx, fbo)
 
 
 @dataclass(frozen=True)
