@@ -6,6 +6,7 @@ Tests marked ``gl`` render (tiny frames) and need an EGL context; Mesa llvmpipe 
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 
@@ -394,3 +395,20 @@ def test_missing_egl_is_one_line_with_the_fix_and_exit_3(tmp_path, monkeypatch):
     assert len(lines) == 1 and lines[0].startswith("error: cannot create an OpenGL")
     assert "libEGL.so.1" in lines[0] and "apt-get install" in lines[0] and "Traceback" not in result.output
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_llvmpipe_gets_two_threads_more_than_cores_unless_the_user_set_them(monkeypatch):
+    """The context is made with LP_NUM_THREADS = cores + 2 where it is unset (Mesa reads it
+    when the context is made); a user's own value is kept."""
+    import moderngl
+
+    from scenerender.gpu import context
+    from scenerender.machine import available_cores
+
+    seen = []
+    monkeypatch.setattr(moderngl, "create_context", lambda **kwargs: seen.append(os.environ.get("LP_NUM_THREADS")))
+    monkeypatch.delenv("LP_NUM_THREADS", raising=False)
+    context.create_context()
+    monkeypatch.setenv("LP_NUM_THREADS", "1")
+    context.create_context()
+    assert seen == [str(available_cores() + 2), "1"]

@@ -37,7 +37,7 @@ def encode_pool(frames: int = 48, rounds: int = 3) -> list[str]:
     import scenerender
     from scenerender.gpu.context import create_context
     from scenerender.sinks import ImageSequenceSink, ThreadedSink
-    from scenerender.sinks.threaded import available_cores
+    from scenerender.machine import available_cores
 
     with scenerender.Renderer(scenerender.load(ROOT / "scenes" / "showcase.yaml", ["render.size=[640,480]"]),
                               gl=create_context()) as renderer:

@@ -9,8 +9,17 @@ from __future__ import annotations
 import os
 
 from scenerender.errors import EnvironmentProblem
+from scenerender.machine import available_cores
 
 REQUIRED_VERSION = 430  # storage buffers for lights and shadow views
+
+# Mesa llvmpipe's rasterizer threads (LP_NUM_THREADS; its default is one per core), as
+# cores + this many, unless the user set it. The render thread, the frame encoders and
+# ffmpeg share the cores with the rasterizer; with two more threads than cores, tiles
+# keep a core busy while another thread waits. Measured on 2 cores (whole commands
+# alternated, 3 pairs): the showcase 3.5 % faster, the benchmark scene 1-4 %; pixels
+# are the same (each 64 x 64 tile is drawn whole by one thread, in draw order).
+EXTRA_RASTERIZER_THREADS = 2
 
 INSTALL_HINT = ("install an EGL driver: on Debian/Ubuntu 'apt-get install libegl1 libgl1-mesa-dri' "
                 "(Mesa, software rendering), or the NVIDIA driver on a GPU machine")
@@ -20,6 +29,7 @@ def create_context():
     """A moderngl Context; raises EnvironmentProblem with an install hint if none can be made."""
     import moderngl
 
+    os.environ.setdefault("LP_NUM_THREADS", str(available_cores() + EXTRA_RASTERIZER_THREADS))
     backend = os.environ.get("SCENERENDER_GL_BACKEND", "egl")
     try:
         ctx = moderngl.create_context(standalone=True, backend=backend, require=REQUIRED_VERSION)

@@ -9,21 +9,14 @@ writer thread alone. A bounded queue keeps memory flat whatever the frame count.
 """
 from __future__ import annotations
 
-import os
 import queue
 import threading
 from concurrent.futures import Future, ThreadPoolExecutor
 
+from scenerender.machine import available_cores
+
 _STOP = object()
 MAX_ENCODERS = 4  # beyond this PNG encoding stops being the bottleneck (see README)
-
-
-def available_cores() -> int:
-    """CPU cores this process may run on (its affinity mask, not the machine's total)."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except (AttributeError, OSError):  # not Linux
-        return os.cpu_count() or 1
 
 
 def encode_workers(cores: int | None = None) -> int:

@@ -14,12 +14,12 @@ cost 100-150 ms of a run's start-up (measured: the first 256 x 256 build 145 ms,
 """
 from __future__ import annotations
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 from scenerender.colorspace import srgb_decode
+from scenerender.machine import available_cores
 
 # 8-bit sRGB code -> linear light; and the linear values halfway between codes, so that
 # the encoded code of a linear value is how many of them lie at or below it (exact
@@ -57,7 +57,7 @@ def _level_below(values: np.ndarray, srgb: bool) -> tuple[np.ndarray, np.ndarray
     height, width = values.shape[:2]
     if height > _BAND_ROWS and height % 2 == 0 and width % 2 == 0:
         bands = [values[start:start + _BAND_ROWS] for start in range(0, height, _BAND_ROWS)]
-        with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        with ThreadPoolExecutor(max_workers=available_cores()) as pool:
             done = list(pool.map(lambda band: _level_below(band, srgb), bands))
         return np.concatenate([d[0] for d in done]), np.concatenate([d[1] for d in done])
     linear = _to_linear(values, srgb) if values.dtype == np.uint8 else values
