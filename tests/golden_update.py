@@ -1,4 +1,5 @@
-"""Re-render the golden reference images: `make goldens`. Look at them before committing."""
+"""Re-render the golden reference images: `make goldens` (every case), or
+`python tests/golden_update.py NAME...` (those cases). Look at them before committing."""
 from __future__ import annotations
 
 import sys
@@ -15,7 +16,11 @@ from scenerender.gpu.context import create_context  # noqa: E402
 def main() -> None:
     GOLDEN_DIR.mkdir(exist_ok=True)
     gl = create_context()
-    for name in CASES:
+    names = sys.argv[1:] or list(CASES)
+    unknown = [name for name in names if name not in CASES]
+    if unknown:
+        sys.exit(f"no golden case {', '.join(unknown)}; the cases: {', '.join(sorted(CASES))}")
+    for name in names:
         Image.fromarray(render_case(gl, name)).save(reference_path(name), optimize=True)
         print("wrote", reference_path(name))
 

@@ -257,21 +257,22 @@ def test_showcase_graph_has_every_feature_pass_and_caches_shadows():
                  "outline", "transparent", "resolve+output_transform", "readback"):
         assert name in names
     assert compiled.culled_names == []
-    # the camera orbits, nothing else moves: the lantern's shadow map renders once for all
-    # 120 frames; the sun's follows the camera, being fitted to the receivers in view
+    # the camera orbits, nothing else moves: both shadow maps render once for all 120
+    # frames, the sun's over the casters' whole footprint (world.directional_views)
     inputs = {name: desc.dynamic for _, name, desc in compiled.inputs()}
-    assert not inputs["objects"] and inputs["camera"]
+    assert not inputs["objects"] and inputs["camera"] and not inputs["shadow_views:sun"]
     static = {n.render_pass.name: compiled.is_static(n.render_pass) for n in compiled.passes
               if n.render_pass.name.startswith("shadow:")}
-    assert static == {"shadow:lantern": True, "shadow:sun": False}
+    assert static == {"shadow:lantern": True, "shadow:sun": True}
     assert not compiled.is_static(compiled.passes[names.index("opaque")].render_pass)
 
 
 def test_maps_drawn_once_and_maps_redrawn_each_frame_live_on_separate_pages():
-    """The sun's map follows the camera; the lantern's is drawn once. Each page is one
-    texture, cleared whole by its first pass, so the sun's redraw never touches the
-    lantern's tiles and never pays for a clear of part of a texture."""
-    world = _world(SCENES / "showcase.yaml")
+    """The sun's map follows the camera (a pine moved 60 m out spreads the casters too far
+    for one fixed map); the lantern's is drawn once. Each page is one texture, cleared
+    whole by its first pass, so the sun's redraw never touches the lantern's tiles and
+    never pays for a clear of part of a texture."""
+    world = _world(SCENES / "showcase.yaml", ["objects[9].instances[0].position=[60, 0, 0]"])
     showcase = plan(world, world.settings.size, world.settings.samples)
     compiled, atlas = showcase.compiled, showcase.atlas
     shadow = {n.render_pass.name: n for n in compiled.passes if n.render_pass.name.startswith("shadow:")}

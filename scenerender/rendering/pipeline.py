@@ -171,7 +171,8 @@ def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> tuple[list,
     for light_index, views in inputs.shadow_views:  # light_index: among the non-ambient lights
         light = world.lights[non_ambient[light_index]]
         page = atlas.page_of(non_ambient[light_index])
-        current[page] = graph.add(ShadowMapPass(light.name, light.kind, light.shadow.size, light.shadow.pcf, page,
+        map_size = atlas.tiles[non_ambient[light_index]][0].size
+        current[page] = graph.add(ShadowMapPass(light.name, light.kind, map_size, light.shadow.pcf, page,
                                                 atlas.pages[page], views, inputs.objects, current.get(page))).atlas
         handles.append((light_index, current[page]))
     return handles, tuple(current[page] for page in sorted(current))

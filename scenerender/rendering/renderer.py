@@ -112,7 +112,7 @@ def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: 
     can inspect a scene's graph anywhere. ``tuning``: GraphOptions fields that override
     the builder's per-scene choices (benchmarks compare them).
     """
-    atlas = plan_atlas(world.lights, max_texture_size, warn, redrawn_shadow_maps(world))
+    atlas = plan_atlas(world.lights, max_texture_size, warn, redrawn_shadow_maps(world), world.fixed_shadow_sizes)
     graph, inputs = build_graph(world, atlas, GraphOptions(tuple(size), samples, want_linear, **(tuning or {})))
     return Plan(atlas, inputs, graph.compile())
 

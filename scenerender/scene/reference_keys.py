@@ -61,7 +61,10 @@ KEYS: dict[str, Key] = {
     "render.ambient_occlusion.samples": Key("Samples per pixel; more is smoother and slower.", "32"),
     "render.ambient_occlusion.strength": Key("How strongly occlusion darkens ambient light (0 = none).", "1.5"),
     "render.shadows.size": Key("Width and height of each shadow map in texels (a point light has six). Spot lights "
-                               "default to 1024 unless this is set: their map covers only the cone.", "4096"),
+                               "default to 1024 unless this is set: their map covers only the cone. A directional "
+                               "light's map covers the shadow casters the camera can see; where only the camera "
+                               "moves, it may instead cover them all, drawn once at up to twice this size, when "
+                               "its texels then come out no larger in any frame.", "4096"),
     "render.shadows.pcf": Key("Filter width in texels: N x N percentage-closer filtering; 1 gives hard, aliased edges. "
                               "Spot lights default to 5 unless this is set.", "5"),
     "render.shadows.bias": Key("Depth bias, as a fraction of the light view's depth range; removes shadow acne.", "0.005"),

@@ -57,6 +57,15 @@ class World:
     def output(self):
         return self.scene.spec.output
 
+    @cached_property
+    def fixed_shadow_sizes(self) -> dict:
+        """{index in ``lights``: map size} of the directional lights whose shadow view stays
+        put for the whole run (world.directional_views), judged at ``render.size``."""
+        from scenerender.world.directional_views import fixed_view_sizes  # it evaluates cameras (world.frame)
+
+        width, height = self.settings.size
+        return fixed_view_sizes(self, width / height)
+
     @property
     def shadowed_lights(self) -> list[LightDef]:
         return [light for light in self.lights if light.shadow is not None]

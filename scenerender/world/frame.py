@@ -124,6 +124,13 @@ class FrameEvaluator:
         )
 
     # -- camera -----------------------------------------------------------------------
+    def camera(self, t: float, bounds) -> CameraState:
+        """The camera at ``t`` in a scene whose objects span ``bounds`` (2, 3), without
+        evaluating the rest of the frame (objects that never move: their bounds at 0)."""
+        if self._first_bounds is None:
+            self._first_bounds = bounds
+        return self._camera(t, bounds)
+
     def _camera(self, t: float, bounds) -> CameraState:
         spec = self.world.spec.camera
         fov = spec.fov(t) if spec is not None else 60.0
@@ -189,14 +196,16 @@ class FrameEvaluator:
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:
             return {}
-        visible = visible_region(camera, bounds)
         casters = union_bounds([f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows])
-        views = {}
+        fixed = world.fixed_shadow_sizes
         non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
+        follows_camera = any(world.lights[i].kind == "directional" and i not in fixed for i in non_ambient)
+        visible = visible_region(camera, bounds) if follows_camera else None
+        views = {}
         for state_index, def_index in enumerate(non_ambient):
             if def_index in self.atlas.tiles:
                 views[state_index] = light_views(lights[state_index], self.atlas.tiles[def_index], casters, bounds,
-                                                 visible)
+                                                 None if def_index in fixed else visible)
         return views
 
 

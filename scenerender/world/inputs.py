@@ -10,7 +10,7 @@ Where one input is computed from another, the dependency is written here once:
 - the camera's automatic near/far planes fit the scene's bounds, so they follow the objects;
 - a light attached to the camera follows the camera;
 - a shadow map's views fit the scene's bounds, and a directional light's also the part of
-  the scene the camera sees.
+  the scene the camera sees, unless its view stays put for the run (world.directional_views).
 """
 from __future__ import annotations
 
@@ -84,14 +84,15 @@ def world_inputs(world) -> WorldInputs:
     camera = _input("camera", animated_keys(spec.camera), (objects,) if auto_planes else ())
     names = _unique_names(world.lights)
     lights, ambient_keys, views = [], [], {}
-    for light, name in zip(world.lights, names):
+    for index, (light, name) in enumerate(zip(world.lights, names)):
         if light.kind == "ambient":
             ambient_keys += [f"{name}.{key}" for key in animated_keys(light)]
             continue
         follows = (camera,) if light.attach_camera else ()
         light_input = _input(f"light:{name}", animated_keys(light), follows)
         if light.shadow is not None:
-            fitted_to = (objects, camera) if light.kind == "directional" or light.attach_camera else (objects,)
+            follows_camera = (light.kind == "directional" and index not in world.fixed_shadow_sizes) or light.attach_camera
+            fitted_to = (objects, camera) if follows_camera else (objects,)
             views[len(lights)] = _input(f"shadow_views:{name}", animated_keys(light, skip=LIGHT_APPEARANCE_KEYS),
                                         fitted_to)
         lights.append(light_input)

@@ -62,14 +62,17 @@ class AtlasLayout:
         return self.tiles[light_def_index][0].page
 
 
-def plan_atlas(lights: list, max_size: int = 16384, warn=None, redrawn: frozenset = frozenset()) -> AtlasLayout | None:
+def plan_atlas(lights: list, max_size: int = 16384, warn=None, redrawn: frozenset = frozenset(),
+               sizes: dict | None = None) -> AtlasLayout | None:
     """Pack every shadowed light's tiles into rows (largest first); None when no shadows.
 
     redrawn: indices of the lights whose views change during the run; their tiles get a
     page of their own, after the page of the others (see the module's docstring).
+    sizes: {light index: tile size} where it is not the light's own map size.
     If a page would exceed ``max_size`` the tiles are halved until it fits, with a warning.
     """
-    requests = [(i, light.shadow.size, 6 if light.kind == "point" else 1)
+    sizes = sizes or {}
+    requests = [(i, sizes.get(i, light.shadow.size), 6 if light.kind == "point" else 1)
                 for i, light in enumerate(lights) if light.shadow is not None]
     if not requests:
         return None
@@ -186,17 +189,16 @@ def _directional(direction, casters, everything, tile, visible=None) -> ShadowVi
     """An orthographic view across the light covering the casters' footprint where the
     camera sees receivers (``visible``); depth spans all casters and receivers so nothing
     between them is clipped."""
-    rotation = look_rotation(direction, (0.0, 1.0, 0.0))
+    rotation = directional_rotation(direction)
     c = box_corners(casters) @ rotation.T
     a = box_corners(everything) @ rotation.T
-    lo, hi = c[:, :2].min(axis=0), c[:, :2].max(axis=0)
-    if visible is not None and len(visible):
+    footprint = _footprint(rotation, casters, visible)
+    if footprint is None:  # no visible receiver can be shadowed: any small view will do
         seen = visible @ rotation[:2].T
-        lo, hi = np.maximum(lo, seen.min(axis=0)), np.minimum(hi, seen.max(axis=0))
-        if np.any(hi <= lo):  # no visible receiver can be shadowed: any small view will do
-            lo, hi = seen.min(axis=0), seen.min(axis=0) + 1e-3
+        footprint = seen.min(axis=0), seen.min(axis=0) + 1e-3
+    lo, hi = footprint
     center = (lo + hi) / 2.0
-    half = max(float((hi - lo).max()) / 2.0, 1e-4) * 1.02
+    half = _half_width(lo, hi)
     # the eye sits on the view's centre line level with the casters' centre, so the
     # matrices' translations stay small wherever the scene is (float32 on the GPU)
     eye_depth = float(c[:, 2].mean())
@@ -206,6 +208,37 @@ def _directional(direction, casters, everything, tile, visible=None) -> ShadowVi
     near, far = float(depth_all.min()) - margin, float(depth_all.max()) + margin
     projection = orthographic(2.0 * half, 1.0, near, far)
     return ShadowView(_view(rotation, eye), projection, near, far, False, tile)
+
+
+def _footprint(rotation: np.ndarray, casters: np.ndarray, visible: np.ndarray | None) -> tuple | None:
+    """(lo, hi) (2,) of the casters' footprint across the light (light view x, y), within
+    the visible region's where given; None when the two do not overlap."""
+    c = box_corners(casters) @ rotation.T
+    lo, hi = c[:, :2].min(axis=0), c[:, :2].max(axis=0)
+    if visible is not None and len(visible):
+        seen = visible @ rotation[:2].T
+        lo, hi = np.maximum(lo, seen.min(axis=0)), np.minimum(hi, seen.max(axis=0))
+        if np.any(hi <= lo):
+            return None
+    return lo, hi
+
+
+def _half_width(lo: np.ndarray, hi: np.ndarray) -> float:
+    """Half the side of the square view over a footprint, with a 2 % margin."""
+    return max(float((hi - lo).max()) / 2.0, 1e-4) * 1.02
+
+
+def directional_rotation(direction) -> np.ndarray:
+    """(3, 3) world -> view rotation of a directional light's shadow view."""
+    return look_rotation(direction, (0.0, 1.0, 0.0))
+
+
+def directional_half_width(rotation: np.ndarray, casters: np.ndarray, visible: np.ndarray | None) -> float | None:
+    """Half the side of the view a directional light (``directional_rotation``) fits over
+    the casters' footprint, within the ``visible`` region's when given, in world units;
+    None where no visible receiver can be shadowed."""
+    footprint = _footprint(rotation, casters, visible)
+    return None if footprint is None else _half_width(*footprint)
 
 
 def visible_region(camera, bounds: np.ndarray | None) -> np.ndarray | None:
@@ -223,44 +256,37 @@ def visible_region(camera, bounds: np.ndarray | None) -> np.ndarray | None:
     cube = np.array([[x, y, z, 1.0] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
     frustum = cube @ inverse.T
     frustum = frustum[:, :3] / frustum[:, 3:4] + camera.position
-    points = []
-    for start, end in _box_edges(frustum):
-        points.extend(_clip_segment(start, end, lambda p: np.concatenate([p - bounds[0], bounds[1] - p], axis=-1)))
+    frustum_starts, frustum_ends = frustum[_BOX_EDGES[:, 0]], frustum[_BOX_EDGES[:, 1]]
     box = box_corners(bounds)
+    box_starts, box_ends = box[_BOX_EDGES[:, 0]], box[_BOX_EDGES[:, 1]]
 
     def inside_frustum(p):
         h = np.concatenate([p - camera.position, np.ones(p.shape[:-1] + (1,))], axis=-1) @ clip.T
         w = h[..., 3:4]
         return np.concatenate([w - h[..., :3], w + h[..., :3]], axis=-1)
 
-    for start, end in _box_edges(box):
-        points.extend(_clip_segment(start, end, inside_frustum))
-    return np.array(points) if points else None
+    points = np.concatenate([
+        _clip_segments(frustum_starts, frustum_ends, lambda p: np.concatenate([p - bounds[0], bounds[1] - p], axis=-1)),
+        _clip_segments(box_starts, box_ends, inside_frustum)])
+    return points if len(points) else None
 
 
-def _box_edges(corners: np.ndarray):
-    """The 12 edges of a box given as 8 corners indexed by (x, y, z) bits (x slowest)."""
-    for a in range(8):
-        for bit in (1, 2, 4):
-            if not a & bit:
-                yield corners[a], corners[a | bit]
+# The 12 edges of a box given as 8 corners indexed by (x, y, z) bits (x slowest).
+_BOX_EDGES = np.array([(a, a | bit) for a in range(8) for bit in (1, 2, 4) if not a & bit])
 
 
-def _clip_segment(start: np.ndarray, end: np.ndarray, constraints) -> list:
-    """The part of start..end where every value of ``constraints(point)`` is >= 0 (each
-    linear along the segment): [] or its two ends."""
-    f0, f1 = constraints(start), constraints(end)
-    t0, t1 = 0.0, 1.0
-    for a, b in zip(f0, f1):
-        if a < 0 and b < 0:
-            return []
-        if a < 0:
-            t0 = max(t0, a / (a - b))
-        elif b < 0:
-            t1 = min(t1, a / (a - b))
-    if t0 > t1:
-        return []
-    return [start + t0 * (end - start), start + t1 * (end - start)]
+def _clip_segments(starts: np.ndarray, ends: np.ndarray, constraints) -> np.ndarray:
+    """(2M, 3): the two ends of each segment starts[i]..ends[i] (each (N, 3)) cut to where
+    every value of ``constraints(points)`` (..., C) is >= 0 (each linear along a segment),
+    for the M segments that keep a part."""
+    f0, f1 = constraints(starts), constraints(ends)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = f0 / (f0 - f1)  # where a constraint's value crosses 0
+    enter = np.max(np.where(f0 < 0, t, 0.0), axis=1, initial=0.0)
+    leave = np.min(np.where((f0 >= 0) & (f1 < 0), t, 1.0), axis=1, initial=1.0)
+    kept = ~np.any((f0 < 0) & (f1 < 0), axis=1) & (enter <= leave)
+    starts, step = starts[kept], (ends - starts)[kept]
+    return np.concatenate([starts + enter[kept, None] * step, starts + leave[kept, None] * step])
 
 
 def _depth_range(eye: np.ndarray, rotation: np.ndarray, bounds: np.ndarray, radial: bool) -> tuple[float, float]:
