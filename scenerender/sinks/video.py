@@ -30,12 +30,14 @@ _FFMPEG_ERRNOS = {os.strerror(code): code for code in
 _STDERR_LINES_KEPT = 20
 
 
-# x264 preset, by measurement (the showcase's 120 frames at 640x480, CRF 16, one run):
-#   medium 3.67 s of CPU, 1522 KB, PSNR 39.46 dB;  faster 2.33 s, 1525 KB, 39.29 dB;
-#   veryfast 1.30 s, 1563 KB, 39.06 dB;  superfast 1.01 s but 2530 KB.
-# ffmpeg shares the machine with the renderer, so its CPU time is the renderer's loss:
-# "faster" costs a third less for the same size and a barely different picture.
-X264_PRESET = "faster"
+# x264 preset, by measurement (the showcase's 120 frames at 640x480, CRF 16; CPU the
+# better of two runs, PSNR over RGB against the frames):
+#   medium 5.18 s, 1520 KB, 39.45 dB;  faster 2.73 s, 1523 KB, 39.27 dB;
+#   veryfast 1.84 s, 1565 KB, 39.05 dB;  superfast 1.18 s but 2492 KB.
+# ffmpeg shares the machine with the renderer, so its CPU time is the renderer's loss (on
+# two cores "faster" took 9 % of a showcase run's CPU): "veryfast" costs a third less than
+# "faster" for a file 3 % larger and 0.2 dB.
+X264_PRESET = "veryfast"
 
 
 def _crf(quality: int) -> int:
