@@ -44,6 +44,7 @@ def test_the_showcase_sun_stays_put_at_a_size_no_coarser_than_following_the_came
     (["lights[0].direction={keys: [[0, [0.45, -0.55, 0.7]], [4, [0.5, -0.5, 0.7]]]}"], "the sun turns"),
     (["camera.position=[0, 2.9, 7.5]"], "a still camera: its fitted view never changes anyway"),
     (["output.duration=0.03"], "one frame: every map is drawn once anyway"),
+    (["lights[0].shadows={size: 8192}"], "a fixed map would pass 8192 px"),
 ])
 def test_the_sun_follows_the_camera_where_a_fixed_map_does_not_pay(overrides, why):
     assert _world(overrides=overrides).fixed_shadow_sizes == {}, why

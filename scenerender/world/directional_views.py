@@ -5,9 +5,10 @@ only where the camera sees receivers (world.shadows), so its texels are as small
 visible region allows, and the map is redrawn whenever the camera moves. Where nothing
 but the camera moves, one view over the casters' whole footprint serves every frame: its
 map is drawn once, and its shadows do not crawl as the camera moves. It is chosen when a
-map of at most ``MAX_GROWTH`` times the light's size, over the whole footprint, has texels
-no larger than the camera-following map's in any frame of the animation (judged on up to
-``SAMPLED_FRAMES`` frames spread over it); the map gets that size.
+map of at most ``MAX_GROWTH`` times the light's size (and ``MAX_FIXED_SIZE``), over the
+whole footprint, has texels no larger than the camera-following map's in any frame of the
+animation (judged on up to ``SAMPLED_FRAMES`` frames spread over it); the map gets that
+size.
 
 The showcase's sun: its camera-following view spans 22-29 m across the orbit, the whole
 footprint 42 m, so a 3904 px map drawn once replaces a 2048 px map redrawn every frame
@@ -32,6 +33,9 @@ MAX_GROWTH = 2.0
 SAMPLED_FRAMES = 24
 # Fixed map sizes are rounded up to a multiple of this many texels.
 SIZE_STEP = 64
+# and are at most this: a page then stays within the 16384 texels every GL 4.3 device
+# offers, with room for another map beside it (beyond it the atlas would halve every map).
+MAX_FIXED_SIZE = 8192
 
 
 def fixed_view_sizes(world, aspect: float) -> dict:
@@ -63,7 +67,7 @@ def fixed_view_sizes(world, aspect: float) -> dict:
         if not followed:
             continue
         size = SIZE_STEP * math.ceil(light.shadow.size * whole / min(followed) / SIZE_STEP)
-        if size <= MAX_GROWTH * light.shadow.size:
+        if size <= min(MAX_GROWTH * light.shadow.size, MAX_FIXED_SIZE):
             sizes[index] = max(size, light.shadow.size)
     return sizes
 
