@@ -78,13 +78,13 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     if not hdr and settings.output_transform == "srgb" and options.fuse_resolve:
         # the 8-bit sRGB target already holds the output values: resolve (in linear
         # light) where multisampled, and read back
-        final = graph.add(ResolveToSrgbPass(color, size, samples)).image if samples > 1 else color
+        final = graph.add(ResolveToSrgbPass(color, size)).image if samples > 1 else color
     elif samples > 1 and not options.want_linear and options.fuse_resolve:
         # nothing needs the resolved linear image: resolve and encode in one pass
         final = graph.add(ResolveOutputPass(color, size, settings.output_transform, settings.gamma, samples)).image
     else:
         if samples > 1:
-            color = graph.add(ResolvePass(color, size, samples)).image
+            color = graph.add(ResolvePass(color, size)).image
         final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma)).image
 
     if settings.mode in DATA_MODES:

@@ -20,8 +20,7 @@ import math
 
 import numpy as np
 
-from scenerender.animation import animated_keys
-from scenerender.world.inputs import LIGHT_APPEARANCE_KEYS, OBJECT_LOOK_KEYS
+from scenerender.world.inputs import camera_fitted_inputs
 from scenerender.world.shadows import directional_half_width, directional_rotation, visible_region
 from scenerender.world.transforms import union_bounds
 
@@ -43,27 +42,31 @@ def fixed_view_sizes(world, aspect: float) -> dict:
     for the run (see the module's docstring); ``aspect`` is the image's width / height."""
     if world.output.frame_count < 2:
         return {}  # one frame draws every map once: the camera-fitted view is the finer
-    if world.spec.camera is None or not animated_keys(world.spec.camera):
-        return {}  # a still camera: the camera-fitted view is already the same every frame
-    if any(animated_keys(obj, skip=OBJECT_LOOK_KEYS) for obj in world.objects):
-        return {}  # moving objects move their shadows: the map is redrawn anyway
-    candidates = [i for i, light in enumerate(world.lights)
-                  if light.kind == "directional" and light.shadow is not None and not light.attach_camera
-                  and not animated_keys(light, skip=LIGHT_APPEARANCE_KEYS)]
+    # directional views that change only because the camera moves: not the light, not the
+    # objects (a light attached to the camera turns with it)
+    non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
+    candidates = []
+    for state_index, views in camera_fitted_inputs(world).shadow_views.items():
+        index = non_ambient[state_index]
+        light = world.lights[index]
+        if light.kind == "directional" and not light.attach_camera and views.because == ("follows camera",):
+            candidates.append(index)
     if not candidates:
         return {}
     everything, casters = _still_bounds(world)
     if everything is None or casters is None:
         return {}
-    cameras = _sampled_cameras(world, aspect, everything)
+    # what the camera sees of the scene in each sampled frame (frames seeing none of it
+    # shadow nothing)
+    regions = [region for region in (visible_region(camera, everything)
+                                     for camera in _sampled_cameras(world, aspect, everything)) if region is not None]
     sizes = {}
     for index in candidates:
         light = world.lights[index]
         rotation = directional_rotation(np.asarray(light.direction(0.0), dtype=np.float64))
         whole = directional_half_width(rotation, casters, None)
-        followed = [directional_half_width(rotation, casters, region) for region in
-                    (visible_region(camera, everything) for camera in cameras) if region is not None]
-        followed = [half for half in followed if half is not None]
+        halves = (directional_half_width(rotation, casters, region) for region in regions)
+        followed = [half for half in halves if half is not None]
         if not followed:
             continue
         size = SIZE_STEP * math.ceil(light.shadow.size * whole / min(followed) / SIZE_STEP)

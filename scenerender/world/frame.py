@@ -6,6 +6,7 @@ are rounded to float32, so precision does not depend on where the scene sits in 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -87,13 +88,20 @@ class FrameEvaluator:
         self.aspect = size[0] / size[1]
         self.atlas = atlas
         self._first_bounds = None
-        # +1 / -1 for closed, opaque surfaces (their winding), 0 for the rest
-        self._windings = [obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) else 0
-                          for obj in world.objects]
-        # objects that never move: index -> their placement (see _placement), so a frame's
-        # work for them is the camera-relative shift and the view test
-        self._fixed = {i: self._placement(obj, obj.matrices(0.0), self._windings[i])
-                       for i, obj in enumerate(world.objects) if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
+
+    @cached_property
+    def _windings(self) -> list:
+        """+1 / -1 for closed, opaque surfaces (their winding), 0 for the rest."""
+        return [obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) else 0
+                for obj in self.world.objects]
+
+    @cached_property
+    def _fixed(self) -> dict:
+        """Objects that never move: index -> their placement (see _placement), so a frame's
+        work for them is the camera-relative shift and the view test. Made on the first
+        frame: an evaluator asked only for cameras never needs them."""
+        return {i: self._placement(obj, obj.matrices(0.0), self._windings[i])
+                for i, obj in enumerate(self.world.objects) if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
 
     def evaluate(self, index: int, time: float) -> FrameState:
         world = self.world

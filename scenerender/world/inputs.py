@@ -77,6 +77,17 @@ def _input(name: str, keys: list, follows: tuple = ()) -> WorldInput:
 
 def world_inputs(world) -> WorldInputs:
     """The inputs of ``world`` (a world.build.World) with their static/dynamic state."""
+    return _world_inputs(world, frozenset(world.fixed_shadow_sizes))
+
+
+def camera_fitted_inputs(world) -> WorldInputs:
+    """The inputs as they would be with every directional light's view following the
+    camera: what decides which views may stay put (world.directional_views)."""
+    return _world_inputs(world, frozenset())
+
+
+def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
+    """fixed_views: indices in ``world.lights`` of directional lights whose view stays put."""
     spec, render = world.spec, world.render
     objects = _input("objects", [f"{obj.name}.{key}" for obj in world.objects
                                  for key in animated_keys(obj, skip=OBJECT_LOOK_KEYS)])
@@ -91,7 +102,7 @@ def world_inputs(world) -> WorldInputs:
         follows = (camera,) if light.attach_camera else ()
         light_input = _input(f"light:{name}", animated_keys(light), follows)
         if light.shadow is not None:
-            follows_camera = (light.kind == "directional" and index not in world.fixed_shadow_sizes) or light.attach_camera
+            follows_camera = (light.kind == "directional" and index not in fixed_views) or light.attach_camera
             fitted_to = (objects, camera) if follows_camera else (objects,)
             views[len(lights)] = _input(f"shadow_views:{name}", animated_keys(light, skip=LIGHT_APPEARANCE_KEYS),
                                         fitted_to)

@@ -25,7 +25,6 @@ class ResolvePass(RenderPass):
 
     color: Handle
     size: tuple
-    samples: int
     format: str = "rgba16f"
 
     name = "resolve"
@@ -37,9 +36,10 @@ class ResolvePass(RenderPass):
 
     def execute(self, ctx, data: ImageData) -> None:
         begin_fullscreen_pass(ctx, data.image)
-        program = ctx.programs.get(FULLSCREEN_VERTEX, "post/resolve_samples.frag", {"SAMPLES": self.samples})
+        multisampled = ctx.image(self.color)
+        program = ctx.programs.get(FULLSCREEN_VERTEX, "post/resolve_samples.frag", {"SAMPLES": multisampled.samples})
         bind_texture_units(program)
-        ctx.image(self.color).use(TEXTURE_UNITS["u_color"])
+        multisampled.use(TEXTURE_UNITS["u_color"])
         ctx.fullscreen(program)
 
 
