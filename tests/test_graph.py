@@ -253,10 +253,13 @@ def _compiled(path_or_text, overrides=(), tmp_path=None):
 def test_showcase_graph_has_every_feature_pass_and_caches_shadows():
     compiled = _compiled(SCENES / "showcase.yaml")
     names = compiled.pass_names
-    for name in ("shadow:sun", "shadow:lantern", "gbuffer", "ssao", "ssao_blur", "opaque", "skybox",
+    for name in ("shadow:sun", "shadow:lantern", "gbuffer", "ssao", "ssao_blur", "opaque",
                  "outline", "transparent", "resolve+output_transform", "readback"):
         assert name in names
     assert compiled.culled_names == []
+    # 4x MSAA: the resolve adds the sky behind the samples; no skybox pass (passes/sky.py)
+    assert "skybox" not in names
+    assert compiled.node("resolve+output_transform").render_pass.sky is not None
     # the camera orbits, nothing else moves: both shadow maps render once for all 120
     # frames, the sun's over the casters' whole footprint (world.directional_views)
     inputs = {name: desc.dynamic for _, name, desc in compiled.inputs()}
@@ -357,7 +360,7 @@ def test_shadow_views_are_compile_time_constants(tmp_path):
 def test_depth_mode_culls_shading_shadows_and_sky():
     compiled = _compiled(SCENES / "showcase.yaml", ["render.mode=depth"])
     assert compiled.pass_names == ["gbuffer", "view:depth", "readback"]
-    assert {"shadow:sun", "opaque", "skybox", "transparent"} <= set(compiled.culled_names)
+    assert {"shadow:sun", "opaque", "transparent", "resolve+output_transform"} <= set(compiled.culled_names)
 
 
 def test_light_depth_mode_keeps_only_the_first_shadowed_light():

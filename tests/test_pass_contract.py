@@ -20,7 +20,7 @@ import scenerender
 from scenerender.graph import FrameGraph, InputDesc, RenderPass, ResourceDesc, UndeclaredResource
 from scenerender.rendering import passes
 from scenerender.rendering.inputs import ObjectsInput, input_values
-from scenerender.rendering.passes import ambient_occlusion, forward, output, shadow, views
+from scenerender.rendering.passes import ambient_occlusion, forward, output, shadow, sky, views
 from scenerender.rendering.passes.data import ImageData
 from scenerender.rendering.renderer import GLBackend, plan
 from scenerender.scene.reference import scene_tables
@@ -283,7 +283,7 @@ def test_a_real_pass_that_forgets_a_read_fails(gl, tmp_path, monkeypatch):
         builder.read(self.depth, self.camera)
         return ImageData(builder.write(self.color))
 
-    monkeypatch.setattr(forward.SkyboxPass, "setup", setup_without_the_sky)
+    monkeypatch.setattr(sky.SkyboxPass, "setup", setup_without_the_sky)
     faces = tmp_path / "sky"
     faces.mkdir()
     from PIL import Image
@@ -297,7 +297,7 @@ def test_a_real_pass_that_forgets_a_read_fails(gl, tmp_path, monkeypatch):
 
 
 def _pass_classes() -> list[type]:
-    modules = (ambient_occlusion, forward, output, shadow, views)
+    modules = (ambient_occlusion, forward, output, shadow, sky, views)
     return [cls for module in modules for _, cls in inspect.getmembers(module, inspect.isclass)
             if issubclass(cls, RenderPass) and cls is not RenderPass and cls.__module__ == module.__name__]
 

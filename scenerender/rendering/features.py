@@ -145,4 +145,6 @@ def material_defines(material) -> dict:
         defines["HAS_TANGENTS"] = True
     if material.wrap == "mirror" and material.maps:
         defines["WRAP_MIRROR"] = True
+    if material.transparent:
+        defines["TRANSPARENT"] = True
     return defines

@@ -14,13 +14,12 @@ import numpy as np
 from scenerender.graph import FrameGraph
 from scenerender.rendering.inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
-from scenerender.rendering.passes.forward import (
-    OpaquePass, OutlinePass, Shading, SkyboxPass, TransparentPass, WireframeOverlayPass,
-)
+from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
 from scenerender.rendering.passes.output import (
     OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass,
 )
 from scenerender.rendering.passes.shadow import ShadowMapPass
+from scenerender.rendering.passes.sky import SkyboxPass, SkyUnder
 from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
@@ -38,6 +37,7 @@ class GraphOptions:
     depth_prepass: bool | None = None
     fuse_resolve: bool = True
     hdr_target: bool | None = None
+    sky_behind_samples: bool = True  # with MSAA, the resolve adds the sky (passes/sky.py)
 
 
 def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputHandles]:
@@ -64,10 +64,14 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else prepass_pays(world, atlas, size, samples))
     hdr = options.hdr_target if options.hdr_target is not None else hdr_target_pays(options, settings.output_transform)
+    # with MSAA the resolve adds the sky behind the samples; without, a pass draws it (passes/sky.py)
+    sky = (SkyUnder(inputs.camera, inputs.skybox)
+           if inputs.skybox is not None and samples > 1 and options.sky_behind_samples else None)
     opaque = graph.add(OpaquePass(size, samples, shading, inputs.background, fill, prepass,
-                                  "rgba16f" if hdr else "srgba8", settings.line_width, settings.point_size))
+                                  "rgba16f" if hdr else "srgba8", settings.line_width, settings.point_size,
+                                  sky_behind=sky is not None))
     color, depth = opaque.color, opaque.depth
-    if inputs.skybox is not None:
+    if inputs.skybox is not None and sky is None:
         color = graph.add(SkyboxPass(color, depth, inputs.camera, inputs.skybox)).image
     if inputs.outlines is not None:
         color = graph.add(OutlinePass(color, depth, inputs.camera, inputs.objects, inputs.outlines)).image
@@ -78,13 +82,14 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     if not hdr and settings.output_transform == "srgb" and options.fuse_resolve:
         # the 8-bit sRGB target already holds the output values: resolve (in linear
         # light) where multisampled, and read back
-        final = graph.add(ResolveToSrgbPass(color, size)).image if samples > 1 else color
+        final = graph.add(ResolveToSrgbPass(color, size, sky=sky)).image if samples > 1 else color
     elif samples > 1 and not options.want_linear and options.fuse_resolve:
         # nothing needs the resolved linear image: resolve and encode in one pass
-        final = graph.add(ResolveOutputPass(color, size, settings.output_transform, settings.gamma, samples)).image
+        final = graph.add(ResolveOutputPass(color, size, settings.output_transform, settings.gamma, samples,
+                                            sky=sky)).image
     else:
         if samples > 1:
-            color = graph.add(ResolvePass(color, size)).image
+            color = graph.add(ResolvePass(color, size, sky=sky)).image
         final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma)).image
 
     if settings.mode in DATA_MODES:

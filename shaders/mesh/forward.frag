@@ -43,5 +43,11 @@ void main() {
 #ifdef HAS_FOG
     color = apply_fog(color, length(v_position));
 #endif
+#ifdef TRANSPARENT
     frag_color = vec4(color, s.alpha);
+#else
+    // alpha is coverage: an opaque surface hides the sky composited behind the samples
+    // (post/sky_under.glsl), whatever alpha its maps hold
+    frag_color = vec4(color, 1.0);
+#endif
 }

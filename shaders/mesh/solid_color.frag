@@ -3,5 +3,5 @@ uniform vec4 u_color;
 out vec4 frag_color;
 
 void main() {
-    frag_color = u_color;
+    frag_color = vec4(u_color.rgb, 1.0);  // opaque: alpha is coverage (post/sky_under.glsl)
 }

@@ -2,6 +2,7 @@
 // samples (what a resolve blit computes), then encoded as post/encode.glsl says. One
 // full-screen pass instead of two, and no single-sampled HDR image in between.
 #include "post/encode.glsl"
+#include "post/sky_under.glsl"
 uniform sampler2DMS u_color;
 out vec4 frag_color;
 
@@ -11,5 +12,5 @@ void main() {
     for (int i = 0; i < SAMPLES; ++i) {
         sum += texelFetch(u_color, p, i);
     }
-    frag_color = encode_output(sum / float(SAMPLES));
+    frag_color = encode_output(sky_under(sum / float(SAMPLES)));
 }

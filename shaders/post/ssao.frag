@@ -37,14 +37,18 @@ void main() {
     vec3 depth_row = -vec3(basis[0].z, basis[1].z, basis[2].z);  // a sample's view depth, less the pixel's
     float occluded_at = -p.z - 0.02 * u_radius;
     float occlusion = 0.0;
+    // No branches in the loop: a sample off screen or on the sky is read (clamped) and
+    // counted as nothing. llvmpipe runs both sides of a branch anyway, and a fetch
+    // under a branch costs more than one outside it (1.4 ms of 18 on the showcase).
     for (int i = 0; i < AO_SAMPLES; ++i) {
         vec4 clip = clip_p + clip_basis * u_kernel[i];
         vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-        if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
-        float scene_depth = texelFetch(u_gbuffer, ivec2(uv * u_screen), 0).w;
-        if (scene_depth <= 0.0) continue;
+        bool inside = !(any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))));
+        ivec2 texel = clamp(ivec2(uv * u_screen), ivec2(0), ivec2(u_screen) - 1);
+        float scene_depth = texelFetch(u_gbuffer, texel, 0).w;
         float range = smoothstep(0.0, 1.0, u_radius / max(abs(g.w - scene_depth), 1e-4));
-        occlusion += (scene_depth <= occluded_at + dot(depth_row, u_kernel[i]) ? 1.0 : 0.0) * range;
+        bool counts = inside && scene_depth > 0.0 && scene_depth <= occluded_at + dot(depth_row, u_kernel[i]);
+        occlusion += counts ? range : 0.0;
     }
     ao = clamp(1.0 - u_strength * occlusion / float(AO_SAMPLES), 0.0, 1.0);
 }

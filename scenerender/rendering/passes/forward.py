@@ -76,6 +76,8 @@ class OpaquePass(RenderPass):
     fill: "solid", or "wireframe" / "points" for those render modes (drawn with
     ``line_width`` / ``point_size``). color_format: "rgba16f", or "srgba8" where no value
     above 1 is needed. prepass: lay down depth first (see pipeline.prepass_pays).
+    sky_behind: the resolve adds the sky behind the samples (passes/sky.py), so the
+    target is cleared to transparent black instead of the background.
     """
 
     size: tuple
@@ -87,12 +89,14 @@ class OpaquePass(RenderPass):
     color_format: str = "rgba16f"
     line_width: float = 1.0
     point_size: float = 3.0
+    sky_behind: bool = False
 
     name = "opaque"
 
     def setup(self, builder) -> TargetData:
         self.shading.declare(builder)
-        builder.read(self.background)
+        if not self.sky_behind:
+            builder.read(self.background)
         samples = self.samples if self.samples > 1 else 0
         name = "hdr_color" if self.color_format == "rgba16f" else "color"
         return TargetData(builder.create(name, ResourceDesc("color", self.size, self.color_format, samples)),
@@ -113,8 +117,8 @@ class OpaquePass(RenderPass):
 
     def execute(self, ctx, data: TargetData) -> None:
         gl = ctx.gl
-        background = ctx.input(self.background)
-        fbo = begin_camera_pass(ctx, [data.color], data.depth, (*background[:3], 1.0))
+        clear = (0.0, 0.0, 0.0, 0.0) if self.sky_behind else (*ctx.input(self.background)[:3], 1.0)
+        fbo = begin_camera_pass(ctx, [data.color], data.depth, clear)
         self.shading.bind(ctx)
         mode = None
         if self.fill == "wireframe":
@@ -151,35 +155,6 @@ class OpaquePass(RenderPass):
         fbo.color_mask = (True, True, True, True)
         fbo.depth_mask = False
         ctx.gl.depth_func = ctx.depth.nearer_or_equal
-
-
-@dataclass(frozen=True)
-class SkyboxPass(RenderPass):
-    """Draws the cube-map sky where nothing else was drawn (depth still at the far plane)."""
-
-    color: Handle
-    depth: Handle
-    camera: Handle
-    skybox: Handle
-
-    name = "skybox"
-
-    def setup(self, builder) -> ImageData:
-        builder.read(self.depth, self.camera, self.skybox)
-        return ImageData(builder.write(self.color))
-
-    def execute(self, ctx, data: ImageData) -> None:
-        gl = ctx.gl
-        ctx.framebuffer([data.image], self.depth).use()
-        gl.enable(moderngl.DEPTH_TEST)
-        gl.depth_func = ctx.depth.nearer_or_equal
-        program = ctx.programs.get("skybox/skybox.vert", "skybox/skybox.frag")
-        bind_texture_units(program)
-        set_uniforms(program, u_inverse_view_proj=np.linalg.inv(ctx.input(self.camera).view_proj_relative()),
-                     u_ndc_near_far=ctx.depth.ndc_near_far)
-        ctx.input(self.skybox).use(TEXTURE_UNITS["u_skybox"])
-        ctx.fullscreen(program)
-        gl.depth_func = ctx.depth.nearer
 
 
 @dataclass(frozen=True)
@@ -243,7 +218,9 @@ class TransparentPass(RenderPass):
         fbo.depth_mask = False
         gl.enable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
         gl.depth_func = ctx.depth.nearer
-        gl.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        # colour "over" what is there; alpha accumulates coverage, which the resolve's
+        # sky-behind needs (passes/sky.py): a + (1 - a) * a_dst
+        gl.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA
         self.shading.bind(ctx)
         items = transparent_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
         try:

@@ -10,6 +10,7 @@ from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import FULLSCREEN_VERTEX, begin_fullscreen_pass, bind_texture_units
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.passes.data import ImageData
+from scenerender.rendering.passes.sky import SkyUnder, resolve_vertex, sky_defines
 
 
 @dataclass(frozen=True)
@@ -21,25 +22,32 @@ class ResolvePass(RenderPass):
     A full-screen pass of our own rather than a resolve blit: the same pixels (every
     showcase frame compared) and the same time per frame, but Mesa llvmpipe compiles its
     blit program on the first frame, about 0.1 s more than this pass's (the benchmark
-    scene's first frame, whole commands alternated: 4.5 % sooner)."""
+    scene's first frame, whole commands alternated: 4.5 % sooner). ``sky``: add the sky
+    behind the samples (passes/sky.py)."""
 
     color: Handle
     size: tuple
     format: str = "rgba16f"
+    sky: SkyUnder | None = None
 
     name = "resolve"
 
     def setup(self, builder) -> ImageData:
         builder.read(self.color)
+        if self.sky is not None:
+            self.sky.declare(builder)
         name = "hdr_resolved" if self.format == "rgba16f" else "resolved"
         return ImageData(builder.create(name, ResourceDesc("color", self.size, self.format)))
 
     def execute(self, ctx, data: ImageData) -> None:
         begin_fullscreen_pass(ctx, data.image)
         multisampled = ctx.image(self.color)
-        program = ctx.programs.get(FULLSCREEN_VERTEX, "post/resolve_samples.frag", {"SAMPLES": multisampled.samples})
+        program = ctx.programs.get(resolve_vertex(self.sky), "post/resolve_samples.frag",
+                                   {"SAMPLES": multisampled.samples, **sky_defines(self.sky)})
         bind_texture_units(program)
         multisampled.use(TEXTURE_UNITS["u_color"])
+        if self.sky is not None:
+            self.sky.bind(ctx, program)
         ctx.fullscreen(program)
 
 
@@ -54,7 +62,7 @@ class ResolveToSrgbPass(ResolvePass):
     name = "resolve+output_transform"
 
     def describe(self) -> str:
-        return "resolve; srgb by the target format"
+        return "resolve; srgb by the target format" + (", sky behind" if self.sky is not None else "")
 
 
 @dataclass(frozen=True)
@@ -81,29 +89,50 @@ class OutputTransformPass(RenderPass):
 
     def execute(self, ctx, data: ImageData) -> None:
         begin_fullscreen_pass(ctx, data.image)
-        program = ctx.programs.get(FULLSCREEN_VERTEX, self.fragment, self.defines())
+        program = ctx.programs.get(self.vertex(), self.fragment, self.defines())
         bind_texture_units(program)
         ctx.image(self.color).use(TEXTURE_UNITS["u_color"])
         set_uniforms(program, u_gamma=self.gamma)
+        self.bind_more(ctx, program)
         ctx.fullscreen(program)
+
+    def vertex(self) -> str:
+        return FULLSCREEN_VERTEX
+
+    def bind_more(self, ctx, program) -> None:
+        """Bind what a subclass's shader reads besides the colour."""
 
 
 @dataclass(frozen=True)
 class ResolveOutputPass(OutputTransformPass):
     """The MSAA resolve and the output transform fused: one full-screen pass reads the
     multisampled linear colour, averages each pixel's samples and encodes the result.
-    Used whenever nothing else needs the resolved linear image (EXR output does)."""
+    Used whenever nothing else needs the resolved linear image (EXR output does).
+    ``sky``: add the sky behind the samples before encoding (passes/sky.py)."""
 
     samples: int = 4
+    sky: SkyUnder | None = None
 
     name = "resolve+output_transform"
     fragment = "post/resolve_output.frag"
 
+    def setup(self, builder) -> ImageData:
+        if self.sky is not None:
+            self.sky.declare(builder)
+        return super().setup(builder)
+
     def describe(self) -> str:
-        return f"{self.samples}x MSAA, {super().describe()}"
+        return f"{self.samples}x MSAA, {super().describe()}" + (", sky behind" if self.sky is not None else "")
 
     def defines(self) -> dict:
-        return {**super().defines(), "SAMPLES": self.samples}
+        return {**super().defines(), "SAMPLES": self.samples, **sky_defines(self.sky)}
+
+    def vertex(self) -> str:
+        return resolve_vertex(self.sky)
+
+    def bind_more(self, ctx, program) -> None:
+        if self.sky is not None:
+            self.sky.bind(ctx, program)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,88 @@
+"""The cube-map sky, behind everything the camera sees.
+
+Two ways in, by target, each the cheaper there (measured on Mesa llvmpipe, the showcase
+at 640x480):
+
+- single-sampled: ``SkyboxPass`` draws the sky after the opaque surfaces, depth-tested
+  against the far plane. llvmpipe skips every 4x4 block the depth test rejects, so only
+  sky pixels are shaded.
+- multisampled: llvmpipe shades every pixel of a full-screen draw into an MSAA target,
+  hidden or not, and writes (and sRGB-encodes) all of its samples: 6-7 ms a frame. So
+  the forward passes leave the sky out (coverage in alpha: 1 where an opaque surface
+  was drawn, 0 where nothing was, blended coverage where a transparent surface lies over
+  nothing), and the MSAA resolve adds the sky behind each pixel's samples: ``SkyUnder``.
+  A pixel's sky is looked up once at its centre, as the MSAA skybox draw did.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from scenerender.graph import Handle, RenderPass
+from scenerender.gpu.uniforms import set_uniforms
+from scenerender.rendering.draw import FULLSCREEN_VERTEX, bind_texture_units
+from scenerender.rendering.features import TEXTURE_UNITS
+from scenerender.rendering.passes.data import ImageData
+
+SKY_VERTEX = "skybox/skybox.vert"  # a full-screen triangle with each pixel's view direction
+
+
+def _use_sky(ctx, program, camera: Handle, skybox: Handle) -> None:
+    """Bind the cube map and the camera's inverse projection for SKY_VERTEX."""
+    set_uniforms(program, u_inverse_view_proj=np.linalg.inv(ctx.input(camera).view_proj_relative()),
+                 u_ndc_near_far=ctx.depth.ndc_near_far)
+    ctx.input(skybox).use(TEXTURE_UNITS["u_skybox"])
+
+
+@dataclass(frozen=True)
+class SkyboxPass(RenderPass):
+    """Draws the sky into a single-sampled target where nothing else was drawn (depth
+    still at the far plane)."""
+
+    color: Handle
+    depth: Handle
+    camera: Handle
+    skybox: Handle
+
+    name = "skybox"
+
+    def setup(self, builder) -> ImageData:
+        builder.read(self.depth, self.camera, self.skybox)
+        return ImageData(builder.write(self.color))
+
+    def execute(self, ctx, data: ImageData) -> None:
+        gl = ctx.gl
+        ctx.framebuffer([data.image], self.depth).use()
+        gl.enable(moderngl.DEPTH_TEST)
+        gl.depth_func = ctx.depth.nearer_or_equal
+        program = ctx.programs.get(SKY_VERTEX, "skybox/skybox.frag")
+        bind_texture_units(program)
+        _use_sky(ctx, program, self.camera, self.skybox)
+        ctx.fullscreen(program)
+        gl.depth_func = ctx.depth.nearer
+
+
+@dataclass(frozen=True)
+class SkyUnder:
+    """The sky a multisampled resolve adds behind the samples (post/sky_under.glsl)."""
+
+    camera: Handle
+    skybox: Handle
+
+    def declare(self, builder) -> None:
+        builder.read(self.camera, self.skybox)
+
+    def bind(self, ctx, program) -> None:
+        _use_sky(ctx, program, self.camera, self.skybox)
+
+
+def resolve_vertex(sky: SkyUnder | None) -> str:
+    """The vertex shader of a full-screen resolve: with the view direction per pixel
+    where it adds the sky."""
+    return SKY_VERTEX if sky is not None else FULLSCREEN_VERTEX
+
+
+def sky_defines(sky: SkyUnder | None) -> dict:
+    return {"SKY_UNDER": True} if sky is not None else {}
