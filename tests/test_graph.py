@@ -259,7 +259,7 @@ def test_showcase_graph_has_every_feature_pass_and_caches_shadows():
     assert compiled.culled_names == []
     # 4x MSAA: the resolve adds the sky behind the samples; no skybox pass (passes/sky.py)
     assert "skybox" not in names
-    assert compiled.node("resolve+output_transform").render_pass.sky is not None
+    assert compiled.node("resolve+output_transform").render_pass.sky.skybox is not None
     # the camera orbits, nothing else moves: both shadow maps render once for all 120
     # frames, the sun's over the casters' whole footprint (world.directional_views)
     inputs = {name: desc.dynamic for _, name, desc in compiled.inputs()}

@@ -19,7 +19,7 @@ from scenerender.rendering.passes.output import (
     OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass,
 )
 from scenerender.rendering.passes.shadow import ShadowMapPass
-from scenerender.rendering.passes.sky import SkyboxPass, SkyUnder
+from scenerender.rendering.passes.sky import NO_SKY, SkyboxPass, SkyUnder
 from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
@@ -66,12 +66,12 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     hdr = options.hdr_target if options.hdr_target is not None else hdr_target_pays(options, settings.output_transform)
     # with MSAA the resolve adds the sky behind the samples; without, a pass draws it (passes/sky.py)
     sky = (SkyUnder(inputs.camera, inputs.skybox)
-           if inputs.skybox is not None and samples > 1 and options.sky_behind_samples else None)
+           if inputs.skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY)
     opaque = graph.add(OpaquePass(size, samples, shading, inputs.background, fill, prepass,
                                   "rgba16f" if hdr else "srgba8", settings.line_width, settings.point_size,
-                                  sky_behind=sky is not None))
+                                  sky_behind=sky is not NO_SKY))
     color, depth = opaque.color, opaque.depth
-    if inputs.skybox is not None and sky is None:
+    if inputs.skybox is not None and sky is NO_SKY:
         color = graph.add(SkyboxPass(color, depth, inputs.camera, inputs.skybox)).image
     if inputs.outlines is not None:
         color = graph.add(OutlinePass(color, depth, inputs.camera, inputs.objects, inputs.outlines)).image

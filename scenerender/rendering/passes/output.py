@@ -7,10 +7,10 @@ import numpy as np
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.rendering.draw import FULLSCREEN_VERTEX, begin_fullscreen_pass, bind_texture_units
+from scenerender.rendering.draw import begin_fullscreen_pass, bind_texture_units
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.passes.data import ImageData
-from scenerender.rendering.passes.sky import SkyUnder, resolve_vertex, sky_defines
+from scenerender.rendering.passes.sky import NO_SKY, SkyUnder
 
 
 @dataclass(frozen=True)
@@ -28,26 +28,24 @@ class ResolvePass(RenderPass):
     color: Handle
     size: tuple
     format: str = "rgba16f"
-    sky: SkyUnder | None = None
+    sky: SkyUnder = NO_SKY
 
     name = "resolve"
 
     def setup(self, builder) -> ImageData:
         builder.read(self.color)
-        if self.sky is not None:
-            self.sky.declare(builder)
+        self.sky.declare(builder)
         name = "hdr_resolved" if self.format == "rgba16f" else "resolved"
         return ImageData(builder.create(name, ResourceDesc("color", self.size, self.format)))
 
     def execute(self, ctx, data: ImageData) -> None:
         begin_fullscreen_pass(ctx, data.image)
         multisampled = ctx.image(self.color)
-        program = ctx.programs.get(resolve_vertex(self.sky), "post/resolve_samples.frag",
-                                   {"SAMPLES": multisampled.samples, **sky_defines(self.sky)})
+        program = ctx.programs.get(self.sky.vertex(), "post/resolve_samples.frag",
+                                   {"SAMPLES": multisampled.samples, **self.sky.defines()})
         bind_texture_units(program)
         multisampled.use(TEXTURE_UNITS["u_color"])
-        if self.sky is not None:
-            self.sky.bind(ctx, program)
+        self.sky.bind(ctx, program)
         ctx.fullscreen(program)
 
 
@@ -62,7 +60,7 @@ class ResolveToSrgbPass(ResolvePass):
     name = "resolve+output_transform"
 
     def describe(self) -> str:
-        return "resolve; srgb by the target format" + (", sky behind" if self.sky is not None else "")
+        return "resolve; srgb by the target format" + self.sky.describe()
 
 
 @dataclass(frozen=True)
@@ -89,18 +87,17 @@ class OutputTransformPass(RenderPass):
 
     def execute(self, ctx, data: ImageData) -> None:
         begin_fullscreen_pass(ctx, data.image)
-        program = ctx.programs.get(self.vertex(), self.fragment, self.defines())
+        program = ctx.programs.get(self.sky.vertex(), self.fragment, self.defines())
         bind_texture_units(program)
         ctx.image(self.color).use(TEXTURE_UNITS["u_color"])
         set_uniforms(program, u_gamma=self.gamma)
-        self.bind_more(ctx, program)
+        self.sky.bind(ctx, program)
         ctx.fullscreen(program)
 
-    def vertex(self) -> str:
-        return FULLSCREEN_VERTEX
-
-    def bind_more(self, ctx, program) -> None:
-        """Bind what a subclass's shader reads besides the colour."""
+    @property
+    def sky(self) -> SkyUnder:
+        """No sky: this pass's input is already resolved (ResolveOutputPass adds one)."""
+        return NO_SKY
 
 
 @dataclass(frozen=True)
@@ -111,28 +108,20 @@ class ResolveOutputPass(OutputTransformPass):
     ``sky``: add the sky behind the samples before encoding (passes/sky.py)."""
 
     samples: int = 4
-    sky: SkyUnder | None = None
+    sky: SkyUnder = NO_SKY
 
     name = "resolve+output_transform"
     fragment = "post/resolve_output.frag"
 
     def setup(self, builder) -> ImageData:
-        if self.sky is not None:
-            self.sky.declare(builder)
+        self.sky.declare(builder)
         return super().setup(builder)
 
     def describe(self) -> str:
-        return f"{self.samples}x MSAA, {super().describe()}" + (", sky behind" if self.sky is not None else "")
+        return f"{self.samples}x MSAA, {super().describe()}{self.sky.describe()}"
 
     def defines(self) -> dict:
-        return {**super().defines(), "SAMPLES": self.samples, **sky_defines(self.sky)}
-
-    def vertex(self) -> str:
-        return resolve_vertex(self.sky)
-
-    def bind_more(self, ctx, program) -> None:
-        if self.sky is not None:
-            self.sky.bind(ctx, program)
+        return {**super().defines(), "SAMPLES": self.samples, **self.sky.defines()}
 
 
 @dataclass(frozen=True)

@@ -66,23 +66,29 @@ class SkyboxPass(RenderPass):
 
 @dataclass(frozen=True)
 class SkyUnder:
-    """The sky a multisampled resolve adds behind the samples (post/sky_under.glsl)."""
+    """The sky a multisampled resolve adds behind the samples (post/sky_under.glsl), or,
+    as NO_SKY, nothing: the resolves use either alike."""
 
-    camera: Handle
-    skybox: Handle
+    camera: Handle | None = None
+    skybox: Handle | None = None
 
     def declare(self, builder) -> None:
-        builder.read(self.camera, self.skybox)
+        if self.skybox is not None:
+            builder.read(self.camera, self.skybox)
+
+    def vertex(self) -> str:
+        """The resolve's vertex shader: with the view direction per pixel where it adds the sky."""
+        return SKY_VERTEX if self.skybox is not None else FULLSCREEN_VERTEX
+
+    def defines(self) -> dict:
+        return {"SKY_UNDER": True} if self.skybox is not None else {}
+
+    def describe(self) -> str:
+        return ", sky behind" if self.skybox is not None else ""
 
     def bind(self, ctx, program) -> None:
-        _use_sky(ctx, program, self.camera, self.skybox)
+        if self.skybox is not None:
+            _use_sky(ctx, program, self.camera, self.skybox)
 
 
-def resolve_vertex(sky: SkyUnder | None) -> str:
-    """The vertex shader of a full-screen resolve: with the view direction per pixel
-    where it adds the sky."""
-    return SKY_VERTEX if sky is not None else FULLSCREEN_VERTEX
-
-
-def sky_defines(sky: SkyUnder | None) -> dict:
-    return {"SKY_UNDER": True} if sky is not None else {}
+NO_SKY = SkyUnder()
