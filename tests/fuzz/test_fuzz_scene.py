@@ -34,9 +34,8 @@ FUZZ_LIMITS = Limits(objects=40, triangles=400_000, texture_pixels=1 << 16, outp
 SLOW_SECONDS = 20.0 if os.environ.get("SCENERENDER_FUZZ") else None
 
 
-def _asset_folder() -> Path:
+def _asset_folder(folder: Path) -> Path:
     """A scene folder with a few real assets, so that file names in fuzzed scenes can resolve."""
-    folder = Path(tempfile.mkdtemp(prefix="scenerender-fuzz-"))
     (folder / "model.obj").write_text("mtllib model.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
                                       "usemtl skin\nf 1/1 2/2 3/3\n", encoding="utf-8")
     (folder / "model.mtl").write_text("newmtl skin\nKd 1 0.5 0.2\nmap_Kd tex.png\n", encoding="utf-8")
@@ -49,7 +48,9 @@ def _asset_folder() -> Path:
     return folder
 
 
-ASSETS = _asset_folder()
+# removed when the test process ends (the object's finaliser), so runs leave nothing behind
+_ASSETS_FOLDER = tempfile.TemporaryDirectory(prefix="scenerender-fuzz-")
+ASSETS = _asset_folder(Path(_ASSETS_FOLDER.name))
 
 
 # ---------------------------------------------------------------------------------------
