@@ -35,6 +35,8 @@ CUBE_FACES = (
     ((0, 1, 0), (0, 0, 1)), ((0, -1, 0), (0, 0, -1)),
     ((0, 0, 1), (0, -1, 0)), ((0, 0, -1), (0, -1, 0)),
 )
+# their world -> view rotations, worked out once rather than for every light every frame
+CUBE_FACE_ROTATIONS = tuple(look_rotation(forward, up) for forward, up in CUBE_FACES)
 # A cube face's frustum is a little wider than 90 degrees so filter taps near the face's
 # edge still land inside its tile.
 CUBE_FACE_FOV = 95.0
@@ -175,7 +177,8 @@ def light_views(state, tiles: list, casters: np.ndarray | None, everything: np.n
         return [_directional(state.direction, casters, everything, tiles[0], visible)]
     if state.kind == "spot":
         return [_spot(state, everything, tiles[0])]
-    return [_cube_face(state.position, face, everything, tile) for face, tile in zip(CUBE_FACES, tiles)]
+    return [_cube_face(state.position, rotation, everything, tile)
+            for rotation, tile in zip(CUBE_FACE_ROTATIONS, tiles)]
 
 
 def _view(rotation: np.ndarray, eye: np.ndarray) -> np.ndarray:
@@ -307,9 +310,7 @@ def _spot(state, everything, tile) -> ShadowView:
     return ShadowView(_view(rotation, state.position), perspective(fov, 1.0, near, far), near, far, False, tile)
 
 
-def _cube_face(position, face, everything, tile) -> ShadowView:
-    forward, up = face
-    rotation = look_rotation(forward, up)
+def _cube_face(position, rotation, everything, tile) -> ShadowView:
     near, far = _depth_range(position, rotation, everything, radial=True)
     projection = perspective(CUBE_FACE_FOV, 1.0, near, far)
     return ShadowView(_view(rotation, position), projection, 0.0, far, True, tile)
