@@ -81,6 +81,10 @@ ESCAPES = {
     "scene material map": lambda scene, out: (
         "materials:\n  m: {diffuse_map: ../outside/t.png}\nobjects:\n  - mesh: tri.obj\n    material: m\n"),
     "skybox folder": lambda scene, out: "render: {skybox: ../outside}\nobjects: []\n",
+    # a folder whose name merely starts with the scene folder's: containment is by path
+    # components, not by string prefix
+    "sibling with the same prefix": lambda scene, out: (
+        write(scene.parent / f"{scene.name}-evil" / "x.obj", TRIANGLE_OBJ), mesh_scene(f"../{scene.name}-evil/x.obj"))[1],
 }
 
 

@@ -15,6 +15,7 @@ import pytest
 from click.testing import CliRunner
 from PIL import Image
 
+from conftest import skip_without_gl
 from scenerender.cli import main
 
 GOOD = "render: {size: [32, 24]}\nobjects:\n  - mesh: {primitive: box}\n"
@@ -327,11 +328,6 @@ def test_short_help_and_version():
 
 # ---------------------------------------------------------------------------------------
 # rendering (needs GL)
-
-
-def skip_without_gl(exit_code, stderr):
-    if exit_code == 3:
-        pytest.skip(f"no OpenGL context here: {stderr.strip()}")
 
 
 @pytest.mark.gl

@@ -94,12 +94,16 @@ class _DieOnFirstTask:
 
 def test_dask_cluster_writes_the_same_files_even_when_a_worker_dies(single, tmp_path):
     distributed = pytest.importorskip("distributed")
+    import dask
 
     class DieOnFirstTask(_DieOnFirstTask, distributed.WorkerPlugin):
         pass
 
     marker = tmp_path / "killed"
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    # Dask's scratch space (and its lock files) inside tmp_path, not the temp folder
+    with dask.config.set({"temporary-directory": str(tmp_path / "dask-scratch")}), \
+            distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                     dashboard_address=None) as cluster:
         with distributed.Client(cluster) as client:
             client.register_plugin(DieOnFirstTask(str(marker)))
             out = render(tmp_path / "png", "--frames", "0:12", "--scheduler", cluster.scheduler_address)

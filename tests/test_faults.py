@@ -22,6 +22,7 @@ from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from conftest import skip_without_gl
 from scenerender.cli import main
 from scenerender.errors import EnvironmentProblem, UserError, display_path
 from scenerender.job import resolve_output
@@ -69,8 +70,7 @@ def cli(*args):
 
 def render_ok(*args):
     result = cli("render", *args, "-q")
-    if result.exit_code == 3:
-        pytest.skip(f"no OpenGL context here: {result.stderr.strip()}")
+    skip_without_gl(result.exit_code, result.stderr)
     assert result.exit_code == 0, result.output
     return result
 
@@ -87,8 +87,7 @@ def wait_for(condition, process: subprocess.Popen, what: str, timeout: float = 6
     while not condition():
         if process.poll() is not None:
             out, err = process.communicate()
-            if process.returncode == 3:
-                pytest.skip(f"no OpenGL context here: {err.strip()}")
+            skip_without_gl(process.returncode, err)
             pytest.fail(f"the render ended (exit {process.returncode}) before {what}: {err}")
         if time.monotonic() > deadline:
             process.kill()
@@ -283,8 +282,7 @@ def enospc_half_write(path, data):
 def test_full_disk_while_writing_a_frame(scene, monkeypatch, fmt):
     monkeypatch.setattr(images_module, "write_file", enospc_half_write)
     result = cli("render", "anim.yaml", "-o", "out", "--format", fmt, "-q")
-    if result.exit_code == 3:
-        pytest.skip(result.stderr)
+    skip_without_gl(result.exit_code, result.stderr)
     assert result.exit_code == 2, result.output
     assert result.stderr.strip().splitlines() == [
         f"error: out/frame_0000.{fmt}: cannot write: no space left on device (free some space or write "
@@ -306,8 +304,7 @@ def test_rename_refused(scene, monkeypatch, code, cause):
 
     monkeypatch.setattr(os, "replace", refusing_replace)
     result = cli("render", "anim.yaml", "-o", "out", "--frames", "0:2", "-q")
-    if result.exit_code == 3:
-        pytest.skip(result.stderr)
+    skip_without_gl(result.exit_code, result.stderr)
     assert result.exit_code == 2, result.output
     line, = result.stderr.strip().splitlines()
     assert line.startswith("error: out/frame_0000.png: cannot write: " + cause)
@@ -406,8 +403,7 @@ def test_full_disk_during_mp4_render(scene, monkeypatch):
     fake_ffmpeg(scene, monkeypatch,
                 "cat > \"$last\"\necho 'av_interleaved_write_frame(): No space left on device' >&2\nexit 228\n")
     result = cli("render", "anim.yaml", "-o", "out", "--format", "mp4", "-q")
-    if result.exit_code == 3:
-        pytest.skip(result.stderr)
+    skip_without_gl(result.exit_code, result.stderr)
     assert result.exit_code == 2, result.output
     assert result.stderr.strip().splitlines() == [
         "error: out/anim.mp4: cannot write: no space left on device (free some space or write elsewhere with -o)"]
@@ -474,8 +470,7 @@ def test_really_full_tmpfs(scene, tmpfs, fmt):
     disk = tmpfs("size=64k")
     fill(disk)
     result = cli("render", "anim.yaml", "-o", disk / "out", "--format", fmt, "-q")
-    if result.exit_code == 3:
-        pytest.skip(result.stderr)
+    skip_without_gl(result.exit_code, result.stderr)
     assert result.exit_code == 2, result.output
     line, = result.stderr.strip().splitlines()
     assert line.startswith(f"error: {display_path(disk / 'out')}/") and "cannot write: no space left on device" in line
@@ -486,8 +481,7 @@ def test_really_full_tmpfs(scene, tmpfs, fmt):
 def test_really_read_only_tmpfs(scene, tmpfs):
     disk = tmpfs("size=64k,ro")
     result = cli("render", "anim.yaml", "-o", disk / "out", "-q")
-    if result.exit_code == 3:
-        pytest.skip(result.stderr)
+    skip_without_gl(result.exit_code, result.stderr)
     assert result.exit_code == 2, result.output
     line, = result.stderr.strip().splitlines()
     assert line == (f"error: {display_path(disk / 'out')}: cannot write: read-only file system (the file system "
