@@ -116,6 +116,20 @@ def test_a_looser_rule_passes_what_the_default_fails():
     assert verdict(drawn(), moved, DiffRule(max_tile=1000, max_unexplained_mean=1000))
 
 
+def test_the_tile_limit_catches_a_local_change_the_frame_mean_misses():
+    """At 640x480 a 5x5-pixel patch 12 levels off (a lost highlight, say) adds too little to
+    the frame's mean to cross its limit; the 8x8 tile holding it crosses the tile limit, and
+    only that fails the frame (a rule with the tile limit lifted passes it)."""
+    reference = drawn(size=(640, 480))
+    patched = reference.copy()
+    patched[296:301, 400:405] += 12
+    result = compare_images("frame", reference, patched)
+    assert result.metrics.unexplained_mean < DEFAULT_RULE.max_unexplained_mean
+    assert result.metrics.worst_tile_aa > DEFAULT_RULE.max_tile
+    assert not result.passed and result.reason.startswith("worst 8x8 tile")
+    assert verdict(reference, patched, DiffRule(max_tile=1000))
+
+
 def test_changed_regions_box_the_change():
     result = compare_images("frame", drawn(), drawn(drop_disc=True))
     x, y, w, h = result.regions[0]
