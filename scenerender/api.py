@@ -149,7 +149,8 @@ class Renderer:
             frames = [renderer.render(i) for i in range(3)]
 
     size:    (width, height), default the scene's ``render.size``
-    samples: MSAA samples, default the scene's ``render.samples`` (clamped to the device)
+    samples: MSAA samples, default the scene's ``render.samples`` (lowered, with a warning, to
+             the largest power of two the device offers)
     want_linear: also return each frame's linear colours (``Frame.linear``; a float target, slower)
     profile: time every pass (GPU-synchronised); see ``timings``
     cache_static_passes: False renders every pass every frame (to measure what caching saves)

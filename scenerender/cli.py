@@ -130,7 +130,8 @@ def _overrides(sets, size, samples) -> list[str]:
 @click.option("-o", "--output", type=click.Path(path_type=Path), default=Path("out"), show_default=True,
               help="Folder for image sequences, or the video file / folder for MP4 and GIF.")
 @click.option("--size", metavar="WxH", help="Image size, e.g. 1280x720 (overrides render.size).")
-@click.option("--samples", type=click.IntRange(1, 64), help="MSAA samples; 1 turns anti-aliasing off.")
+@click.option("--samples", type=click.IntRange(1, 64),
+              help="MSAA samples: 1 (anti-aliasing off), 2, 4, 8, 16, 32 or 64 (overrides render.samples).")
 @click.option("--format", "fmt", type=click.Choice(["png", "jpg", "tga", "exr", "mp4", "gif"]),
               help="Output format (overrides output.format).")
 @click.option("--frames", metavar="A:B", help="Render frames A to B-1 only (like a Python slice).")
@@ -247,7 +248,7 @@ def schema(output, markdown):
 @click.option("--dot", is_flag=True, help="Graphviz dot instead of text.")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
 @click.option("--size", metavar="WxH", help="Image size (overrides render.size).")
-@click.option("--samples", type=click.IntRange(1, 64), help="MSAA samples.")
+@click.option("--samples", type=click.IntRange(1, 64), help="MSAA samples: 1, 2, 4, 8, 16, 32 or 64.")
 @_asset_root_option
 @_limit_option
 def graph(scene, dot, sets, size, samples, asset_roots, limit_texts):

@@ -244,6 +244,28 @@ def test_render_bad_option_values(scenes, args):
     assert not (scenes / "out").exists()
 
 
+SAMPLES_MESSAGE = "render.samples: MSAA samples must be one of 1, 2, 4, 8, 16, 32, 64 (1 = off), got 3"
+
+
+@pytest.mark.parametrize("command", ["validate", "render"])
+def test_a_sample_count_no_device_offers_is_bad_input_for_validate_and_render(scenes, command):
+    """3 samples passed validate, then failed in render as an internal error (the driver
+    refuses counts that are not powers of two) after making the output folder."""
+    (scenes / "three.yaml").write_text(GOOD.replace("size: [32, 24]", "size: [32, 24], samples: 3"), encoding="utf-8")
+    result = cli(command, "three.yaml", *(["-o", "out"] if command == "render" else []))
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"error: three.yaml:1:26: {SAMPLES_MESSAGE}\n"
+    assert not (scenes / "out").exists()
+
+
+@pytest.mark.parametrize("args", [["--samples", "3"], ["--set", "render.samples=3"]])
+def test_a_sample_count_from_the_command_line_is_checked_like_the_file(scenes, args):
+    result = cli("render", "good.yaml", "-o", "out", *args)
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"error: --set render.samples=3: {SAMPLES_MESSAGE}\n"
+    assert not (scenes / "out").exists()
+
+
 # ---------------------------------------------------------------------------------------
 # diff
 

@@ -110,9 +110,9 @@ def test_a_removed_schema_key_leaves_its_description_stale():
 
 def test_a_changed_range_changes_the_reference():
     schema = json.loads(scene_json_schema())
-    before = _row(SchemaWalker(copy.deepcopy(schema)).walk(), "render.samples")
-    schema["$defs"]["RenderSettings"]["properties"]["samples"]["maximum"] = 32
-    after = _row(SchemaWalker(schema).walk(), "render.samples")
+    before = _row(SchemaWalker(copy.deepcopy(schema)).walk(), "render.ambient_occlusion.samples")
+    schema["$defs"]["AmbientOcclusion"]["properties"]["samples"]["maximum"] = 32
+    after = _row(SchemaWalker(schema).walk(), "render.ambient_occlusion.samples")
     assert (before.type_text, after.type_text) == ("whole number in [1, 64]", "whole number in [1, 32]")
 
 

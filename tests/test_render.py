@@ -108,6 +108,35 @@ objects:
     assert absolute_difference(image, nearly).mean() < 0.5  # no flip right next to the singularity
 
 
+def test_a_camera_passing_through_its_target_renders_finite_frames(gl, monkeypatch):
+    """At t = 1 the animated position sits on the target, with no direction to look in: that
+    frame looks down -Z (the default view direction), and neither the camera, the spot light
+    that follows it, nor any pixel is NaN."""
+    from conftest import render, scene
+    from scenerender.rendering.renderer import ENV_CHECK_FINITE
+    from scenerender.world.frame import FrameEvaluator
+
+    text = """
+render: {size: [48, 32], samples: 1}
+output: {fps: 1, frames: 3}
+camera:
+  position: {keys: [[0, [0, 1, -3]], [2, [0, 1, 3]]]}
+  target: [0, 1, 0]
+lights:
+  - {type: spot, attach: camera, shadows: true}
+  - {type: directional, direction: [-1, -1, -1], shadows: true}
+objects:
+  - mesh: {primitive: box}
+  - mesh: {primitive: plane, size: 10}
+"""
+    loaded = scene(text)
+    camera = FrameEvaluator(loaded._world, (48, 32), None).evaluate(1, 1.0).camera
+    assert np.array_equal(camera.rotation, np.eye(3))
+    monkeypatch.setenv(ENV_CHECK_FINITE, "1")  # a NaN reaching any pixel fails the frame
+    frames = render(gl, text, frames=(0, 1, 2))
+    assert all(frame.std() > 0 for frame in frames)
+
+
 def test_shininess_zero_gives_finite_even_highlights(render_scene):
     text = """
 render: {size: [64, 64], samples: 1}
@@ -230,6 +259,28 @@ objects:
     assert len(edges) == 2
     for e in edges:  # full brightness to nothing between two neighbouring pixels
         assert abs(row[e] - row[e + 1]) > 100
+
+
+def test_a_sample_count_that_is_no_power_of_two_is_lowered_with_a_warning(gl):
+    """Scenes cannot ask for 3 samples, but a caller of Renderer can: the driver refuses
+    the count, so the largest power of two below it is used, as for counts over the maximum."""
+    import scenerender
+    from conftest import scene
+
+    warnings = Warnings()
+    with scenerender.Renderer(scene(FLAT.format(samples=1, transform="srgb", c=0.5), warnings=warnings),
+                              gl=gl, samples=3) as renderer:
+        assert renderer.samples == 2
+        assert renderer.render(0).pixels.shape == (48, 64, 3)
+    assert warnings.items == ["MSAA samples 3 is not a power of two, the only counts GL offers; using 2"]
+
+
+def test_device_samples_are_powers_of_two_within_the_device():
+    from scenerender.rendering.renderer import device_samples
+
+    assert [device_samples(n, 8) for n in (1, 2, 3, 4, 5, 7, 8, 16, 64)] == [1, 2, 2, 4, 4, 4, 8, 8, 8]
+    assert device_samples(8, 6) == 4  # a device maximum that is no power of two
+    assert device_samples(0, 4) == 1
 
 
 def test_msaa_off_gives_only_the_two_colours_of_a_mask(render_scene):

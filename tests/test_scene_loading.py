@@ -233,6 +233,44 @@ def test_unknown_key_in_light_and_primitive(tmp_path):
     ]
 
 
+def test_every_unknown_key_of_a_mapping_is_reported(tmp_path):
+    lines = error_lines(tmp_path, "render: {size: [64, 48], sampels: 3, shadng: x, modd: y}\n")
+    assert lines == [
+        "scene.yaml:1:26: render.sampels: unknown key 'sampels' (did you mean 'samples'?)",
+        "scene.yaml:1:38: render.shadng: unknown key 'shadng' (did you mean 'shading'?)",
+        "scene.yaml:1:49: render.modd: unknown key 'modd' (did you mean 'mode'?)",
+    ]
+
+
+def test_every_unknown_key_of_a_track_and_of_a_track_key_is_reported(tmp_path):
+    track = error_lines(tmp_path, "camera:\n  position: {keys: [[0, [0, 1, 3]]], loops: true, interpolatoin: step}\n")
+    assert track == [
+        "scene.yaml:2:38: camera.position.loops: unknown key 'loops' (did you mean 'loop'?)",
+        "scene.yaml:2:51: camera.position.interpolatoin: unknown key 'interpolatoin' (did you mean 'interpolation'?)",
+    ]
+    key = error_lines(tmp_path, "camera:\n  position: {keys: [{t: 0, valeu: [0, 1, 3], interp: step}]}\n")
+    assert key == [
+        "scene.yaml:2:28: camera.position.keys[0].valeu: unknown key 'valeu' (did you mean 'value'?)",
+        "scene.yaml:2:46: camera.position.keys[0].interp: unknown key 'interp' (did you mean 'interpolation'?)",
+    ]
+
+
+def test_the_same_unknown_keys_in_every_object_collapse(tmp_path):
+    text = "objects:\n" + "  - {mesh: {primitive: box}, positon: [0, 0, 0], scal: 2}\n" * 3
+    assert error_lines(tmp_path, text) == [
+        "scene.yaml:2:30: objects[0].positon: unknown key 'positon' (did you mean 'position'?) (and 2 more like it)",
+        "scene.yaml:2:50: objects[0].scal: unknown key 'scal' (did you mean 'scale'?) (and 2 more like it)",
+    ]
+
+
+def test_thousands_of_unknown_keys_stay_within_the_error_lines(tmp_path):
+    text = "render:\n" + "".join(f"  key{i}: 1\n" for i in range(2000))
+    lines = error_lines(tmp_path, text)
+    assert len(lines) == SceneErrors.MAX_LINES
+    assert lines[0].startswith("scene.yaml:2:3: render.key0: unknown key 'key0' (known keys: size, samples,")
+    assert lines[-1] == "... and 1991 more problems"
+
+
 def test_duplicate_key_names_both_lines(tmp_path):
     with pytest.raises(UserError) as info:
         load(tmp_path, "render:\n  samples: 4\n  samples: 8\n" + MINIMAL)
@@ -494,6 +532,40 @@ def test_single_key_track_is_constant(tmp_path):
     track = load(tmp_path, "lights:\n  - type: point\n    intensity: {keys: [[5, 2]]}\n").spec.lights[0].intensity
     assert track.is_constant
     assert track(0.0) == 2.0 and track(100.0) == 2.0
+
+
+# ---------------------------------------------------------------------------------------
+# render and camera
+
+
+@pytest.mark.parametrize("count", [1, 2, 4, 8, 16, 32, 64])
+def test_msaa_sample_counts_are_powers_of_two(tmp_path, count):
+    assert load(tmp_path, f"render: {{samples: {count}}}\n").spec.render.samples == count
+
+
+@pytest.mark.parametrize("count", [0, 3, 6, 12, 65, 128])
+def test_other_msaa_sample_counts_list_the_ones_offered(tmp_path, count):
+    """A count GL devices never offer used to pass validation and fail in render."""
+    assert one_error(tmp_path, f"render: {{samples: {count}}}\n") == (
+        f"scene.yaml:1:10: render.samples: MSAA samples must be one of 1, 2, 4, 8, 16, 32, 64 (1 = off), got {count}")
+
+
+def test_msaa_sample_count_from_set_is_checked(tmp_path):
+    assert one_error(tmp_path, MINIMAL, ["render.samples=3"]) == (
+        "--set render.samples=3: render.samples: MSAA samples must be one of 1, 2, 4, 8, 16, 32, 64 (1 = off), got 3")
+
+
+@pytest.mark.parametrize("position", ["[0, 1, 3]", "{keys: [[0, [0, 1, 3]], [2, [0, 1, 3]]]}"])
+def test_camera_at_its_own_target_is_an_error(tmp_path, position):
+    """Like a zero light direction or camera up: there is no direction to look in."""
+    line = one_error(tmp_path, f"camera:\n  position: {position}\n  target: [0, 1, 3]\n")
+    assert line == ("scene.yaml:3:3: camera.target: camera position and target are the same point [0, 1, 3]: "
+                    "there is no direction to look in; move the target or give yaw/pitch instead")
+
+
+def test_animated_camera_may_pass_through_its_target(tmp_path):
+    spec = load(tmp_path, "camera:\n  position: {keys: [[0, [0, 1, -3]], [2, [0, 1, 3]]]}\n  target: [0, 1, 0]\n").spec
+    np.testing.assert_array_equal(spec.camera.position(1.0), spec.camera.target(1.0))
 
 
 # ---------------------------------------------------------------------------------------

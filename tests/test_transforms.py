@@ -96,6 +96,21 @@ def test_looking_along_up_is_finite_and_continuous(forward):
     assert np.allclose(r, nearly, atol=1e-3)
 
 
+@pytest.mark.parametrize("forward", [[0, 0, 0], [0, 0, -0.0], [math.nan, 0, 0], [math.inf, 1, 0]])
+def test_no_direction_at_all_looks_down_minus_z(forward):
+    """A camera on its target (forward = target - position = 0) has nothing to look along:
+    the rotation used to be all NaN."""
+    assert np.array_equal(look_rotation(forward, [0, 1, 0]), np.eye(3))
+
+
+@pytest.mark.parametrize("forward", [[1e-200, 0, 0], [0, -3e-320, 0], [1e300, 1e300, 0]])
+def test_a_tiny_or_huge_forward_keeps_its_direction(forward):
+    """Squaring 1e-200 in the length gives 0 (and 1e300 gives inf): the rotation used to be NaN."""
+    r = look_rotation(forward, [0, 1, 0])
+    assert np.all(np.isfinite(r)) and np.allclose(r @ r.T, np.eye(3), atol=1e-12)
+    assert np.allclose(-r[2], np.sign(forward) / np.linalg.norm(np.sign(forward)))
+
+
 def test_looking_down_puts_minus_z_at_the_top_of_the_image():
     r = look_rotation([0, -1, 0], [0, 1, 0])
     assert np.allclose(r[1], [0, 0, -1])  # screen up

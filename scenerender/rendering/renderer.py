@@ -118,9 +118,17 @@ def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: 
 
 
 def device_samples(wanted: int, max_samples: int) -> int:
-    """The MSAA samples a run gets: the scene's request, at most what the device offers;
-    1 for no multisampling."""
-    return min(wanted, max_samples) if wanted > 1 else 1
+    """The MSAA samples a run gets: the largest power of two (the only counts GL
+    multisampled images come in) not above the request or what the device offers; 1 for
+    no multisampling. Scenes ask only for powers of two; callers of ``Renderer`` may not."""
+    allowed = min(wanted, max_samples)
+    return 1 << (allowed.bit_length() - 1) if allowed > 1 else 1
+
+
+def lowered_samples_warning(wanted: int, used: int, max_samples: int) -> str:
+    if wanted > max_samples:
+        return f"render.samples {wanted} is more than this device offers; using {used}"
+    return f"MSAA samples {wanted} is not a power of two, the only counts GL offers; using {used}"
 
 
 class Renderer:
@@ -135,7 +143,7 @@ class Renderer:
         wanted = samples if samples is not None else render.samples
         self.samples = device_samples(wanted, gl.max_samples)
         if self.samples < wanted and warn is not None:
-            warn(f"render.samples {wanted} is more than this device offers; using {self.samples}")
+            warn(lowered_samples_warning(wanted, self.samples, gl.max_samples))
         max_size = int(gl.info.get("GL_MAX_TEXTURE_SIZE", 16384))
         # the finite check reads the linear (float) colour back, whether the caller wants it or not
         self.check_finite = check_finite_enabled()

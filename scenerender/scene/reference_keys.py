@@ -32,7 +32,7 @@ KEYS: dict[str, Key] = {
     "objects": Key("What is drawn. `[]` is a valid scene: the background alone.", "[{mesh: models/duck.obj}]"),
     # -- render ---------------------------------------------------------------------------
     "render.size": Key("Image width and height in pixels (`--size WxH`).", "[1280, 720]"),
-    "render.samples": Key("MSAA samples per pixel; 1 turns anti-aliasing off. More than the device offers is lowered, with a warning.", "8"),
+    "render.samples": Key("MSAA samples per pixel: 1 (anti-aliasing off), 2, 4, 8, 16, 32 or 64, the counts GL offers (any other is an error). More than the device offers is lowered to its maximum, with a warning.", "8"),
     "render.shading": Key("Specular model: `phong` (R.V), `blinn_phong` (N.H), or `unlit` (surface colour only).", "phong"),
     "render.mode": Key("What each pixel shows: the shaded image, or one of the diagnostic views in the table of modes below.", "depth"),
     "render.background": Key("Colour where nothing is drawn; hidden behind a skybox.", "[0.4, 0.78, 1.0]"),
@@ -79,7 +79,7 @@ KEYS: dict[str, Key] = {
     "output.quality": Key("JPG quality, and MP4 quality (x264 CRF = 51 - 0.39 x quality).", "95"),
     # -- camera ---------------------------------------------------------------------------
     "camera.position": Key("The eye. Not set: placed to frame the scene.", "[0, 2, 8]"),
-    "camera.target": Key("The point looked at. Give `target`, or `yaw`/`pitch`, not both.", "[0, 0.5, 0]"),
+    "camera.target": Key("The point looked at; a fixed target must differ from a fixed `position`. Give `target`, or `yaw`/`pitch`, not both.", "[0, 0.5, 0]"),
     "camera.yaw": Key("Heading in degrees, first-person style: -90 (the default when only `pitch` is given) looks along -Z. Needs `position`.", "-90"),
     "camera.pitch": Key("Elevation in degrees, clamped to [-89, 89]; 0 is level. Needs `position`.", "-15"),
     "camera.up": Key("The world's up direction for the view; need not be unit length.", "[0, 0, 1]"),

@@ -20,6 +20,7 @@ from scenerender.scene.strict import StrictModel
 from scenerender.scene.suggest import did_you_mean
 from scenerender.scene.values import (
     AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedFloat, AnimatedScale, AnimatedVec3, Bool, Text, animated_number, choice, describe, number, vector,
+    check_number,
 )
 
 def mapping_or(mapping_type, other_type):
@@ -224,6 +225,22 @@ def _skybox_folder(value, info: ValidationInfo) -> SkyboxFaces:
 SkyboxFolder = Annotated[SkyboxFaces, PlainValidator(_skybox_folder), WithJsonSchema({"type": "string", "description": "folder with posx negx posy negy posz negz images"})]
 Skybox = mapping_or(SkyboxFaces, SkyboxFolder)
 
+# GL multisampled images come in powers of two only (moderngl refuses any other count), so
+# a count no device offers is refused here rather than by the driver in the middle of a render
+MSAA_SAMPLES = (1, 2, 4, 8, 16, 32, 64)
+
+
+def _msaa_samples(value) -> int:
+    count = check_number(value, integer=True)
+    if count not in MSAA_SAMPLES:
+        raise PydanticCustomError("samples", "MSAA samples must be one of {counts} (1 = off), got {got}",
+                                  {"counts": ", ".join(map(str, MSAA_SAMPLES)), "got": count})
+    return count
+
+
+MsaaSamples = Annotated[int, PlainValidator(_msaa_samples),
+                        WithJsonSchema({"type": "integer", "enum": list(MSAA_SAMPLES)})]
+
 SHADINGS = ("phong", "blinn_phong", "unlit")
 MODES = ("shaded", "depth", "normals", "wireframe", "points", "ambient_occlusion", "shadow", "light_depth")
 
@@ -232,7 +249,7 @@ class RenderSettings(StrictModel):
     size: Annotated[tuple, PlainValidator(lambda v: _size(v)),
                     WithJsonSchema({"type": "array", "items": {"type": "integer", "minimum": 1, "maximum": 16384},
                                     "minItems": 2, "maxItems": 2})] = (640, 480)
-    samples: number(1, 64, integer=True) = 4
+    samples: MsaaSamples = 4
     shading: choice(*SHADINGS) = "blinn_phong"
     mode: choice(*MODES) = "shaded"
     background: AnimatedColor = (0.1, 0.1, 0.12)
@@ -339,10 +356,28 @@ class CameraSpec(StrictModel):
                                       {"subpath": ("yaw" if self.yaw is not None else "pitch",)})
         if (self.yaw is not None or self.pitch is not None) and self.position is None:
             raise PydanticCustomError("camera_aim", "yaw/pitch need a camera position", {"subpath": ("position",)})
+        if self._looks_at_itself():
+            raise PydanticCustomError(
+                "camera_aim", "camera position and target are the same point {point}: there is no direction to "
+                "look in; move the target or give yaw/pitch instead", {"point": _vector_text(self.target(0.0)),
+                                                                         "subpath": ("target",)})
         if (isinstance(self.near, float) and isinstance(self.far, float) and self.near >= self.far):
             raise PydanticCustomError("near_far", "near ({n}) must be less than far ({f})",
                                       {"n": f"{self.near:g}", "f": f"{self.far:g}", "subpath": ("far",)})
         return self
+
+    def _looks_at_itself(self) -> bool:
+        """Position and target fixed at one point. Animated ones that meet only at some
+        instants are left to the renderer, which then looks down -Z for those frames."""
+        if self.position is None or self.target is None:
+            return False
+        if not (self.position.is_constant and self.target.is_constant):
+            return False
+        return tuple(self.position(0.0)) == tuple(self.target(0.0))
+
+
+def _vector_text(values) -> str:
+    return "[" + ", ".join(f"{float(v):g}" for v in values) + "]"
 
 
 # ---------------------------------------------------------------------------------------

@@ -1,9 +1,10 @@
 """The base class of every scene-format mapping: unknown keys are errors, with a hint."""
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, model_validator
+from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 from pydantic_core import PydanticCustomError
 
+from scenerender.errors import SceneErrors
 from scenerender.scene.suggest import did_you_mean
 
 
@@ -23,12 +24,31 @@ class StrictModel(BaseModel):
 
             raise PydanticCustomError("mapping", "expected a mapping (key: value), got {got}",
                                       {"got": describe(data)})
-        known = cls.model_fields.keys()
-        for key in data:
-            if key not in known:
-                raise PydanticCustomError(
-                    "unknown_key", "unknown key '{key}'{hint}",
-                    {"key": key if len(str(key)) <= 60 else str(key)[:57] + "...",
-                     "hint": did_you_mean(str(key), known) or f" (known keys: {', '.join(known)})",
-                     "subpath": (key,)})
+        reject_unknown_keys(data, cls.model_fields.keys())
         return data
+
+
+# The errors of a scene print at most SceneErrors.MAX_LINES lines, each mistake on its own,
+# so no unknown key after this many in one mapping is ever shown: those skip the "did you
+# mean" search, which would otherwise dominate loading a file of thousands of bad keys.
+HINTED_UNKNOWN_KEYS = SceneErrors.MAX_LINES
+
+
+def reject_unknown_keys(data: dict, known, where: tuple = ()) -> None:
+    """Raise when ``data`` has keys outside ``known``: one error for each of them, with its
+    own location and hint, so that one run lists every typo of a mapping. ``where`` is the
+    mapping's path inside the value being validated (a track's key, say)."""
+    unknown = [key for key in data if key not in known]
+    if unknown:
+        # a ValidationError raised in a validator keeps its errors apart, each at its own key
+        raise ValidationError.from_exception_data("unknown keys", [
+            {"type": unknown_key_error(key, known, where, hinted=index < HINTED_UNKNOWN_KEYS), "loc": (),
+             "input": data} for index, key in enumerate(unknown)])
+
+
+def unknown_key_error(key, known, where: tuple = (), hinted: bool = True) -> PydanticCustomError:
+    shown = key if len(str(key)) <= 60 else str(key)[:57] + "..."
+    hint = did_you_mean(str(key), known) if hinted else ""
+    return PydanticCustomError("unknown_key", "unknown key '{key}'{hint}",
+                               {"key": shown, "hint": hint or f" (known keys: {', '.join(known)})",
+                                "subpath": where + (key,)})

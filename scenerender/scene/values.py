@@ -13,6 +13,7 @@ from pydantic import PlainValidator, WithJsonSchema
 from pydantic_core import PydanticCustomError
 
 from scenerender.animation import INTERPOLATIONS, Track, shared_constant
+from scenerender.scene.strict import reject_unknown_keys
 
 
 def describe(value: Any) -> str:
@@ -166,6 +167,7 @@ Direction = vector(3, nonzero=True, description="a direction; need not be unit l
 # costs start-up time, and parsing tracks here lets every message point at the exact key.
 
 TRACK_KEYS = ("keys", "interpolation", "loop")
+KEY_MAPPING_KEYS = ("t", "value", "interpolation")  # a key written {t: 1, value: [0, 1, 0]}
 
 
 def _at(subpath: tuple, check, value):
@@ -208,13 +210,7 @@ def _parse_key(index: int, key, check, default_mode: str):
         t = _at(where + (0,), check_number, key[0])
         return t, _as_row(_at(where + (1,), check, key[1])), default_mode
     if isinstance(key, dict):
-        from scenerender.scene.suggest import did_you_mean
-
-        for name in key:
-            if name not in ("t", "value", "interpolation"):
-                raise PydanticCustomError("unknown_key", "unknown key '{key}'{hint}",
-                                          {"key": name, "hint": did_you_mean(str(name), ("t", "value", "interpolation")),
-                                           "subpath": where + (name,)})
+        reject_unknown_keys(key, KEY_MAPPING_KEYS, where)
         for name in ("t", "value"):
             if name not in key:
                 raise PydanticCustomError("missing", "a key mapping needs '{name}'", {"name": name, "subpath": where})
@@ -227,12 +223,7 @@ def _parse_key(index: int, key, check, default_mode: str):
 
 def parse_track(spec: dict, check, kind: str) -> Track:
     """Validate a track mapping and build the Track; errors name the offending key."""
-    from scenerender.scene.suggest import did_you_mean
-
-    for name in spec:
-        if name not in TRACK_KEYS:
-            raise PydanticCustomError("unknown_key", "unknown key '{key}'{hint}",
-                                      {"key": name, "hint": did_you_mean(str(name), TRACK_KEYS), "subpath": (name,)})
+    reject_unknown_keys(spec, TRACK_KEYS)
     keys = spec.get("keys")
     if not isinstance(keys, list) or not keys:
         raise PydanticCustomError("keys", "a track needs 'keys': a non-empty list of [time, value]",

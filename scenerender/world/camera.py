@@ -16,6 +16,10 @@ from scenerender.world.transforms import box_corners
 # Looking closer than this to `up` (|cos| of the angle) counts as looking along it.
 _PARALLEL = 1.0 - 1e-9
 
+# The view direction when there is none to work out (an animated camera passing through
+# its target): the default view direction, down -Z.
+DEFAULT_FORWARD = np.array([0.0, 0.0, -1.0])
+
 
 @dataclass(frozen=True)
 class CameraState:
@@ -60,12 +64,11 @@ def look_rotation(forward, up) -> np.ndarray:
 
     When ``forward`` is (anti)parallel to ``up`` the image's up is taken from the direction
     a camera tilting there would face: looking down, the top of the image points to -Z
-    (the default view direction); looking up, to +Z. No NaN, no sudden flip.
+    (the default view direction); looking up, to +Z. No NaN, no sudden flip. A zero
+    ``forward`` (no direction at all) looks along ``DEFAULT_FORWARD``.
     """
-    f = np.asarray(forward, dtype=np.float64)
-    f = f / np.linalg.norm(f)
-    u = np.asarray(up, dtype=np.float64)
-    u = u / np.linalg.norm(u)
+    f = unit_direction(forward, DEFAULT_FORWARD)
+    u = unit_direction(up, np.array([0.0, 1.0, 0.0]))
     cos = float(np.dot(f, u))
     if abs(cos) > _PARALLEL:
         u = _fallback_up(u, cos)
@@ -73,6 +76,18 @@ def look_rotation(forward, up) -> np.ndarray:
     right /= np.linalg.norm(right)
     true_up = np.cross(right, f)
     return np.stack([right, true_up, -f])
+
+
+def unit_direction(vector, fallback: np.ndarray) -> np.ndarray:
+    """``vector`` scaled to length 1, or ``fallback`` where it has no direction (all zeros,
+    or not finite). Divided by its largest component first: the squares in the length of
+    a tiny vector (1e-200) would round to 0 and the division give NaN."""
+    v = np.asarray(vector, dtype=np.float64)
+    largest = float(np.max(np.abs(v)))
+    if not (0.0 < largest < math.inf):
+        return fallback.copy()
+    v = v / largest
+    return v / np.linalg.norm(v)
 
 
 def _fallback_up(up: np.ndarray, cos: float) -> np.ndarray:

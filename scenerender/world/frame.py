@@ -167,10 +167,7 @@ class FrameEvaluator:
             pitch = spec.pitch(t) if spec.pitch is not None else 0.0
             return position, yaw_pitch_forward(yaw, pitch)
         target = np.asarray(spec.target(t), dtype=np.float64) if spec.target is not None else center
-        forward = target - position
-        if not np.any(forward):
-            forward = np.array([0.0, 0.0, -1.0])
-        return position, forward
+        return position, target - position  # zero where they meet: look_rotation has a fallback
 
     def _ortho_height(self, spec, t: float) -> float:
         if spec.height is not None:
