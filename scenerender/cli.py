@@ -6,6 +6,7 @@ something (no EGL driver), 1 a bug in scenerender.
 """
 from __future__ import annotations
 
+import math
 import os
 import sys
 from pathlib import Path
@@ -109,17 +110,45 @@ def main():
     """
 
 
-def _size_override(value: str | None) -> list[str]:
-    if value is None:
-        return []
-    width, sep, height = value.lower().partition("x")
-    if not sep or not width.isdigit() or not height.isdigit():
-        raise click.BadParameter(f"expected WIDTHxHEIGHT such as 640x480, got '{value}'", param_hint="--size")
-    return [f"render.size=[{int(width)}, {int(height)}]"]
+# -- option types: values are checked as the command line is read, before any work starts
+
+
+class FiniteFloatRange(click.FloatRange):
+    """A click.FloatRange that also refuses NaN and the infinities. A NaN limit compares
+    false with every score, so `diff --max-tile nan` would pass any change (and inf too)."""
+
+    name = "finite float range"
+
+    def convert(self, value, param, ctx):
+        number = super().convert(value, param, ctx)
+        if not math.isfinite(number):
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        return number
+
+
+class ImageSize(click.ParamType):
+    """``WxH`` -> (width, height) in whole pixels; the scene's own rules (1..16384) then
+    apply to the ``render.size`` it overrides."""
+
+    name = "WxH"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, tuple):
+            return value
+        width, sep, height = value.lower().partition("x")
+        if sep and _is_whole_number(width) and _is_whole_number(height):
+            return int(width), int(height)
+        self.fail(f"expected WIDTHxHEIGHT such as 640x480, got '{value}'", param, ctx)
+
+
+def _is_whole_number(text: str) -> bool:
+    """ASCII digits only ('²' is a digit to str.isdigit but not to int), and few enough
+    for int() (Python refuses to convert more than 4300)."""
+    return text.isascii() and text.isdigit() and len(text) <= 100
 
 
 def _overrides(sets, size, samples) -> list[str]:
-    out = list(sets) + _size_override(size)
+    out = list(sets) + ([f"render.size=[{size[0]}, {size[1]}]"] if size is not None else [])
     if samples is not None:
         out.append(f"render.samples={samples}")
     return out
@@ -129,7 +158,7 @@ def _overrides(sets, size, samples) -> list[str]:
 @click.argument("scene", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("-o", "--output", type=click.Path(path_type=Path), default=Path("out"), show_default=True,
               help="Folder for image sequences, or the video file / folder for MP4 and GIF.")
-@click.option("--size", metavar="WxH", help="Image size, e.g. 1280x720 (overrides render.size).")
+@click.option("--size", type=ImageSize(), metavar="WxH", help="Image size, e.g. 1280x720 (overrides render.size).")
 @click.option("--samples", type=click.IntRange(1, 64),
               help="MSAA samples: 1 (anti-aliasing off), 2, 4, 8, 16, 32 or 64 (overrides render.samples).")
 @click.option("--format", "fmt", type=click.Choice(["png", "jpg", "tga", "exr", "mp4", "gif"]),
@@ -143,7 +172,8 @@ def _overrides(sets, size, samples) -> list[str]:
               help="Afterwards print ms per pass and per frame (GPU-synchronised, so slower).")
 @click.option("--check", "check", type=click.Path(file_okay=False, path_type=Path), metavar="REF_DIR",
               help="Then compare the output with the references in REF_DIR (or REF_DIR/<renderer>/, e.g. "
-                   "ref/llvmpipe/, when that exists); exit 1 on a change; report.html written with the output.")
+                   "ref/llvmpipe/, when that exists); exit 1 on a change; report.html written with the output. "
+                   "REF_DIR is a folder of its own, never -o itself.")
 @click.option("--update-references", is_flag=True,
               help="With --check: make the references equal to this output on purpose, and say what changed.")
 @click.option("--workers", type=click.IntRange(1, 256), default=1, show_default=True,
@@ -237,7 +267,7 @@ def schema(output, markdown):
     if output:
         from scenerender.sinks.base import atomic_path, write_file
 
-        with atomic_path(output) as temp:  # never a half-written schema or reference
+        with atomic_path(output, "-o") as temp:  # never a half-written schema or reference
             write_file(temp, text.encode("utf-8"))
     else:
         click.echo(text, nl=False)
@@ -247,7 +277,7 @@ def schema(output, markdown):
 @click.argument("scene", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--dot", is_flag=True, help="Graphviz dot instead of text.")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
-@click.option("--size", metavar="WxH", help="Image size (overrides render.size).")
+@click.option("--size", type=ImageSize(), metavar="WxH", help="Image size (overrides render.size).")
 @click.option("--samples", type=click.IntRange(1, 64), help="MSAA samples: 1, 2, 4, 8, 16, 32 or 64.")
 @_asset_root_option
 @_limit_option
@@ -308,6 +338,8 @@ def info():
 # the diff options' defaults are the default rule (importing it loads no numpy)
 from scenerender.compare.rule import DEFAULT_RULE as _DIFF_DEFAULTS  # noqa: E402
 
+LEVELS = FiniteFloatRange(min=0)  # a limit on differences of 8-bit levels: finite and not negative
+
 
 @main.command()
 @click.argument("reference", type=click.Path(path_type=Path))
@@ -315,13 +347,16 @@ from scenerender.compare.rule import DEFAULT_RULE as _DIFF_DEFAULTS  # noqa: E40
 @click.option("--report", type=click.Path(dir_okay=False, path_type=Path),
               help="Write a self-contained HTML report (images, heatmaps, changed regions).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON on stdout instead of lines.")
-@click.option("--max-tile", type=float, default=_DIFF_DEFAULTS.max_tile, show_default=True,
+@click.option("--max-tile", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_tile,
+              show_default=True,
               help="Largest allowed mean unexplained difference (levels) of any 8x8 block: catches a "
                    "moved or dropped object, a lost shadow.")
-@click.option("--max-unexplained-mean", type=float, default=_DIFF_DEFAULTS.max_unexplained_mean, show_default=True,
+@click.option("--max-unexplained-mean", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_unexplained_mean,
+              show_default=True,
               help="Largest allowed unexplained difference per pixel, over the frame (levels): catches faint "
                    "changes spread wide, such as a colour or the field of view.")
-@click.option("--aa-tolerance", type=int, default=_DIFF_DEFAULTS.aa_tolerance, show_default=True,
+@click.option("--aa-tolerance", type=click.IntRange(0, 255), metavar="LEVELS", default=_DIFF_DEFAULTS.aa_tolerance,
+              show_default=True,
               help="Levels of rounding forgiven. A difference is unexplained by the amount it lies outside "
                    "the colour range of the other image's 3x3 neighbourhood (edge shifts lie inside).")
 def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, aa_tolerance):
@@ -331,7 +366,8 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, aa_
     Prints one line per changed, missing or extra frame and a total line. Exits 0 when every
     frame matches, 1 when a frame changed (a different size counts as changed) or is missing
     or extra, 2 when the input cannot be compared (no such path, an unreadable file, a
-    folder against a video). EXR frames are compared after the sRGB encode.
+    folder against a video), an option is out of range or the report cannot be written.
+    EXR frames are compared after the sRGB encode.
     """
     import json
 
@@ -340,7 +376,7 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, aa_
     rule = DiffRule(max_tile=max_tile, max_unexplained_mean=max_unexplained_mean, aa_tolerance=aa_tolerance)
     result = compare_paths(reference, output, rule)
     if report is not None:
-        write_html_report(result, report)
+        write_html_report(result, report, option="--report")
     if as_json:
         payload = result.to_json()
         payload["report"] = str(report) if report is not None else None
@@ -361,7 +397,7 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, aa_
               help="Frames to render (like a Python slice).")
 @click.option("--spp", type=click.IntRange(1, 32), default=4, show_default=True,
               help="Stratified samples a pixel along each axis (4 gives 4x4 = 16).")
-@click.option("--size", metavar="WxH", help="Image size (overrides render.size).")
+@click.option("--size", type=ImageSize(), metavar="WxH", help="Image size (overrides render.size).")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
 @_asset_root_option
 def reference(scene, output, frames, spp, size, sets, asset_roots):
@@ -402,7 +438,7 @@ def reference(scene, output, frames, spp, size, sets, asset_roots):
               help="Rounds over all variants; ms/frame is the median over all of them.")
 @click.option("--spp", type=click.IntRange(1, 32), default=4, show_default=True,
               help="Reference samples a pixel along each axis.")
-@click.option("--size", metavar="WxH", help="Image size (overrides render.size).")
+@click.option("--size", type=ImageSize(), metavar="WxH", help="Image size (overrides render.size).")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON on stdout.")
 @_asset_root_option

@@ -168,10 +168,10 @@ def _require_folder_ancestors(path: Path) -> None:
 
 
 def _create_folder(folder: Path) -> None:
-    from scenerender.sinks import output_errors
+    from scenerender.sinks.base import make_folders, output_errors
 
     with output_errors(folder):
-        folder.mkdir(parents=True, exist_ok=True)
+        make_folders(folder)
 
 
 def run_render(scene, options: RenderOptions, echo=print) -> RenderSummary:
@@ -195,6 +195,10 @@ def run_render(scene, options: RenderOptions, echo=print) -> RenderSummary:
     spec = loaded.spec
     frames = parse_frame_range(options.frames, spec.output.frame_count)
     sink = make_sink(loaded, spec.output.format, Path(options.output), spec.render.size, frames)
+    if options.check is not None:  # before planning, which may delete out-of-date frames
+        from scenerender.references import require_apart_before_rendering
+
+        require_apart_before_rendering(*sink_target(sink), Path(options.check))
     plan = plan_frames(sink, frames, fingerprint(loaded, overrides), loaded.path.as_posix(), options.overwrite, echo)
     if plan.todo and _distributed(options, plan):
         summary = _render_on_workers(scene, plan, options)
@@ -222,6 +226,13 @@ class FramePlan:
     recording: object     # the sink wrapped so that finished frames enter the manifest
 
 
+def sink_target(sink) -> tuple[Path, bool]:
+    """What ``sink`` writes: (its folder, True) for an image sequence, (the file, False) for
+    a video or one image (-o still.png)."""
+    is_sequence = not hasattr(sink, "path")
+    return Path(sink.folder if is_sequence else sink.path), is_sequence
+
+
 def plan_frames(sink, frames: range, run, scene: str, overwrite: bool, echo) -> FramePlan:
     """Decide which of ``frames`` to render: those the manifest does not vouch for.
 
@@ -230,8 +241,7 @@ def plan_frames(sink, frames: range, run, scene: str, overwrite: bool, echo) -> 
     """
     from scenerender.manifest import Manifest, RecordingSink
 
-    is_sequence = not hasattr(sink, "path")  # a video, or -o still.png, is one file
-    target = Path(sink.folder if is_sequence else sink.path)
+    target, is_sequence = sink_target(sink)
     manifest = Manifest.open(target, is_sequence, run, scene)
     _say_what_changed(manifest, run, target, echo)
     if is_sequence:

@@ -79,9 +79,16 @@ def parse_limit(text: str) -> tuple[str, int]:
     if name not in names:
         raise UserError(f"unknown limit '{name}' (one of {', '.join(names)})", where)
     digits = value.strip().replace("_", "")
-    if not digits.isascii() or not digits.isdigit() or int(digits) < 1:
+    significant = digits.lstrip("0")
+    if not digits.isascii() or not digits.isdigit() or not significant:
         raise UserError(f"expected a positive whole number, got '{value.strip()}'", where)
-    return name, int(digits)
+    if len(significant) > _MAX_DIGITS:  # int() would refuse beyond 4300 digits
+        raise UserError(f"expected at most {_MAX_DIGITS} digits (no count comes near such a limit), "
+                        f"got {len(significant)}", where)
+    return name, int(significant)
+
+
+_MAX_DIGITS = 30
 
 
 def parse_limits(texts) -> Limits:

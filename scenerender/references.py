@@ -20,6 +20,7 @@ from scenerender.errors import SourceLocation, UserError, display_path
 _RENDERER_KEYS = (("llvmpipe", "llvmpipe"), ("softpipe", "softpipe"), ("swiftshader", "swiftshader"),
                   ("nvidia", "nvidia"), ("geforce", "nvidia"), ("quadro", "nvidia"), ("radeon", "amd"),
                   ("amd", "amd"), ("intel", "intel"), ("apple", "apple"), ("mali", "mali"), ("adreno", "adreno"))
+CHECK_OPTION = "--check"  # the option that names the references
 
 
 def renderer_key(gl_renderer: str | None) -> str:
@@ -45,6 +46,22 @@ def reference_path(target: Path, root: Path) -> Path:
     target = Path(target)
     folder = reference_folder(root, renderer_key(recorded_renderer(target) or _this_renderer()))
     return folder if target.is_dir() else folder / target.name
+
+
+def require_apart(target: Path, reference: Path) -> None:
+    """Refuse to compare the render output ``target`` with itself: that always passes, and
+    --update-references would find nothing to update, whatever the render drew."""
+    if Path(target).resolve() == Path(reference).resolve():
+        raise UserError(f"{display_path(reference)} is where this render writes (-o), so the output would be "
+                        "compared with itself and always pass; keep the references in a folder of their own, "
+                        "e.g. -o out/ --check ref/", SourceLocation(CHECK_OPTION))
+
+
+def require_apart_before_rendering(target: Path, is_folder: bool, root: Path) -> None:
+    """``require_apart`` before any frame is written, when the references are not yet known
+    (the renderer's sub-folder, see ``reference_path``, is checked once they are): a render
+    into the --check folder itself would also write over the references."""
+    require_apart(target, Path(root) if is_folder else Path(root) / Path(target).name)
 
 
 def report_path(target: Path) -> Path:
@@ -84,11 +101,12 @@ def check_output(target: Path, root: Path, update: bool = False, echo=print, rul
 
     target = Path(target)
     reference = reference_path(target, root)
+    require_apart(target, reference)
     if not has_references(reference):
         if not update:
             raise UserError(f"no references to check against in {display_path(reference)} "
                             "(render once with --update-references to create them, then commit them)",
-                            SourceLocation("--check"))
+                            SourceLocation(CHECK_OPTION))
         return CheckResult(reference, None, None, _update(target, reference, None, echo))
     comparison = compare_paths(reference, target, rule or DEFAULT_RULE)
     report = report_path(target)
@@ -129,24 +147,28 @@ def has_references(reference: Path) -> bool:
 
 
 def _update(target: Path, reference: Path, comparison, echo) -> list[str]:
-    """Make ``reference`` hold exactly the output's frames (and its provenance sidecar)."""
+    """Make ``reference`` hold exactly the output's frames (and its provenance sidecar).
+    The references are a destination given with --check: failures to write name it."""
     from scenerender.manifest import sidecar_for
+    from scenerender.sinks.base import output_errors
 
-    if target.is_dir():
-        changes = _sync_folder(target, reference, comparison)
-        _copy(sidecar_for(target, True), sidecar_for(reference, True))
-    else:
-        changes = [] if comparison is not None and comparison.passed else [f"wrote {reference.name}"]
-        _copy(target, reference)
-        _copy(sidecar_for(target, False), sidecar_for(reference, False))
+    with output_errors(reference, CHECK_OPTION):
+        if target.is_dir():
+            changes = _sync_folder(target, reference, comparison)
+            _copy(sidecar_for(target, True), sidecar_for(reference, True))
+        else:
+            changes = [] if comparison is not None and comparison.passed else [f"wrote {reference.name}"]
+            _copy(target, reference)
+            _copy(sidecar_for(target, False), sidecar_for(reference, False))
     echo(f"updated references in {display_path(reference)}: " + (", ".join(changes) if changes else "no change"))
     return changes
 
 
 def _sync_folder(output: Path, reference: Path, comparison) -> list[str]:
     from scenerender.compare.sources import is_frame_file
+    from scenerender.sinks.base import make_folders
 
-    reference.mkdir(parents=True, exist_ok=True)
+    make_folders(reference)
     produced = {p.name for p in output.iterdir() if is_frame_file(p)}
     existing = {p.name for p in reference.iterdir() if is_frame_file(p)}
     changed = {f.name for f in comparison.changed} if comparison is not None else set()
@@ -162,9 +184,9 @@ def _sync_folder(output: Path, reference: Path, comparison) -> list[str]:
 
 def _copy(source: Path, destination: Path) -> None:
     """Copy whole or not at all (temporary name, then rename); a missing source is skipped."""
+    from scenerender.sinks.base import atomic_path
+
     if not source.is_file():
         return
-    destination.parent.mkdir(parents=True, exist_ok=True)
-    temp = destination.with_name(f".{destination.name}.partial")
-    shutil.copyfile(source, temp)
-    temp.replace(destination)
+    with atomic_path(destination, CHECK_OPTION) as temp:
+        shutil.copyfile(source, temp)

@@ -148,6 +148,18 @@ def test_schema_to_file(scenes):
     assert "objects" in json.loads((scenes / "schema.json").read_text(encoding="utf-8"))["properties"]
 
 
+@pytest.mark.parametrize("destination", ["afile/schema.json", "afile/sub/schema.json", "/proc/schema.json"])
+def test_schema_to_an_unwritable_place(scenes, destination):
+    if destination.startswith("/proc") and not os.path.isdir("/proc/self"):
+        pytest.skip("no /proc here")
+    (scenes / "afile").write_text("mine")
+    result = cli("schema", "-o", destination)
+    assert result.exit_code == 2, result.output
+    line, = result.stderr.splitlines()
+    assert line.startswith("error: ") and ": cannot write: " in line and line.endswith("write elsewhere with -o)")
+    assert (scenes / "afile").read_text() == "mine"
+
+
 def test_graph_lists_passes(scenes):
     result = cli("graph", "good.yaml")
     assert result.exit_code == 0, result.output
@@ -197,11 +209,15 @@ def test_graph_bad_scene(scenes):
 # render: option errors found before any GL work
 
 
-@pytest.mark.parametrize("size", ["10x", "x10", "10", "axb", "10x-3"])
-def test_render_bad_size(scenes, size):
-    result = cli("render", "good.yaml", "-o", "out", "--size", size)
+@pytest.mark.parametrize("size", ["10x", "x10", "10", "axb", "10x-3", "²x10", "9" * 5000 + "x10"])
+@pytest.mark.parametrize("command", ["render", "graph", "reference", "bench"])
+def test_bad_size(scenes, command, size):
+    """'²' is a digit to str.isdigit but not to int(), and int() refuses 5000 digits."""
+    result = cli(command, "good.yaml", "-o", "out", "--size", size) if command != "graph" else \
+        cli(command, "good.yaml", "--size", size)
     assert result.exit_code == 2
-    assert "--size" in result.stderr
+    assert "Invalid value for '--size': expected WIDTHxHEIGHT" in result.stderr
+    assert "internal error" not in result.stderr
     assert not (scenes / "out").exists()
 
 

@@ -17,7 +17,8 @@ from PIL import Image
 from scenerender.cli import main
 from scenerender.compare import DEFAULT_RULE, DiffRule, compare_images, compare_paths, write_html_report
 from scenerender.compare.metrics import flip_available, measure, unexplained_difference
-from scenerender.compare.sources import srgb_bytes
+from scenerender.compare.sources import decoder_reason, srgb_bytes
+from scenerender.errors import display_path
 
 SUPERSAMPLE = 4
 
@@ -293,6 +294,57 @@ def test_exit_codes(tmp_path):
         assert message in result.output and "Traceback" not in result.output
 
 
+@pytest.mark.parametrize("damage", ["text", "truncated"])
+def test_an_undecodable_video_is_one_short_line(tmp_path, damage):
+    """ffmpeg's stderr (banner, build configuration, stream details) stays out of the message."""
+    whole = write_video(tmp_path / "whole.mp4", moving_frames(3))
+    broken = tmp_path / "broken.mp4"
+    broken.write_bytes(b"junk\n" if damage == "text" else whole.read_bytes()[:300])
+    result = run(whole, broken)
+    assert result.exit_code == 2, result.output
+    line, = result.stderr.splitlines()
+    assert line.startswith(f"error: {display_path(broken)}: cannot decode video: ")
+    assert len(line) < 200 and "\\n" not in line and "ffmpeg version" not in line, line
+
+
+@pytest.mark.parametrize("log, reason", [
+    ("[in#0 @ 0x55d1c] moov atom not found\n[in#0 @ 0x55d1a] Error opening input: Invalid data found when "
+     "processing input\nError opening input file x.mp4.\n", "Invalid data found when processing input"),
+    ("[vist#0:0/h264 @ 0x5a] [dec:h264 @ 0x5b] Decoding error: Invalid data found when processing input\n"
+     "Conversion failed!\n", "Invalid data found when processing input"),
+    ("ffmpeg version 4.2\n  configuration: --enable-gpl\nx.mp4: Invalid data found when processing input\n",
+     "Invalid data found when processing input"),
+    ("ffmpeg version 9\nsomething else entirely\n", "Could not load meta information"),
+])
+def test_decoder_reason_is_the_line_that_names_the_cause(log, reason):
+    error = OSError(f"Could not load meta information\n=== stderr ===\n{log}")
+    assert decoder_reason(error, Path("x.mp4")) == reason
+
+
+def test_decoder_reason_without_ffmpeg_log():
+    assert decoder_reason(OSError("cannot identify image file 'a.gif'"), Path("a.gif")) == \
+        "cannot identify image file 'a.gif'"
+    assert decoder_reason(RuntimeError("Could not read frame 3:\nEnd of file reached"), Path("a.mp4")) == \
+        "Could not read frame 3: End of file reached"
+
+
+@pytest.mark.parametrize("report", ["afile/report.html", "afile/sub/report.html", "/proc/report.html"])
+def test_an_unwritable_report_is_exit_2_naming_report(tmp_path, monkeypatch, report):
+    """Exit 1 means "frames changed": a report that cannot be written must not read as that."""
+    if report.startswith("/proc") and not Path("/proc/self").is_dir():
+        pytest.skip("no /proc here")
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "afile").write_text("mine")
+    ref, out = save(tmp_path / "ref.png", drawn()), save(tmp_path / "out.png", drawn(square_at=43))
+    result = run(ref, out, "--report", report)
+    assert result.exit_code == 2, result.output
+    line, = result.stderr.splitlines()
+    assert line.startswith("error: ") and ": cannot write: " in line, line
+    assert line.endswith("write elsewhere with --report)"), line
+    assert (tmp_path / "afile").read_text() == "mine"
+    assert result.stdout == ""  # no verdict printed for a run that failed
+
+
 def test_a_different_size_exits_1(tmp_path):
     result = run(save(tmp_path / "ref.png", drawn()), save(tmp_path / "out.png", drawn(size=(32, 24))))
     assert result.exit_code == 1 and "size differs: 64x48 vs 32x24" in result.output
@@ -326,6 +378,31 @@ def test_thresholds_are_options(tmp_path):
     ref, out = save(tmp_path / "ref.png", drawn()), save(tmp_path / "out.png", drawn(square_at=43))
     assert run(ref, out).exit_code == 1
     assert run(ref, out, "--max-tile", "1000", "--max-unexplained-mean", "1000").exit_code == 0
+
+
+@pytest.mark.parametrize("option, value", [
+    ("--max-tile", "nan"), ("--max-tile", "inf"), ("--max-tile", "-1"), ("--max-tile", "-inf"),
+    ("--max-unexplained-mean", "nan"), ("--max-unexplained-mean", "inf"), ("--max-unexplained-mean", "-0.5"),
+    ("--aa-tolerance", "-1"), ("--aa-tolerance", "256"), ("--aa-tolerance", "1000000"),
+])
+@pytest.mark.parametrize("output", ["same.png", "changed.png"])
+def test_limits_out_of_range_are_usage_errors(tmp_path, option, value, output):
+    """NaN compares false with every score, so a NaN or infinite limit would pass any change;
+    a negative one fails identical frames; an --aa-tolerance past the 8-bit levels overflowed.
+    Each is a usage error (exit 2), never a verdict (0 or 1)."""
+    ref = save(tmp_path / "ref.png", drawn())
+    save(tmp_path / "same.png", drawn())
+    save(tmp_path / "changed.png", drawn(square_at=43))
+    result = run(ref, tmp_path / output, option, value)
+    assert result.exit_code == 2, result.output
+    assert f"Invalid value for '{option}'" in result.output
+    assert "internal error" not in result.output and "Traceback" not in result.output
+
+
+def test_limits_at_the_ends_of_their_ranges(tmp_path):
+    ref, out = save(tmp_path / "ref.png", drawn()), save(tmp_path / "out.png", drawn(square_at=43))
+    assert run(ref, ref, "--max-tile", "0", "--max-unexplained-mean", "0", "--aa-tolerance", "0").exit_code == 0
+    assert run(ref, out, "--aa-tolerance", "255").exit_code == 0  # every level forgiven
 
 
 def test_the_cli_defaults_are_the_default_rule():

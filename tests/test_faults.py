@@ -490,6 +490,63 @@ def test_really_read_only_tmpfs(scene, tmpfs):
 
 
 # ---------------------------------------------------------------------------------------
+# destinations no file can be written to: every command, every output option
+
+needs_proc = pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs /proc, which takes no new files")
+
+
+@pytest.mark.parametrize("final, named", [("afile/x.json", "afile"), ("afile/sub/x.json", "afile/sub"),
+                                          ("folder", "folder")])
+def test_atomic_path_names_the_obstacle_and_the_option(scene, final, named):
+    """mkdir says EEXIST for a file standing where the last folder should be: that is the
+    same mistake as one further up, not a bug."""
+    (scene / "afile").write_text("mine")
+    (scene / "folder").mkdir()
+    with pytest.raises(UserError) as info:
+        with base_module.atomic_path(Path(final), "--report") as temp:
+            temp.write_text("{}")
+    assert str(info.value).startswith(f"{named}: cannot write: ")
+    assert str(info.value).endswith("write elsewhere with --report)")
+    assert (scene / "afile").read_text() == "mine" and os.listdir(scene / "folder") == []
+
+
+@needs_proc
+def test_a_folder_that_takes_no_new_files(tmp_path):
+    with pytest.raises(UserError) as info:
+        with base_module.atomic_path(Path("/proc/x.json")) as temp:
+            temp.write_text("{}")
+    assert str(info.value) == ("/proc/x.json: cannot write: no such file or directory (the folder it would go in "
+                               "does not take new files; write elsewhere with -o)")
+
+
+@needs_proc
+def test_render_into_proc_is_exit_2_before_rendering(scene):
+    result = cli("render", "anim.yaml", "-o", "/proc/scenerender-out", "-q")
+    assert result.exit_code == 2, result.output
+    assert result.stderr == ("error: /proc/scenerender-out: cannot write: no such file or directory (the folder it "
+                             "would go in does not take new files; write elsewhere with -o)\n")
+
+
+@pytest.mark.gl
+@needs_proc
+@pytest.mark.parametrize("output", ["/proc/x.mp4", "/proc/x.png"])
+def test_render_a_file_into_proc(scene, output):
+    result = cli("render", "anim.yaml", "-o", output, "--frames", "0", "-q")
+    skip_without_gl(result.exit_code, result.stderr)
+    assert result.exit_code == 2, result.output
+    line, = result.stderr.splitlines()
+    assert line.startswith("error: /proc/") and line.endswith("write elsewhere with -o)"), line
+
+
+@needs_proc
+def test_reference_into_proc(scene):
+    result = cli("reference", "anim.yaml", "-o", "/proc/scenerender-ref", "--size", "8x6", "--spp", "1")
+    assert result.exit_code == 2, result.output
+    assert result.stderr.splitlines()[-1].startswith("error: /proc/scenerender-ref")
+    assert "internal error" not in result.stderr
+
+
+# ---------------------------------------------------------------------------------------
 # file modes follow the umask
 
 

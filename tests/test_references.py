@@ -102,3 +102,45 @@ def test_update_references_needs_check(project):
     result = render("--update-references")
     assert result.exit_code == 2
     assert "--check" in result.output
+
+
+@pytest.mark.parametrize("check", ["out", "out/", "./out/../out"])
+@pytest.mark.parametrize("update", [False, True])
+def test_the_output_is_never_its_own_reference(project, check, update):
+    """Compared with itself a render always passes (and an update finds "no change"), so
+    -o and --check naming one folder is refused before anything is rendered over it."""
+    assert render().exit_code == 0
+    before = {p.name: p.read_bytes() for p in (project / "out").iterdir()}
+    recolour(project)  # the next render would change every frame
+    result = render("--check", check, *(["--update-references"] if update else []))
+    assert result.exit_code == 2, result.output
+    line, = result.stderr.splitlines()
+    assert line.startswith("error: --check: out is where this render writes (-o)")
+    assert "-o out/ --check ref/" in line
+    assert {p.name: p.read_bytes() for p in (project / "out").iterdir()} == before
+
+
+def test_a_video_is_never_its_own_reference(project):
+    result = CliRunner().invoke(main, ["render", "scene.yaml", "-o", "out/clip.gif", "--check", "out"])
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith("error: --check: out/clip.gif is where this render writes (-o)")
+
+
+def test_the_renderers_own_folder_is_never_the_output(project):
+    """-o ref/llvmpipe --check ref compares ref/llvmpipe with itself once it exists."""
+    from scenerender.references import recorded_renderer
+
+    assert render().exit_code == 0
+    key = renderer_key(recorded_renderer(project / "out"))
+    result = CliRunner().invoke(main, ["render", "scene.yaml", "-o", f"ref/{key}", "--check", "ref"])
+    assert result.exit_code == 2, result.output
+    assert f"ref/{key} is where this render writes (-o)" in result.stderr
+
+
+def test_references_that_cannot_be_written_name_check(project):
+    (project / "afile").write_text("mine")
+    result = render("--check", "afile/ref", "--update-references", "-q")
+    assert result.exit_code == 2, result.output
+    line, = result.stderr.splitlines()
+    assert line == ("error: afile/ref: cannot write: not a directory (a file stands where a folder is needed; "
+                    "write elsewhere with --check)")

@@ -181,9 +181,12 @@ def test_limit_parsing():
     assert parse_limit("objects=200_000") == ("objects", 200000)
     assert parse_limits(["frames=5", "texture_pixels=64"]) == Limits(frames=5, texture_pixels=64)
     for bad, message in [("frames", "expected NAME=N"), ("frame=1", "unknown limit 'frame'"),
-                         ("frames=0", "positive whole number"), ("frames=1.5", "positive whole number")]:
+                         ("frames=0", "positive whole number"), ("frames=1.5", "positive whole number"),
+                         ("frames=000", "positive whole number"), ("frames=²", "positive whole number"),
+                         ("frames=" + "9" * 5000, "at most 30 digits")]:  # more than int() converts
         with pytest.raises(UserError, match=message):
             parse_limit(bad)
+    assert parse_limit("frames=" + "0" * 40 + "7") == ("frames", 7)
 
 
 def test_limits_reach_the_loaded_scene(tmp_path):

@@ -21,7 +21,7 @@ from scenerender.compare.metrics import PIXEL_THRESHOLD, FrameMetrics
 from scenerender.compare.result import CompareResult, FrameComparison
 from scenerender.compare.rule import TILE, DiffRule
 from scenerender.compare.sources import Side
-from scenerender.sinks.base import atomic_path
+from scenerender.sinks.base import OUTPUT_OPTION, atomic_path
 
 # Small frames are scaled up (pixelated) to at least this width on the page.
 MIN_SHOWN_WIDTH = 320
@@ -217,8 +217,9 @@ def render_html(result: CompareResult) -> str:
             + "".join(body) + f"<script>{SCRIPT}</script></body></html>\n")
 
 
-def write_html_report(result: CompareResult, path: Path) -> None:
-    """Write the report to ``path`` whole (temporary file + rename) or not at all."""
+def write_html_report(result: CompareResult, path: Path, option: str = OUTPUT_OPTION) -> None:
+    """Write the report to ``path`` whole (temporary file + rename) or not at all; a
+    failure to write is a UserError naming ``path`` and ``option``, the option that gave it."""
     text = render_html(result)
-    with atomic_path(Path(path)) as temp:
+    with atomic_path(Path(path), option) as temp:
         temp.write_text(text, encoding="utf-8")

@@ -8,6 +8,7 @@ the same rule as every other format, at the 8-bit precision a person sees.
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterator
@@ -127,7 +128,30 @@ def video_frames(path: Path) -> Iterator[np.ndarray]:
     except UserError:
         raise
     except Exception as exc:
-        raise _bad(path, f"cannot decode video ({exc})") from None
+        raise _bad(path, f"cannot decode video: {decoder_reason(exc, path)}") from None
+
+
+# ffmpeg names the cause of a failure to open or decode in a line of its own: "Error opening
+# input: <cause>", "Decoding error: <cause>", or in older versions "<file>: <cause>"; lines
+# are prefixed by the component speaking ("[in#0 @ 0x55d1...] ").
+_FFMPEG_CAUSE = re.compile(r"^(?:Error opening input|Decoding error)[^:]*: (?P<cause>.+)$")
+_FFMPEG_SPEAKER = re.compile(r"^(?:\[[^\]]* @ 0x[0-9a-fA-F]+\] )+")
+
+
+def decoder_reason(exc: Exception, path: Path) -> str:
+    """Why ``path`` could not be decoded, in one line. imageio-ffmpeg's errors carry ffmpeg's
+    whole stderr (banner, build configuration, stream details) after "=== stderr ===":
+    the cause is the one line of it that names one; else imageio-ffmpeg's (or Pillow's) own words."""
+    summary, _, log = str(exc).partition("=== stderr ===")
+    old_style = f"{path}: "
+    for line in log.splitlines():
+        line = _FFMPEG_SPEAKER.sub("", line.strip())
+        match = _FFMPEG_CAUSE.match(line)
+        if match:
+            return match["cause"]
+        if line.startswith(old_style):
+            return line[len(old_style):]
+    return " ".join(summary.split()).rstrip(":") or type(exc).__name__
 
 
 # -- the sides -----------------------------------------------------------------------------

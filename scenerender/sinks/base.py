@@ -46,41 +46,59 @@ class FrameSink:
 # ---------------------------------------------------------------------------------------
 # operating-system write failures -> user errors
 
-# errno -> what the user can do about it
+# errno -> what the user can do about it; {option} is the option that named the destination
 _WRITE_FAILURES = {
-    errno.ENOSPC: "free some space or write elsewhere with -o",
-    errno.EDQUOT: "free some space or write elsewhere with -o",
-    errno.EROFS: "the file system is read-only; write elsewhere with -o",
-    errno.EACCES: "no permission to write there; write elsewhere with -o",
-    errno.EPERM: "no permission to write there; write elsewhere with -o",
+    errno.ENOSPC: "free some space or write elsewhere with {option}",
+    errno.EDQUOT: "free some space or write elsewhere with {option}",
+    errno.EROFS: "the file system is read-only; write elsewhere with {option}",
+    errno.EACCES: "no permission to write there; write elsewhere with {option}",
+    errno.EPERM: "no permission to write there; write elsewhere with {option}",
     errno.ENAMETOOLONG: "use a shorter output name",
-    errno.ENOTDIR: "a file stands where a folder is needed; write elsewhere with -o",
-    errno.EISDIR: "a folder stands where a file is needed; write elsewhere with -o",
+    errno.ENOTDIR: "a file stands where a folder is needed; write elsewhere with {option}",
+    errno.EISDIR: "a folder stands where a file is needed; write elsewhere with {option}",
+    # a folder that takes no new entries (/proc, /sys) or one removed while writing
+    errno.ENOENT: "the folder it would go in does not take new files; write elsewhere with {option}",
 }
-WRITE_ERRNOS = frozenset(_WRITE_FAILURES)
+# The failures any OSError reaching the command line is taken for. ENOENT is not among
+# them: outside the writing helpers it is far more often a bug than a user's mistake.
+WRITE_ERRNOS = frozenset(_WRITE_FAILURES) - {errno.ENOENT}
+OUTPUT_OPTION = "-o"  # the option naming most destinations; `diff` has --report, references --check
 
 
-def write_failure(path, code: int) -> UserError:
-    """The one-line error for failing to write ``path`` with ``errno`` ``code``, e.g.
-    ``out/frame_0003.png: cannot write: no space left on device (free some space ...)``."""
+def write_failure(path, code: int, option: str = OUTPUT_OPTION) -> UserError:
+    """The one-line error for failing to write ``path`` (given with ``option``) with
+    ``errno`` ``code``, e.g. ``out/frame_0003.png: cannot write: no space left on device
+    (free some space or write elsewhere with -o)``."""
     cause = os.strerror(code).lower()
-    return UserError(f"cannot write: {cause} ({_WRITE_FAILURES[code]})", SourceLocation(display_path(path)))
+    hint = _WRITE_FAILURES[code].format(option=option)
+    return UserError(f"cannot write: {cause} ({hint})", SourceLocation(display_path(path)))
 
 
 @contextlib.contextmanager
-def output_errors(path):
-    """Turn an OSError the user can act on (see WRITE_ERRNOS) into a UserError naming
-    ``path``, or the folder the OSError names (a folder that cannot be created); never a
-    temporary name, which means nothing to the user."""
+def output_errors(path, option: str = OUTPUT_OPTION):
+    """Turn an OSError the user can act on (disk full, no permission, a file in the way...)
+    into a UserError naming ``path``, or the folder the OSError names (a folder that cannot
+    be created), and ``option``, where the user can give another destination; never a
+    temporary name, which means nothing to the user. Every output of every command is
+    created and written inside this."""
     try:
         yield
     except OSError as exc:
-        if exc.errno not in WRITE_ERRNOS:
+        if exc.errno not in _WRITE_FAILURES:
             raise
         named = exc.filename
         if not named or PARTIAL in os.path.basename(os.fspath(named)):
             named = path
-        raise write_failure(named, exc.errno) from None
+        raise write_failure(named, exc.errno, option) from None
+
+
+def make_folders(folder: Path) -> None:
+    """``mkdir -p folder``. A file standing where the last folder should be is reported
+    like one further up (ENOTDIR), not as the EEXIST mkdir gives, which reads as a bug."""
+    try:
+        Path(folder).mkdir(parents=True, exist_ok=True)
+    except FileExistsError as exc:
+        raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR), exc.filename) from None
 
 
 # ---------------------------------------------------------------------------------------
@@ -159,15 +177,16 @@ def remove_stale_partials(folder: Path) -> list[Path]:
 
 
 @contextlib.contextmanager
-def atomic_path(final: Path):
+def atomic_path(final: Path, option: str = OUTPUT_OPTION):
     """Yield an (empty, existing) temporary path beside ``final``; rename it to ``final``
     only when the body succeeds, remove it otherwise. Write failures the user can act on
-    (disk full, read-only, no permission) raise UserError naming ``final``."""
+    (disk full, read-only, no permission) raise UserError naming ``final`` and ``option``
+    (see ``output_errors``)."""
     final = Path(final)
     temp = None
     try:
-        with output_errors(final):
-            final.parent.mkdir(parents=True, exist_ok=True)
+        with output_errors(final, option):
+            make_folders(final.parent)
             temp = create_temp(final)
             yield temp
             os.replace(temp, final)

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import EnvironmentProblem, display_path
-from scenerender.sinks.base import FrameSink, create_temp, output_errors, write_failure
+from scenerender.sinks.base import FrameSink, create_temp, make_folders, output_errors, write_failure
 
 # GIF: a palette per frame (ffmpeg palettegen + paletteuse) looks far better than the
 # fixed web palette, and works on a stream because each frame needs only itself.
@@ -160,7 +160,7 @@ class VideoSink(FrameSink):
 
     def _open(self) -> None:
         with output_errors(self.path):
-            self.path.parent.mkdir(parents=True, exist_ok=True)
+            make_folders(self.path.parent)
             # reserve the temporary name (and find out early whether the folder is
             # writable); ffmpeg then writes over this empty file
             self._temp = create_temp(self.path)
