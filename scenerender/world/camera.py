@@ -80,9 +80,14 @@ def look_rotation(forward, up) -> np.ndarray:
 
 def unit_direction(vector, fallback: np.ndarray) -> np.ndarray:
     """``vector`` scaled to length 1, or ``fallback`` where it has no direction (all zeros,
-    or not finite). Divided by its largest component first: the squares in the length of
-    a tiny vector (1e-200) would round to 0 and the division give NaN."""
+    or not finite). Where the squares in its length underflow to 0 (1e-200) or overflow
+    (1e200), it is divided by its largest component first, so the result is never NaN;
+    other vectors are divided by their length alone, the same bits as ever."""
     v = np.asarray(vector, dtype=np.float64)
+    with np.errstate(over="ignore", under="ignore"):  # both handled below, not warned about
+        length = float(np.linalg.norm(v))
+    if 0.0 < length < math.inf:
+        return v / length
     largest = float(np.max(np.abs(v)))
     if not (0.0 < largest < math.inf):
         return fallback.copy()
