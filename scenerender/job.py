@@ -167,6 +167,24 @@ def _require_folder_ancestors(path: Path) -> None:
             return
 
 
+def missing_folders(output: Path) -> list[Path]:
+    """``output`` and those of its parents that do not exist yet, deepest first: what a run
+    may create and should take away again if it fails before writing anything."""
+    path = Path(output).absolute()
+    return [p for p in (path, *path.parents) if not p.exists()]
+
+
+def remove_if_empty(folders: list[Path]) -> None:
+    """Remove the ``folders`` (deepest first) that exist and are empty, so a run that
+    failed (no OpenGL context, say) leaves no empty output folder behind; anything with a
+    file in it stays."""
+    for folder in folders:
+        try:
+            folder.rmdir()
+        except OSError:  # not there, not a folder, or not empty: leave it
+            pass
+
+
 def _create_folder(folder: Path) -> None:
     from scenerender.sinks.base import make_folders, output_errors
 
@@ -182,7 +200,6 @@ def run_render(scene, options: RenderOptions, echo=print) -> RenderSummary:
     Raises UserError on bad input.
     """
     from scenerender.api import Scene, load
-    from scenerender.manifest import fingerprint
 
     overrides = list(options.overrides) + ([f"output.format={options.format}"] if options.format else [])
     if isinstance(scene, Scene):
@@ -191,6 +208,17 @@ def run_render(scene, options: RenderOptions, echo=print) -> RenderSummary:
     else:
         scene = load(scene, overrides, strict=options.strict, asset_roots=options.asset_roots,
                      limits=options.limits, on_warning=echo)
+    new_folders = missing_folders(Path(options.output))
+    try:
+        return _run_loaded(scene, overrides, options, echo)
+    except BaseException:
+        remove_if_empty(new_folders)
+        raise
+
+
+def _run_loaded(scene, overrides: list, options: RenderOptions, echo) -> RenderSummary:
+    from scenerender.manifest import fingerprint
+
     loaded, world = scene._loaded, scene._world
     spec = loaded.spec
     frames = parse_frame_range(options.frames, spec.output.frame_count)

@@ -423,12 +423,15 @@ def test_missing_egl_is_one_line_with_the_fix_and_exit_3(tmp_path, monkeypatch):
         raise Exception("libEGL.so.1: cannot open shared object file: No such file or directory")
 
     monkeypatch.setattr(moderngl, "create_context", no_egl)
-    result = CliRunner().invoke(main, ["render", str(scene), "-o", str(tmp_path / "out"), "-q"])
+    result = CliRunner().invoke(main, ["render", str(scene), "-o", str(tmp_path / "out" / "shots"), "-q"])
     assert result.exit_code == 3
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: cannot create an OpenGL")
     assert "libEGL.so.1" in lines[0] and "apt-get install" in lines[0] and "Traceback" not in result.output
-    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+    assert not (tmp_path / "out").exists()  # the folders the run made are taken away again
+    (tmp_path / "kept").mkdir()
+    again = CliRunner().invoke(main, ["render", str(scene), "-o", str(tmp_path / "kept"), "-q"])
+    assert again.exit_code == 3 and (tmp_path / "kept").is_dir()  # one that was there stays
 
 
 def test_llvmpipe_gets_two_threads_more_than_cores_unless_the_user_set_them(monkeypatch):
