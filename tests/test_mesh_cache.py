@@ -120,7 +120,7 @@ def test_warnings_of_the_first_parse_are_given_again(tmp_path, cache_dir, monkey
 
 
 @pytest.mark.parametrize("damage", ["garbage", "truncated", "index_out_of_range", "float64_positions",
-                                    "other_key"])
+                                    "infinite_uvs", "other_key"])
 def test_a_damaged_or_foreign_entry_is_ignored_and_rewritten(tmp_path, cache_dir, damage):
     path = write_model(tmp_path / "m")
     fresh = load(path)
@@ -136,6 +136,8 @@ def test_a_damaged_or_foreign_entry_is_ignored_and_rewritten(tmp_path, cache_dir
             arrays["indices"] = arrays["indices"] + np.uint32(10_000)
         elif damage == "float64_positions":
             arrays["positions"] = arrays["positions"].astype(np.float64)
+        elif damage == "infinite_uvs":
+            arrays["uvs"][0, 0] = np.inf
         else:  # an entry of another file copied over this one
             arrays["meta"] = np.frombuffer(bytes(arrays["meta"]).replace(entry.stem.encode(), b"0" * 64),
                                            np.uint8)
@@ -144,6 +146,44 @@ def test_a_damaged_or_foreign_entry_is_ignored_and_rewritten(tmp_path, cache_dir
     assert cache_module.read_entry(entry, entry.stem) is None
     assert_same_mesh(load(path), fresh)
     assert cache_module.read_entry(entry, entry.stem) is not None  # written again
+
+
+def test_a_number_beyond_32_bit_floats_is_the_same_error_on_every_load(tmp_path, cache_dir):
+    path = write_model(tmp_path / "m")
+    path.write_text(path.read_text() + "vt 1e39 0\n")
+    messages = []
+    for _ in range(2):
+        with pytest.raises(UserError) as caught:
+            load(path)
+        messages.append(str(caught.value))
+    assert messages[0] == messages[1] and "at most 3.4e38 in size (32-bit floats)" in messages[0]
+    assert entries(cache_dir) == []
+
+
+def test_an_entry_of_the_reader_that_took_numbers_beyond_32_bit_floats_is_not_used(tmp_path, cache_dir,
+                                                                                  monkeypatch):
+    """Reader version 2 read 'vt 1e39' and stored a mesh for it; that file is refused now,
+    so such an entry must not stand in for the parse."""
+    path = write_model(tmp_path / "m")
+    mesh = load(path, normals="smooth")
+    [current] = entries(cache_dir)
+    current.unlink()
+    path.write_text(path.read_text() + "vt 1e39 0\n")  # not used by any face: the same arrays
+    with monkeypatch.context() as version_2:
+        version_2.setattr(cache_module, "LOADER_VERSION", 2)
+        old_key = cache_module.entry_key(path.read_bytes(), normals="smooth", normalize=False)
+    cache_module.write_entry(cache_dir / f"{old_key}.npz", old_key, mesh, [], ["model.mtl"])
+    with pytest.raises(UserError, match="32-bit floats"):
+        load(path, normals="smooth")
+
+
+def test_a_cached_mesh_whose_library_gained_a_number_beyond_32_bit_floats_is_refused(tmp_path, cache_dir):
+    path = write_model(tmp_path / "m")
+    load(path)
+    (path.parent / "model.mtl").write_text("newmtl red\nKd 1 0 0\nnewmtl blue\nNs 1e39\n")
+    with pytest.raises(UserError, match="32-bit floats") as caught:
+        load(path)
+    assert str(caught.value.location).endswith("model.mtl:4")
 
 
 def test_a_cached_load_reads_the_libraries_through_the_asset_policy(tmp_path, cache_dir):

@@ -218,6 +218,25 @@ def test_bad_number_names_file_and_line(tmp_path):
     assert "'lots'" in caught.value.message
 
 
+@pytest.mark.parametrize("line, key", [("Kd 1e39 0 0", "Kd"), ("Ns -1e39", "Ns"), ("map_Kd -s 1e39 1 a.png", "-s"),
+                                       ("map_Kd -o 0 3.5e38 a.png", "-o"), ("map_Bump -bm 1e39 a.png", "-bm")])
+def test_a_number_beyond_32_bit_floats_is_an_error_at_its_line(tmp_path, line, key):
+    """Colours, shininess and texture options reach the shaders as 32-bit floats, where
+    such a number would be infinite."""
+    touch_image(tmp_path, "a.png")
+    with pytest.raises(UserError) as caught:
+        only_material(tmp_path, "Kd 1 1 1\n" + line + "\n")
+    assert caught.value.location.line == 3
+    assert caught.value.message.startswith(f"expected a number at most 3.4e38 in size (32-bit floats) after '{key}'")
+
+
+def test_an_xyz_colour_converting_beyond_32_bit_floats_is_an_error(tmp_path):
+    only_material(tmp_path, "Kd xyz 1e37 1e37 1e37\n")  # converts to about 3e37 at most
+    with pytest.raises(UserError, match="beyond 32-bit floats") as caught:
+        only_material(tmp_path, "Kd xyz 3e38 0 0\n")  # 3.24 times that in red
+    assert caught.value.location.line == 2
+
+
 def test_bad_texture_option_value_is_an_error(tmp_path):
     touch_image(tmp_path, "a.png")
     with pytest.raises(UserError, match="'big'") as caught:

@@ -1,6 +1,9 @@
 """OBJ reading (scenerender.mesh.obj) and file loading (scenerender.mesh.loader)."""
 from __future__ import annotations
 
+import contextlib
+import re
+import warnings as python_warnings
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +35,14 @@ def parse(folder: Path, text: str, name: str = "model.obj", warnings: Warnings |
 def triangle_positions(mesh) -> np.ndarray:
     """(M, 3, 3): the corner positions of every triangle, in index order."""
     return mesh.positions[mesh.indices.astype(np.int64)]
+
+
+@contextlib.contextmanager
+def np_warnings_as_errors():
+    """NumPy's RuntimeWarnings (overflow in a cast...) fail the test instead of printing."""
+    with python_warnings.catch_warnings():
+        python_warnings.simplefilter("error", RuntimeWarning)
+        yield
 
 
 def error_from(folder: Path, text: str) -> UserError:
@@ -336,6 +347,52 @@ def test_non_finite_vertex_is_rejected(tmp_path):
     error = error_from(tmp_path, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n")
     assert error.location.line == 3
     assert "finite" in error.message
+
+
+@pytest.mark.parametrize("line", ["v 1e39 0 0", "v 0 -3.5e38 0", "vt 0 1e39", "vn 0 0 1e39"])
+def test_a_number_beyond_32_bit_floats_is_an_error_at_its_line(tmp_path, line):
+    """The arrays are float32: 1e39 would become infinity there (and a triangle without
+    area, a normal without direction), so the reader refuses it as the scene reader does."""
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n" + line + "\nf 1/1/1 2/1/1 3/1/1\n"
+    with np_warnings_as_errors():
+        error = error_from(tmp_path, text)
+    assert error.location.line == 6
+    assert error.message.startswith("expected a number at most 3.4e38 in size (32-bit floats), got ")
+
+
+def test_the_largest_32_bit_float_is_still_a_coordinate(tmp_path):
+    path = write(tmp_path, "far.obj", "v 0 0 0\nv 3.4e38 0 0\nv 0 -3.4e38 0\nvt 3.4e38 0\nf 1/1 2/1 3/1\n")
+    with np_warnings_as_errors():
+        mesh = load_mesh(path, warnings=Warnings())
+    assert np.isfinite(mesh.positions).all() and mesh.positions.max() == np.float32(3.4e38)
+    assert np.isfinite(mesh.uvs).all() and np.isfinite(mesh.normals).all()
+
+
+@pytest.mark.parametrize("ply_type, value, reason", [
+    ("double", "1e39", "a vertex coordinate is 1e+39, beyond 32-bit floats"),
+    ("float", "1e39", "a vertex coordinate is not a finite number"),  # the file's own float32 is infinite
+])
+def test_a_ply_coordinate_beyond_32_bit_floats_is_an_error_naming_the_file(tmp_path, ply_type, value, reason):
+    path = write(tmp_path, "far.ply", f"ply\nformat ascii 1.0\nelement vertex 3\nproperty {ply_type} x\n"
+                 f"property {ply_type} y\nproperty {ply_type} z\nelement face 1\n"
+                 f"property list uchar int vertex_indices\nend_header\n{value} 0 0\n0 1 0\n0 0 1\n3 0 1 2\n")
+    with np_warnings_as_errors(), pytest.raises(UserError, match=re.escape(reason)) as caught:
+        load_mesh(path, warnings=Warnings())
+    assert caught.value.location.file.endswith("far.ply")
+
+
+def test_a_node_transform_taking_a_gltf_beyond_32_bit_floats_is_an_error(tmp_path):
+    trimesh = pytest.importorskip("trimesh")
+    from scenerender.mesh import box
+
+    cube = box(1.0)
+    scene = trimesh.Scene()
+    scene.add_geometry(trimesh.Trimesh(cube.positions, cube.indices.astype(np.int64), process=False),
+                       transform=np.diag([1e38, 1e38, 1e38, 1.0]) @ np.diag([1e10, 1, 1, 1.0]))
+    path = tmp_path / "huge.glb"
+    scene.export(path)
+    with np_warnings_as_errors(), pytest.raises(UserError, match="after the node transform is 5e\\+47"):
+        load_mesh(path, warnings=Warnings())
 
 
 def test_bad_number_in_a_face(tmp_path):

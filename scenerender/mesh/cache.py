@@ -44,8 +44,9 @@ from scenerender.mesh.data import MeshData, MeshGroup
 from scenerender.scene.files import read_regular_file
 
 # Bump whenever the OBJ reader or the normals code would give other arrays for the same
-# file: old entries then stop matching.
-LOADER_VERSION = 2
+# file, or refuses a file it used to read: old entries then stop matching. 3: numbers
+# beyond 32-bit floats are refused (an entry of version 2 may hold such a file's mesh).
+LOADER_VERSION = 3
 ENTRY_FORMAT = 1
 # Smaller files parse faster than the hash and the entry read cost; not caching them also
 # keeps the folder free of every small model a user ever opened.
@@ -276,6 +277,8 @@ def _checked(arrays: dict, meta: dict, key: str) -> StoredMesh | None:
     if len(indices) == 0 or int(indices.max()) >= count:
         return None
     if not (np.isfinite(positions).all() and np.isfinite(normals).all()):
+        return None
+    if uvs is not None and not np.isfinite(uvs).all():
         return None
     groups = _groups(arrays.get("group_first"), arrays.get("group_count"), meta.get("group_materials"), len(indices))
     given, libraries, digest = meta.get("warnings"), meta.get("libraries"), meta.get("materials")

@@ -16,6 +16,7 @@ from scenerender.errors import SourceLocation, UserError, Warnings, display_path
 from scenerender.mesh.budget import TriangleBudget
 from scenerender.mesh.data import MeshData
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
+from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
 from scenerender.mesh.obj import parse_obj
 from scenerender.scene.assets import AssetPolicy, policy_for
 from scenerender.scene.files import read_regular_file
@@ -120,10 +121,7 @@ def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget) 
     parts = [_part_arrays(raw, shown) for raw in raw_parts]
     if not parts:
         raise UserError("the file contains no triangles", SourceLocation(shown))
-    mesh = _concatenate(parts, shown)
-    if not np.isfinite(mesh.positions).all():
-        raise UserError("the mesh has vertices that are not finite numbers", SourceLocation(shown))
-    return mesh
+    return _concatenate(parts, shown)
 
 
 def _stored_vertex_normals(geometry) -> np.ndarray | None:
@@ -176,22 +174,42 @@ def _part_arrays(raw: dict, shown: str) -> dict:
                         f"{len(positions)} vertices", where)
     if transform.shape != (4, 4) or not np.isfinite(transform).all():
         raise UserError("cannot read mesh: a node transform is not a finite 4x4 matrix", where)
-    linear = transform[:3, :3]
-    positions = positions @ linear.T + transform[:3, 3]
     normals = raw["normals"]
-    determinant = np.linalg.det(linear)
-    if normals is not None:
-        # rows times the inverse transpose; a flattening transform leaves none to keep
-        normals = normals @ np.linalg.inv(linear) if determinant != 0 else None
-    if determinant < 0:  # a mirroring transform turns the winding inside out
-        faces = faces[:, ::-1]
     uvs = None
     visual_uv = raw["uv"]
     if visual_uv is not None:
         visual_uv = np.asarray(visual_uv, dtype=np.float64)
         if visual_uv.ndim == 2 and visual_uv.shape[1] >= 2 and len(visual_uv) == len(positions):
             uvs = visual_uv[:, :2]
+    _check_float32(positions, "a vertex coordinate", where)
+    _check_float32(normals, "a normal component", where)
+    _check_float32(uvs, "a texture coordinate", where)
+    linear = transform[:3, :3]
+    determinant = np.linalg.det(linear)
+    with np.errstate(all="ignore"):  # judged by the checks below, not by NumPy's warnings
+        positions = positions @ linear.T + transform[:3, 3]
+        if normals is not None:
+            # rows times the inverse transpose; a flattening transform leaves none to keep
+            normals = normals @ np.linalg.inv(linear) if determinant != 0 else None
+    _check_float32(positions, "a vertex coordinate after the node transform", where)
+    _check_float32(normals, "a normal component after the node transform", where)
+    if determinant < 0:  # a mirroring transform turns the winding inside out
+        faces = faces[:, ::-1]
     return {"positions": positions, "normals": normals, "uvs": uvs, "faces": faces}
+
+
+def _check_float32(values: np.ndarray | None, what: str, where: SourceLocation) -> None:
+    """Raise unless every one of ``values`` (or None) is finite and fits a 32-bit float,
+    which is what the mesh is stored in."""
+    if values is None:
+        return
+    fits = fits_float32(values).reshape(-1)
+    if fits.all():
+        return
+    value = float(values.reshape(-1)[np.argmin(fits)])
+    if not np.isfinite(value):
+        raise UserError(f"cannot read mesh: {what} is not a finite number ({value})", where)
+    raise UserError(f"cannot read mesh: {what} is {value:g}, {BEYOND_FLOAT32}", where)
 
 
 def _concatenate(parts: list[dict], shown: str) -> MeshData:

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from scenerender.errors import SourceLocation, UserError, Warnings, display_path
 from scenerender.mesh.capped import CappedWarnings
+from scenerender.mesh.numbers import BEYOND_FLOAT32, beyond_float32, fits_float32
 from scenerender.scene.assets import AssetPolicy, Lookup, policy_for, quoted
 from scenerender.scene.files import read_regular_file
 
@@ -126,6 +127,8 @@ class _MtlContext:
             raise self.error(f"expected a number after '{key}', got {token!r}") from None
         if value != value or value in (float("inf"), float("-inf")):
             raise self.error(f"expected a finite number after '{key}', got {token!r}")
+        if not fits_float32(value):  # colours, shininess and texture options reach the shaders as float32
+            raise self.error(beyond_float32(value, key))
         return value
 
 
@@ -240,6 +243,8 @@ def _parse_color(tokens: list[str], key: str, ctx: _MtlContext) -> Color | None:
         values *= 3
     if from_xyz:
         values = [sum(m * v for m, v in zip(row, values)) for row in _XYZ_TO_RGB]
+        if not all(fits_float32(v) for v in values):  # the matrix multiplies by up to 3.2
+            raise ctx.error(f"'{key} xyz' gives a colour {BEYOND_FLOAT32}")
     return (values[0], values[1], values[2])
 
 

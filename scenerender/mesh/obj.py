@@ -27,6 +27,7 @@ from scenerender.mesh.budget import TriangleBudget
 from scenerender.mesh.capped import CappedWarnings
 from scenerender.mesh.data import MeshData, MeshGroup
 from scenerender.mesh.mtl import parse_mtl
+from scenerender.mesh.numbers import beyond_float32, fits_float32
 from scenerender.scene.assets import AssetPolicy, policy_for
 from scenerender.scene.files import read_regular_file
 
@@ -292,14 +293,15 @@ def _collect_statements(text: str, shown: str, budget: TriangleBudget | None = N
 
 
 def _vectors(tokens: list[str], lines: list[int], width: int, shown: str) -> np.ndarray:
-    """(len(lines), width) float64: the numbers of one kind of statement (v, vt or vn)."""
+    """(len(lines), width) float64: the numbers of one kind of statement (v, vt or vn),
+    each finite and within the range of a 32-bit float, which they are stored in."""
     if not tokens:
         return np.zeros((0, width), dtype=np.float64)
     try:
         values = np.array(tokens, dtype=np.float64)
     except ValueError:
         values = None
-    if values is None or not np.isfinite(values).all():
+    if values is None or not fits_float32(values).all():
         _raise_for_bad_number(tokens, lines, width, shown)
     return values.reshape(-1, width)
 
@@ -314,6 +316,8 @@ def _raise_for_bad_number(tokens: list[str], lines: list[int], width: int, shown
             raise UserError(f"expected a number, got {token!r}", location) from None
         if not np.isfinite(value):
             raise UserError(f"expected a finite number, got {token!r}", location)
+        if not fits_float32(value):
+            raise UserError(beyond_float32(value), location)
     raise UserError("could not read the numbers in this file", SourceLocation(shown))
 
 
