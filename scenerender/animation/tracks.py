@@ -48,6 +48,19 @@ class Track:
         """True when the value can never change over time."""
         return len(self.times) == 1 or bool(np.all(self.values == self.values[0]))
 
+    def magnitude_bound(self) -> np.ndarray:
+        """(D,) float64: per component, a size no value of the track exceeds at any time.
+
+        Step, linear and cosine segments stay between their two keys. A Catmull-Rom segment
+        may overshoot them, by at most half the largest key: its Hermite tangents are at most
+        the difference of two keys (twice the largest), and their weights add up to at most
+        u (1 - u) <= 1/4.
+        """
+        largest = np.abs(self.values).max(axis=0)
+        if "catmull_rom" in self.modes[:-1]:  # the last key starts no segment
+            return largest * 1.5
+        return largest
+
     def __call__(self, t: float):
         """The value at time ``t`` (seconds): float, bool, or a (D,) float64 array."""
         row = self._row(float(t))

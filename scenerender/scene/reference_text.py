@@ -286,6 +286,11 @@ The model matrix is T * Rz * Ry * Rx * S (scale first, then rotation X, Y, Z, th
 translation); normals use its inverse transpose, so non-uniform scale shades correctly. An
 instance's matrix applies inside its object's: world = M_object * M_instance. OBJ faces
 with more than three vertices are triangulated; negative (relative) indices work.
+
+Frames are drawn in 32-bit floats, which reach about 3.4e38. A number in a mesh or MTL file
+beyond that is an error at its line; so is a placement that, at any time of the animation,
+could take an object's matrices (whose normal matrix multiplies two scale factors) or its
+vertices in world space beyond it: `scale: 1e30` is refused, at the object's `scale`.
 """
 
 PRIMITIVES = """

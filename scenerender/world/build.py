@@ -20,6 +20,7 @@ from scenerender.world.images import DEFAULT_MAX_PIXELS, ImageStore
 from scenerender.world.lights import LightDef, light_defs
 from scenerender.world.settings import OutlineSettings, RenderSettings
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance
+from scenerender.world.reach import check_placements
 from scenerender.world.transforms import union_bounds
 
 
@@ -89,6 +90,7 @@ def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
     spec = scene.spec
     loader = _Loader(scene, warnings)
     objects = [loader.build_object(i, obj) for i, obj in enumerate(spec.objects)]
+    check_placements(objects, scene.source)
     lights = light_defs(spec.lights, spec.render.shadows)
     _check_modes(scene, lights)
     images = ImageStore(max_pixels=_limit(scene, "texture_pixels", DEFAULT_MAX_PIXELS))

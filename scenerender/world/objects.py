@@ -17,10 +17,13 @@ class InstanceSet:
 
     fixed:  (K, 4, 4) float64 local matrices (random instances, or one identity).
     tracks: list of (position, rotation, scale) Tracks for listed instances, else None.
+    single: True for the one identity instance of an object without ``instances``, whose
+            transform is the object's own (checks over many objects skip composing it).
     """
 
     fixed: np.ndarray | None = None
     tracks: list | None = None
+    single: bool = False
 
     @property
     def count(self) -> int:
@@ -37,7 +40,7 @@ def _scale3(value) -> np.ndarray:
 
 
 def single_instance() -> InstanceSet:
-    return InstanceSet(fixed=np.eye(4)[None])
+    return InstanceSet(fixed=np.eye(4)[None], single=True)
 
 
 def listed_instances(specs) -> InstanceSet:
