@@ -107,6 +107,55 @@ def test_an_asset_root_allows_them(layout, case):
     assert any(path.parent == outside.resolve() for path in loaded.assets.files_read)
 
 
+# Each kind of reference, to a file or folder named NAME in the outside folder.
+REACHES = {
+    "mesh": lambda scene, out, name: mesh_scene(str(out / f"{name}.obj")),
+    "mtllib": lambda scene, out, name: (write(scene / "m.obj", f"mtllib ../outside/{name}.mtl\n" + TRIANGLE_OBJ),
+                                        mesh_scene("m.obj"))[1],
+    "map_Kd absolute": lambda scene, out, name: obj_with_mtl(scene, f"newmtl a\nmap_Kd {out / name}.png\n"),
+    "map_Kd dot-dot": lambda scene, out, name: obj_with_mtl(scene, f"newmtl a\nmap_Kd ../outside/{name}.png\n"),
+    "scene material map": lambda scene, out, name: (
+        f"materials:\n  m: {{diffuse_map: ../outside/{name}.png}}\nobjects:\n  - mesh: tri.obj\n    material: m\n"),
+    "skybox folder": lambda scene, out, name: f"render: {{skybox: ../outside/{name}}}\nobjects: []\n",
+}
+
+
+@pytest.mark.parametrize("case", REACHES)
+def test_an_outside_path_is_refused_the_same_whether_or_not_something_is_there(layout, case):
+    """Where a path leads is decided before anything is looked up there: otherwise the
+    outcome (an error, or a warning and exit code 0) would tell whether a file exists
+    outside the folders the scene may read."""
+    scene, outside = layout
+    write(outside / "existing.obj", TRIANGLE_OBJ)
+    write(outside / "existing.mtl", "newmtl a\nKd 1 0 0\n")
+    write(outside / "existing.png", png_bytes())
+    for face in SKY_FACES:
+        write(outside / "existing" / f"{face}.png", png_bytes(8, 8))
+    present = error_of(scene, REACHES[case](scene, outside, "existing"))
+    absent = error_of(scene, REACHES[case](scene, outside, "missing"))
+    assert "outside the folders this scene may read" in present
+    assert absent == present.replace("existing", "missing")
+
+
+def test_an_outside_texture_path_still_finds_the_file_beside_the_mtl(layout):
+    """Exporters write absolute paths from the artist's machine; the file named so beside
+    the MTL is used instead, whatever is (or is not) at the path written."""
+    scene, outside = layout
+    write(scene / "t.png", png_bytes())
+    for written in (outside / "t.png", "/nowhere/scenerender/t.png"):
+        warnings = Warnings()
+        loaded, world = build(scene, obj_with_mtl(scene, f"newmtl a\nmap_Kd {written}\n"), warnings)
+        assert world.objects[0].materials[0].maps["diffuse_map"].path == scene.resolve() / "t.png"
+        assert warnings.items == []
+
+
+@pytest.mark.parametrize("name", ["x.obj", "gone.obj"])
+def test_load_mesh_refuses_a_path_outside_its_policy_before_looking_for_it(layout, name):
+    scene, outside = layout
+    with pytest.raises(UserError, match="outside the folders this scene may read"):
+        load_mesh(outside / name, warnings=Warnings(), assets=AssetPolicy(scene, environ={}))
+
+
 def test_the_environment_variable_allows_them(layout, monkeypatch):
     scene, outside = layout
     monkeypatch.setenv(ENV_ROOTS, os.pathsep.join(["", str(outside)]))
@@ -182,7 +231,9 @@ def test_an_over_long_name_in_an_obj_or_mtl_is_missing_with_a_warning(layout, wh
     text = {
         "mtllib": lambda: (write(scene / "m.obj", f"mtllib {long_name}.mtl\n" + TRIANGLE_OBJ), mesh_scene("m.obj"))[1],
         "map_Kd": lambda: obj_with_mtl(scene, f"newmtl a\nmap_Kd {long_name}.png\n"),
-        "map_Kd absolute": lambda: obj_with_mtl(scene, f"newmtl a\nmap_Kd /{long_name}/{long_name}.png\n"),
+        # absolute, and inside the scene folder (outside it, the path is refused as written)
+        "map_Kd absolute": lambda: obj_with_mtl(
+            scene, f"newmtl a\nmap_Kd {scene.resolve()}/{long_name}/{long_name}.png\n"),
     }[where]()
     warnings = Warnings()
     build(scene, text, warnings)

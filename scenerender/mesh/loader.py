@@ -44,11 +44,8 @@ def load_mesh(
         raise ValueError(f"normals must be one of {', '.join(NORMAL_MODES)}, not {normals!r}")
     path = Path(path)
     shown = display_path(path)
-    if not os.path.lexists(path):
-        raise UserError("mesh file not found", SourceLocation(shown))
-    if path.is_dir():
-        raise UserError("is a folder, not a mesh file", SourceLocation(shown))
     assets = assets if assets is not None else policy_for(path)
+    _check_mesh_file(path, assets, SourceLocation(shown))
     budget = budget if budget is not None else TriangleBudget.unlimited()
     suffix = path.suffix.lower()
     if suffix == ".obj":
@@ -69,6 +66,16 @@ def load_mesh(
             SourceLocation(shown),
         )
     return _finished(mesh, normals, normalize, shown)
+
+
+def _check_mesh_file(path: Path, assets: AssetPolicy, where: SourceLocation) -> None:
+    """Raise unless ``path`` is a regular file inside the folders ``assets`` allows. Whether
+    it lies inside is decided first: nothing outside is looked at."""
+    lookup = assets.lookup(os.path.abspath(path), path.parent)
+    if lookup.problem == "missing":
+        raise UserError("mesh file not found", where)
+    if not lookup.found:
+        raise UserError(lookup.message, where)
 
 
 def _finished(mesh: MeshData, normals: str, normalize: bool, shown: str) -> MeshData:

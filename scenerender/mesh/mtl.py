@@ -332,13 +332,11 @@ def _resolve_texture(name: str, scale, offset, bump_scale: float, ctx: _MtlConte
 
 
 def _refused(lookup: Lookup) -> bool:
-    """A texture that exists but may not be read: outside the allowed folders, or not a
-    regular file. Unlike a missing file, that is an error: a placeholder would hide a
-    scene reaching for files it must not read. (An absolute path from another machine
-    that exists nowhere here is only missing.)"""
-    if lookup.problem == "outside":
-        return os.path.exists(lookup.path)  # never raises, unlike Path.exists on odd names
-    return lookup.problem == "not_regular"
+    """A texture that may not be read: outside the allowed folders, or not a regular file.
+    Unlike a missing file, that is an error: a placeholder would hide a scene reaching for
+    files it must not read. Whether a file outside is there is never looked at (the
+    outcome, and the exit code, would tell): such a path is refused as written."""
+    return lookup.problem in ("outside", "not_regular")
 
 
 def _not_found(name: str, lookups: list[Lookup]) -> str:

@@ -119,11 +119,14 @@ once symbolic links are followed, whether it was written as a relative or an abs
 - a folder listed in the `SCENERENDER_ASSET_ROOTS` environment variable (separated like
   `PATH`).
 
-A path outside them is an error that says how to allow it; so is anything that is not a
+A path outside them is an error that says how to allow it, whether or not a file is there
+(where a path leads is decided before anything is looked up); so is anything that is not a
 regular file (a folder, a device, a pipe). A file named in the scene itself that is
-missing is always an error. A texture named in an MTL file that cannot be found or read is
-a warning naming the MTL file and line, and the surface shows a magenta and black
-checker; `--strict` turns every warning into an error.
+missing is always an error. A texture an MTL file names is also looked for by its file
+name beside the MTL file (exporters write absolute paths from another machine), and with
+the letter case ignored; one that cannot be found or read there either is a warning naming
+the MTL file and line, and the surface shows a magenta and black checker; `--strict` turns
+every warning into an error.
 """
 
 RENDER = """
