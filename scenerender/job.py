@@ -129,7 +129,7 @@ def resolve_output(output: Path, fmt: str, fmt_explicit: bool, frame_count: int,
         return OutputTarget("sequence", fmt, output)
     if fmt_explicit and fmt != named:
         raise UserError(f"{display_path(output)} ends in {output.suffix}, which means {named}, but --format or "
-                        f"output.format says {fmt}; make them agree", _OUTPUT_OPTION)
+                        f"output.format says {fmt}; make them agree (e.g. add --format {named})", _OUTPUT_OPTION)
     _require_file(output)
     if named in VIDEO_FORMATS:
         return OutputTarget("video", named, output.parent, output)

@@ -595,7 +595,8 @@ def test_resolve_output(tmp_path, output, fmt, explicit, frames, kind, target_fm
 @pytest.mark.parametrize("output, fmt, explicit, frames, message", [
     ("still.png", "png", False, 12, "still.png names one image but the render has 12 frames"),
     ("still.png", "jpg", True, 1, "still.png ends in .png, which means png, but --format or output.format says jpg"),
-    ("clip.mp4", "gif", True, 12, "clip.mp4 ends in .mp4, which means mp4, but --format or output.format says gif"),
+    ("clip.mp4", "gif", True, 12, "clip.mp4 ends in .mp4, which means mp4, but --format or output.format says gif; "
+                                  "make them agree (e.g. add --format mp4)"),
     ("clip.mp4", "png", True, 12, "clip.mp4 ends in .mp4, which means mp4, but --format or output.format says png"),
     ("folder.mp4", "mp4", False, 12, "folder.mp4 is a folder, but its name ends in .mp4"),
     ("folder.mp4", "png", False, 12, "folder.mp4 is a folder"),
