@@ -163,7 +163,8 @@ def _overrides(sets, size, samples) -> list[str]:
               help="MSAA samples: 1 (anti-aliasing off), 2, 4, 8, 16, 32 or 64 (overrides render.samples).")
 @click.option("--format", "fmt", type=click.Choice(["png", "jpg", "tga", "exr", "mp4", "gif"]),
               help="Output format (overrides output.format).")
-@click.option("--frames", metavar="A:B", help="Render frames A to B-1 only (like a Python slice).")
+@click.option("--frames", metavar="A:B", help="Render frames A to B-1 only, like a Python slice: also A:B:STEP, "
+                                               "-10: (the last ten) or N (frame N alone).")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
 @click.option("--overwrite", is_flag=True, help="Render frames again even if complete files exist.")
 @click.option("--strict", is_flag=True, help="Treat warnings (missing MTL textures...) as errors.")
@@ -185,7 +186,7 @@ def _overrides(sets, size, samples) -> list[str]:
 @_limit_option
 def render(scene, output, size, samples, fmt, frames, sets, overwrite, strict, quiet, profile, check,
            update_references, workers, scheduler, asset_roots, limit_texts):
-    """Render SCENE to frames in OUTPUT.
+    """Render SCENE into -o OUTPUT: a folder of frames, or the video or image file it names.
 
     A frame already in OUTPUT is kept only when the run manifest (OUTPUT/.scenerender.json)
     shows it was made from the same scene, assets, options and scenerender version;
@@ -193,9 +194,17 @@ def render(scene, output, size, samples, fmt, frames, sets, overwrite, strict, q
     or not at all.
 
     \b
+    Examples:
+      scenerender render scene.yaml -o out/                 # frames or a video, as the scene says
+      scenerender render scene.yaml -o out/clip.mp4 --format mp4
+      scenerender render scene.yaml -o out/ --size 320x240 --samples 1 --frames 0:10
+      scenerender render scene.yaml -o still.png --format png --frames 12   # one frame, one file
     In CI:
       scenerender render scene.yaml -o out/ --check ref/             # exit 1 when frames changed
       scenerender render scene.yaml -o out/ --check ref/ --update-references
+
+    Exit codes: 0 done, 1 frames changed (--check), 2 bad input or an output that cannot be
+    written, 3 the machine lacks something (no OpenGL driver), 130 / 143 interrupted.
     """
     from scenerender.interrupts import signals_as_exceptions
     from scenerender.job import RenderOptions, run_render
