@@ -677,6 +677,8 @@ def test_bad_output_is_a_clear_error_before_rendering(scene, args, message):
     ("..", "a frame name cannot be '..'"),
     ("x" * 300 + "_{frame}", "bytes long; at most 200"),
     ("shot", "must contain {frame} when there is more than one frame"),
+    ("{frame}.png", "leave out '.png' (the format adds it)"),
+    ("frame_{frame:04d}.EXR", "leave out '.EXR'"),
 ])
 def test_bad_output_names_are_validation_errors_at_the_line(scene, name, message):
     frames = 1 if name == ".." else 3  # a name without {frame} is valid for one frame only

@@ -16,6 +16,8 @@ MAX_WIDTH = 32
 # limit of common file systems.
 MAX_NAME_BYTES = 200
 _FORBIDDEN = ("/", "\\", "\0")
+# What the output format appends: a name ending in one would get it twice (0001.png.png).
+_FORMAT_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr", ".mp4", ".gif")
 
 
 def name_template_problem(template: str, frame_count: int = 1) -> str | None:
@@ -38,6 +40,9 @@ def name_template_problem(template: str, frame_count: int = 1) -> str | None:
         has_frame = True
     if frame_count > 1 and not has_frame:
         return "name pattern must contain {frame} when there is more than one frame"
+    suffix = next((end for end in _FORMAT_SUFFIXES if template.lower().endswith(end)), None)
+    if suffix is not None:
+        return f"the name is the file name without its suffix: leave out '{template[-len(suffix):]}' (the format adds it)"
     return _rendered_problem(template, frame_count)
 
 
