@@ -341,10 +341,20 @@ def test_several_errors_one_line_each(tmp_path):
                        "  - {mesh: {primitive: cone}, visible: 3}\n")
     lines = info.value.lines()
     assert lines == [
-        "scene.yaml:3:33: objects[1].rotation: expected a list of 3 numbers, got a list of 2",
+        "scene.yaml:3:33: objects[1].rotation: expected a list of 3 numbers, got [1, 2]",
         "scene.yaml:4:31: objects[2].visible: expected true or false, got 3",
     ]
     assert all("\n" not in line for line in lines)
+
+
+def test_bad_values_are_shown_as_written(tmp_path):
+    """Short lists show their items, booleans their YAML spelling."""
+    with pytest.raises(SceneErrors) as info:
+        load(tmp_path, "render: {size: [100000, 100000], wireframe_overlay: 2}\nobjects:\n"
+                       "  - {mesh: {primitive: box}, visible: [true, 1]}\n")
+    lines = info.value.lines()
+    assert "render.size: width and height must be 1..16384, got [100000, 100000]" in lines[0]
+    assert any(line.endswith("got [true, 1]") for line in lines), lines
 
 
 def test_error_line_for_a_folded_value_has_no_newline(tmp_path):
