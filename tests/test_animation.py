@@ -122,9 +122,15 @@ def test_video_reads_back_with_the_right_frame_count_and_size(tmp_path, fmt):
 @pytest.mark.gl
 def test_an_existing_video_is_kept_unless_overwrite(tmp_path):
     scene = write_scene(tmp_path)
-    run_render(scene, RenderOptions(output=tmp_path, format="gif", quiet=True), echo=lambda *_: None)
+    first = run_render(scene, RenderOptions(output=tmp_path, format="gif", quiet=True), echo=lambda *_: None)
+    video = tmp_path / f"{scene.stem}.gif"
+    made = (video.read_bytes(), video.stat().st_ino)  # a rewrite renames a new file into place
     again = run_render(scene, RenderOptions(output=tmp_path, format="gif", quiet=True), echo=lambda *_: None)
-    assert again.rendered == 0
+    assert first.rendered > 0 and again.rendered == 0
+    assert (video.read_bytes(), video.stat().st_ino) == made  # not written again
+    forced = run_render(scene, RenderOptions(output=tmp_path, format="gif", quiet=True, overwrite=True),
+                        echo=lambda *_: None)
+    assert forced.rendered == first.rendered and video.stat().st_ino != made[1]
 
 
 def test_gpu_resources_stay_the_same_over_many_frames(gl):
