@@ -276,7 +276,7 @@ def schema(output, markdown):
     if output:
         from scenerender.sinks.base import atomic_path, write_file
 
-        with atomic_path(output, "-o") as temp:  # never a half-written schema or reference
+        with atomic_path(output) as temp:  # never a half-written schema or reference
             write_file(temp, text.encode("utf-8"))
     else:
         click.echo(text, nl=False)

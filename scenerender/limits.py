@@ -64,6 +64,9 @@ def exceeded_message(name: str, value: int, allowed: int, what: str) -> str:
     return f"{what} is {shown}, over the limit of {allowed:,} (raise with --limit {name}=N)"
 
 
+_MAX_DIGITS = 30  # in a --limit value: no count comes near, and int() refuses past 4300
+
+
 def parse_limit(text: str) -> tuple[str, int]:
     """``"objects=200000"`` -> ``("objects", 200000)``; underscores in N are allowed (``1_000``).
 
@@ -87,8 +90,6 @@ def parse_limit(text: str) -> tuple[str, int]:
                         f"got {len(significant)}", where)
     return name, int(significant)
 
-
-_MAX_DIGITS = 30
 
 
 def parse_limits(texts) -> Limits:

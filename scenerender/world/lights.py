@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.animation import Track
+from scenerender.world.camera import unit_direction
 from scenerender.world.settings import ShadowMapSettings
 
 DEFAULT_AMBIENT = (0.12, 0.12, 0.12)
@@ -61,10 +62,12 @@ class LightState:
         return self.definition.kind
 
 
+# where an animated direction passes through zero: straight down
+_NO_DIRECTION = np.array([0.0, -1.0, 0.0])
+
+
 def _unit(v) -> np.ndarray:
-    v = np.asarray(v, dtype=np.float64)[:3]
-    n = np.linalg.norm(v)
-    return v / n if n > 0 else np.array([0.0, -1.0, 0.0])
+    return unit_direction(np.asarray(v, dtype=np.float64)[:3], _NO_DIRECTION)
 
 
 def light_defs(spec, shadows_default) -> list[LightDef]:
