@@ -15,6 +15,39 @@ ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / "scenes"
 
 
+# ---------------------------------------------------------------------------------------
+# Skips a run may accept. With SCENERENDER_ALLOWED_SKIPS naming a file of reasons (CI's is
+# .ci/allowed-skips), any other skip fails the run: a test skipped for a module a clean
+# install lacks would otherwise pass unseen.
+
+_skips: list[tuple[str, str]] = []
+
+
+def pytest_runtest_logreport(report):
+    if report.skipped and isinstance(report.longrepr, tuple):
+        _skips.append((report.nodeid, str(report.longrepr[2]).removeprefix("Skipped: ")))
+
+
+def _allowed_skip_reasons(path: Path) -> list[str]:
+    lines = (line.split("#", 1)[0].strip() for line in path.read_text(encoding="utf-8").splitlines())
+    return [line for line in lines if line]
+
+
+def pytest_sessionfinish(session, exitstatus):
+    listing = os.environ.get("SCENERENDER_ALLOWED_SKIPS")
+    if not listing:
+        return
+    allowed = _allowed_skip_reasons(Path(listing))
+    unexpected = [(test, reason) for test, reason in _skips
+                  if not any(reason.startswith(prefix) for prefix in allowed)]
+    if unexpected:
+        reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+        reporter.write_line(f"{len(unexpected)} skip(s) not listed in {listing}:", red=True)
+        for test, reason in unexpected:
+            reporter.write_line(f"  {test}: {reason}")
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
+
+
 @pytest.fixture(scope="session")
 def gl():
     if os.environ.get("SCENERENDER_SKIP_GL"):

@@ -173,6 +173,45 @@ def test_raised_depth_limit_cannot_exhaust_recursion(tmp_path):
     assert "render" in str(info.value)
 
 
+@pytest.mark.parametrize("opening, closing", [("[", "]"), ("{a: ", "}")])
+def test_our_depth_limit_acts_before_the_yaml_librarys(opening, closing):
+    """libyaml (PyYAML 6.0.4 on) refuses 1000 flow levels while it scans ahead, before the
+    builder sees the level past ours: the message, its place and the hint are still ours,
+    for the default limit and for one raised past the library's own."""
+    for limit, levels in [(64, 3000), (1200, 3000)]:
+        text = "render: " + opening * levels + "1" + closing * levels + "\n"
+        with pytest.raises(UserError) as info:
+            parse_yaml_text(text, "s.yaml", Limits(yaml_depth=limit))
+        column = len("render: ") + len(opening) * (limit - 1) + 1
+        assert str(info.value) == (f"s.yaml:1:{column}: nested more than {limit} levels deep "
+                                   "(raise with --limit yaml_depth=N)")
+
+
+def test_a_library_depth_limit_that_no_parser_passes_is_named_plainly(monkeypatch):
+    """Should every parser PyYAML has stop short of a raised limit, the message says whose
+    limit it was and that --limit cannot raise it."""
+    import yaml
+
+    from scenerender.scene import yaml_source
+
+    def refusing_parse(text, Loader):
+        mark = yaml.Mark("s", 0, 0, 1000, None, None)
+        raise yaml.MarkedYAMLError("while increasing flow level", mark, "exceeded maximum nesting depth", mark)
+        yield  # a generator, like yaml.parse
+
+    monkeypatch.setattr(yaml_source.yaml, "parse", refusing_parse)
+    with pytest.raises(UserError) as info:
+        parse_yaml_text("a: 1\n", "s.yaml", Limits(yaml_depth=5000))
+    assert str(info.value).startswith("s.yaml:1:1001: nested deeper than the YAML reader allows (PyYAML ")
+    assert str(info.value).endswith("exceeded maximum nesting depth), whatever --limit yaml_depth says")
+
+
+def test_deep_block_nesting_is_ours_to_refuse():
+    text = "".join(" " * level + "k:\n" for level in range(1500)) + " " * 1500 + "v\n"
+    with pytest.raises(UserError, match=r"^s.yaml:65:65: nested more than 64 levels deep"):
+        parse_yaml_text(text, "s.yaml")
+
+
 # ---------------------------------------------------------------------------------------
 # limits
 

@@ -108,9 +108,11 @@ def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget) 
     resolver = _policy_resolver(trimesh, path, assets)
     try:
         with _pywarnings.catch_warnings(), np.errstate(all="ignore"):
-            # Pillow's decompression-bomb and NumPy's overflow warnings on hostile files
-            # would otherwise print multi-line text; the outcome is judged below instead.
-            _pywarnings.simplefilter("ignore")
+            # Pillow's decompression-bomb (a RuntimeWarning), NumPy's overflow and the readers'
+            # complaints (UserWarning) on hostile files would otherwise print multi-line text;
+            # the outcome is judged below instead. A DeprecationWarning still shows.
+            _pywarnings.simplefilter("ignore", RuntimeWarning)
+            _pywarnings.simplefilter("ignore", UserWarning)
             if hasattr(trimesh, "load_scene"):
                 scene = trimesh.load_scene(data, file_type=path.suffix.lower()[1:], resolver=resolver, process=False)
             else:  # trimesh < 4.5

@@ -222,13 +222,48 @@ def parse_yaml_text(text: str, shown_name: str, limits: Limits | None = None) ->
     if len(text) > limits.yaml_bytes:  # characters, not bytes: close enough for text from a CLI or a test
         raise UserError(f"the scene text is {len(text):,} characters, over the limit of {limits.yaml_bytes:,} "
                         "(raise with --limit yaml_bytes=N)", SourceLocation(shown_name))
+    try:
+        builder = _build(text, shown_name, limits, _LOADER)
+    except _LibraryDepthLimit as refusal:
+        if _LOADER is yaml.SafeLoader:
+            raise refusal.error from None
+        # libyaml (PyYAML 6.0.4 and later) stops at its own nesting limit while it scans ahead,
+        # before our builder sees the level past ours; the pure-Python parser scans as far as
+        # our builder asks, so our limit acts first and says where and how to raise it.
+        try:
+            builder = _build(text, shown_name, limits, yaml.SafeLoader)
+        except _LibraryDepthLimit as again:
+            raise again.error from None
+    for is_key, path, mark in builder.entries:
+        (source.keys if is_key else source.values)[path] = mark
+    return builder.root, source
+
+
+class _LibraryDepthLimit(Exception):
+    """The YAML library refused a nesting depth of its own accord; ``error`` is what a user reads."""
+
+    def __init__(self, error: UserError):
+        super().__init__(str(error))
+        self.error = error
+
+
+def _is_depth_refusal(exc: yaml.MarkedYAMLError) -> bool:
+    return "nesting" in (exc.problem or "")  # libyaml: "exceeded maximum nesting depth"
+
+
+def _build(text: str, shown_name: str, limits: Limits, loader) -> "_Builder":
+    """Feed the parser's events for ``text`` to a new builder; library errors become UserError."""
     builder = _Builder(shown_name, limits)
     try:
-        for event in yaml.parse(text, Loader=_LOADER):
+        for event in yaml.parse(text, Loader=loader):
             builder.feed(event)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = _location(shown_name, mark) if mark else SourceLocation(shown_name)
+        if _is_depth_refusal(exc):
+            raise _LibraryDepthLimit(UserError(
+                f"nested deeper than the YAML reader allows (PyYAML {yaml.__version__}: {exc.problem}), "
+                f"whatever --limit yaml_depth says", where)) from None
         raise UserError(f"YAML syntax error: {exc.problem or exc.context}", where) from None
     except yaml.reader.ReaderError as exc:
         raise _reader_error(exc, text, shown_name) from None
@@ -236,9 +271,7 @@ def parse_yaml_text(text: str, shown_name: str, limits: Limits | None = None) ->
         raise UserError(f"not valid UTF-8 text (at character {exc.start})", SourceLocation(shown_name)) from None
     except yaml.YAMLError as exc:
         raise UserError(f"YAML error: {exc}", SourceLocation(shown_name)) from None
-    for is_key, path, mark in builder.entries:
-        (source.keys if is_key else source.values)[path] = mark
-    return builder.root, source
+    return builder
 
 
 def _reader_error(exc, text: str, name: str) -> UserError:

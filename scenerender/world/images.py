@@ -137,7 +137,9 @@ def _opened(path: Path, max_pixels: int):
 @contextlib.contextmanager
 def _pillow_quiet():
     """Pillow's decompression-bomb check off (the pixel limit above replaces it) and its
-    warnings silenced, for the duration of one open and decode."""
+    warnings about the file silenced (the bomb warning is a RuntimeWarning, odd palettes and
+    truncated chunks UserWarnings), for the duration of one open and decode. A
+    DeprecationWarning still shows: it is about this code, not the file."""
     from PIL import Image
 
     with _PILLOW_SETTINGS:
@@ -145,7 +147,8 @@ def _pillow_quiet():
         Image.MAX_IMAGE_PIXELS = None
         try:
             with _pywarnings.catch_warnings():
-                _pywarnings.simplefilter("ignore")
+                _pywarnings.simplefilter("ignore", RuntimeWarning)
+                _pywarnings.simplefilter("ignore", UserWarning)
                 yield
         finally:
             Image.MAX_IMAGE_PIXELS = saved
