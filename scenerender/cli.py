@@ -358,17 +358,20 @@ LEVELS = FiniteFloatRange(min=0)  # a limit on differences of 8-bit levels: fini
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON on stdout instead of lines.")
 @click.option("--max-tile", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_tile,
               show_default=True,
-              help="Largest allowed mean unexplained difference (levels) of any 8x8 block: catches a "
-                   "moved or dropped object, a lost shadow.")
+              help="Largest allowed mean difference (levels) of any 8x8 block outside the other image's 3x3 "
+                   "colour ranges: catches a moved or dropped object, a lost shadow.")
 @click.option("--max-unexplained-mean", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_unexplained_mean,
               show_default=True,
-              help="Largest allowed unexplained difference per pixel, over the frame (levels): catches faint "
-                   "changes spread wide, such as a colour or the field of view.")
+              help="Largest allowed difference per pixel outside the 3x3 colour ranges, over the frame "
+                   "(levels): catches faint changes spread wide, such as a colour or the field of view.")
+@click.option("--max-shift-tile", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_shift_tile,
+              show_default=True,
+              help="Largest allowed signed mean (levels) of any 8x8 window of what is left after each tile's "
+                   "best shift of up to 1/4 pixel: catches small and thin changes the ranges excuse.")
 @click.option("--aa-tolerance", type=click.IntRange(0, 255), metavar="LEVELS", default=_DIFF_DEFAULTS.aa_tolerance,
               show_default=True,
-              help="Levels of rounding forgiven. A difference is unexplained by the amount it lies outside "
-                   "the colour range of the other image's 3x3 neighbourhood (edge shifts lie inside).")
-def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, aa_tolerance):
+              help="Levels of rounding forgiven on every channel, before both tests.")
+def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max_shift_tile, aa_tolerance):
     """Compare OUTPUT with REFERENCE: two images, two folders of frames (PNG, JPG, TGA, EXR;
     matched by file name) or two videos (MP4, GIF; matched frame by frame).
 
@@ -382,7 +385,8 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, aa_
 
     from scenerender.compare import DiffRule, compare_paths, write_html_report
 
-    rule = DiffRule(max_tile=max_tile, max_unexplained_mean=max_unexplained_mean, aa_tolerance=aa_tolerance)
+    rule = DiffRule(max_tile=max_tile, max_unexplained_mean=max_unexplained_mean, max_shift_tile=max_shift_tile,
+                    aa_tolerance=aa_tolerance)
     result = compare_paths(reference, output, rule)
     if report is not None:
         write_html_report(result, report, option="--report")

@@ -3,13 +3,12 @@
 References live in tests/golden/ and are made by `make goldens` (tests/golden_update.py)
 on Mesa llvmpipe; look at every image you commit.
 
-Tolerance: the default rule of `scenerender diff` (scenerender.compare.DEFAULT_RULE). A
-pixel's difference counts only where one image's colour lies outside the colour range of the
-other image's 3x3 neighbourhood (less one level for rounding), so edges shifted by a fraction
-of a pixel are excused; a render matches when no 8x8 block averages more than 1 level of such
-unexplained difference and the whole frame averages at most 0.001 levels. Measured margins
-between driver-like noise and real changes are in docs/diff-margins.md; tests/test_golden.py
-shows each plausible regression failing.
+Tolerance: the default rule of `scenerender diff` (scenerender.compare.DEFAULT_RULE): no
+8x8 block averaging more than 1 level of difference outside the other image's 3x3 colour
+ranges, at most 0.001 levels of it over the frame, and no 8x8 window averaging more than 5
+levels in one direction of what the best quarter-pixel shift per tile leaves. Measured
+margins between driver-like noise and real changes are in docs/diff-margins.md;
+tests/test_golden.py shows each plausible regression failing.
 """
 from __future__ import annotations
 

@@ -114,7 +114,7 @@ def test_real_changes_fail(change):
 def test_a_looser_rule_passes_what_the_default_fails():
     moved = drawn(square_at=43)
     assert not verdict(drawn(), moved)
-    assert verdict(drawn(), moved, DiffRule(max_tile=1000, max_unexplained_mean=1000))
+    assert verdict(drawn(), moved, DiffRule(max_tile=1000, max_unexplained_mean=1000, max_shift_tile=1000))
 
 
 def test_the_tile_limit_catches_a_local_change_the_frame_mean_misses():
@@ -129,6 +129,25 @@ def test_the_tile_limit_catches_a_local_change_the_frame_mean_misses():
     assert result.metrics.worst_tile_aa > DEFAULT_RULE.max_tile
     assert not result.passed and result.reason.startswith("worst 8x8 tile")
     assert verdict(reference, patched, DiffRule(max_tile=1000))
+
+
+def _smooth_pattern(height=48, width=64, dx=0.0, dy=0.0) -> np.ndarray:
+    """A smooth colour pattern sampled at pixel centres moved by (dx, dy): what a camera
+    turned by a fraction of a pixel gives, without MSAA's steps."""
+    y, x = np.mgrid[0:height, 0:width].astype(np.float64)
+    x, y = x + dx, y + dy
+    red = 128 + 90 * np.sin(x / 3.0) * np.cos(y / 4.0)
+    green = 128 + 80 * np.cos((x + y) / 5.0)
+    blue = 128 + 60 * np.sin(y / 2.5)
+    return np.clip(np.stack([red, green, blue], axis=2), 0, 255).round().astype(np.uint8)
+
+
+def test_a_quarter_pixel_shift_is_excused_and_its_shift_found():
+    result = compare_images("frame", _smooth_pattern(), _smooth_pattern(dx=0.25))
+    assert result.passed, result.reason
+    m = result.metrics
+    assert m.excused_pixels > 1000 and m.largest_shift <= 0.25 and m.shift_tile < 1.0
+    assert result.images is not None and result.images.shifts is not None  # a pass that differs keeps its pictures
 
 
 def test_changed_regions_box_the_change():
@@ -360,7 +379,8 @@ def test_json_output(tmp_path):
     assert data["counts"] == {"compared": 2, "passed": 1, "changed": 1, "missing": 1, "extra": 0}
     assert data["missing"] == ["c.png"] and data["extra"] == []
     assert data["rule"] == {"max_tile": DEFAULT_RULE.max_tile, "aa_tolerance": DEFAULT_RULE.aa_tolerance,
-                            "max_unexplained_mean": DEFAULT_RULE.max_unexplained_mean}
+                            "max_unexplained_mean": DEFAULT_RULE.max_unexplained_mean,
+                            "max_shift_tile": DEFAULT_RULE.max_shift_tile}
     assert data["reference"]["provenance"]["gl"]["renderer"].startswith("llvmpipe")
     assert data["output"]["provenance"] == {"scenerender": "unknown", "gl": {"renderer": "unknown",
                                                                                "version": "unknown"}, "sidecar": None}
@@ -368,7 +388,8 @@ def test_json_output(tmp_path):
     assert a["passed"] and a["metrics"]["psnr"] is None and a["reason"] == ""
     assert not b["passed"] and b["regions"] and b["size"] == [64, 48]
     assert set(b["metrics"]) == {"mean_abs", "max_abs", "worst_tile", "bad_percent", "psnr", "unexplained_mean",
-                                 "worst_tile_aa", "changed_percent", "ssim", "flip"}
+                                 "worst_tile_aa", "shift_tile", "shift_pixel", "changed_percent",
+                                 "excused_pixels", "largest_shift", "ssim", "flip"}
     assert data["report"] == str(tmp_path / "report.html")
     if flip_available():  # FLIP is computed for the changed frames, where a person looks
         assert b["metrics"]["flip"] > 0 and a["metrics"]["flip"] is None
@@ -377,12 +398,13 @@ def test_json_output(tmp_path):
 def test_thresholds_are_options(tmp_path):
     ref, out = save(tmp_path / "ref.png", drawn()), save(tmp_path / "out.png", drawn(square_at=43))
     assert run(ref, out).exit_code == 1
-    assert run(ref, out, "--max-tile", "1000", "--max-unexplained-mean", "1000").exit_code == 0
+    assert run(ref, out, "--max-tile", "1000", "--max-unexplained-mean", "1000", "--max-shift-tile", "1000").exit_code == 0
 
 
 @pytest.mark.parametrize("option, value", [
     ("--max-tile", "nan"), ("--max-tile", "inf"), ("--max-tile", "-1"), ("--max-tile", "-inf"),
     ("--max-unexplained-mean", "nan"), ("--max-unexplained-mean", "inf"), ("--max-unexplained-mean", "-0.5"),
+    ("--max-shift-tile", "nan"), ("--max-shift-tile", "-1"), ("--max-shift-tile", "inf"),
     ("--aa-tolerance", "-1"), ("--aa-tolerance", "256"), ("--aa-tolerance", "1000000"),
 ])
 @pytest.mark.parametrize("output", ["same.png", "changed.png"])
@@ -401,7 +423,8 @@ def test_limits_out_of_range_are_usage_errors(tmp_path, option, value, output):
 
 def test_limits_at_the_ends_of_their_ranges(tmp_path):
     ref, out = save(tmp_path / "ref.png", drawn()), save(tmp_path / "out.png", drawn(square_at=43))
-    assert run(ref, ref, "--max-tile", "0", "--max-unexplained-mean", "0", "--aa-tolerance", "0").exit_code == 0
+    assert run(ref, ref, "--max-tile", "0", "--max-unexplained-mean", "0", "--max-shift-tile", "0",
+               "--aa-tolerance", "0").exit_code == 0
     assert run(ref, out, "--aa-tolerance", "255").exit_code == 0  # every level forgiven
 
 
@@ -409,6 +432,7 @@ def test_the_cli_defaults_are_the_default_rule():
     params = {p.name: p.default for p in main.commands["diff"].params}
     assert params["max_tile"] == DEFAULT_RULE.max_tile
     assert params["max_unexplained_mean"] == DEFAULT_RULE.max_unexplained_mean
+    assert params["max_shift_tile"] == DEFAULT_RULE.max_shift_tile
     assert params["aa_tolerance"] == DEFAULT_RULE.aa_tolerance
 
 
@@ -427,7 +451,7 @@ def test_report_is_self_contained(tmp_path):
     report = tmp_path / "report.html"
     write_html_report(compare_paths(ref, out), report)
     html = report.read_text()
-    assert html.count("data:image/png;base64,") == 5  # reference, output, heatmap, slider pair
+    assert html.count("data:image/png;base64,") == 6  # reference, output, heatmap, shift map, slider pair
     assert "src=\"http" not in html and "<link" not in html  # nothing fetched from elsewhere
     assert "b&lt;1&gt;.png" in html and "b<1>.png" not in html
     assert 'class="box"' in html and "llvmpipe" in html and "unknown" in html

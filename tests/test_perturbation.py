@@ -1,12 +1,17 @@
-"""The perturbation suite (scenerender.compare.perturbation): under DEFAULT_RULE every noise
-case passes and every change case fails, and every metric the rule judges by separates
-the two. Each scene's base is rendered once per module, at 160x120."""
+"""The perturbation corpus (scenerender.compare.perturbation): under DEFAULT_RULE every
+noise case passes and every change fails but the measured few in KNOWN_MISSES; the rule
+before the shift test (the neighbourhood ranges alone) passed the thin and small changes the
+shift test now catches. Each scene's base is rendered once per module (160x120 for the
+example scenes, 320x240 for the edits of primitives and the detail scene)."""
 from __future__ import annotations
+
+import subprocess
+import sys
 
 import pytest
 
-from conftest import render_one
-from scenerender.compare import DEFAULT_RULE
+from conftest import ROOT, render_one
+from scenerender.compare import DEFAULT_RULE, compare_paths
 from scenerender.compare import perturbation as suite
 
 
@@ -19,7 +24,7 @@ def scores(gl):
     return {(s.scene, s.case): s for s in suite.run_suite(render, with_flip=False)}
 
 
-CASE_IDS = [(case.name, name) for case in suite.CASES for name in suite.NOISE + suite.CHANGES]
+CASE_IDS = [(case.name, name) for case in suite.CASES for name in (*suite.NOISE, *case.changes())]
 
 
 @pytest.mark.parametrize("scene,case", CASE_IDS, ids=[f"{s}:{c}" for s, c in CASE_IDS])
@@ -28,18 +33,33 @@ def test_default_rule_judges(scores, scene, case):
     failures = DEFAULT_RULE.failures(score.metrics)
     if score.noise:
         assert not failures, f"{scene}: noise '{case}' fails the default rule: {failures}"
-    else:
+    elif (scene, case) not in suite.KNOWN_MISSES:
         assert failures, f"{scene}: change '{case}' passes the default rule: {score.metrics}"
 
 
-def test_the_rule_metrics_separate_noise_from_change(scores):
-    margins = {m.metric: m for m in suite.margins(list(scores.values()))}
-    for metric in ("worst_tile_aa", "unexplained_mean"):
-        assert margins[metric].separates, margins[metric]
-    # and the limits lie between the worst noise and the closest change of that metric
-    assert margins["worst_tile_aa"].noise_worst < DEFAULT_RULE.max_tile
-    assert margins["unexplained_mean"].noise_worst < DEFAULT_RULE.max_unexplained_mean \
-        < margins["unexplained_mean"].change_best
+# the false passes of the rule before the shift test: thin, tiny and small-shape changes
+FORMERLY_PASSED = [("detail", "1-px pole added"), ("detail", "1-px pole removed"),
+                   ("showcase", "small lantern glow dropped"), ("primitives 320", "cylinder 10% smaller"),
+                   ("primitives 320", "box turned 5 degrees"), ("primitives 320", "cone 9% shorter")]
+
+
+@pytest.mark.parametrize("scene,case", FORMERLY_PASSED, ids=[f"{s}:{c}" for s, c in FORMERLY_PASSED])
+def test_the_ranges_alone_passed_what_the_shift_test_catches(scores, scene, case):
+    metrics = scores[(scene, case)].metrics
+    assert not suite.RANGE_ONLY.failures(metrics), "the neighbourhood ranges alone already catch it"
+    assert DEFAULT_RULE.failures(metrics), "and the default rule does not"
+
+
+def test_every_limit_sits_above_the_worst_noise(scores):
+    noise = [s.metrics for s in scores.values() if s.noise]
+    for metric, limit in suite.RULE_METRICS.items():
+        worst = max(getattr(m, metric) for m in noise)
+        assert worst * 1.25 <= getattr(DEFAULT_RULE, limit), (metric, worst)
+
+
+def test_the_known_misses_are_still_cases():
+    names = {(case.name, name) for case in suite.CASES for name in case.changes()}
+    assert suite.KNOWN_MISSES <= names
 
 
 def test_margin_table_lists_every_metric(scores):
@@ -48,3 +68,20 @@ def test_margin_table_lists_every_metric(scores):
         if label.startswith("FLIP"):
             continue  # not computed here
         assert label.replace("|", "\\|") in table
+
+
+@pytest.mark.gl
+def test_two_workers_against_one_process_is_noise_that_passes(tmp_path):
+    """The corpus's last noise case: the detail scene's frames rendered by --workers 2 pass
+    (they are byte-identical) against one process's."""
+    def render(out, *extra):
+        scene = ROOT / "tests" / "diff_corpus" / "detail.yaml"
+        run = subprocess.run([sys.executable, "-m", "scenerender", "render", str(scene), "-o", str(out),
+                              "--set", "output.fps=4", "--set", "output.duration=1", "--size", "160x120", *extra],
+                             capture_output=True, text=True, timeout=120, cwd=ROOT)
+        assert run.returncode == 0, run.stderr
+    render(tmp_path / "one")
+    render(tmp_path / "two", "--workers", "2")
+    result = compare_paths(tmp_path / "one", tmp_path / "two")
+    assert result.passed and len(result.frames) == 4
+    assert all(frame.metrics.max_abs == 0 for frame in result.frames)

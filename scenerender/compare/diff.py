@@ -15,35 +15,39 @@ from pathlib import Path
 
 import numpy as np
 
-from scenerender.compare.metrics import DiffMaps, flip_error, measure, tile_means
+from scenerender.compare.metrics import DiffMaps, flip_error, measure, ssim, tile_means
 from scenerender.compare.result import Box, CompareResult, FrameComparison, FrameImages
 from scenerender.compare.rule import DEFAULT_RULE, TILE, DiffRule
 from scenerender.compare.sources import Side, is_video_name, open_side, video_frames
 from scenerender.errors import SourceLocation, UserError, display_path
 
-# Changed frames whose pictures are kept for the report; past this only numbers are kept
+# Frames that differ whose pictures are kept for the report; past this only numbers are kept
 # (a long video that changed everywhere would otherwise fill memory).
 MAX_KEPT_IMAGES = 24
 
 
 def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: DiffRule = DEFAULT_RULE,
                    keep_images: bool = True) -> FrameComparison:
-    """Judge one frame pair, each (H, W, 3) uint8. FLIP (slow: about 0.4 s at 640x480) is
-    computed only for failing frames whose pictures are kept, the ones a person looks at."""
+    """Judge one frame pair, each (H, W, 3) uint8. Pictures are kept (when ``keep_images``)
+    for every frame that differs at all, passing or not, so a report can show what a pass
+    excused. SSIM is computed for failing frames only, and FLIP (slow: about 0.4 s at
+    640x480) only for failing frames whose pictures are kept, the ones a person looks at."""
     size = (reference.shape[1], reference.shape[0])
     if reference.shape != output.shape:
         reason = f"size differs: {size[0]}x{size[1]} vs {output.shape[1]}x{output.shape[0]}"
-        images = FrameImages(reference, output, None) if keep_images else None
+        images = FrameImages(reference, output, None, None) if keep_images else None
         return FrameComparison(name, False, reason, size=size, images=images)
-    metrics, maps = measure(reference, output, rule.aa_tolerance, with_flip=False)
+    metrics, maps = measure(reference, output, rule.aa_tolerance, with_flip=False, with_ssim=False)
     failures = rule.failures(metrics)
-    if not failures:
-        return FrameComparison(name, True, metrics=metrics, size=size)
-    if not keep_images:
-        return FrameComparison(name, False, "; ".join(failures), metrics, changed_regions(maps), size)
-    metrics = dataclasses.replace(metrics, flip=flip_error(reference, output))
-    images = FrameImages(reference, output, heatmap(reference, maps))
-    return FrameComparison(name, False, "; ".join(failures), metrics, changed_regions(maps), size, images)
+    passed = not failures
+    regions = [] if passed else changed_regions(maps)  # a pass outlines nothing: its pictures show what it excused
+    images = None
+    if keep_images and metrics.max_abs > 0:
+        images = FrameImages(reference, output, heatmap(reference, maps), shift_map(maps))
+    if not passed:
+        flip = flip_error(reference, output) if images is not None else None
+        metrics = dataclasses.replace(metrics, ssim=ssim(reference, output), flip=flip)
+    return FrameComparison(name, passed, "; ".join(failures), metrics, regions, size, images)
 
 
 def heatmap(reference: np.ndarray, maps: DiffMaps) -> np.ndarray:
@@ -52,7 +56,7 @@ def heatmap(reference: np.ndarray, maps: DiffMaps) -> np.ndarray:
     grey = (reference.mean(axis=2) * 0.4).astype(np.uint8)
     out = np.stack([grey, grey, grey], axis=2)
     strength = np.clip(96 + maps.magnitude.astype(np.int32) * 6, 0, 255).astype(np.uint8)
-    excused, changed = maps.excused, maps.unexplained > 0
+    excused, changed = maps.excused, maps.changed
     out[excused, 0] = 0
     out[excused, 1] = strength[excused] // 3
     out[excused, 2] = strength[excused]
@@ -61,9 +65,24 @@ def heatmap(reference: np.ndarray, maps: DiffMaps) -> np.ndarray:
     return out
 
 
+def shift_map(maps: DiffMaps) -> np.ndarray:
+    """(H, W, 3) uint8: each tile that differs, coloured by the shift that explained it best
+    (red: to the right, green: down, both scaled so a quarter pixel is full; grey: no shift),
+    black where nothing differs."""
+    height, width = maps.magnitude.shape
+    differs = tile_means((maps.magnitude > maps.tolerance).astype(np.float32)) > 0
+    dy, dx = maps.shifts[..., 0], maps.shifts[..., 1]
+    tiles = np.zeros(differs.shape + (3,), np.uint8)
+    tiles[..., 0] = np.clip(128 + dx * 508, 0, 255)
+    tiles[..., 1] = np.clip(128 + dy * 508, 0, 255)
+    tiles[..., 2] = 128
+    tiles[~differs] = 0
+    return np.repeat(np.repeat(tiles, TILE, axis=0), TILE, axis=1)[:height, :width]
+
+
 def changed_tiles(maps: DiffMaps) -> np.ndarray:
     """(rows, cols) bool: tiles holding an unexplained difference."""
-    return tile_means(maps.unexplained) > 0
+    return tile_means(maps.changed.astype(np.float32)) > 0
 
 
 def changed_regions(maps: DiffMaps) -> list[Box]:
@@ -130,11 +149,10 @@ def _kind_phrase(side: Side) -> str:
 def _add(result: CompareResult, name: str, reference: np.ndarray, output: np.ndarray) -> None:
     keep = result.images_kept < MAX_KEPT_IMAGES
     frame = compare_images(name, reference, output, result.rule, keep_images=keep)
-    if not frame.passed:
-        if keep:
-            result.images_kept += 1
-        else:
-            result.images_dropped += 1
+    if frame.images is not None:
+        result.images_kept += 1
+    elif not frame.passed:
+        result.images_dropped += 1
     result.frames.append(frame)
 
 

@@ -1,17 +1,30 @@
 """Per-frame difference metrics between a reference and an output image.
 
 Every function takes (H, W, 3) uint8 sRGB images of the same shape. Scores grow with the
-difference (SSIM is reported as is, 1 = identical). Differences are in 8-bit levels.
+difference (SSIM is reported as is, 1 = identical). Differences are in 8-bit levels. The
+verdict (scenerender.compare.rule) judges two views of what a small displacement leaves
+unexplained; docs/diff-margins.md says why these and not others.
 
-The edge-tolerant scores count only differences that no sub-pixel shift explains. For each
-pixel and channel, the *unexplained* difference is how far the output's colour lies outside
-the colour range of the reference's 3x3 neighbourhood, or the reference's colour outside the
-output's, whichever is smaller (a difference is excused when either image's neighbourhood
-holds the other's colour, as in pixelmatch's anti-aliasing test), less a tolerance of a
-level or so for rounding; a pixel's score is the largest over its channels. A sub-pixel
-shift blends neighbouring colours, so it stays inside the ranges; a moved, dropped or
-recoloured object puts colours where neither image had them. The price: a change one or two
-pixels wide (a thin pole dropped) also finds its colours next door, and is excused.
+*Outside the ranges* (wide, faint changes). For each pixel and channel, how far the output's
+colour lies outside the colour range of the reference's 3x3 neighbourhood, or the
+reference's outside the output's, whichever is smaller, less a level of rounding; a pixel's
+score is the largest over its channels. A sub-pixel shift blends neighbouring colours, so it
+stays inside the ranges; a recoloured surface or a changed field of view does not. Pixel by
+pixel this excuses a lot (a feature one or two pixels wide finds its colours next door), so
+it is judged by small limits on tile and frame means.
+
+*Left after a shift* (small, thin and local changes). Per 8x8 tile, each image is resampled
+(bilinear) at every shift of a grid within a quarter pixel, and the tile keeps the shift
+that leaves the least; in both directions (the output against the shifted reference and the
+reference against the shifted output), a pixel being charged the larger, so a feature only
+one image has is charged whichever image has it. What is left is forgiven, per channel, up
+to the rounding tolerance plus two allowances a rasterised image needs under a sub-pixel
+shift: a quarter of the local contrast (4x MSAA moves coverage in quarter steps, so an
+edge's pixels cannot follow a shift smoothly) and half the local second difference (detail
+finer than a pixel, a texture at a grazing angle, aliases rather than shifts). Both take the
+smaller of the two images' values, so a feature only one image has gets neither. The
+residual is signed (output minus reference) and judged by its worst pixel and the worst
+signed mean of any 8x8 window: one coherent displacement cannot make a bias.
 """
 from __future__ import annotations
 
@@ -23,23 +36,30 @@ import numpy as np
 from scenerender.compare.rule import TILE
 
 
-PIXEL_THRESHOLD = 24  # levels: a "bad" pixel in the plain (not edge-tolerant) count
+PIXEL_THRESHOLD = 24  # levels: a "bad" pixel in the plain (not shift-compensated) count
+SHIFTS = tuple((dy, dx) for dy in (0.0, -0.25, 0.25) for dx in (0.0, -0.25, 0.25))  # pixels; no shift first
+EDGE_SHARE = 0.25   # of the local contrast: 4x MSAA coverage steps
+ALIAS_SHARE = 0.5   # of the local second difference: detail finer than a pixel
 
 
 @dataclass(frozen=True)
 class FrameMetrics:
     """The numbers for one frame pair. ``None`` where a metric is not available (FLIP
-    without the optional package, for passing frames and for changed frames past the report's
-    picture cap; SSIM on images under 3x3)."""
+    without the optional package; FLIP and SSIM for passing frames and FLIP for changed
+    frames past the report's picture cap; SSIM on images under 3x3)."""
 
     mean_abs: float          # mean |diff| over all pixels and channels, levels
     max_abs: int             # largest channel difference, levels
     worst_tile: float        # largest mean |diff| of any TILE x TILE block, levels
     bad_percent: float       # % of pixels with a channel off by more than PIXEL_THRESHOLD
     psnr: float              # dB; inf for identical images
-    unexplained_mean: float  # mean unexplained difference per pixel, levels
-    worst_tile_aa: float     # largest mean unexplained difference of any TILE x TILE block, levels
-    changed_percent: float   # % of pixels with an unexplained difference
+    unexplained_mean: float  # mean difference outside the neighbourhood ranges per pixel, levels
+    worst_tile_aa: float     # largest mean of it over any TILE x TILE block, levels
+    shift_tile: float        # largest |signed mean| of the difference left after a shift, any TILE x TILE window
+    shift_pixel: float       # largest |difference left after a shift| of any pixel, levels
+    changed_percent: float   # % of pixels with a difference either view leaves unexplained
+    excused_pixels: int      # pixels that differ by more than the tolerance, all of it explained
+    largest_shift: float     # largest shift (pixels) a tile with an excused pixel needed (0: none needed)
     ssim: float | None       # structural similarity, 1 = identical
     flip: float | None       # mean FLIP error (0 = identical, 1 = as different as can be)
 
@@ -47,7 +67,8 @@ class FrameMetrics:
         """Plain JSON values: inf PSNR becomes null."""
         out = asdict(self)
         out["psnr"] = None if math.isinf(self.psnr) else round(self.psnr, 3)
-        for key in ("mean_abs", "worst_tile", "bad_percent", "worst_tile_aa", "changed_percent", "flip"):
+        for key in ("mean_abs", "worst_tile", "bad_percent", "worst_tile_aa", "shift_tile", "shift_pixel",
+                    "changed_percent", "largest_shift", "flip"):
             if out[key] is not None:
                 out[key] = round(out[key], 4)
         out["unexplained_mean"] = round(self.unexplained_mean, 6)
@@ -58,15 +79,23 @@ class FrameMetrics:
 
 @dataclass(frozen=True)
 class DiffMaps:
-    """Per-pixel maps behind the scores, for heatmaps and outlined regions."""
+    """Per-pixel and per-tile maps behind the scores, for heatmaps and outlined regions."""
 
     magnitude: np.ndarray    # (H, W) int16: largest channel |diff|
-    unexplained: np.ndarray  # (H, W) float32: unexplained difference, levels (0 where excused)
+    unexplained: np.ndarray  # (H, W) float32: difference outside the neighbourhood ranges, levels (>= 0)
+    residual: np.ndarray     # (H, W) float32: signed difference left after the best shift (output - reference)
+    shifts: np.ndarray       # (ceil(H/TILE), ceil(W/TILE), 2) float32: each tile's best (dy, dx), pixels
+    tolerance: int           # levels of rounding forgiven
+
+    @property
+    def changed(self) -> np.ndarray:
+        """(H, W) bool: pixels with a difference either view leaves unexplained."""
+        return (self.unexplained > 0) | (self.residual != 0)
 
     @property
     def excused(self) -> np.ndarray:
-        """(H, W) bool: pixels that differ, but no more than an edge shift and the tolerance explain."""
-        return (self.magnitude > 0) & (self.unexplained == 0)
+        """(H, W) bool: pixels that differ by more than the tolerance, all of it explained."""
+        return (self.magnitude > self.tolerance) & ~self.changed
 
 
 def absolute_difference(reference: np.ndarray, output: np.ndarray) -> np.ndarray:
@@ -76,9 +105,9 @@ def absolute_difference(reference: np.ndarray, output: np.ndarray) -> np.ndarray
 
 def neighbourhood_range(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per-channel min and max over each pixel's 3x3 neighbourhood (edges repeated).
-    (H, W, C) -> two (H, W, C) int16 arrays."""
+    (H, W, C) -> two (H, W, C) arrays of the input's type."""
     h, w = image.shape[:2]
-    padded = np.pad(image.astype(np.int16), ((1, 1), (1, 1), (0, 0)), mode="edge")
+    padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
     low = padded[1:h + 1, 1:w + 1].copy()
     high = low.copy()
     for dy in range(3):
@@ -90,15 +119,126 @@ def neighbourhood_range(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def unexplained_difference(reference: np.ndarray, output: np.ndarray, tolerance: int) -> np.ndarray:
-    """(H, W) float32: per pixel, the largest over channels of the difference no sub-pixel
-    shift explains (see the module notes), less ``tolerance`` levels, at least 0."""
-    ref_low, ref_high = neighbourhood_range(reference)
-    out_low, out_high = neighbourhood_range(output)
+    """(H, W) float32: per pixel, the largest over channels of how far one image's colour
+    lies outside the other's 3x3 range, the smaller direction, less ``tolerance`` levels, at
+    least 0 (see the module notes). Inputs (H, W, 3) uint8."""
     ref, out = reference.astype(np.int16), output.astype(np.int16)
+    ref_low, ref_high = neighbourhood_range(ref)
+    out_low, out_high = neighbourhood_range(out)
     outside_ref = np.maximum(np.maximum(ref_low - out, out - ref_high), 0)
     outside_out = np.maximum(np.maximum(out_low - ref, ref - out_high), 0)
     excess = np.minimum(outside_ref, outside_out).max(axis=2)
     return np.maximum(excess - tolerance, 0).astype(np.float32)
+
+
+def _span(image: np.ndarray) -> np.ndarray:
+    low, high = neighbourhood_range(image)
+    return high - low
+
+
+def second_difference(image: np.ndarray) -> np.ndarray:
+    """Per-channel half |second difference|, the larger of the two axes (edges repeated):
+    large where the image holds detail at the pixel scale. (H, W, C) float32 -> same."""
+    padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
+    centre = padded[1:-1, 1:-1]
+    across = np.abs(2 * centre - padded[1:-1, :-2] - padded[1:-1, 2:])
+    down = np.abs(2 * centre - padded[:-2, 1:-1] - padded[2:, 1:-1])
+    return np.maximum(across, down) * 0.5
+
+
+def allowance(reference: np.ndarray, output: np.ndarray, tolerance: int) -> np.ndarray:
+    """(H, W, 3) float32: per channel, the levels forgiven after the best shift (see the
+    module notes). Inputs (H, W, 3) float32."""
+    edges = np.minimum(_span(reference), _span(output))
+    detail = np.minimum(second_difference(reference), second_difference(output))
+    return tolerance + EDGE_SHARE * edges + ALIAS_SHARE * detail
+
+
+def _tiles(image: np.ndarray, margin: int) -> np.ndarray:
+    """(H, W, C) -> (rows, cols, TILE + 2 margin, TILE + 2 margin, C) views over the image
+    padded by repeating its edges (a tile past the right or bottom edge repeats the last pixels)."""
+    h, w, c = image.shape
+    rows, cols = -(-h // TILE), -(-w // TILE)
+    padded = np.pad(image, ((margin, rows * TILE - h + margin), (margin, cols * TILE - w + margin), (0, 0)),
+                    mode="edge")
+    s = padded.strides
+    side = TILE + 2 * margin
+    return np.lib.stride_tricks.as_strided(padded, (rows, cols, side, side, c), (s[0] * TILE, s[1] * TILE, *s),
+                                           writeable=False)
+
+
+def _shifted(patches: np.ndarray, dy: float, dx: float) -> np.ndarray:
+    """Bilinear resampling of (N, TILE + 2, TILE + 2, C) patches at (+dy, +dx) pixels, |d| <= 1,
+    -> (N, TILE, TILE, C): the inner tile seen through the shift."""
+    def along(a, d, axis):
+        centre = np.take(a, range(1, 1 + TILE), axis=axis)
+        if d == 0:
+            return centre
+        neighbour = np.take(a, range(2, 2 + TILE) if d > 0 else range(0, TILE), axis=axis)
+        return (1 - abs(d)) * centre + abs(d) * neighbour
+    return along(along(patches, dx, 2), dy, 1)
+
+
+def _best_shift(source: np.ndarray, target: np.ndarray, forgiven: np.ndarray, sign: float):
+    """For each tile, the shift of ``source`` (N, T+2, T+2, 3 patches) that leaves the least
+    charged residual against ``target``'s inner tiles -> (signed residual (N, T, T, 3), shift (N, 2))."""
+    inner = target[:, 1:-1, 1:-1]
+    best_residual = best_score = best_shift = None
+    for dy, dx in SHIFTS:
+        difference = sign * (inner - _shifted(source, dy, dx))
+        residual = np.sign(difference) * np.maximum(np.abs(difference) - forgiven, 0)
+        score = np.abs(residual).max(axis=3).sum(axis=(1, 2))
+        if best_score is None:
+            best_residual, best_score = residual, score
+            best_shift = np.zeros((len(score), 2), np.float32)
+            continue
+        better = score < best_score  # ties keep the smaller shift (no shift comes first)
+        best_residual[better], best_score[better], best_shift[better] = residual[better], score[better], (dy, dx)
+    return best_residual, best_shift
+
+
+def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int) -> tuple[np.ndarray, np.ndarray]:
+    """The signed difference (output - reference) no small shift explains, per pixel the
+    channel with the largest magnitude -> ((H, W) float32 levels, (rows, cols, 2) float32
+    per-tile shift (dy, dx) in pixels). Only tiles that differ beyond the allowances
+    unshifted are searched, so identical and nearly identical frames cost little."""
+    h, w, _ = reference.shape
+    ref, out = reference.astype(np.float32), output.astype(np.float32)
+    forgiven = allowance(ref, out, tolerance)
+    rows, cols = -(-h // TILE), -(-w // TILE)
+    shifts = np.zeros((rows, cols, 2), np.float32)
+    charged = np.zeros((rows, cols, TILE, TILE, 3), np.float32)
+    beyond = np.abs(out - ref) > forgiven  # a tile the allowances explain unshifted keeps no shift
+    active = _tiles(beyond.any(axis=2, keepdims=True), 0).any(axis=(2, 3, 4))
+    if active.any():
+        ref_tiles, out_tiles = _tiles(ref, 1)[active], _tiles(out, 1)[active]
+        limit = _tiles(forgiven, 0)[active]
+        forward, forward_shift = _best_shift(ref_tiles, out_tiles, limit, 1.0)
+        backward, _ = _best_shift(out_tiles, ref_tiles, limit, -1.0)
+        charged[active] = np.where(np.abs(forward) >= np.abs(backward), forward, backward)
+        shifts[active] = forward_shift
+    per_pixel = charged.transpose(0, 2, 1, 3, 4).reshape(rows * TILE, cols * TILE, 3)[:h, :w]
+    strongest = np.abs(per_pixel).argmax(axis=2)[..., None]
+    return np.take_along_axis(per_pixel, strongest, axis=2)[..., 0], shifts
+
+
+def window_sums(per_pixel: np.ndarray, side: int = TILE) -> np.ndarray:
+    """Sums of ``per_pixel`` (H, W) over every side x side window that fits (all windows of
+    an image smaller than that, clipped) -> 2-D float64."""
+    h, w = per_pixel.shape
+    sy, sx = min(side, h), min(side, w)
+    table = np.zeros((h + 1, w + 1))
+    table[1:, 1:] = np.cumsum(np.cumsum(per_pixel, axis=0, dtype=np.float64), axis=1)
+    return table[sy:, sx:] - table[:-sy, sx:] - table[sy:, :-sx] + table[:-sy, :-sx]
+
+
+def worst_window_bias(unexplained: np.ndarray) -> float:
+    """Largest |mean| of the signed unexplained difference over any TILE x TILE window."""
+    if not unexplained.size:
+        return 0.0
+    sums = window_sums(unexplained)
+    area = min(TILE, unexplained.shape[0]) * min(TILE, unexplained.shape[1])
+    return float(np.abs(sums).max() / area)
 
 
 def tile_means(per_pixel: np.ndarray, tile: int = TILE) -> np.ndarray:
@@ -160,15 +300,23 @@ def _flip_score(reference: np.ndarray, output: np.ndarray, identical: bool) -> f
 
 
 def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
-            with_flip: bool = True) -> tuple[FrameMetrics, DiffMaps]:
-    """All metrics for two (H, W, 3) uint8 images of one shape, and the maps behind them."""
+            with_flip: bool = True, with_ssim: bool = True) -> tuple[FrameMetrics, DiffMaps]:
+    """All metrics for two (H, W, 3) uint8 images of one shape, and the maps behind them.
+    SSIM (0.6 s at 1920x1080, more than the verdict's own scores) and FLIP are left None
+    when not asked for, unless the images are identical."""
     diff = absolute_difference(reference, output)
     magnitude = diff.max(axis=2)
     identical = not magnitude.any()
+    rows, cols = -(-magnitude.shape[0] // TILE), -(-magnitude.shape[1] // TILE)
     if identical:
         unexplained = np.zeros(magnitude.shape, np.float32)
+        residual, shifts = unexplained.copy(), np.zeros((rows, cols, 2), np.float32)
     else:
         unexplained = unexplained_difference(reference, output, aa_tolerance)
+        residual, shifts = shift_residual(reference, output, aa_tolerance)
+    maps = DiffMaps(magnitude, unexplained, residual, shifts, aa_tolerance)
+    excused = maps.excused
+    excused_tiles = tile_means(excused.astype(np.float32)) > 0
     metrics = FrameMetrics(
         mean_abs=float(diff.mean()),
         max_abs=int(magnitude.max()),
@@ -177,8 +325,12 @@ def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
         psnr=psnr(diff),
         unexplained_mean=float(unexplained.mean()),
         worst_tile_aa=float(tile_means(unexplained).max()),
-        changed_percent=100.0 * float((unexplained > 0).mean()),
-        ssim=1.0 if identical else ssim(reference, output),
+        shift_tile=worst_window_bias(residual),
+        shift_pixel=float(np.abs(residual).max()),
+        changed_percent=100.0 * float(maps.changed.mean()),
+        excused_pixels=int(excused.sum()),
+        largest_shift=float(np.abs(shifts[excused_tiles]).max()) if excused_tiles.any() else 0.0,
+        ssim=1.0 if identical else (ssim(reference, output) if with_ssim else None),
         flip=_flip_score(reference, output, identical) if with_flip else None,
     )
-    return metrics, DiffMaps(magnitude, unexplained)
+    return metrics, maps

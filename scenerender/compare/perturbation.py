@@ -1,23 +1,23 @@
-"""The perturbation suite: how far apart noise and real changes score, per metric.
+"""The perturbation corpus: how far apart noise and real changes score, per metric.
 
-Each scene is rendered small (160x120) once as the base. *Noise* stands in for what differs
-between drivers and runs: a re-render, the camera turned by 1/8 and 1/4 pixel (right and up
-at once), a +-1-level random dither on the output, and +1 level on every channel (rounding).
-*Changes* are small real regressions: an object moved 3 pixels, an object dropped, a material colour scaled by 0.9,
-the main light's shadows off, fov one degree wider, a texture swapped. For every metric the
+Each scene is rendered once as the base. *Noise* stands in for what differs between drivers
+and runs: a re-render, the camera turned by 1/8 and 1/4 pixel (right and up at once), a
++-1-level random dither on the output, and +1 level on every channel (rounding). *Changes*
+are real regressions, small ones above all: objects moved, dropped, added, recoloured or
+re-textured, a light turned, a spot cone narrowed, a shininess halved. For every metric the
 margin is the gap between the largest noise score and the smallest change score; the
 default rule (scenerender.compare.rule) is chosen from it and must pass every noise case
-and fail every change case.
+and fail every change case except the few listed in KNOWN_MISSES, whose scores are printed.
 
     python -m scenerender.compare.perturbation              # print the tables (needs GL)
     python -m scenerender.compare.perturbation --write docs/diff-margins.md
 
-It renders the scenes of a source checkout (scenes/ beside the package).
+It renders the scenes of a source checkout (scenes/ and tests/diff_corpus/ beside the package).
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
@@ -26,10 +26,10 @@ import numpy as np
 from scenerender.compare.metrics import FrameMetrics, measure
 from scenerender.compare.rule import DEFAULT_RULE, DiffRule
 
-SIZE = (160, 120)
-SCENES_DIR = Path(__file__).resolve().parents[2] / "scenes"
+ROOT = Path(__file__).resolve().parents[2]
 NOISE = ("re-render", "jitter 1/8 px", "jitter 1/4 px", "dither +-1 level", "offset +1 level")
-CHANGES = ("object moved 3 px", "object dropped", "colour -10%", "shadow off", "fov +1 degree", "texture swapped")
+STANDARD_CHANGES = ("object moved 3 px", "object dropped", "colour -10%", "shadow off", "fov +1 degree",
+                    "texture swapped")
 
 # render(scene file, overrides, frame) -> (H, W, 3) uint8
 RenderFn = Callable[[Path, list, int], np.ndarray]
@@ -37,36 +37,50 @@ RenderFn = Callable[[Path, list, int], np.ndarray]
 
 @dataclass(frozen=True)
 class SceneCase:
-    """One scene of the suite with a static camera (animated cameras are pinned to the
-    pose of ``frame``) and the overrides that make each change."""
+    """One scene of the corpus with a static camera (animated cameras are pinned to the
+    pose of ``frame``), the overrides every render of it takes (``setup``), and its changes:
+    the standard six made from ``moved``, ``dropped``, ``recolour`` and ``texture`` where
+    given, and ``extra`` changes by name."""
 
     name: str
-    scene: str
+    scene: str                                      # relative to the checkout
     frame: int
     position: tuple[float, float, float]
     target: tuple[float, float, float]
     fov: float
-    moved: tuple[int, tuple[float, float, float]]   # object index, its position
-    dropped: int                                    # object index
-    recolour: tuple[str, tuple[float, float, float]]  # diffuse key, its colour
-    texture: tuple[str, str]                        # diffuse_map key, the other texture
+    size: tuple[int, int] = (160, 120)
+    setup: tuple[str, ...] = ()
+    moved: tuple[int, tuple[float, float, float]] | None = None   # object index, its position
+    dropped: int | None = None                                    # object index
+    recolour: tuple[str, tuple[float, float, float]] | None = None  # diffuse key, its colour
+    texture: tuple[str, str] | None = None                        # diffuse_map key, the other texture
+    extra: dict = field(default_factory=dict)                     # change name -> overrides
+
+    @property
+    def path(self) -> Path:
+        return ROOT / self.scene
 
     def base(self) -> list[str]:
-        return [f"render.size=[{SIZE[0]}, {SIZE[1]}]", _set("camera.position", self.position),
-                _set("camera.target", self.target), f"camera.fov={self.fov:g}"]
+        return [f"render.size=[{self.size[0]}, {self.size[1]}]", _set("camera.position", self.position),
+                _set("camera.target", self.target), f"camera.fov={self.fov:g}", *self.setup]
 
     def changes(self) -> dict[str, list[str]]:
-        index, position = self.moved
-        key, colour = self.recolour
-        texture_key, texture = self.texture
-        return {
-            "object moved 3 px": [_set(f"objects[{index}].position", self.shifted(position, 3.0))],
-            "object dropped": [f"objects[{self.dropped}].visible=false"],
-            "colour -10%": [_set(key, tuple(0.9 * c for c in colour))],
-            "shadow off": ["lights[0].shadows=false"],
-            "fov +1 degree": [f"camera.fov={self.fov + 1:g}"],
-            "texture swapped": [f"{texture_key}={texture}"],
-        }
+        out = {}
+        if self.moved is not None:
+            index, position = self.moved
+            out["object moved 3 px"] = [_set(f"objects[{index}].position", self.shifted(position, 3.0))]
+        if self.dropped is not None:
+            out["object dropped"] = [f"objects[{self.dropped}].visible=false"]
+        if self.recolour is not None:
+            key, colour = self.recolour
+            out["colour -10%"] = [_set(key, tuple(0.9 * c for c in colour))]
+        out["shadow off"] = ["lights[0].shadows=false"]
+        out["fov +1 degree"] = [f"camera.fov={self.fov + 1:g}"]
+        if self.texture is not None:
+            texture_key, texture = self.texture
+            out["texture swapped"] = [f"{texture_key}={texture}"]
+        return {**out, **{name: list(overrides(self) if callable(overrides) else overrides)
+                          for name, overrides in self.extra.items()}}
 
     def pixel_axes(self) -> tuple[np.ndarray, np.ndarray]:
         """Unit vectors to the right and up of the view."""
@@ -79,7 +93,7 @@ class SceneCase:
     def pixel_size(self, point) -> float:
         """World size of one pixel at the depth of ``point``."""
         depth = float(np.linalg.norm(np.subtract(point, self.position)))
-        return 2.0 * depth * math.tan(math.radians(self.fov) / 2) / SIZE[1]
+        return 2.0 * depth * math.tan(math.radians(self.fov) / 2) / self.size[1]
 
     def shifted(self, point, pixels: float) -> tuple:
         """``point`` moved ``pixels`` to the right on screen."""
@@ -97,31 +111,59 @@ def _set(key: str, vector) -> str:
     return f"{key}=[{', '.join(f'{float(v):.6g}' for v in vector)}]"
 
 
+def _turned_about_vertical(direction, degrees: float) -> tuple:
+    a = math.radians(degrees)
+    x, y, z = direction
+    return (x * math.cos(a) + z * math.sin(a), y, -x * math.sin(a) + z * math.cos(a))
+
+
+KNOBBLY = (0.85, 0.15, 0.1)
+
 # Objects moved / dropped: showcase the vase / the duck, garden the duck / the cat,
 # primitives the box / a sphere, viewer_modes the small crate / the crate.
 CASES = (
     # showcase at frame 45 (t = 1.5 s): the orbit is exactly at a key there
-    SceneCase("showcase", "showcase.yaml", 45, (5.303, 2.4, -5.303), (0, 0.9, 0), 50,
+    SceneCase("showcase", "scenes/showcase.yaml", 45, (5.303, 2.4, -5.303), (0, 0.9, 0), 50,
               moved=(6, (-0.35, 0.35, -0.1)), dropped=3, recolour=("materials.paving.diffuse", (0.85, 0.85, 0.85)),
-              texture=("materials.paving.diffuse_map", "assets/textures/rock.png")),
-    SceneCase("garden", "garden.yaml", 30, (0, 2.2, 7.5), (0, 0.2, 0), 60,
+              texture=("materials.paving.diffuse_map", "assets/textures/rock.png"),
+              extra={"thin lantern pole dropped": ["objects[7].visible=false"],
+                     "small lantern glow dropped": ["objects[8].visible=false"]}),
+    SceneCase("garden", "scenes/garden.yaml", 30, (0, 2.2, 7.5), (0, 0.2, 0), 60,
               moved=(4, (-2.2, -0.05, 1.5)), dropped=3, recolour=("materials.grass.diffuse", (0.9, 0.9, 0.9)),
               texture=("materials.grass.diffuse_map", "assets/textures/dirt.png")),
-    SceneCase("primitives", "primitives.yaml", 30, (0, 5.2, 8.5), (0, 0.4, 0), 50,
+    SceneCase("primitives", "scenes/primitives.yaml", 30, (0, 5.2, 8.5), (0, 0.4, 0), 50,
               moved=(14, (-1.8, 0.25, 2.2)), dropped=5, recolour=("materials.jade.diffuse", (0.25, 0.65, 0.45)),
               texture=("objects[0].material.diffuse_map", "assets/textures/stone.png")),
-    SceneCase("viewer_modes", "viewer_modes.yaml", 0, (2.6, 2.4, 4.2), (0, 1.35, 0), 45,
+    # a nearest-filtered floor moves its texel edges by whole pixels under a sub-pixel camera
+    # move, which no rule can tell from a 1-px move; drivers do not move the camera, so the
+    # corpus filters it linearly (docs/diff-margins.md, "What the rule cannot see")
+    SceneCase("viewer_modes", "scenes/viewer_modes.yaml", 0, (2.6, 2.4, 4.2), (0, 1.35, 0), 45,
+              setup=("objects[0].material.filter=linear",),
               moved=(3, (1.1, 0.75, 0.3)), dropped=2, recolour=("objects[0].material.diffuse", (0.8, 0.8, 0.8)),
               texture=("objects[0].material.diffuse_map", "assets/textures/marble.png")),
+    # the edits of scenes/primitives.yaml a one-pixel rule let through, at 320x240
+    SceneCase("primitives 320", "scenes/primitives.yaml", 0, (0, 5.2, 8.5), (0, 0.4, 0), 50, size=(320, 240),
+              extra={"cylinder 10% smaller": ["objects[3].scale=0.9"],
+                     "box turned 5 degrees": ["objects[14].rotation=[0, 35, 0]"],
+                     "sphere moved 5 cm": ["objects[6].position=[3.05, 0.5, -2.2]"],
+                     "cone 9% shorter": ["objects[9].mesh.height=1.0"],
+                     "shininess halved": ["materials.steel.shininess=80"],
+                     "sun 5% dimmer": ["lights[0].intensity=0.855"]}),
+    # small, detailed, thin and tiny things under three light types (tests/diff_corpus/)
+    SceneCase("detail", "tests/diff_corpus/detail.yaml", 0, (0, 1.6, 5.0), (0, 0.3, 0), 45, size=(320, 240),
+              dropped=2,
+              extra={"knobbly colour -10%": [_set("objects[1].material.diffuse", [0.9 * c for c in KNOBBLY])],
+                     "knobbly colour -15%": [_set("objects[1].material.diffuse", [0.85 * c for c in KNOBBLY])],
+                     "texture darkened 15%": ["objects[2].material.diffuse_map=speckle_dark.png"],
+                     "1-px pole added": ["objects[4].visible=true"],
+                     "1-px pole removed": ["objects[3].visible=false"],
+                     "3-px bead moved 1 px": lambda case: [
+                         _set("objects[5].position", case.shifted((1.2, 0.75, -0.6), 1.0))],
+                     "spot cone 2 degrees narrower": ["lights[1].outer_angle=18"],
+                     "sun turned 5 degrees": [_set("lights[0].direction",
+                                                   _turned_about_vertical((-0.5, -1.0, -0.4), 5.0))],
+                     "shininess halved": ["objects[6].material.shininess=32"]}),
 )
-
-
-# Changes the rule is known to miss, measured and printed (not asserted): features one or
-# two pixels wide look like an edge shift. Scene name -> {what: overrides}.
-KNOWN_MISSES = {
-    "showcase": {"thin lantern pole dropped": ["objects[7].visible=false"],
-                 "small lantern glow dropped": ["objects[8].visible=false"]},
-}
 
 
 @dataclass(frozen=True)
@@ -140,10 +182,8 @@ def dither(image: np.ndarray, seed: int = 0) -> np.ndarray:
 
 def perturbed_images(case: SceneCase, render: RenderFn) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """The base render of ``case`` and every perturbed image, by perturbation name."""
-    path = SCENES_DIR / case.scene
-
     def shot(extra):
-        return render(path, case.base() + list(extra), case.frame)
+        return render(case.path, case.base() + list(extra), case.frame)
 
     base = shot([])
     images = {"re-render": shot([]), "jitter 1/8 px": shot(case.jittered(1 / 8)),
@@ -159,6 +199,17 @@ def score_case(case: SceneCase, render: RenderFn, rule: DiffRule = DEFAULT_RULE,
             for name, image in images.items()]
 
 
+# Changes the default rule passes, measured and printed (the test asserts every other change
+# fails): each is smaller after the best quarter-pixel shift than a quarter-pixel jitter of
+# aliasing detail elsewhere in the corpus (docs/diff-margins.md, "What the rule cannot see").
+KNOWN_MISSES = frozenset({
+    ("detail", "3-px bead moved 1 px"),
+    ("detail", "shininess halved"),
+    ("primitives 320", "sphere moved 5 cm"),
+    ("primitives 320", "shininess halved"),
+    ("showcase", "thin lantern pole dropped"),
+})
+
 # -- the tables ---------------------------------------------------------------------------------
 
 # metric -> (label, higher means more different?)
@@ -169,10 +220,13 @@ METRICS = {
     "psnr": ("PSNR (dB)", False),
     "ssim": ("SSIM", False),
     "flip": ("FLIP", True),
-    "worst_tile_aa": ("worst 8x8 tile, unexplained (levels)", True),
-    "unexplained_mean": ("unexplained mean (levels)", True),
-    "changed_percent": ("% pixels changed (unexplained)", True),
+    "worst_tile_aa": ("worst 8x8 tile outside the ranges (levels)", True),
+    "unexplained_mean": ("mean outside the ranges (levels)", True),
+    "shift_tile": ("worst 8x8 window after the shift (levels)", True),
+    "shift_pixel": ("worst pixel after the shift (levels)", True),
 }
+RULE_METRICS = {"worst_tile_aa": "max_tile", "unexplained_mean": "max_unexplained_mean",
+                "shift_tile": "max_shift_tile"}
 
 
 @dataclass(frozen=True)
@@ -225,52 +279,58 @@ def margin_table(scores: list[Score]) -> str:
     return "\n".join(lines)
 
 
+def limit_table(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
+    """Per limit of the rule: the worst noise, how far the limit sits above it, and the
+    changes only that limit catches with the smallest of their ratios to it."""
+    lines = ["| limit | value | worst noise | limit / noise | changes it alone catches | closest of them, score / limit |",
+             "|---|---|---|---|---|---|"]
+    for metric, field_name in RULE_METRICS.items():
+        limit = getattr(rule, field_name)
+        noise = max((s for s in scores if s.noise), key=lambda s: getattr(s.metrics, metric))
+        worst = getattr(noise.metrics, metric)
+        alone = [s for s in scores if not s.noise and rule.failures(s.metrics)
+                 and _caught_by(s.metrics, rule) == [field_name]]
+        closest = min(alone, key=lambda s: getattr(s.metrics, metric), default=None)
+        closest_text = (f"{getattr(closest.metrics, metric) / limit:.2f} ({closest.scene}: {closest.case})"
+                        if closest else "")
+        ratio = f"{limit / worst:.2f}" if worst > 0 else "inf"
+        lines.append(f"| `{field_name}` | {limit:g} | {_num(worst)} ({noise.scene}: {noise.case}) | {ratio} | "
+                     f"{len(alone)} | {closest_text} |")
+    return "\n".join(lines)
+
+
+def _caught_by(metrics: FrameMetrics, rule: DiffRule) -> list[str]:
+    return [name for metric, name in RULE_METRICS.items() if getattr(metrics, metric) > getattr(rule, name)]
+
+
+RANGE_ONLY = DiffRule(max_shift_tile=math.inf)  # the rule before the shift test
+
+
 def verdict_table(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
-    """Every case's rule scores and whether the rule judged it as it should."""
-    lines = ["| scene | case | kind | tile, unexplained | unexplained mean | % changed | mean | SSIM | verdict |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    """Every case's rule scores, the verdict of the ranges alone (the earlier rule) and of
+    the whole rule, and whether the rule judged it as it should."""
+    lines = ["| scene | case | kind | tile outside ranges | mean outside ranges | window after shift | "
+             "pixel after shift | ranges alone | rule |", "|---|---|---|---|---|---|---|---|---|"]
     for s in scores:
-        m, failed = s.metrics, bool(rule.failures(s.metrics))
-        right = failed != s.noise
-        ssim = "n/a" if m.ssim is None else f"{m.ssim:.4f}"
+        m = s.metrics
+        old, new = bool(RANGE_ONLY.failures(m)), bool(rule.failures(m))
+        right = new != s.noise
+        known = " (known miss)" if not right and (s.scene, s.case) in KNOWN_MISSES else ""
         lines.append(f"| {s.scene} | {s.case} | {'noise' if s.noise else 'change'} | {m.worst_tile_aa:.3f} | "
-                     f"{m.unexplained_mean:.5f} | {m.changed_percent:.3f} | {m.mean_abs:.3f} | {ssim} | "
-                     f"{'fail' if failed else 'pass'}{'' if right else ' (WRONG)'} |")
+                     f"{m.unexplained_mean:.5f} | {m.shift_tile:.2f} | {m.shift_pixel:.1f} | "
+                     f"{'fail' if old else 'pass'} | {'fail' if new else 'pass'}"
+                     f"{known or ('' if right else ' (WRONG)')} |")
     return "\n".join(lines)
 
 
 def misjudged(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> list[Score]:
-    """Noise the rule fails and changes it passes."""
-    return [s for s in scores if bool(rule.failures(s.metrics)) == s.noise]
+    """Noise the rule fails and changes it passes, the known misses left out."""
+    return [s for s in scores if bool(rule.failures(s.metrics)) == s.noise
+            and (s.scene, s.case) not in KNOWN_MISSES]
 
 
 def run_suite(render: RenderFn, cases=CASES, rule: DiffRule = DEFAULT_RULE, with_flip: bool = True) -> list[Score]:
     return [score for case in cases for score in score_case(case, render, rule, with_flip)]
-
-
-def score_known_misses(render: RenderFn, rule: DiffRule = DEFAULT_RULE) -> list[Score]:
-    scores = []
-    for case in CASES:
-        misses = KNOWN_MISSES.get(case.name, {})
-        if not misses:
-            continue
-        path = SCENES_DIR / case.scene
-        base = render(path, case.base(), case.frame)
-        for what, overrides in misses.items():
-            image = render(path, case.base() + overrides, case.frame)
-            scores.append(Score(case.name, what, False, measure(base, image, rule.aa_tolerance, False)[0]))
-    return scores
-
-
-def known_misses_table(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
-    lines = ["| scene | change | plain worst tile | % pixels off by >24 | tile, unexplained | unexplained mean "
-             "| verdict |", "|---|---|---|---|---|---|---|"]
-    for s in scores:
-        m = s.metrics
-        lines.append(f"| {s.scene} | {s.case} | {m.worst_tile:.2f} | {m.bad_percent:.3f} | "
-                     f"{m.worst_tile_aa:.3f} | {m.unexplained_mean:.5f} | "
-                     f"{'fail' if rule.failures(m) else 'pass'} |")
-    return "\n".join(lines)
 
 
 def api_render_fn(gl) -> RenderFn:
@@ -283,32 +343,40 @@ def api_render_fn(gl) -> RenderFn:
     return render
 
 
-def report_text(scores: list[Score], rule: DiffRule = DEFAULT_RULE, misses: list[Score] = ()) -> str:
-    known = ["## Known misses", "",
-             "Changes one or two pixels wide at this size look like edge shifts, and pass:", "",
-             known_misses_table(list(misses), rule), ""] if misses else []
+def report_text(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
+    noise = sum(s.noise for s in scores)
+    changes = len(scores) - noise
+    caught_old = sum(1 for s in scores if not s.noise and RANGE_ONLY.failures(s.metrics))
+    caught = sum(1 for s in scores if not s.noise and rule.failures(s.metrics))
+    scenes = ", ".join(f"{c.name} ({c.size[0]}x{c.size[1]})" for c in CASES)
     return "\n".join([
-        "# Noise against change: the margin of every diff metric", "",
-        "Made by `python -m scenerender.compare.perturbation --write docs/diff-margins.md` "
-        f"({len(CASES)} scenes at {SIZE[0]}x{SIZE[1]}; noise: {', '.join(NOISE)}; "
-        f"changes: {', '.join(CHANGES)}).", "",
+        "## The corpus: noise against change, metric by metric", "",
+        "Made by `python -m scenerender.compare.perturbation --write docs/diff-margins.md`. "
+        f"Scenes: {scenes}. Noise: {', '.join(NOISE)}. {noise} noise cases, {changes} changes.", "",
+        f"The default rule fails {caught} of the {changes} changes and passes all {noise} noise cases; the "
+        f"neighbourhood ranges alone (the rule before the shift test) failed {caught_old}.", "",
+        "### Each metric", "",
         "For each metric, the largest score any noise case reached, the smallest score any change "
         "case reached (for PSNR and SSIM the other way round: lower means more different), "
-        "and the gap between them. A metric separates noise from change when the gap is positive.",
-        "", margin_table(scores), "",
+        "and the gap between them. A metric separates noise from change when the gap is positive; "
+        "none does alone, which is why the rule holds three limits.", "",
+        margin_table(scores), "",
+        "### Each limit", "",
         f"Default rule: {rule.describe()}.", "",
-        "*Unexplained* is the part of a difference that no sub-pixel shift explains: how far a "
-        "pixel's colour lies outside the colour range of the other image's 3x3 neighbourhood, "
-        "taking the smaller of the two directions (a difference is excused when either image's "
-        "neighbourhood holds the other's colour), less the tolerance. The plain metrics (mean, "
-        "tile, % off, PSNR, SSIM, FLIP) all score a quarter-pixel camera jitter of a textured "
-        "scene as worse than a real change; the unexplained ones do not. The tile limit sits "
-        "about ten times above the worst noise and catches every local change (moved, dropped, "
-        "shadow, texture) on its own; the mean limit catches the faint changes spread wide "
-        "(colour, fov). Limit: a change thinner than three pixels (a one-pixel line dropped, a "
-        "single pixel recoloured) looks like an edge shift and is excused.", "",
-        verdict_table(scores, rule), "", *known,
+        limit_table(scores, rule), "",
+        "### Every case", "",
+        verdict_table(scores, rule), "",
     ])
+
+
+TABLES_MARK = "<!-- Below: made by python -m scenerender.compare.perturbation --write; edit the prose above -->"
+
+
+def _with_kept_prose(path: Path, tables: str) -> str:
+    """The file's hand-written part (everything above TABLES_MARK) followed by ``tables``."""
+    old = path.read_text(encoding="utf-8") if path.is_file() else ""
+    prose = old.split(TABLES_MARK)[0].rstrip() if TABLES_MARK in old else ""
+    return (prose + "\n\n" if prose else "") + TABLES_MARK + "\n\n" + tables
 
 
 def main(argv=None) -> int:
@@ -321,15 +389,13 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     gl = create_context()
     try:
-        render = api_render_fn(gl)
-        scores = run_suite(render)
-        misses = score_known_misses(render)
+        scores = run_suite(api_render_fn(gl))
     finally:
         gl.release()
-    text = report_text(scores, misses=misses)
+    text = report_text(scores)
     print(text)
     if args.write:
-        args.write.write_text(text, encoding="utf-8")
+        args.write.write_text(_with_kept_prose(args.write, text), encoding="utf-8")
     return 1 if misjudged(scores) else 0
 
 

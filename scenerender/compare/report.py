@@ -3,9 +3,11 @@
 as a CI artifact.
 
 Top: the verdict, counts, the rule, and what made each side (scenerender version, GL
-renderer). Then per changed frame: reference, output and heatmap with the changed regions
-outlined, a slider and a blink toggle between reference and output, and the metrics against
-the rule's limits. Passing frames are one table row each.
+renderer). Then per changed frame: reference, output, heatmap with the changed regions
+outlined and the map of each tile's best shift, a slider and a blink toggle between
+reference and output, and the metrics against the rule's limits. Every passing frame that
+differs at all gets the same pictures and what it excused, so a pass can be audited; passing
+frames are also one table row each.
 """
 from __future__ import annotations
 
@@ -120,10 +122,15 @@ def metrics_rows(metrics: FrameMetrics, rule: DiffRule) -> list[tuple[str, str, 
     """(name, value, limit, within limit or None for information only) per metric."""
     flip = _fmt(metrics.flip, 5) if metrics.flip is not None else "n/a (pip install 'scenerender[flip]')"
     return [
-        (f"worst {TILE}x{TILE} tile, unexplained (levels, largest channel)", _fmt(metrics.worst_tile_aa),
+        (f"worst {TILE}x{TILE} tile outside the 3x3 ranges (levels, largest channel)", _fmt(metrics.worst_tile_aa),
          f"<= {rule.max_tile:g}", metrics.worst_tile_aa <= rule.max_tile),
-        ("unexplained mean (levels)", _fmt(metrics.unexplained_mean, 5), f"<= {rule.max_unexplained_mean:g}",
+        ("mean outside the 3x3 ranges (levels)", _fmt(metrics.unexplained_mean, 5), f"<= {rule.max_unexplained_mean:g}",
          metrics.unexplained_mean <= rule.max_unexplained_mean),
+        (f"worst {TILE}x{TILE} window after the best shift (levels, signed mean)", _fmt(metrics.shift_tile),
+         f"<= {rule.max_shift_tile:g}", metrics.shift_tile <= rule.max_shift_tile),
+        ("worst pixel after the best shift (levels)", _fmt(metrics.shift_pixel, 1), "", None),
+        ("pixels excused (edge shifts and rounding)", str(metrics.excused_pixels), "", None),
+        ("largest shift a tile took (px)", _fmt(metrics.largest_shift, 2), "", None),
         ("% pixels changed (unexplained)", _fmt(metrics.changed_percent), "", None),
         ("mean |diff| (levels)", _fmt(metrics.mean_abs), "", None),
         (f"worst {TILE}x{TILE} tile, plain (levels, channel mean)", _fmt(metrics.worst_tile), "", None),
@@ -144,17 +151,24 @@ def _metrics_table(metrics: FrameMetrics, rule: DiffRule) -> str:
     return "<table><tr><th>metric</th><th>value</th><th>limit</th></tr>" + "".join(rows) + "</table>"
 
 
-def _changed_section(frame: FrameComparison, rule: DiffRule) -> str:
-    parts = [f'<section class="changed" id="{escape(frame.name)}"><h2>{escape(frame.name)}</h2>'
-             f'<p class="reason">{escape(frame.reason)}</p>']
+def _frame_section(frame: FrameComparison, rule: DiffRule) -> str:
+    """A changed frame, or a passing one that differs: pictures, what was excused, metrics."""
+    kind = "changed" if not frame.passed else "excused"
+    headline = (f'<p class="reason">{escape(frame.reason)}</p>' if not frame.passed
+                else f'<p class="ok">passes: {escape(frame.excused_line().split(": ", 1)[-1])}</p>')
+    parts = [f'<section class="{kind}" id="{escape(frame.name)}"><h2>{escape(frame.name)}</h2>{headline}']
     images = frame.images
     if images is None:
-        parts.append("<p>(pictures not kept: too many changed frames)</p>")
+        parts.append("<p>(pictures not kept: too many frames differ)</p>")
     else:
         boxes = _boxes(frame)
         figures = [_figure("reference", images.reference, boxes), _figure("output", images.output, boxes)]
         if images.heatmap is not None:
             figures.append(_figure("heatmap: red changed, blue edge shifts (excused)", images.heatmap, boxes))
+        if images.shifts is not None:
+            figures.append(_figure("best shift per tile: red right, green down (1/4 px full), grey none",
+                                   images.shifts, boxes))
+        if images.heatmap is not None:
             figures.append(_compare_widget(images.reference, images.output))
         parts.append('<div class="row">' + "".join(figures) + "</div>")
     if frame.metrics is not None:
@@ -165,16 +179,22 @@ def _changed_section(frame: FrameComparison, rule: DiffRule) -> str:
     return "".join(parts) + "</section>"
 
 
+def _passing_row(frame: FrameComparison) -> str:
+    m = frame.metrics
+    name = escape(frame.name)
+    cell = f'<a href="#{name}">{name}</a>' if frame.images is not None else name
+    return (f'<tr><td>{cell}</td><td class="num">{_fmt(m.mean_abs)}</td><td class="num">{m.excused_pixels}</td>'
+            f'<td class="num">{_fmt(m.largest_shift, 2)}</td><td class="num">{_fmt(m.shift_tile)}</td>'
+            f'<td class="num">{_fmt(m.psnr, 1)}</td></tr>')
+
+
 def _passing_table(frames: list[FrameComparison]) -> str:
     if not frames:
         return ""
-    rows = "".join(
-        f'<tr><td>{escape(f.name)}</td><td class="num">{_fmt(f.metrics.mean_abs)}</td>'
-        f'<td class="num">{_fmt(f.metrics.worst_tile_aa)}</td><td class="num">{_fmt(f.metrics.psnr, 1)}</td>'
-        f'<td class="num">{_fmt(f.metrics.ssim, 4)}</td></tr>'
-        for f in frames if f.metrics is not None)
+    rows = "".join(_passing_row(f) for f in frames if f.metrics is not None)
     return (f'<section class="passing"><h2>{len(frames)} frame(s) pass</h2><table><tr><th>frame</th>'
-            f'<th>mean</th><th>worst tile (unexplained)</th><th>PSNR</th><th>SSIM</th></tr>{rows}</table></section>')
+            '<th>mean</th><th>px excused</th><th>largest shift (px)</th><th>worst window after shift</th>'
+            f'<th>PSNR</th></tr>{rows}</table></section>')
 
 
 def _side_block(title: str, side: Side) -> str:
@@ -205,10 +225,11 @@ def render_html(result: CompareResult) -> str:
         '<section class="summary"><h2>Summary</h2>'
         f'<p>rule: {escape(result.rule.describe())}</p>'
         f'{_side_block("reference", result.reference)}{_side_block("output", result.output)}'
-        f'<pre>{escape(chr(10).join(result.summary_lines()))}</pre>{dropped}</section>',
+        f'<pre>{escape(chr(10).join(result.summary_lines(excused=True)))}</pre>{dropped}</section>',
         _names_section("missing in the output", result.missing),
         _names_section("extra in the output", result.extra),
-        *(_changed_section(frame, result.rule) for frame in result.changed),
+        *(_frame_section(frame, result.rule) for frame in result.changed),
+        *(_frame_section(frame, result.rule) for frame in result.frames if frame.passed and frame.images is not None),
         _passing_table([f for f in result.frames if f.passed]),
         "</main>",
     ]

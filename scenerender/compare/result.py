@@ -17,12 +17,14 @@ Box = tuple[int, int, int, int]  # x, y, width, height in pixels
 
 @dataclass
 class FrameImages:
-    """The pictures a report shows for a changed frame, each (H, W, 3) uint8. ``output``
-    has the reference's size only when the sizes matched; ``heatmap`` is None otherwise."""
+    """The pictures a report shows for a frame that differs, each (H, W, 3) uint8. ``output``
+    has the reference's size only when the sizes matched; ``heatmap`` and ``shifts`` (each
+    differing tile coloured by its best shift) are None otherwise."""
 
     reference: np.ndarray
     output: np.ndarray
     heatmap: np.ndarray | None
+    shifts: np.ndarray | None
 
 
 @dataclass
@@ -36,7 +38,7 @@ class FrameComparison:
     metrics: FrameMetrics | None = None
     regions: list[Box] = field(default_factory=list)
     size: tuple[int, int] | None = None          # (width, height) of the reference frame
-    images: FrameImages | None = None           # kept for changed frames only, up to a cap
+    images: FrameImages | None = None           # kept for frames that differ, up to a cap
 
     def summary_line(self) -> str:
         text = f"CHANGED {self.name}: {self.reason}"
@@ -52,6 +54,15 @@ class FrameComparison:
         if self.regions:
             text += f"; {len(self.regions)} region(s), largest at {_box_text(max(self.regions, key=_area))}"
         return text
+
+    def excused_line(self) -> str:
+        """What a passing frame that differs forgave ("" when nothing differs)."""
+        m = self.metrics
+        if m is None or m.excused_pixels == 0:
+            return ""
+        return (f"PASS {self.name}: {m.excused_pixels} px excused as sub-pixel edge shifts and rounding (tiles "
+                f"shifted <= {m.largest_shift:g} px; left after the shift: window {m.shift_tile:.2f}, "
+                f"pixel {m.shift_pixel:.0f} levels)")
 
     def to_json(self) -> dict:
         return {"name": self.name, "passed": self.passed, "reason": self.reason,
@@ -80,7 +91,7 @@ class CompareResult:
     frames: list[FrameComparison] = field(default_factory=list)
     missing: list[str] = field(default_factory=list)
     extra: list[str] = field(default_factory=list)
-    images_kept: int = 0      # changed frames whose pictures are kept for the report
+    images_kept: int = 0      # frames that differ whose pictures are kept for the report
     images_dropped: int = 0   # changed frames whose pictures were not kept (cap reached)
 
     @property
@@ -102,14 +113,23 @@ class CompareResult:
     def total_line(self) -> str:
         c = self.counts()
         if self.passed:
-            worst = max((f.metrics.worst_tile_aa for f in self.frames if f.metrics), default=0.0)
-            return f"PASS: {c['compared']} frame(s) match (worst {TILE}x{TILE} tile {worst:.2f} levels)"
+            measured = [f.metrics for f in self.frames if f.metrics]
+            excused = sum(m.excused_pixels for m in measured)
+            if not any(m.max_abs for m in measured):
+                return f"PASS: {c['compared']} frame(s) match (identical)"
+            shift = max(m.largest_shift for m in measured)
+            worst = max(m.shift_tile for m in measured)
+            return (f"PASS: {c['compared']} frame(s) match; {excused} px excused as sub-pixel edge shifts and "
+                    f"rounding (tiles shifted <= {shift:g} px; worst {TILE}x{TILE} window after the shift "
+                    f"{worst:.2f} levels)")
         return (f"FAIL: {c['changed']} of {c['compared']} frame(s) changed, {c['missing']} missing, "
                 f"{c['extra']} extra")
 
-    def summary_lines(self) -> list[str]:
-        """One line per changed, missing and extra frame, then the total line."""
-        lines = [frame.summary_line() for frame in self.changed]
+    def summary_lines(self, excused: bool = False) -> list[str]:
+        """One line per changed, missing and extra frame, then the total line; with
+        ``excused``, first a line per passing frame that differs, saying what it forgave."""
+        lines = [line for frame in self.frames if frame.passed and excused for line in [frame.excused_line()] if line]
+        lines += [frame.summary_line() for frame in self.changed]
         lines += [f"MISSING {name}: in the reference, not in the output" for name in self.missing]
         lines += [f"EXTRA {name}: in the output, not in the reference" for name in self.extra]
         return lines + [self.total_line()]
