@@ -117,6 +117,8 @@ class CompareResult:
             excused = sum(m.excused_pixels for m in measured)
             if not any(m.max_abs for m in measured):
                 return f"PASS: {c['compared']} frame(s) match (identical)"
+            if not excused:
+                return f"PASS: {c['compared']} frame(s) match (differences within {self.rule.aa_tolerance} level(s))"
             shift = max(m.largest_shift for m in measured)
             worst = max(m.shift_tile for m in measured)
             return (f"PASS: {c['compared']} frame(s) match; {excused} px excused as sub-pixel edge shifts and "

@@ -7,6 +7,8 @@ backend (e.g. "x11") for machines without EGL.
 from __future__ import annotations
 
 import os
+import sys
+from pathlib import Path
 
 from scenerender.errors import EnvironmentProblem
 from scenerender.machine import available_cores
@@ -29,6 +31,7 @@ def create_context():
     """A moderngl Context; raises EnvironmentProblem with an install hint if none can be made."""
     import moderngl
 
+    lift_forced_narrow_vectors()
     os.environ.setdefault("LP_NUM_THREADS", str(available_cores() + EXTRA_RASTERIZER_THREADS))
     backend = os.environ.get("SCENERENDER_GL_BACKEND", "egl")
     try:
@@ -51,3 +54,26 @@ def gl_info(ctx) -> dict:
     result["version_code"] = ctx.version_code
     return result
 
+
+
+def lift_forced_narrow_vectors(cpuinfo: Path = Path("/proc/cpuinfo")) -> bool:
+    """Mesa 22's llvmpipe told to use 4-wide vectors (LP_NATIVE_VECTOR_WIDTH=128) on a CPU
+    that has AVX2 writes past a heap buffer while it draws (a ground plane alone is
+    enough) and the process dies of heap corruption. On CPUs without AVX llvmpipe picks 128
+    bits itself and renders correctly: every example scene under an emulated SSE4.2 CPU
+    matches the native render (tests/test_cpu_without_avx2.py). So the forced setting is
+    lifted, with a warning, before the driver loads. Returns whether it was."""
+    if os.environ.get("LP_NATIVE_VECTOR_WIDTH", "").strip() != "128" or not _has_avx2(cpuinfo):
+        return False
+    del os.environ["LP_NATIVE_VECTOR_WIDTH"]
+    sys.stderr.write("warning: LP_NATIVE_VECTOR_WIDTH=128 ignored: on a CPU with AVX2 it makes Mesa's llvmpipe "
+                     "corrupt memory; llvmpipe picks its own width\n")
+    return True
+
+
+def _has_avx2(cpuinfo: Path) -> bool:
+    try:
+        text = cpuinfo.read_text(encoding="ascii", errors="replace")
+    except OSError:
+        return False
+    return any(line.startswith("flags") and "avx2" in line.split(":", 1)[-1].split() for line in text.splitlines())

@@ -1,0 +1,79 @@
+"""Rendering on CPUs without AVX2. There llvmpipe picks 4-wide (128-bit) vectors or, with
+AVX, 8-wide ones; an emulated CPU of each kind (qemu's user-mode emulator, with the CPU
+models Nehalem: SSE4.2, no AVX, and SandyBridge: AVX, no AVX2) renders the example scenes
+and matches the native render under the diff rule. Forcing 128-bit vectors on a CPU that
+has AVX2 corrupts Mesa 22's heap, so scenerender lifts that setting."""
+from __future__ import annotations
+
+import os
+import platform
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT
+from scenerender.compare import compare_paths
+from scenerender.gpu import context
+
+QEMU = shutil.which("qemu-x86_64")
+
+
+def _render(out, scene, cpu=None):
+    command = [sys.executable, "-m", "scenerender", "render", str(ROOT / "scenes" / scene), "-o", str(out),
+               "--frames", "0:1", "--size", "160x120", "--format", "png"]
+    env = dict(os.environ)
+    if cpu is not None:
+        command = [QEMU, "-cpu", cpu, *command]
+        # an OpenBLAS core type named for the real CPU would run instructions the emulated one lacks
+        env.pop("OPENBLAS_CORETYPE", None)
+        env.pop("LP_NATIVE_VECTOR_WIDTH", None)
+    run = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300, cwd=ROOT)
+    assert run.returncode == 0, run.stderr[-2000:]
+    return run
+
+
+@pytest.mark.skipif(platform.machine() != "x86_64", reason="not an x86-64 machine: no x86 CPU to emulate")
+@pytest.mark.skipif(QEMU is None, reason="qemu-x86_64 is not installed (apt-get install qemu-user)")
+@pytest.mark.gl
+@pytest.mark.slow
+@pytest.mark.parametrize("scene, cpu, width", [("primitives.yaml", "Nehalem", "128 bits"),
+                                               ("showcase.yaml", "Nehalem", "128 bits"),
+                                               ("primitives.yaml", "SandyBridge", "256 bits")])
+def test_a_cpu_without_avx2_renders_what_this_one_does(gl, tmp_path, scene, cpu, width):
+    _render(tmp_path / "native", scene)
+    _render(tmp_path / "emulated", scene, cpu)
+    manifest = (tmp_path / "emulated" / ".scenerender.json").read_text()
+    assert width in manifest  # the emulated CPU really gave llvmpipe that vector width
+    result = compare_paths(tmp_path / "native", tmp_path / "emulated")
+    assert result.passed, result.summary_lines()
+
+
+def test_forced_narrow_vectors_are_lifted_on_a_cpu_with_avx2(tmp_path, monkeypatch, capsys):
+    with_avx2 = tmp_path / "avx2"
+    with_avx2.write_text("processor : 0\nflags : fpu sse4_2 avx avx2 fma\n")
+    without = tmp_path / "sse"
+    without.write_text("processor : 0\nflags : fpu sse4_2\n")
+    monkeypatch.setenv("LP_NATIVE_VECTOR_WIDTH", "128")
+    assert not context.lift_forced_narrow_vectors(without)
+    assert os.environ["LP_NATIVE_VECTOR_WIDTH"] == "128"  # left alone where llvmpipe would pick it anyway
+    assert context.lift_forced_narrow_vectors(with_avx2)
+    assert "LP_NATIVE_VECTOR_WIDTH" not in os.environ
+    assert "LP_NATIVE_VECTOR_WIDTH=128 ignored" in capsys.readouterr().err
+    monkeypatch.setenv("LP_NATIVE_VECTOR_WIDTH", "256")
+    assert not context.lift_forced_narrow_vectors(with_avx2)
+
+
+@pytest.mark.gl
+def test_a_forced_128_bit_width_on_this_cpu_renders(tmp_path, monkeypatch):
+    """The plane that crashed: with the setting lifted it renders (on a CPU without AVX2 the
+    setting is llvmpipe's own choice and is kept)."""
+    scene = tmp_path / "plane.yaml"
+    scene.write_text("scenerender: 1\nrender: {size: [64, 48], samples: 1}\n"
+                     "lights:\n  - {type: directional, direction: [0, -1, -0.3]}\n"
+                     "objects:\n  - mesh: {primitive: plane, size: 4}\n")
+    env = dict(os.environ, LP_NATIVE_VECTOR_WIDTH="128")
+    run = subprocess.run([sys.executable, "-m", "scenerender", "render", str(scene), "-o", str(tmp_path / "out")],
+                         env=env, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr[-2000:]
