@@ -38,7 +38,7 @@ def _limits(texts):
 
 def _asset_root_option(command):
     return click.option("--asset-root", "asset_roots", multiple=True, metavar="DIR",
-                        type=click.Path(path_type=Path), help=ASSET_ROOT_HELP)(command)
+                        type=GivenPath(path_type=Path), help=ASSET_ROOT_HELP)(command)
 
 
 def _echo_error(text: str) -> None:
@@ -113,6 +113,16 @@ def main():
 # -- option types: values are checked as the command line is read, before any work starts
 
 
+class GivenPath(click.Path):
+    """A click.Path that refuses the empty string: `-o ""` would otherwise mean the current
+    folder (a render writing frames there), and an empty scene or report path nothing."""
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and not value.strip():
+            self.fail("an empty path names no file or folder; give one (e.g. out/)", param, ctx)
+        return super().convert(value, param, ctx)
+
+
 class FiniteFloatRange(click.FloatRange):
     """A click.FloatRange that also refuses NaN and the infinities. A NaN limit compares
     false with every score, so `diff --max-tile nan` would pass any change (and inf too)."""
@@ -155,8 +165,8 @@ def _overrides(sets, size, samples) -> list[str]:
 
 
 @main.command()
-@click.argument("scene", type=click.Path(dir_okay=False, path_type=Path))
-@click.option("-o", "--output", type=click.Path(path_type=Path), default=Path("out"), show_default=True,
+@click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
+@click.option("-o", "--output", type=GivenPath(path_type=Path), default=Path("out"), show_default=True,
               help="Folder for image sequences, or the video file / folder for MP4 and GIF.")
 @click.option("--size", type=ImageSize(), metavar="WxH", help="Image size, e.g. 1280x720 (overrides render.size).")
 @click.option("--samples", type=click.IntRange(1, 64),
@@ -171,7 +181,7 @@ def _overrides(sets, size, samples) -> list[str]:
 @click.option("-q", "--quiet", is_flag=True, help="No progress and no summary line.")
 @click.option("--profile", is_flag=True,
               help="Afterwards print ms per pass and per frame (GPU-synchronised, so slower).")
-@click.option("--check", "check", type=click.Path(file_okay=False, path_type=Path), metavar="REF_DIR",
+@click.option("--check", "check", type=GivenPath(file_okay=False, path_type=Path), metavar="REF_DIR",
               help="Then compare the output with the references in REF_DIR (or REF_DIR/<renderer>/, e.g. "
                    "ref/llvmpipe/, when that exists); exit 1 on a change; report.html written with the output. "
                    "REF_DIR is a folder of its own, never -o itself.")
@@ -229,7 +239,7 @@ def render(scene, output, size, samples, fmt, frames, sets, overwrite, strict, q
 
 
 @main.command()
-@click.argument("scene", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
 @click.option("--strict", is_flag=True, help="Treat warnings as errors.")
 @click.option("--assets/--no-assets", default=True, show_default=True,
@@ -259,7 +269,7 @@ def validate(scene, sets, strict, assets, asset_roots, limit_texts):
 
 
 @main.command()
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), help="Write to a file.")
+@click.option("-o", "--output", type=GivenPath(dir_okay=False, path_type=Path), help="Write to a file.")
 @click.option("--markdown", is_flag=True,
               help="The format reference (every key, its type, range, default and an example) as Markdown.")
 def schema(output, markdown):
@@ -283,7 +293,7 @@ def schema(output, markdown):
 
 
 @main.command()
-@click.argument("scene", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
 @click.option("--dot", is_flag=True, help="Graphviz dot instead of text.")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
 @click.option("--size", type=ImageSize(), metavar="WxH", help="Image size (overrides render.size).")
@@ -351,9 +361,9 @@ LEVELS = FiniteFloatRange(min=0)  # a limit on differences of 8-bit levels: fini
 
 
 @main.command()
-@click.argument("reference", type=click.Path(path_type=Path))
-@click.argument("output", type=click.Path(path_type=Path))
-@click.option("--report", type=click.Path(dir_okay=False, path_type=Path),
+@click.argument("reference", type=GivenPath(path_type=Path))
+@click.argument("output", type=GivenPath(path_type=Path))
+@click.option("--report", type=GivenPath(dir_okay=False, path_type=Path),
               help="Write a self-contained HTML report (images, heatmaps, changed regions).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON on stdout instead of lines.")
 @click.option("--max-tile", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_tile,
@@ -403,8 +413,8 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
 
 
 @main.command()
-@click.argument("scene", type=click.Path(dir_okay=False, path_type=Path))
-@click.option("-o", "--output", type=click.Path(file_okay=False, path_type=Path), default=Path("ref"),
+@click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
+@click.option("-o", "--output", type=GivenPath(file_okay=False, path_type=Path), default=Path("ref"),
               show_default=True, help="Folder for frame_NNNN.exr (linear float) and frame_NNNN.png.")
 @click.option("--frames", metavar="A:B", default="0:1", show_default=True,
               help="Frames to render (like a Python slice).")
@@ -439,8 +449,8 @@ def reference(scene, output, frames, spp, size, sets, asset_roots):
 
 
 @main.command()
-@click.argument("scene", type=click.Path(dir_okay=False, path_type=Path))
-@click.option("-o", "--output", type=click.Path(file_okay=False, path_type=Path), default=Path("bench"),
+@click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
+@click.option("-o", "--output", type=GivenPath(file_okay=False, path_type=Path), default=Path("bench"),
               show_default=True, help="Folder for NAME.md (table), NAME.json and NAME.png (plot).")
 @click.option("--knob", "knobs", multiple=True,
               type=click.Choice(["samples", "shadow_size", "pcf", "bias", "ao", "size", "combined"]),

@@ -107,11 +107,24 @@ class Warnings:
             self._echo(f"warning: {text}")
 
 
+LONGEST_WORD = 400  # characters without a space a message shows whole (a path, a value)
+
+
 def one_line(text: str) -> str:
-    """Messages are one line: control characters in user values are shown escaped."""
+    """Messages are one line: control characters in user values are shown escaped, and a
+    run of more than LONGEST_WORD characters without a space (a pasted value) is cut in the
+    middle, so one bad value cannot fill the terminal."""
     if "\n" in text or "\r" in text or "\t" in text:
-        return text.replace("\r", "\\r").replace("\n", "\\n").replace("\t", "\\t")
+        text = text.replace("\r", "\\r").replace("\n", "\\n").replace("\t", "\\t")
+    if len(text) > LONGEST_WORD:
+        text = " ".join(_shortened(word) for word in text.split(" "))
     return text
+
+
+def _shortened(word: str) -> str:
+    if len(word) <= LONGEST_WORD:
+        return word
+    return f"{word[:200]}...({len(word) - 260:,} characters left out)...{word[-60:]}"
 
 
 def display_path(path) -> str:

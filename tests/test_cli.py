@@ -449,3 +449,19 @@ def test_llvmpipe_gets_two_threads_more_than_cores_unless_the_user_set_them(monk
     monkeypatch.setenv("LP_NUM_THREADS", "1")
     context.create_context()
     assert seen == [str(available_cores() + 2), "1"]
+
+
+@pytest.mark.parametrize("command", [["render", "good.yaml", "-o", ""], ["render", "", "-o", "out"],
+                                     ["diff", "", "out"], ["reference", "good.yaml", "-o", ""]])
+def test_an_empty_path_is_a_usage_error(scenes, command):
+    result = cli(*command)
+    assert result.exit_code == 2, result.output
+    assert "an empty path names no file or folder" in result.output
+    assert not list(scenes.glob("*.png")) and not list(scenes.glob("*.tga"))  # nothing written here
+
+
+def test_a_pasted_value_does_not_fill_the_message(scenes):
+    result = cli("render", "good.yaml", "-o", "out", "--set", "render.mode=" + "a" * 5000)
+    assert result.exit_code == 2
+    assert len(result.stderr) < 800, result.stderr
+    assert "characters left out" in result.stderr and "expected one of shaded" in result.stderr

@@ -12,6 +12,7 @@ _COLOR_FORMATS = {  # format -> (components, dtype, internal format or None for 
     # encode and blending decodes in the driver, and sampling returns linear values
     "srgba8": (4, "f1", GL_SRGB8_ALPHA8),
     "rgba16f": (4, "f2", None),
+    "rgba32f": (4, "f4", None),  # the data views' values kept whole for EXR output
     "r8": (1, "f1", None),
 }
 

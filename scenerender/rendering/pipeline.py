@@ -92,9 +92,11 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
             color = graph.add(ResolvePass(color, size, sky=sky)).image
         final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma)).image
 
+    linear = color if options.want_linear else None
     if settings.mode in DATA_MODES:
-        final = _add_view(graph, settings.mode, inputs, gbuffer, ao, shadow_passes, size)
-    linear = color if options.want_linear and settings.mode not in DATA_MODES else None
+        view_format = "rgba32f" if options.want_linear else "rgba8"
+        final = _add_view(graph, settings.mode, inputs, gbuffer, ao, shadow_passes, size, view_format)
+        linear = final if options.want_linear else None  # the values themselves, not a colour
     graph.add(ReadbackPass(final, size, linear))
     return graph, inputs
 
@@ -183,16 +185,16 @@ def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> tuple[list,
     return handles, tuple(current[page] for page in sorted(current))
 
 
-def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, size):
+def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, size, view_format: str):
     if mode == "depth":
-        return graph.add(DepthViewPass(gbuffer, size, inputs.camera)).image
+        return graph.add(DepthViewPass(gbuffer, size, inputs.camera, view_format)).image
     if mode == "normals":
-        return graph.add(NormalsViewPass(gbuffer, size, inputs.camera)).image
+        return graph.add(NormalsViewPass(gbuffer, size, inputs.camera, view_format)).image
     if mode == "ambient_occlusion":
-        return graph.add(AmbientOcclusionViewPass(ao, size)).image
+        return graph.add(AmbientOcclusionViewPass(ao, size, view_format)).image
     light_index, handle = shadow_passes[0]
     views = inputs.shadow_view(light_index)
     if mode == "shadow":
         return graph.add(ShadowFactorViewPass(handle, size, inputs.camera, inputs.objects, inputs.lights[light_index],
-                                              views)).color
-    return graph.add(LightDepthViewPass(handle, size, views)).image
+                                              views, view_format)).color
+    return graph.add(LightDepthViewPass(handle, size, views, view_format)).image

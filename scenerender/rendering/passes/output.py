@@ -133,7 +133,8 @@ class ReadbackData:
 @dataclass(frozen=True)
 class ReadbackPass(RenderPass):
     """Copies the final image to the CPU: ctx.outputs["pixels"] = (H, W, 3) uint8, top row
-    first; with ``linear`` also ctx.outputs["linear"] = (H, W, 3) float32 for EXR."""
+    first; with ``linear`` also ctx.outputs["linear"] = (H, W, 3) float32 for EXR: the linear
+    colour, or a data view's values."""
 
     pixels: Handle
     size: tuple
@@ -153,5 +154,6 @@ class ReadbackPass(RenderPass):
         rgb = np.frombuffer(raw, dtype=np.uint8).reshape(height, width, 3)
         ctx.outputs["pixels"] = np.ascontiguousarray(rgb[::-1])
         if data.linear is not None:
-            hdr = np.frombuffer(ctx.image(data.linear).read(alignment=1), dtype=np.float16).reshape(height, width, 4)
-            ctx.outputs["linear"] = np.ascontiguousarray(hdr[::-1, :, :3], dtype=np.float32)
+            image = ctx.image(data.linear)  # rgba16f colour, or an rgba32f data view
+            values = np.frombuffer(image.read(alignment=1), dtype=np.dtype(image.dtype)).reshape(height, width, 4)
+            ctx.outputs["linear"] = np.ascontiguousarray(values[::-1, :, :3], dtype=np.float32)

@@ -1,5 +1,6 @@
 """The data render modes: depth, normals, ambient_occlusion, shadow and light_depth.
-Each writes plain values (no output transform) into an 8-bit image."""
+Each writes plain values (no output transform) into an image: 8-bit for PNG, JPG, TGA and
+video output, 32-bit float where the values are kept whole (EXR output)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -19,7 +20,7 @@ from scenerender.rendering.passes.data import ImageData, TargetData
 
 @dataclass(frozen=True)
 class _FullscreenView(RenderPass):
-    """A full-screen pass from one input image into an rgba8 image."""
+    """A full-screen pass from one input image into an image of ``format``."""
 
     source: Handle
     size: tuple
@@ -33,7 +34,7 @@ class _FullscreenView(RenderPass):
 
     def setup(self, builder) -> ImageData:
         builder.read(self.source, *self.extra_reads())
-        return ImageData(builder.create("view", ResourceDesc("color", self.size, "rgba8")))
+        return ImageData(builder.create("view", ResourceDesc("color", self.size, self.format)))
 
     def uniforms(self, ctx, program) -> None:
         """Extra uniforms of the view."""
@@ -50,6 +51,7 @@ class _FullscreenView(RenderPass):
 @dataclass(frozen=True)
 class DepthViewPass(_FullscreenView):
     camera: Handle
+    format: str = "rgba8"
 
     name = "view:depth"
     fragment = "views/depth.frag"
@@ -66,6 +68,7 @@ class DepthViewPass(_FullscreenView):
 @dataclass(frozen=True)
 class NormalsViewPass(_FullscreenView):
     camera: Handle
+    format: str = "rgba8"
 
     name = "view:normals"
     fragment = "views/normals.frag"
@@ -80,6 +83,8 @@ class NormalsViewPass(_FullscreenView):
 
 @dataclass(frozen=True)
 class AmbientOcclusionViewPass(_FullscreenView):
+    format: str = "rgba8"
+
     name = "view:ambient_occlusion"
     fragment = "views/ambient_occlusion.frag"
     input_unit = "u_ao"
@@ -95,6 +100,7 @@ class LightDepthViewPass(_FullscreenView):
     """The first shadowed light's depth map(s) as seen from the light."""
 
     views: Handle
+    format: str = "rgba8"
 
     name = "view:light_depth"
     fragment = "views/light_depth.frag"
@@ -131,12 +137,13 @@ class ShadowFactorViewPass(RenderPass):
     objects: Handle
     light: Handle
     views: Handle
+    format: str = "rgba8"
 
     name = "view:shadow"
 
     def setup(self, builder) -> TargetData:
         builder.read(self.atlas, self.camera, self.objects, self.light, self.views)
-        return TargetData(builder.create("view", ResourceDesc("color", self.size, "rgba8")),
+        return TargetData(builder.create("view", ResourceDesc("color", self.size, self.format)),
                         builder.create("view_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
     def execute(self, ctx, data: TargetData) -> None:
