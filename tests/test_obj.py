@@ -325,16 +325,73 @@ def test_index_zero_is_rejected(tmp_path):
     assert "start at 1" in error.message
 
 
-def test_missing_texture_coordinate_is_named(tmp_path):
-    error = error_from(tmp_path, SQUARE_VERTICES + "vt 0 0\nf 1/1 2/1 3/2\n")
-    assert error.location.line == 6
-    assert "texture coordinate 2" in error.message
+def test_an_undefined_texture_coordinate_is_dropped_with_a_warning(tmp_path):
+    warnings = Warnings()
+    mesh = parse(tmp_path, SQUARE_VERTICES + "vt 0 0\nf 1/1 2/1 3/2\n", warnings=warnings)
+    assert mesh.triangle_count == 1
+    assert len(warnings.items) == 1 and ":6:" in warnings.items[0]
+    assert "dropped 1 texture coordinate reference that nothing defines" in warnings.items[0]
+    assert "texture coordinate 2" in warnings.items[0]
 
 
-def test_missing_normal_is_named(tmp_path):
-    error = error_from(tmp_path, SQUARE_VERTICES + "f 1//1 2//1 3//1\n")
-    assert error.location.line == 5
-    assert "normal 1" in error.message and "no normals" in error.message
+def test_normals_no_vn_defines_are_computed_as_subdivision_tools_write_them(tmp_path):
+    """`f 1//1 2//2 3//3` in a file without normals: mainstream readers drop the index."""
+    warnings = Warnings()
+    mesh = parse(tmp_path, SQUARE_VERTICES + "f 1//1 2//1 3//1\nf 1//2 3//2 4//2\n", warnings=warnings)
+    assert mesh.triangle_count == 2 and mesh.normals is None  # computed by the loader
+    assert len(warnings.items) == 1 and ":5:" in warnings.items[0]
+    assert "dropped 6 normal references" in warnings.items[0] and "no normals are defined" in warnings.items[0]
+
+
+def test_an_undefined_normal_is_an_error_under_strict(tmp_path):
+    with pytest.raises(UserError, match="dropped 3 normal references"):
+        parse(tmp_path, SQUARE_VERTICES + "f 1//1 2//1 3//1\n", warnings=Warnings(strict=True))
+
+
+def test_an_undefined_position_is_still_an_error(tmp_path):
+    error = error_from(tmp_path, SQUARE_VERTICES + "f 1 2 9\n")
+    assert error.location.line == 5 and "vertex 9" in error.message
+
+
+def test_a_concave_face_is_ear_clipped_not_fanned(tmp_path):
+    """An L-shaped hexagon whose first corner cannot see the whole face: a fan from it would
+    cover the notch; ear clipping covers exactly the L (area 3), wound as the face."""
+    text = "v 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nv 0 0 0\nv 2 0 0\nf 1 2 3 4 5 6\n"
+    mesh = parse(tmp_path, text)
+    triangles = triangle_positions(mesh)
+    assert len(triangles) == 4
+    cross = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    assert np.allclose(np.abs(cross[:, 2]).sum() / 2, 3.0)  # the L's area, no overlap
+    assert (cross[:, 2] > 0).all()  # counter-clockwise like the face
+    centroids = triangles.mean(axis=1)
+    assert not ((centroids[:, 0] > 1) & (centroids[:, 1] > 1)).any()  # nothing in the notch
+
+
+def test_a_convex_quad_is_still_a_fan(tmp_path):
+    mesh = parse(tmp_path, SQUARE_VERTICES + "f 1 2 3 4\n")
+    assert mesh.indices.tolist() == [[0, 1, 2], [0, 2, 3]]
+
+
+def test_free_form_geometry_is_skipped_with_one_warning(tmp_path):
+    warnings = Warnings()
+    text = SQUARE_VERTICES + "vp 0.5 0.5\ncstype bspline\ndeg 3\ncurv 0 1 1 2 3 4\nparm u 0 0 0 0 1 1 1 1\nend\nf 1 2 3\n"
+    mesh = parse(tmp_path, text, warnings=warnings)
+    assert mesh.triangle_count == 1
+    assert len(warnings.items) == 1
+    assert warnings.items[0].endswith("model.obj:5: skipped 6 free-form geometry statements")
+
+
+def test_escaped_spaces_in_library_and_texture_names(tmp_path):
+    from PIL import Image
+
+    Image.new("RGB", (4, 4), (200, 10, 10)).save(tmp_path / "my wood.png")
+    write(tmp_path, "my lib.mtl", "newmtl wood\nKd 1 1 1\nmap_Kd my\\ wood.png\n")
+    warnings = Warnings()
+    mesh = parse(tmp_path, "mtllib my\\ lib.mtl\n" + SQUARE_VERTICES + "usemtl wood\nf 1 2 3\n", warnings=warnings)
+    assert warnings.items == []
+    material = mesh.materials["wood"]
+    assert material.diffuse_map is not None and material.diffuse_map.path.name == "my wood.png"
+    assert not material.diffuse_map.missing
 
 
 def test_bad_number_in_a_vertex(tmp_path):

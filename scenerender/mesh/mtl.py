@@ -354,14 +354,18 @@ def _not_found(name: str, lookups: list[Lookup]) -> str:
 
 def _texture_candidates(written: str) -> list[str]:
     """Where a texture may be: as written (relative to the MTL file), then by its bare file
-    name next to the MTL file (absolute paths from another machine are common)."""
-    relative = written.replace("\\", "/")  # Windows exporters; a folder separator everywhere
-    on_another_drive = re.match(r"^[A-Za-z]:/", relative) is not None
-    candidates = [] if on_another_drive else [relative]
-    bare = Path(relative).name
-    if bare and bare not in candidates:
-        candidates.append(bare)
-    return candidates or [relative]
+    name next to the MTL file (absolute paths from another machine are common). A
+    backslash before a space escapes the space (``map_Kd my\\ wood.png``) and is tried
+    first; other backslashes are Windows folder separators."""
+    spellings = [written.replace("\\ ", " "), written] if "\\ " in written else [written]
+    candidates: list[str] = []
+    for spelling in spellings:
+        relative = spelling.replace("\\", "/")  # Windows exporters; a folder separator everywhere
+        on_another_drive = re.match(r"^[A-Za-z]:/", relative) is not None
+        for candidate in ([] if on_another_drive else [relative]) + [Path(relative).name]:
+            if candidate and candidate not in candidates:
+                candidates.append(candidate)
+    return candidates or [written.replace("\\", "/")]
 
 
 def _case_insensitive_match(lookups: list[Lookup], assets: AssetPolicy) -> Lookup | None:

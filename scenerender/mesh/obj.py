@@ -16,6 +16,8 @@ and one warning per file counts them (``--strict`` makes that an error).
 """
 from __future__ import annotations
 
+import re
+
 import warnings as _pywarnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -68,6 +70,7 @@ class _Statements:
     short_faces: int = 0
     line_elements: int = 0
     point_elements: int = 0
+    freeform_statements: int = 0
     first_skipped_line: int | None = None
 
     def skip(self, kind: str, line: int) -> None:
@@ -157,25 +160,25 @@ def _parse_text(text: str, path: Path, shown: str, warners: _Warners, assets: As
     file_normals = _vectors(statements.vn_tokens, statements.vn_lines, 3, shown)
 
     corners = _parse_corners(statements, shown)
-    v_index, vt_index, vn_index = _resolve_indices(corners, statements, shown)
+    (v_index, vt_index, vn_index), has_vt, has_vn = _resolve_indices(corners, statements, shown, warnings)
     vertex_of_corner, unique_v, unique_vt, unique_vn = _weld_corners(
         v_index, vt_index, vn_index, len(positions), len(texcoords), len(file_normals)
     )
 
     sizes = np.asarray(statements.face_sizes, dtype=np.int64)
-    indices = _fan_triangulate(vertex_of_corner, sizes)
+    indices = triangulate(vertex_of_corner, sizes, positions[v_index])
     groups = _material_groups(statements.material_switches, sizes)
     indices, groups, zero_area = _drop_zero_area(indices, groups, positions[unique_v])
     _warn_skipped(statements, zero_area, shown, warnings)
     budget.charge(len(indices), SourceLocation(shown))
 
     uvs = None
-    if corners.has_vt.any():
+    if has_vt.any():
         uvs = np.zeros((len(unique_vt), 2), dtype=np.float32)
         named = unique_vt >= 0
         uvs[named] = recentred_texcoords(texcoords[unique_vt[named]])
     normals = None
-    if len(corners.has_vn) and corners.has_vn.all():
+    if len(has_vn) and has_vn.all():
         normals = file_normals[unique_vn].astype(np.float32)
 
     materials, all_libraries_found = _load_material_libraries(path, statements, warners, assets)
@@ -222,6 +225,11 @@ def _numbered_lines(text: str):
     if pending:
         joined.append((start, " ".join(pending)))
     return joined
+
+
+# Free-form geometry (curves and surfaces): not drawn, and counted in one warning.
+FREEFORM_KEYS = frozenset({"vp", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole",
+                           "scrv", "sp", "end", "con"})
 
 
 def _collect_statements(text: str, shown: str, budget: TriangleBudget | None = None) -> _Statements:
@@ -283,8 +291,10 @@ def _collect_statements(text: str, shown: str, budget: TriangleBudget | None = N
             st.skip("line_elements", number)
         elif key == "p":
             st.skip("point_elements", number)
-        # Everything else (o, g, s, vp, comments, free-form geometry, unknown statements)
-        # does not affect a triangle mesh and is skipped silently.
+        elif key in FREEFORM_KEYS:
+            st.skip("freeform_statements", number)
+        # Everything else (o, g, s, comments, unknown statements) does not affect a
+        # triangle mesh and is skipped silently.
     return st
 
 
@@ -454,16 +464,19 @@ def _corner_int(part: str, token: str, shown: str, line: int) -> int | None:
     return value
 
 
-def _resolve_indices(corners: _Corners, st: _Statements, shown: str):
+def _resolve_indices(corners: _Corners, st: _Statements, shown: str, warnings: Warnings):
     """Turn raw OBJ indices into 0-based ones; -1 where a corner names no vt / vn.
 
     A negative index counts back from the last element defined *before the face*, so each
-    face needs the number of v/vt/vn statements above it.
+    face needs the number of v/vt/vn statements above it. A position index no ``v`` defines
+    is an error; a texture coordinate or normal index no ``vt``/``vn`` defines is dropped
+    with one counted warning, as mainstream readers do (the corner then has none, and
+    normals are computed), and is an error under --strict.
     """
     sizes = np.asarray(st.face_sizes, dtype=np.int64)
     face_lines = np.asarray(st.face_lines, dtype=np.int64)
     face_of_corner = np.repeat(np.arange(len(sizes)), sizes)
-    resolved = []
+    resolved, dropped = [], []
     for key, raw, present in (
         ("v", corners.v, np.ones(len(corners.v), dtype=bool)),
         ("vt", corners.vt, corners.has_vt),
@@ -476,12 +489,23 @@ def _resolve_indices(corners: _Corners, st: _Statements, shown: str):
         if bad.any():
             corner = int(np.argmax(bad))
             line = int(face_lines[face_of_corner[corner]])
-            raise UserError(
-                _index_message(_ELEMENT_NAMES[key], int(raw[corner]), int(defined[corner])),
-                SourceLocation(shown, line),
-            )
+            message = _index_message(_ELEMENT_NAMES[key], int(raw[corner]), int(defined[corner]))
+            if key == "v":
+                raise UserError(message, SourceLocation(shown, line))
+            dropped.append((int(bad.sum()), key, line, message))
+            present = present & ~bad
         resolved.append(np.where(present, absolute - 1, -1))
-    return resolved
+    if dropped:
+        _warn_dropped_references(dropped, shown, warnings)
+    return resolved, resolved[1] >= 0, resolved[2] >= 0
+
+
+def _warn_dropped_references(dropped: list, shown: str, warnings: Warnings) -> None:
+    counts = " and ".join(f"{count} {'texture coordinate' if key == 'vt' else 'normal'} reference"
+                          f"{'s' if count != 1 else ''}" for count, key, _, _ in dropped)
+    first_line, first_message = min((line, message) for _, _, line, message in dropped)
+    warnings.warn(f"dropped {counts} that nothing defines (the first: {first_message}); those corners "
+                  "get computed normals or no texture coordinate", SourceLocation(shown, first_line))
 
 
 def _index_message(names: tuple[str, str], index: int, defined: int) -> str:
@@ -522,6 +546,75 @@ def _weld_corners(v, vt, vn, v_count: int, vt_count: int, vn_count: int):
         unique_rows, vertex_of_corner = np.unique(triples, axis=0, return_inverse=True)
         unique_v, unique_vt, unique_vn = unique_rows.T
     return vertex_of_corner.reshape(-1), unique_v, unique_vt, unique_vn
+
+
+def triangulate(vertex_of_corner: np.ndarray, sizes: np.ndarray, corner_positions: np.ndarray) -> np.ndarray:
+    """(M, 3) uint32 triangles, n - 2 for each face of n corners, in face order. Convex
+    faces (all triangles and nearly every quad) become fans (c0, ci, ci+1); a concave one
+    (an L-shaped face) is cut by ear clipping in its own plane, which a fan would draw
+    wrong. ``corner_positions`` is (C, 3), the position of every corner."""
+    indices = _fan_triangulate(vertex_of_corner, sizes)
+    concave = np.flatnonzero(_concave_faces(sizes, corner_positions))
+    if len(concave):
+        face_start = np.cumsum(sizes) - sizes
+        first_triangle = np.cumsum(sizes - 2) - (sizes - 2)
+        for face in concave:
+            start, count = int(face_start[face]), int(sizes[face])
+            local = _ear_clip(corner_positions[start:start + count])
+            indices[first_triangle[face]:first_triangle[face] + count - 2] = vertex_of_corner[start + local]
+    return indices
+
+
+def _concave_faces(sizes: np.ndarray, corner_positions: np.ndarray) -> np.ndarray:
+    """(F,) bool: faces of more than three corners that turn both ways around their
+    Newell normal (a fan of such a face would cover what it does not)."""
+    concave = np.zeros(len(sizes), dtype=bool)
+    big = sizes > 3
+    if not big.any():
+        return concave
+    starts = np.cumsum(sizes) - sizes
+    face = np.repeat(np.arange(len(sizes)), sizes)
+    position_in_face = np.arange(len(face)) - starts[face]
+    following = starts[face] + (position_in_face + 1) % sizes[face]
+    current, nxt = corner_positions, corner_positions[following]
+    newell = np.zeros((len(sizes), 3))
+    np.add.at(newell, face, np.cross(current, nxt))
+    edge = nxt - current
+    next_edge = edge[following]
+    turn = np.einsum("ij,ij->i", np.cross(edge, next_edge), newell[face])
+    scale = np.abs(turn).max() if len(turn) else 0.0
+    negative = turn < -1e-12 * max(scale, 1e-300)
+    np.logical_or.at(concave, face, negative)
+    return concave & big
+
+
+def _ear_clip(points: np.ndarray) -> np.ndarray:
+    """(n - 2, 3) int64 corner indices of one polygon's triangles, (n, 3) points in any
+    orientation: projected onto the plane of its Newell normal, then ear clipped
+    (mapbox-earcut); winding kept as the face's own."""
+    import mapbox_earcut
+
+    normal = np.cross(points, np.roll(points, -1, axis=0)).sum(axis=0)
+    axis = int(np.argmax(np.abs(normal)))
+    keep = [i for i in range(3) if i != axis]
+    flat = np.ascontiguousarray(points[:, keep], dtype=np.float64)
+    if normal[axis] < 0:  # seen from the other side: mirror, so the winding stays the face's
+        flat[:, 0] = -flat[:, 0]
+    triangles = mapbox_earcut.triangulate_float64(flat, np.array([len(points)], dtype=np.uint32))
+    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    if len(triangles) != len(points) - 2:  # a self-crossing or degenerate face: keep the fan
+        return np.stack([np.zeros(len(points) - 2, dtype=np.int64), np.arange(1, len(points) - 1),
+                         np.arange(2, len(points))], axis=1)
+    return _same_winding(triangles, flat)
+
+
+def _same_winding(triangles: np.ndarray, flat: np.ndarray) -> np.ndarray:
+    """Triangles turned to wind counter-clockwise in the projected plane, as the face does."""
+    a, b, c = flat[triangles[:, 0]], flat[triangles[:, 1]], flat[triangles[:, 2]]
+    signed = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    flipped = signed < 0
+    triangles[flipped] = triangles[flipped][:, [0, 2, 1]]
+    return triangles
 
 
 def _fan_triangulate(vertex_of_corner: np.ndarray, sizes: np.ndarray) -> np.ndarray:
@@ -587,6 +680,7 @@ def _warn_skipped(st: _Statements, zero_area: int, shown: str, warnings: Warning
         (zero_area, "zero-area triangle", "zero-area triangles"),
         (st.line_elements, "line element (l)", "line elements (l)"),
         (st.point_elements, "point element (p)", "point elements (p)"),
+        (st.freeform_statements, "free-form geometry statement", "free-form geometry statements"),
     ):
         if count:
             parts.append(f"{count} {singular if count == 1 else plural}")
@@ -633,14 +727,21 @@ def _load_material_libraries(
 def _library_lookups(folder: Path, rest: str, assets: AssetPolicy) -> list:
     """Where the files named by one ``mtllib`` statement are (``AssetPolicy.lookup`` results).
 
-    The format separates several names with spaces, but exporters also write one name
-    containing spaces; the whole rest of the line wins when such a file exists.
+    The format separates several names with spaces; a backslash before a space keeps it in
+    the name (``mtllib my\\ file.mtl``), and exporters also write one name containing plain
+    spaces: the whole rest of the line wins when such a file exists.
     """
-    if " " in rest:
+    names = unescaped_names(rest)
+    if " " in rest and len(names) > 1:
         whole = assets.lookup(rest, folder)
         if whole.found:
             return [whole]
-    return [assets.lookup(name, folder) for name in rest.split()]
+    return [assets.lookup(name, folder) for name in names]
+
+
+def unescaped_names(rest: str) -> list[str]:
+    """Names separated by spaces, a backslash-escaped space kept in its name."""
+    return [re.sub(r"\\ ", " ", name) for name in re.split(r"(?<!\\)\s+", rest.strip()) if name]
 
 
 def _warn_undefined_materials(

@@ -288,7 +288,10 @@ objects:
 The model matrix is T * Rz * Ry * Rx * S (scale first, then rotation X, Y, Z, then
 translation); normals use its inverse transpose, so non-uniform scale shades correctly. An
 instance's matrix applies inside its object's: world = M_object * M_instance. OBJ faces
-with more than three vertices are triangulated; negative (relative) indices work.
+with more than three vertices are triangulated (convex ones as fans, concave ones by ear
+clipping); negative (relative) indices work; a texture coordinate or normal index that no
+`vt`/`vn` defines is dropped with a warning (normals are then computed); a backslash
+escapes a space in `mtllib` and texture names; curves and surfaces are skipped with a warning.
 
 Frames are drawn in 32-bit floats, which reach about 3.4e38. A number in a mesh or MTL file
 beyond that is an error at its line; so is a placement that, at any time of the animation,
