@@ -80,6 +80,12 @@ class _Command(click.Group):
             sys.exit(getattr(exc, "exit_code", 130))
         except (click.ClickException, click.exceptions.Exit, click.exceptions.Abort, SystemExit):
             raise
+        except MemoryError:  # where nothing closer named what was being loaded
+            if os.environ.get("SCENERENDER_DEBUG"):
+                raise
+            _echo_error("not enough memory to finish; render smaller (--size), use smaller textures, or allow "
+                        "the process more memory")
+            sys.exit(UserError.exit_code)
         except Exception as exc:  # a bug: say so plainly, keep the traceback for --debug
             if os.environ.get("SCENERENDER_DEBUG"):
                 raise

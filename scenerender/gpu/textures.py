@@ -43,7 +43,7 @@ class TextureCache:
         key = (str(path) if path else None, srgb)
         texture = self._textures.get(key)
         if texture is None:
-            texture = self._placeholder() if path is None else self._upload_2d(self._pixels(path), srgb)
+            texture = self._placeholder() if path is None else self._loaded_2d(path, srgb)
             self._textures[key] = texture
         return texture
 
@@ -68,13 +68,26 @@ class TextureCache:
     def _pixels(self, path: Path) -> np.ndarray:
         return self._images.pixels(path)
 
+    def _loaded_2d(self, path: Path, srgb: bool):
+        """The texture of ``path``; running out of memory on the way is a UserError naming it."""
+        try:
+            return self._upload_2d(self._pixels(path), srgb)
+        except MemoryError:
+            raise UserError(f"not enough memory to load this texture ({_size_text(path, self._images)}); "
+                            "use a smaller image, or lower --limit texture_pixels=N to refuse such images early",
+                            SourceLocation(display_path(path))) from None
+
     def _upload_2d(self, pixels: np.ndarray, srgb: bool):
-        # GL's first row is the bottom one, and OBJ's v = 0 is the image's bottom edge.
-        flipped = np.ascontiguousarray(pixels[::-1])
-        height, width = flipped.shape[:2]
-        texture = self.ctx.texture((width, height), 4, flipped.tobytes(),
-                                   internal_format=GL_SRGB8_ALPHA8 if srgb else None)
-        _add_mip_levels(texture, [(_GL_TEXTURE_2D, flipped)], srgb)
+        """A texture of ``pixels`` (H, W, 4) uint8, top row first, and its mip levels. GL's
+        first row is the bottom one (and OBJ's v = 0 is the image's bottom edge), so rows
+        go up flipped, a band at a time: no flipped copy of a whole large image is made."""
+        height, width = pixels.shape[:2]
+        texture = self.ctx.texture((width, height), 4, None, internal_format=GL_SRGB8_ALPHA8 if srgb else None)
+        for top in range(0, height, _UPLOAD_ROWS):
+            bottom = min(height, top + _UPLOAD_ROWS)
+            band = np.ascontiguousarray(pixels[top:bottom][::-1])
+            texture.write(band, viewport=(0, height - bottom, width, bottom - top))
+        _add_mip_levels(texture, [(_GL_TEXTURE_2D, pixels)], srgb, flip=True)
         return texture
 
     def _placeholder(self):
@@ -100,9 +113,13 @@ class TextureCache:
         return texture
 
 
-def _add_mip_levels(texture, images: list, srgb: bool) -> None:
+_UPLOAD_ROWS = 1024  # rows of a texture sent to GL at a time
+
+
+def _add_mip_levels(texture, images: list, srgb: bool, flip: bool = False) -> None:
     """Give ``texture`` every mipmap level below its images [(GL target, (H, W, 4) uint8)]
-    and trilinear filtering. No anisotropic filtering: Mesa llvmpipe's anisotropic sampler
+    and trilinear filtering; ``flip``: each level goes up bottom row first (the levels of a
+    flipped image are the flipped levels: every filter window is symmetric). No anisotropic filtering: Mesa llvmpipe's anisotropic sampler
     can stall for seconds (and has hung outright here) on some pixels, and leaving it off
     keeps software and GPU renders filtering textures the same way."""
     tex_image = _gl_tex_image_2d()
@@ -115,6 +132,7 @@ def _add_mip_levels(texture, images: list, srgb: bool) -> None:
     internal = GL_SRGB8_ALPHA8 if srgb else _GL_RGBA8
     for target, image in images:
         for level, pixels in enumerate(mip_chain(image, srgb), start=1):
+            pixels = np.ascontiguousarray(pixels[::-1]) if flip else pixels
             tex_image(target, level, internal, pixels.shape[1], pixels.shape[0], 0, _GL_RGBA, _GL_UNSIGNED_BYTE,
                       pixels.ctypes.data)
     texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
@@ -140,3 +158,11 @@ def _gl_function(name: bytes) -> int | None:
     egl.eglGetProcAddress.restype = ctypes.c_void_p
     egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
     return egl.eglGetProcAddress(name) or None
+
+
+def _size_text(path: Path, images: ImageStore) -> str:
+    try:
+        height, width = images.size(path)
+    except Exception:  # noqa: BLE001 - only for the message
+        return "its size unknown"
+    return f"{width}x{height}, {width * height * 4 / 2**20:,.0f} MiB as RGBA"

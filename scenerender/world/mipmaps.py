@@ -38,34 +38,46 @@ def mip_chain(pixels: np.ndarray, srgb: bool) -> list[np.ndarray]:
 
     srgb: the first three channels are sRGB-encoded colour (alpha is always linear). Each
     level is averaged from the one above before rounding (float32, linear), and rounded
-    once. Large levels are split into bands of rows worked on by one thread per core."""
+    once, while the level above has at most EXACT_LEVEL_TEXELS texels; a larger level is
+    averaged from its own 8-bit values, so that no float copy of a large level is ever held
+    (one more rounding: at most half a level). Large levels are split into bands of rows
+    worked on by one thread per core. Memory: the levels themselves (a third of the
+    image), plus float32 bands of _BAND_ROWS rows."""
     levels = []
     current = pixels
     while current.shape[0] > 1 or current.shape[1] > 1:
-        current, encoded = _level_below(current, srgb)
+        below_texels = max(1, current.shape[0] // 2) * max(1, current.shape[1] // 2)
+        keep_linear = below_texels <= EXACT_LEVEL_TEXELS
+        linear, encoded = _level_below(current, srgb, keep_linear)
         levels.append(encoded)
+        current = linear if keep_linear else encoded
     return levels
 
+
+# A level of more texels than this is not kept in float32 to make the next one (2048 x 2048:
+# 64 MiB of float32 RGBA), so a 12,000 x 12,000 texture's chain needs no 550 MiB float level.
+EXACT_LEVEL_TEXELS = 2048 * 2048
 
 # rows above which a level is made in bands, one thread per core (NumPy frees the GIL)
 _BAND_ROWS = 256
 
 
-def _level_below(values: np.ndarray, srgb: bool) -> tuple[np.ndarray, np.ndarray]:
-    """(linear float32, encoded uint8) of the level below ``values`` (uint8 for the image
-    itself, else the linear level above)."""
+def _level_below(values: np.ndarray, srgb: bool, keep_linear: bool = True) -> tuple[np.ndarray | None, np.ndarray]:
+    """(linear float32 or None when not ``keep_linear``, encoded uint8) of the level below
+    ``values`` (uint8 for the image itself or a large level, else the linear level above)."""
     height, width = values.shape[:2]
     if height > _BAND_ROWS and height % 2 == 0 and width % 2 == 0:
         bands = [values[start:start + _BAND_ROWS] for start in range(0, height, _BAND_ROWS)]
         with ThreadPoolExecutor(max_workers=available_cores()) as pool:
-            done = list(pool.map(lambda band: _level_below(band, srgb), bands))
-        return np.concatenate([d[0] for d in done]), np.concatenate([d[1] for d in done])
+            done = list(pool.map(lambda band: _level_below(band, srgb, keep_linear), bands))
+        linear = np.concatenate([d[0] for d in done]) if keep_linear else None
+        return linear, np.concatenate([d[1] for d in done])
     linear = _to_linear(values, srgb) if values.dtype == np.uint8 else values
     if height % 2 == 0 and width % 2 == 0:
         below = (linear[0::2, 0::2] + linear[1::2, 0::2] + linear[0::2, 1::2] + linear[1::2, 1::2]) * np.float32(0.25)
     else:
         below = _halve(_halve(linear, axis=0), axis=1)
-    return below, _to_bytes(below, srgb)
+    return (below if keep_linear else None), _to_bytes(below, srgb)
 
 
 def _to_linear(pixels: np.ndarray, srgb: bool) -> np.ndarray:

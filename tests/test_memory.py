@@ -1,0 +1,68 @@
+"""Memory: a 12,000 x 12,000 texture renders under a 4 GiB address-space limit (before, the
+float32 mip chain ran out and ended in an internal error), and running out of memory is a
+clean exit 2 naming the texture being loaded, never an internal error."""
+from __future__ import annotations
+
+import resource
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from scenerender.world.mipmaps import EXACT_LEVEL_TEXELS, mip_chain
+
+OBJ = ("mtllib big.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+       "usemtl big\nf 1/1 2/2 3/3 4/4\n")
+SCENE = ("scenerender: 1\nrender: {size: [160, 120], samples: 1}\ncamera: {position: [0, 2, 2], target: [0, 0, 0]}\n"
+         "lights:\n  - {type: directional, direction: [0, -1, -0.3]}\nobjects:\n  - mesh: big.obj\n")
+
+
+def _big_texture_scene(folder, side: int):
+    # a gradient: a few MB of PNG, decoded to side * side RGBA all the same
+    row = np.linspace(0, 255, side).astype(np.uint8)
+    Image.fromarray(np.broadcast_to(row, (side, side))).convert("RGB").save(folder / "big.png", compress_level=1)
+    (folder / "big.mtl").write_text("newmtl big\nKd 1 1 1\nmap_Kd big.png\n")
+    (folder / "big.obj").write_text(OBJ)
+    (folder / "scene.yaml").write_text(SCENE)
+    return folder / "scene.yaml"
+
+
+def _render_limited(scene, out, address_space: int):
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (address_space, address_space))
+    return subprocess.run([sys.executable, "-m", "scenerender", "render", str(scene), "-o", str(out)],
+                          capture_output=True, text=True, timeout=300, preexec_fn=limit)
+
+
+@pytest.mark.gl
+@pytest.mark.slow
+def test_a_12k_texture_renders_under_4_gib(tmp_path):
+    scene = _big_texture_scene(tmp_path, 12_000)
+    run = _render_limited(scene, tmp_path / "out", 4 * 2**30)
+    assert run.returncode == 0, run.stderr[-1000:]
+    assert (tmp_path / "out" / "frame_0000.tga").exists() or list((tmp_path / "out").iterdir())
+
+
+@pytest.mark.gl
+@pytest.mark.slow
+def test_running_out_of_memory_is_a_clean_exit_naming_the_texture(tmp_path):
+    scene = _big_texture_scene(tmp_path, 12_000)
+    run = _render_limited(scene, tmp_path / "out", int(2.2 * 2**30))
+    assert run.returncode == 2, run.stderr[-1000:]
+    assert "internal error" not in run.stderr and "Traceback" not in run.stderr
+    assert "not enough memory" in run.stderr
+
+
+def test_large_levels_are_made_from_8_bit_levels_within_half_a_level():
+    """Above EXACT_LEVEL_TEXELS the chain continues from the rounded level: one more rounding."""
+    rng = np.random.default_rng(3)
+    side = 2 * int(EXACT_LEVEL_TEXELS ** 0.5) * 2  # level 1 is over the limit, level 2 at it
+    image = rng.integers(0, 256, (side, side, 4), dtype=np.uint8)
+    levels = mip_chain(image, srgb=False)
+    exact = image.astype(np.float64)
+    for level in levels[:3]:
+        exact = exact.reshape(exact.shape[0] // 2, 2, exact.shape[1] // 2, 2, 4).mean(axis=(1, 3))
+        assert np.abs(level.astype(np.float64) - exact).max() <= 1.0
+    assert levels[-1].shape == (1, 1, 4)
