@@ -48,11 +48,14 @@ def test_a_12k_texture_renders_under_4_gib(tmp_path):
 @pytest.mark.gl
 @pytest.mark.slow
 def test_running_out_of_memory_is_a_clean_exit_naming_the_texture(tmp_path):
+    """Whichever step runs short (decoding, the upload, NumPy's BLAS buffers), the run ends
+    with one line and exit 2; the limits put the shortage at different steps."""
     scene = _big_texture_scene(tmp_path, 12_000)
-    run = _render_limited(scene, tmp_path / "out", int(2.2 * 2**30))
-    assert run.returncode == 2, run.stderr[-1000:]
-    assert "internal error" not in run.stderr and "Traceback" not in run.stderr
-    assert "not enough memory" in run.stderr
+    for gib in (1.4, 1.5, 1.6):
+        run = _render_limited(scene, tmp_path / f"out{gib}", int(gib * 2**30))
+        assert run.returncode == 2, (gib, run.returncode, run.stderr[-1000:])
+        assert "internal error" not in run.stderr and "Traceback" not in run.stderr
+        assert "big.png: not enough memory to" in run.stderr
 
 
 def test_large_levels_are_made_from_8_bit_levels_within_half_a_level():

@@ -38,6 +38,7 @@ class TextureCache:
         self.ctx = ctx
         self._images = images if images is not None else ImageStore()
         self._textures: dict = {}
+        self._owned: list[int] = []  # GL names of textures made here, not by moderngl
 
     def texture_2d(self, path: Path | None, srgb: bool):
         key = (str(path) if path else None, srgb)
@@ -64,6 +65,10 @@ class TextureCache:
         for texture in self._textures.values():
             texture.release()
         self._textures.clear()
+        if self._owned:
+            names = (ctypes.c_uint * len(self._owned))(*self._owned)
+            _gl_storage_calls().delete_textures(len(self._owned), names)
+            self._owned.clear()
 
     def _pixels(self, path: Path) -> np.ndarray:
         return self._images.pixels(path)
@@ -80,14 +85,31 @@ class TextureCache:
     def _upload_2d(self, pixels: np.ndarray, srgb: bool):
         """A texture of ``pixels`` (H, W, 4) uint8, top row first, and its mip levels. GL's
         first row is the bottom one (and OBJ's v = 0 is the image's bottom edge), so rows
-        go up flipped, a band at a time: no flipped copy of a whole large image is made."""
+        go up flipped, a band at a time: no flipped copy of a whole large image is made.
+        Storage for every level is made at once (glTexStorage2D) where the GL has it: levels
+        added one by one make Mesa copy the whole texture into a new allocation when it is
+        first drawn, which held a 12,000 x 12,000 texture twice."""
         height, width = pixels.shape[:2]
-        texture = self.ctx.texture((width, height), 4, None, internal_format=GL_SRGB8_ALPHA8 if srgb else None)
+        gl = _gl_storage_calls()
+        if gl is None:
+            texture = self.ctx.texture((width, height), 4, None, internal_format=GL_SRGB8_ALPHA8 if srgb else None)
+        else:
+            texture = self._storage_texture(gl, width, height, srgb)
         for top in range(0, height, _UPLOAD_ROWS):
             bottom = min(height, top + _UPLOAD_ROWS)
             band = np.ascontiguousarray(pixels[top:bottom][::-1])
             texture.write(band, viewport=(0, height - bottom, width, bottom - top))
-        _add_mip_levels(texture, [(_GL_TEXTURE_2D, pixels)], srgb, flip=True)
+        _add_mip_levels(texture, [(_GL_TEXTURE_2D, pixels)], srgb, flip=True, allocated=gl is not None)
+        return texture
+
+    def _storage_texture(self, gl: "_StorageCalls", width: int, height: int, srgb: bool):
+        name = ctypes.c_uint(0)
+        gl.gen_textures(1, ctypes.byref(name))
+        texture = self.ctx.external_texture(name.value, (width, height), 4, 0, "f1")
+        texture.use(self.ctx.default_texture_unit)  # bound where moderngl makes its own uploads
+        levels = max(width, height).bit_length()
+        gl.tex_storage_2d(_GL_TEXTURE_2D, levels, GL_SRGB8_ALPHA8 if srgb else _GL_RGBA8, width, height)
+        self._owned.append(name.value)
         return texture
 
     def _placeholder(self):
@@ -116,10 +138,11 @@ class TextureCache:
 _UPLOAD_ROWS = 1024  # rows of a texture sent to GL at a time
 
 
-def _add_mip_levels(texture, images: list, srgb: bool, flip: bool = False) -> None:
+def _add_mip_levels(texture, images: list, srgb: bool, flip: bool = False, allocated: bool = False) -> None:
     """Give ``texture`` every mipmap level below its images [(GL target, (H, W, 4) uint8)]
     and trilinear filtering; ``flip``: each level goes up bottom row first (the levels of a
-    flipped image are the flipped levels: every filter window is symmetric). No anisotropic filtering: Mesa llvmpipe's anisotropic sampler
+    flipped image are the flipped levels: every filter window is symmetric); ``allocated``:
+    the texture has storage for every level already (filled with glTexSubImage2D). No anisotropic filtering: Mesa llvmpipe's anisotropic sampler
     can stall for seconds (and has hung outright here) on some pixels, and leaving it off
     keeps software and GPU renders filtering textures the same way."""
     tex_image = _gl_tex_image_2d()
@@ -130,11 +153,16 @@ def _add_mip_levels(texture, images: list, srgb: bool, flip: bool = False) -> No
     # rows of RGBA8 need no unpack alignment beyond the 1 moderngl leaves set
     texture.use(texture.ctx.default_texture_unit)
     internal = GL_SRGB8_ALPHA8 if srgb else _GL_RGBA8
+    sub_image = _gl_storage_calls().tex_sub_image_2d if allocated else None
     for target, image in images:
         for level, pixels in enumerate(mip_chain(image, srgb), start=1):
             pixels = np.ascontiguousarray(pixels[::-1]) if flip else pixels
-            tex_image(target, level, internal, pixels.shape[1], pixels.shape[0], 0, _GL_RGBA, _GL_UNSIGNED_BYTE,
-                      pixels.ctypes.data)
+            if sub_image is not None:
+                sub_image(target, level, 0, 0, pixels.shape[1], pixels.shape[0], _GL_RGBA, _GL_UNSIGNED_BYTE,
+                          pixels.ctypes.data)
+            else:
+                tex_image(target, level, internal, pixels.shape[1], pixels.shape[0], 0, _GL_RGBA, _GL_UNSIGNED_BYTE,
+                          pixels.ctypes.data)
     texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
 
 
@@ -146,6 +174,25 @@ def _gl_tex_image_2d():
         return None
     return ctypes.CFUNCTYPE(None, ctypes.c_uint, ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int,
                             ctypes.c_int, ctypes.c_uint, ctypes.c_uint, ctypes.c_void_p)(address)
+
+
+class _StorageCalls:
+    """glGenTextures, glTexStorage2D, glTexSubImage2D and glDeleteTextures (GL 4.2)."""
+
+    def __init__(self, addresses: dict):
+        uint, sizei, pointer = ctypes.c_uint, ctypes.c_int, ctypes.c_void_p
+        self.gen_textures = ctypes.CFUNCTYPE(None, sizei, ctypes.POINTER(uint))(addresses[b"glGenTextures"])
+        self.delete_textures = ctypes.CFUNCTYPE(None, sizei, ctypes.POINTER(uint))(addresses[b"glDeleteTextures"])
+        self.tex_storage_2d = ctypes.CFUNCTYPE(None, uint, sizei, uint, sizei, sizei)(addresses[b"glTexStorage2D"])
+        self.tex_sub_image_2d = ctypes.CFUNCTYPE(None, uint, ctypes.c_int, ctypes.c_int, ctypes.c_int, sizei, sizei,
+                                                 uint, uint, pointer)(addresses[b"glTexSubImage2D"])
+
+
+@lru_cache(maxsize=1)
+def _gl_storage_calls() -> _StorageCalls | None:
+    names = (b"glGenTextures", b"glDeleteTextures", b"glTexStorage2D", b"glTexSubImage2D")
+    addresses = {name: _gl_function(name) for name in names}
+    return None if None in addresses.values() else _StorageCalls(addresses)
 
 
 def _gl_function(name: bytes) -> int | None:
