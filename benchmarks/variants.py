@@ -73,16 +73,16 @@ def footprint_off():
 def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tuple[str, Renderer]:
     if variant == "no-footprint":
         with footprint_off():
-            return variant, Renderer(scenerender.load(scene_path, base_overrides)._world, gl, profile=True)
+            return variant, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if variant == "no-face-culling":
-        return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides)._world, gl, profile=True)
+        return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if "@" in variant and "=" not in variant:
         name, _, folder = variant.partition("@")
         with shaders_from(folder):
-            return name, Renderer(scenerender.load(scene_path, base_overrides)._world, gl, profile=True)
+            return name, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     name, _, overrides = variant.partition("=")
     extra = [o for o in overrides.split(";") if o] if overrides else []
-    return name, Renderer(scenerender.load(scene_path, base_overrides + extra)._world, gl, profile=True)
+    return name, Renderer(scenerender.load(scene_path, base_overrides + extra).world, gl, profile=True)
 
 
 def main() -> None:

@@ -43,11 +43,15 @@ class Scene:
     fps:         frames per second of the animation
     frame_count: how many frames the scene's output has
     warnings:    warning lines raised while loading (missing MTL textures...)
+    loaded:      the validated scene model (scenerender.scene.loading.LoadedScene: ``spec``, the
+                 file's path and the source positions its messages name)
+    world:       what a renderer draws from it (scenerender.world.build.World: objects, lights
+                 and materials, evaluated at any time); tools and benchmarks read it
     """
 
     def __init__(self, loaded, world, source: "SceneSource | None" = None):
-        self._loaded = loaded
-        self._world = world
+        self.loaded = loaded
+        self.world = world
         self.source = source  # how to load it again (workers do); None when built in code
 
     @classmethod
@@ -85,28 +89,28 @@ class Scene:
 
     @property
     def path(self) -> Path:
-        return self._loaded.path
+        return self.loaded.path
 
     @property
     def name(self) -> str:
-        return self._loaded.name
+        return self.loaded.name
 
     @property
     def size(self) -> tuple[int, int]:
-        width, height = self._loaded.spec.render.size
+        width, height = self.loaded.spec.render.size
         return int(width), int(height)
 
     @property
     def fps(self) -> float:
-        return float(self._loaded.spec.output.fps)
+        return float(self.loaded.spec.output.fps)
 
     @property
     def frame_count(self) -> int:
-        return self._loaded.spec.output.frame_count
+        return self.loaded.spec.output.frame_count
 
     @property
     def warnings(self) -> list[str]:
-        return list(self._world.warnings.items)
+        return list(self.world.warnings.items)
 
     def __repr__(self) -> str:
         width, height = self.size
@@ -165,8 +169,8 @@ class Renderer:
         self._owns_gl = gl is None
         self.gl = create_context() if gl is None else gl
         try:
-            self._renderer = GraphRenderer(scene._world, self.gl, size=size, samples=samples,
-                                           warn=scene._world.warnings.warn, want_linear=want_linear,
+            self._renderer = GraphRenderer(scene.world, self.gl, size=size, samples=samples,
+                                           warn=scene.world.warnings.warn, want_linear=want_linear,
                                            profile=profile, cache_static_passes=cache_static_passes)
         except BaseException:
             self._release_gl()

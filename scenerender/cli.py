@@ -326,7 +326,7 @@ def graph(scene, dot, sets, size, samples, asset_roots, limit_texts):
 
     loaded_scene = load(scene, _overrides(sets, size, samples), asset_roots=asset_roots, limits=_limits(limit_texts),
                         on_warning=lambda t: click.echo(t, err=True))
-    world = loaded_scene._world
+    world = loaded_scene.world
     settings = world.settings
     max_samples = _device_max_samples()
     used = device_samples(settings.samples, max_samples if max_samples is not None else settings.samples)

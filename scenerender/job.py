@@ -219,7 +219,7 @@ def run_render(scene, options: RenderOptions, echo=print) -> RenderSummary:
 def _run_loaded(scene, overrides: list, options: RenderOptions, echo) -> RenderSummary:
     from scenerender.manifest import fingerprint
 
-    loaded, world = scene._loaded, scene._world
+    loaded, world = scene.loaded, scene.world
     spec = loaded.spec
     frames = parse_frame_range(options.frames, spec.output.frame_count)
     sink = make_sink(loaded, spec.output.format, Path(options.output), spec.render.size, frames)

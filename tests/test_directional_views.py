@@ -16,7 +16,7 @@ from conftest import SCENES
 
 
 def _world(path=SCENES / "showcase.yaml", overrides=()):
-    return scenerender.load(path, list(overrides))._world
+    return scenerender.load(path, list(overrides)).world
 
 
 def test_the_showcase_sun_stays_put_at_a_size_no_coarser_than_following_the_camera_in_any_frame():

@@ -81,7 +81,7 @@ def test_orthographic_cameras_never_skip_faces():
 
 def _object_frames(scene: dict, tmp_path, index: int = 0):
     s = scenerender.Scene.from_dict(scene, base_dir=tmp_path)
-    world = s._world
+    world = s.world
     evaluator = frame_module.FrameEvaluator(world, (64, 48), None)
     return evaluator.evaluate(0, 0.0).objects
 

@@ -97,7 +97,7 @@ def test_frame_one_million_has_exact_time_and_camera(gl):
     frame = gpu_frame(gl, scene, index)
     time = index / 30.0
     assert frame.time == time
-    camera = FrameEvaluator(scene._world, scene.size, None).evaluate(index, time).camera
+    camera = FrameEvaluator(scene.world, scene.size, None).evaluate(index, time).camera
     expected = np.array([-4.0 + 8.0 * time / 60000.0, 2.0, 5.0])
     assert np.abs(camera.position - expected).max() <= 1e-12 * 4
     still = load("frame_million", [f"camera.position=[{float(expected[0])!r}, 2, 5]"])

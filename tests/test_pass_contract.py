@@ -164,7 +164,7 @@ def _handles(inputs) -> list:
 
 
 def _plan(scene: scenerender.Scene):
-    world = scene._world
+    world = scene.world
     return world, plan(world, world.settings.size, world.settings.samples)
 
 

@@ -43,7 +43,7 @@ objects:
     material: {{diffuse: [0.7, 0.6, 0.5], specular: [0, 0, 0]}}
 """)
     ref = render_reference(scene, 0, spp=4)
-    kd = scene._world.objects[0].materials[0].diffuse(0.0)[:3]
+    kd = scene.world.objects[0].materials[0].diffuse(0.0)[:3]
     ys, xs = np.mgrid[0:SIZE, 0:SIZE]
     wx, wz = pixel_world(xs.ravel().astype(float), ys.ravel().astype(float))
     to_light = light[None, :] - np.stack([wx, np.zeros_like(wx), wz], axis=1)

@@ -37,7 +37,7 @@ def scene_text(light: str, model: str = "blinn_phong", extra: str = "") -> str:
 def formula_pixels(scene) -> np.ndarray:
     """(SIZE, SIZE, 3) uint8: the plane y = 0 shaded at every pixel centre with the NumPy
     equations, from the same per-frame camera, lights and materials the GPU gets."""
-    world = scene._world
+    world = scene.world
     frame = FrameEvaluator(world, (SIZE, SIZE), None).evaluate(0, 0.0)
     camera = frame.camera
     ys, xs = np.mgrid[0:SIZE, 0:SIZE].reshape(2, -1).astype(float)

@@ -130,7 +130,7 @@ objects:
   - mesh: {primitive: plane, size: 10}
 """
     loaded = scene(text)
-    camera = FrameEvaluator(loaded._world, (48, 32), None).evaluate(1, 1.0).camera
+    camera = FrameEvaluator(loaded.world, (48, 32), None).evaluate(1, 1.0).camera
     assert np.array_equal(camera.rotation, np.eye(3))
     monkeypatch.setenv(ENV_CHECK_FINITE, "1")  # a NaN reaching any pixel fails the frame
     frames = render(gl, text, frames=(0, 1, 2))

@@ -24,7 +24,7 @@ def _scene(lights, objects=CASTERS) -> dict:
 
 def _frames(gl, tmp_path, scene: dict, cache: bool):
     """(pixels of frames 0-5, how many times each shadow pass ran)."""
-    world = scenerender.Scene.from_dict(scene, base_dir=tmp_path)._world
+    world = scenerender.Scene.from_dict(scene, base_dir=tmp_path).world
     renderer = Renderer(world, gl, profile=True, cache_static_passes=cache)
     try:
         pixels = [renderer.render(i).pixels for i in range(6)]

@@ -79,7 +79,7 @@ def _round(value, digits):
 
 def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
     """The default row, then one row per other value of each knob in ``knobs``."""
-    spec = scene._world.render
+    spec = scene.world.render
     shadows = spec.shadows
     width, height = (int(v) for v in spec.size)
     variants = [Variant("default", "default")]
@@ -90,7 +90,7 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
 
     for n in SAMPLES:
         add("samples", f"msaa {n}", f"render.samples={n}", spec.samples, n)
-    if scene._world.shadowed_lights:
+    if scene.world.shadowed_lights:
         for size in SHADOW_SIZES:
             add("shadow_size", f"map {size}", f"render.shadows.size={size}", shadows.size, size)
         for pcf in PCF_SIZES:

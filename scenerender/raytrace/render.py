@@ -84,7 +84,7 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
 
     size: (width, height), default the scene's render.size. ``warn`` receives one line
     naming what the reference leaves out, when the scene has any of it."""
-    world = getattr(world, "_world", world)
+    world = getattr(world, "world", world)
     if world.render.mode != "shaded":
         raise single_error(f"the reference renders mode 'shaded' only, not '{world.render.mode}'",
                            ("render", "mode"), world.scene.source)
