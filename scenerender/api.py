@@ -223,21 +223,6 @@ def render(scene: Scene, frames: Iterable[int] | None = None, size=None, samples
             yield renderer.render(index)
 
 
-def render_to(scene, output, **options):
-    """Exactly what ``scenerender render`` does: frames or a video into ``output``, with
-    resume, the run manifest and atomic files. ``scene`` is a ``Scene`` or a path.
-
-    Options are the CLI's (see ``scenerender.job.RenderOptions``): ``overrides``,
-    ``frames`` ("A:B"), ``overwrite``, ``strict``, ``format``, ``check`` (a reference
-    folder), ``update_references``, ``quiet`` (default True: no progress here).
-    Returns a ``RenderSummary``.
-    """
-    from scenerender.job import RenderOptions, run_render
-
-    options.setdefault("quiet", True)
-    return run_render(scene, RenderOptions(output=Path(output), **options), echo=lambda text: None)
-
-
 def _with_in_memory_meshes(mapping: Mapping) -> dict:
     """A copy of ``mapping`` whose trimesh meshes and (vertices, faces) pairs are MeshData."""
     data = copy.copy(dict(mapping))

@@ -192,6 +192,20 @@ def _create_folder(folder: Path) -> None:
         make_folders(folder)
 
 
+def render_to(scene, output, **options) -> "RenderSummary":
+    """Exactly what ``scenerender render`` does: frames or a video into ``output``, with
+    resume, the run manifest and atomic files. ``scene`` is a ``scenerender.Scene`` or a
+    path (``scenerender.render_to`` is this function).
+
+    Options are the CLI's (see ``RenderOptions``): ``overrides``, ``frames`` ("A:B"),
+    ``overwrite``, ``strict``, ``format``, ``check`` (a reference folder),
+    ``update_references``, ``quiet`` (default True: no progress here).
+    Returns a ``RenderSummary``.
+    """
+    options.setdefault("quiet", True)
+    return run_render(scene, RenderOptions(output=Path(output), **options), echo=lambda text: None)
+
+
 def run_render(scene, options: RenderOptions, echo=print) -> RenderSummary:
     """Render ``scene`` (a path, or an ``api.Scene`` already loaded) as ``options`` say.
 
