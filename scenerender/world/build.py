@@ -16,6 +16,7 @@ from scenerender.scene import LoadedScene
 from scenerender.scene.messages import single_error
 from scenerender.world import materials as mats
 from scenerender.world import texture_files
+from scenerender.world.directional_views import fixed_view_sizes
 from scenerender.world.images import DEFAULT_MAX_PIXELS, ImageStore
 from scenerender.world.lights import LightDef, light_defs
 from scenerender.world.settings import OutlineSettings, RenderSettings
@@ -62,8 +63,6 @@ class World:
     def fixed_shadow_sizes(self) -> dict:
         """{index in ``lights``: map size} of the directional lights whose shadow view stays
         put for the whole run (world.directional_views), judged at ``render.size``."""
-        from scenerender.world.directional_views import fixed_view_sizes  # it evaluates cameras (world.frame)
-
         width, height = self.settings.size
         return fixed_view_sizes(self, width / height)
 

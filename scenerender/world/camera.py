@@ -176,3 +176,55 @@ def framing_position(bounds: np.ndarray, fov_degrees: float, aspect: float,
     distance = radius / math.sin(min(half_v, half_h)) * 1.05
     d = np.asarray(direction, dtype=np.float64)
     return center + d / np.linalg.norm(d) * distance, center
+
+
+class CameraRig:
+    """The scene's camera (its ``camera:`` spec, or None for the default that frames the
+    scene) at any time, for one aspect ratio. ``first_bounds`` (2, 3), the scene's bounds
+    at frame 0, place the default camera and size an orthographic view without ``height``:
+    set once, before the first ``at``, so that every frame of a run is framed alike."""
+
+    def __init__(self, spec, aspect: float, max_depth_ratio: float | None = None):
+        """max_depth_ratio: the cap on far / near of `near/far: auto` (fit_near_far)."""
+        self.spec = spec
+        self.aspect = aspect
+        self.max_depth_ratio = max_depth_ratio
+        self.first_bounds = None
+
+    def at(self, t: float, bounds) -> CameraState:
+        """The camera at time ``t`` seeing a scene that spans ``bounds`` (2, 3) now."""
+        spec = self.spec
+        fov = spec.fov(t) if spec is not None else 60.0
+        up = np.asarray(spec.up if spec is not None else (0.0, 1.0, 0.0), dtype=np.float64)
+        position, forward = self._aim(t, fov)
+        rotation = look_rotation(forward, up)
+        ortho = spec is not None and spec.projection == "orthographic"
+        near, far = fit_near_far(bounds, position, rotation, ortho, self.max_depth_ratio)
+        if spec is not None and spec.near != "auto":
+            near = spec.near
+        if spec is not None and spec.far != "auto":
+            far = spec.far
+        far = max(far, near * 1.001)
+        height = self._ortho_height(t) if ortho else 0.0
+        projection = orthographic(height, self.aspect, near, far) if ortho else perspective(fov, self.aspect, near, far)
+        return CameraState(position, rotation, projection, near, far, fov, self.aspect, ortho)
+
+    def _aim(self, t: float, fov: float):
+        """(position (3,), forward (3,)) in float64."""
+        spec = self.spec
+        framed_position, center = framing_position(self.first_bounds, fov, self.aspect)
+        if spec is None:
+            return framed_position, center - framed_position
+        position = np.asarray(spec.position(t), dtype=np.float64) if spec.position is not None else framed_position
+        if spec.yaw is not None or spec.pitch is not None:
+            yaw = spec.yaw(t) if spec.yaw is not None else -90.0
+            pitch = spec.pitch(t) if spec.pitch is not None else 0.0
+            return position, yaw_pitch_forward(yaw, pitch)
+        target = np.asarray(spec.target(t), dtype=np.float64) if spec.target is not None else center
+        return position, target - position  # zero where they meet: look_rotation has a fallback
+
+    def _ortho_height(self, t: float) -> float:
+        if self.spec.height is not None:
+            return self.spec.height(t)
+        lo, hi = self.first_bounds
+        return float(np.linalg.norm(hi - lo)) * 1.05

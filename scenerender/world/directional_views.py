@@ -20,6 +20,7 @@ import math
 
 import numpy as np
 
+from scenerender.world.camera import CameraRig
 from scenerender.world.inputs import camera_fitted_inputs
 from scenerender.world.shadows import directional_half_width, directional_rotation, visible_region
 from scenerender.world.transforms import union_bounds
@@ -84,10 +85,9 @@ def _still_bounds(world) -> tuple:
 
 def _sampled_cameras(world, aspect: float, bounds: np.ndarray) -> list:
     """The camera at up to SAMPLED_FRAMES frames spread over the animation."""
-    from scenerender.world.frame import FrameEvaluator  # frame builds on this module's callers
-
     count = max(world.output.frame_count, 1)
     sampled = min(count, SAMPLED_FRAMES)
     indices = sorted({round(k * (count - 1) / max(sampled - 1, 1)) for k in range(sampled)})
-    evaluator = FrameEvaluator(world, (aspect, 1.0), None)
-    return [evaluator.camera(index / float(world.output.fps), bounds) for index in indices]
+    rig = CameraRig(world.spec.camera, aspect)
+    rig.first_bounds = bounds
+    return [rig.at(index / float(world.output.fps), bounds) for index in indices]

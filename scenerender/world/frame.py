@@ -12,9 +12,7 @@ import numpy as np
 
 from scenerender.animation import animated_keys
 from scenerender.world.build import World, scene_bounds
-from scenerender.world.camera import (
-    CameraState, fit_near_far, framing_position, look_rotation, orthographic, perspective, yaw_pitch_forward,
-)
+from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lights import LightState, evaluate_lights
 from scenerender.world.facing import hidden_from_eye
@@ -87,7 +85,7 @@ class FrameEvaluator:
         self.size = size
         self.aspect = size[0] / size[1]
         self.atlas = atlas
-        self._first_bounds = None
+        self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio)
 
     @cached_property
     def _windings(self) -> list:
@@ -109,14 +107,14 @@ class FrameEvaluator:
                       for i, obj in enumerate(world.objects)]
         visible = [bool(obj.visible(time)) for obj in world.objects]
         bounds = union_bounds([p[2] for p, v in zip(placements, visible) if v])
-        if self._first_bounds is None:
+        if self.rig.first_bounds is None:
             # the default camera frames frame 0 (t = 0), whichever frame a run starts
             # with: a resumed or --frames run must draw what a full run draws
             start = bounds if time == 0.0 else scene_bounds(
                 world.objects, [obj.matrices(0.0) for obj in world.objects],
                 [bool(obj.visible(0.0)) for obj in world.objects])
-            self._first_bounds = start if start is not None else np.array([[-1.0] * 3, [1.0] * 3])
-        camera = self._camera(time, bounds)
+            self.rig.first_bounds = start if start is not None else np.array([[-1.0] * 3, [1.0] * 3])
+        camera = self.rig.at(time, bounds)
         planes = frustum_planes(camera.view_proj_relative())
         objects = [self._object(obj, p, v, camera, planes) for obj, p, v in zip(world.objects, placements, visible)]
         lights, ambient = evaluate_lights(world.lights, time, camera)
@@ -135,45 +133,9 @@ class FrameEvaluator:
     def camera(self, t: float, bounds) -> CameraState:
         """The camera at ``t`` in a scene whose objects span ``bounds`` (2, 3), without
         evaluating the rest of the frame (objects that never move: their bounds at 0)."""
-        if self._first_bounds is None:
-            self._first_bounds = bounds
-        return self._camera(t, bounds)
-
-    def _camera(self, t: float, bounds) -> CameraState:
-        spec = self.world.spec.camera
-        fov = spec.fov(t) if spec is not None else 60.0
-        up = np.asarray(spec.up if spec is not None else (0.0, 1.0, 0.0), dtype=np.float64)
-        position, forward = self._aim(spec, t, fov)
-        rotation = look_rotation(forward, up)
-        ortho = spec is not None and spec.projection == "orthographic"
-        near, far = fit_near_far(bounds, position, rotation, ortho, self.max_depth_ratio)
-        if spec is not None and spec.near != "auto":
-            near = spec.near
-        if spec is not None and spec.far != "auto":
-            far = spec.far
-        far = max(far, near * 1.001)
-        height = self._ortho_height(spec, t) if ortho else 0.0
-        projection = orthographic(height, self.aspect, near, far) if ortho else perspective(fov, self.aspect, near, far)
-        return CameraState(position, rotation, projection, near, far, fov, self.aspect, ortho)
-
-    def _aim(self, spec, t: float, fov: float):
-        """(position (3,), forward (3,)) in float64."""
-        framed_position, center = framing_position(self._first_bounds, fov, self.aspect)
-        if spec is None:
-            return framed_position, center - framed_position
-        position = np.asarray(spec.position(t), dtype=np.float64) if spec.position is not None else framed_position
-        if spec.yaw is not None or spec.pitch is not None:
-            yaw = spec.yaw(t) if spec.yaw is not None else -90.0
-            pitch = spec.pitch(t) if spec.pitch is not None else 0.0
-            return position, yaw_pitch_forward(yaw, pitch)
-        target = np.asarray(spec.target(t), dtype=np.float64) if spec.target is not None else center
-        return position, target - position  # zero where they meet: look_rotation has a fallback
-
-    def _ortho_height(self, spec, t: float) -> float:
-        if spec.height is not None:
-            return spec.height(t)
-        lo, hi = self._first_bounds
-        return float(np.linalg.norm(hi - lo)) * 1.05
+        if self.rig.first_bounds is None:
+            self.rig.first_bounds = bounds
+        return self.rig.at(t, bounds)
 
     # -- objects and shadows -------------------------------------------------------------
     @staticmethod
