@@ -54,20 +54,10 @@ def _is_user_os_error(exc: BaseException) -> bool:
     return isinstance(exc, OSError) and exc.errno in WRITE_ERRNOS and bool(exc.strerror)
 
 
-def _start_blas() -> None:
-    """Have NumPy's OpenBLAS take its working buffers now. It takes them on its first
-    matrix product, and where memory has run short by then (a large texture loaded) it
-    ends the process with exit 1 instead of raising MemoryError."""
-    import numpy as np
-
-    np.ones((2, 2)) @ np.ones((2, 2))
-
-
 class _Command(click.Group):
     """Turns scenerender's own exceptions into one-line messages and exit codes."""
 
     def invoke(self, ctx):
-        _start_blas()
         try:
             return super().invoke(ctx)
         except SceneErrors as exc:

@@ -23,8 +23,8 @@ shift: a quarter of the local contrast (4x MSAA moves coverage in quarter steps,
 edge's pixels cannot follow a shift smoothly) and half the local second difference (detail
 finer than a pixel, a texture at a grazing angle, aliases rather than shifts). Both take the
 smaller of the two images' values, so a feature only one image has gets neither. The
-residual is signed (output minus reference) and judged by its worst pixel and the worst
-signed mean of any 8x8 window: one coherent displacement cannot make a bias.
+residual is signed (output minus reference) and judged by the worst signed mean of any 8x8
+window (one coherent displacement cannot make a bias); its worst pixel is reported too.
 """
 from __future__ import annotations
 
@@ -118,22 +118,18 @@ def neighbourhood_range(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return low, high
 
 
-def unexplained_difference(reference: np.ndarray, output: np.ndarray, tolerance: int) -> np.ndarray:
+def unexplained_difference(reference: np.ndarray, output: np.ndarray, tolerance: int,
+                           ranges: tuple | None = None) -> np.ndarray:
     """(H, W) float32: per pixel, the largest over channels of how far one image's colour
     lies outside the other's 3x3 range, the smaller direction, less ``tolerance`` levels, at
-    least 0 (see the module notes). Inputs (H, W, 3) uint8."""
+    least 0 (see the module notes). Inputs (H, W, 3) uint8; ``ranges``: both images'
+    ``neighbourhood_range`` of their int16 values, where the caller has them already."""
     ref, out = reference.astype(np.int16), output.astype(np.int16)
-    ref_low, ref_high = neighbourhood_range(ref)
-    out_low, out_high = neighbourhood_range(out)
+    (ref_low, ref_high), (out_low, out_high) = ranges or (neighbourhood_range(ref), neighbourhood_range(out))
     outside_ref = np.maximum(np.maximum(ref_low - out, out - ref_high), 0)
     outside_out = np.maximum(np.maximum(out_low - ref, ref - out_high), 0)
     excess = np.minimum(outside_ref, outside_out).max(axis=2)
     return np.maximum(excess - tolerance, 0).astype(np.float32)
-
-
-def _span(image: np.ndarray) -> np.ndarray:
-    low, high = neighbourhood_range(image)
-    return high - low
 
 
 def second_difference(image: np.ndarray) -> np.ndarray:
@@ -146,10 +142,11 @@ def second_difference(image: np.ndarray) -> np.ndarray:
     return np.maximum(across, down) * 0.5
 
 
-def allowance(reference: np.ndarray, output: np.ndarray, tolerance: int) -> np.ndarray:
+def allowance(reference: np.ndarray, output: np.ndarray, tolerance: int, ranges: tuple) -> np.ndarray:
     """(H, W, 3) float32: per channel, the levels forgiven after the best shift (see the
-    module notes). Inputs (H, W, 3) float32."""
-    edges = np.minimum(_span(reference), _span(output))
+    module notes). Inputs (H, W, 3) float32; ``ranges`` as for ``unexplained_difference``."""
+    (ref_low, ref_high), (out_low, out_high) = ranges
+    edges = np.minimum(ref_high - ref_low, out_high - out_low).astype(np.float32)
     detail = np.minimum(second_difference(reference), second_difference(output))
     return tolerance + EDGE_SHARE * edges + ALIAS_SHARE * detail
 
@@ -197,14 +194,16 @@ def _best_shift(source: np.ndarray, target: np.ndarray, forgiven: np.ndarray, si
     return best_residual, best_shift
 
 
-def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int) -> tuple[np.ndarray, np.ndarray]:
+def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int,
+                   ranges: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The signed difference (output - reference) no small shift explains, per pixel the
     channel with the largest magnitude -> ((H, W) float32 levels, (rows, cols, 2) float32
     per-tile shift (dy, dx) in pixels). Only tiles that differ beyond the allowances
-    unshifted are searched, so identical and nearly identical frames cost little."""
+    unshifted are searched, so identical and nearly identical frames cost little. ``ranges``
+    as for ``unexplained_difference``."""
     h, w, _ = reference.shape
     ref, out = reference.astype(np.float32), output.astype(np.float32)
-    forgiven = allowance(ref, out, tolerance)
+    forgiven = allowance(ref, out, tolerance, ranges or _ranges(reference, output))
     rows, cols = -(-h // TILE), -(-w // TILE)
     shifts = np.zeros((rows, cols, 2), np.float32)
     charged = np.zeros((rows, cols, TILE, TILE, 3), np.float32)
@@ -220,6 +219,11 @@ def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int) ->
     per_pixel = charged.transpose(0, 2, 1, 3, 4).reshape(rows * TILE, cols * TILE, 3)[:h, :w]
     strongest = np.abs(per_pixel).argmax(axis=2)[..., None]
     return np.take_along_axis(per_pixel, strongest, axis=2)[..., 0], shifts
+
+
+def _ranges(reference: np.ndarray, output: np.ndarray) -> tuple:
+    """Both images' 3x3 neighbourhood ranges, (low, high) each, int16: what both views use."""
+    return neighbourhood_range(reference.astype(np.int16)), neighbourhood_range(output.astype(np.int16))
 
 
 def window_sums(per_pixel: np.ndarray, side: int = TILE) -> np.ndarray:
@@ -312,8 +316,9 @@ def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
         unexplained = np.zeros(magnitude.shape, np.float32)
         residual, shifts = unexplained.copy(), np.zeros((rows, cols, 2), np.float32)
     else:
-        unexplained = unexplained_difference(reference, output, aa_tolerance)
-        residual, shifts = shift_residual(reference, output, aa_tolerance)
+        ranges = _ranges(reference, output)  # both views read them: worked out once
+        unexplained = unexplained_difference(reference, output, aa_tolerance, ranges)
+        residual, shifts = shift_residual(reference, output, aa_tolerance, ranges)
     maps = DiffMaps(magnitude, unexplained, residual, shifts, aa_tolerance)
     excused = maps.excused
     excused_tiles = tile_means(excused.astype(np.float32)) > 0

@@ -130,7 +130,8 @@ class CompareResult:
     def summary_lines(self, excused: bool = False) -> list[str]:
         """One line per changed, missing and extra frame, then the total line; with
         ``excused``, first a line per passing frame that differs, saying what it forgave."""
-        lines = [line for frame in self.frames if frame.passed and excused for line in [frame.excused_line()] if line]
+        passing = [frame for frame in self.frames if frame.passed] if excused else []
+        lines = [line for line in (frame.excused_line() for frame in passing) if line]
         lines += [frame.summary_line() for frame in self.changed]
         lines += [f"MISSING {name}: in the reference, not in the output" for name in self.missing]
         lines += [f"EXTRA {name}: in the output, not in the reference" for name in self.extra]

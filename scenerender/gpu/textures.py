@@ -142,9 +142,11 @@ def _add_mip_levels(texture, images: list, srgb: bool, flip: bool = False, alloc
     """Give ``texture`` every mipmap level below its images [(GL target, (H, W, 4) uint8)]
     and trilinear filtering; ``flip``: each level goes up bottom row first (the levels of a
     flipped image are the flipped levels: every filter window is symmetric); ``allocated``:
-    the texture has storage for every level already (filled with glTexSubImage2D). No anisotropic filtering: Mesa llvmpipe's anisotropic sampler
-    can stall for seconds (and has hung outright here) on some pixels, and leaving it off
-    keeps software and GPU renders filtering textures the same way."""
+    the texture has storage for every level already (filled with glTexSubImage2D).
+
+    No anisotropic filtering: Mesa llvmpipe's anisotropic sampler can stall for seconds
+    (and has hung outright here) on some pixels, and leaving it off keeps software and GPU
+    renders filtering textures the same way."""
     tex_image = _gl_tex_image_2d()
     if tex_image is None:  # no way to upload levels on this GL: the driver makes them
         texture.build_mipmaps()

@@ -160,7 +160,7 @@ def _parse_text(text: str, path: Path, shown: str, warners: _Warners, assets: As
     file_normals = _vectors(statements.vn_tokens, statements.vn_lines, 3, shown)
 
     corners = _parse_corners(statements, shown)
-    (v_index, vt_index, vn_index), has_vt, has_vn = _resolve_indices(corners, statements, shown, warnings)
+    v_index, vt_index, vn_index = _resolve_indices(corners, statements, shown, warnings)
     vertex_of_corner, unique_v, unique_vt, unique_vn = _weld_corners(
         v_index, vt_index, vn_index, len(positions), len(texcoords), len(file_normals)
     )
@@ -173,12 +173,12 @@ def _parse_text(text: str, path: Path, shown: str, warners: _Warners, assets: As
     budget.charge(len(indices), SourceLocation(shown))
 
     uvs = None
-    if has_vt.any():
+    if (vt_index >= 0).any():
         uvs = np.zeros((len(unique_vt), 2), dtype=np.float32)
         named = unique_vt >= 0
         uvs[named] = recentred_texcoords(texcoords[unique_vt[named]])
     normals = None
-    if len(has_vn) and has_vn.all():
+    if len(vn_index) and (vn_index >= 0).all():
         normals = file_normals[unique_vn].astype(np.float32)
 
     materials, all_libraries_found = _load_material_libraries(path, statements, warners, assets)
@@ -497,7 +497,7 @@ def _resolve_indices(corners: _Corners, st: _Statements, shown: str, warnings: W
         resolved.append(np.where(present, absolute - 1, -1))
     if dropped:
         _warn_dropped_references(dropped, shown, warnings)
-    return resolved, resolved[1] >= 0, resolved[2] >= 0
+    return resolved
 
 
 def _warn_dropped_references(dropped: list, shown: str, warnings: Warnings) -> None:
@@ -561,7 +561,8 @@ def triangulate(vertex_of_corner: np.ndarray, sizes: np.ndarray, corner_position
         for face in concave:
             start, count = int(face_start[face]), int(sizes[face])
             local = _ear_clip(corner_positions[start:start + count])
-            indices[first_triangle[face]:first_triangle[face] + count - 2] = vertex_of_corner[start + local]
+            if local is not None:  # else a self-crossing or degenerate face: it keeps its fan
+                indices[first_triangle[face]:first_triangle[face] + count - 2] = vertex_of_corner[start + local]
     return indices
 
 
@@ -588,10 +589,11 @@ def _concave_faces(sizes: np.ndarray, corner_positions: np.ndarray) -> np.ndarra
     return concave & big
 
 
-def _ear_clip(points: np.ndarray) -> np.ndarray:
+def _ear_clip(points: np.ndarray) -> np.ndarray | None:
     """(n - 2, 3) int64 corner indices of one polygon's triangles, (n, 3) points in any
     orientation: projected onto the plane of its Newell normal, then ear clipped
-    (mapbox-earcut); winding kept as the face's own."""
+    (mapbox-earcut); winding kept as the face's own. None where ear clipping does not give
+    n - 2 triangles (a self-crossing or degenerate face)."""
     import mapbox_earcut
 
     normal = np.cross(points, np.roll(points, -1, axis=0)).sum(axis=0)
@@ -602,9 +604,8 @@ def _ear_clip(points: np.ndarray) -> np.ndarray:
         flat[:, 0] = -flat[:, 0]
     triangles = mapbox_earcut.triangulate_float64(flat, np.array([len(points)], dtype=np.uint32))
     triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-    if len(triangles) != len(points) - 2:  # a self-crossing or degenerate face: keep the fan
-        return np.stack([np.zeros(len(points) - 2, dtype=np.int64), np.arange(1, len(points) - 1),
-                         np.arange(2, len(points))], axis=1)
+    if len(triangles) != len(points) - 2:
+        return None
     return _same_winding(triangles, flat)
 
 

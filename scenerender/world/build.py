@@ -74,6 +74,13 @@ class World:
         return [m for obj in self.objects for m in obj.materials]
 
 
+def _start_blas() -> None:
+    """Have NumPy's OpenBLAS take its working buffers before the textures are decoded. It
+    takes them on its first matrix product, and where memory has run short by then (a large
+    texture loaded) it ends the process with exit 1 instead of raising MemoryError."""
+    np.ones((2, 2)) @ np.ones((2, 2))
+
+
 def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
     """Load meshes (each file once per set of options), resolve materials, decode every
     texture and skybox face.
@@ -85,6 +92,7 @@ def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
     one the scene names is an error at its key. So a scene this accepts does not fail later
     for a reason in its input: ``validate`` runs exactly this.
     """
+    _start_blas()
     warnings = warnings or Warnings()
     spec = scene.spec
     loader = _Loader(scene, warnings)
