@@ -20,11 +20,6 @@ __all__ = ["Frame", "Renderer", "Scene", "SceneError", "load", "render", "render
 def __getattr__(name: str):
     # The API pulls in numpy, pydantic and the render graph; `scenerender --version` and
     # the CLI's fast paths should not pay for that, so it is imported on first use.
-    # render_to is the run layer's (job.py), which sits above the API it uses.
-    if name == "render_to":
-        from scenerender import job
-
-        return job.render_to
     if name in __all__:
         from scenerender import api
 

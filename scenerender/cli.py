@@ -6,6 +6,7 @@ something (no EGL driver), 1 a bug in scenerender.
 """
 from __future__ import annotations
 
+import functools
 import math
 import os
 import sys
@@ -170,18 +171,41 @@ def _overrides(sets, size, samples) -> list[str]:
     return out
 
 
+def _scene_overrides(with_samples: bool = True):
+    """``--set`` and ``--size`` (and, ``with_samples``, ``--samples``), declared once for every
+    command that loads a scene; the command receives them as one ``overrides`` list of
+    ``key=value`` strings, applied like the scene file's own keys."""
+    options = [
+        click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP),
+        click.option("--size", type=ImageSize(), metavar="WxH",
+                     help="Image size, e.g. 1280x720 (overrides render.size)."),
+    ]
+    if with_samples:
+        options.append(click.option("--samples", type=click.IntRange(1, 64),
+                                    help="MSAA samples: 1 (anti-aliasing off), 2, 4, 8, 16, 32 or 64 "
+                                         "(overrides render.samples)."))
+
+    def decorate(command):
+        @functools.wraps(command)
+        def with_overrides(*args, sets, size, samples=None, **kwargs):
+            return command(*args, overrides=_overrides(sets, size, samples), **kwargs)
+
+        for option in reversed(options):
+            with_overrides = option(with_overrides)
+        return with_overrides
+
+    return decorate
+
+
 @main.command()
 @click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
 @click.option("-o", "--output", type=GivenPath(path_type=Path), default=Path("out"), show_default=True,
               help="Folder for image sequences, or the video file / folder for MP4 and GIF.")
-@click.option("--size", type=ImageSize(), metavar="WxH", help="Image size, e.g. 1280x720 (overrides render.size).")
-@click.option("--samples", type=click.IntRange(1, 64),
-              help="MSAA samples: 1 (anti-aliasing off), 2, 4, 8, 16, 32 or 64 (overrides render.samples).")
+@_scene_overrides()
 @click.option("--format", "fmt", type=click.Choice(["png", "jpg", "tga", "exr", "mp4", "gif"]),
               help="Output format (overrides output.format).")
 @click.option("--frames", metavar="A:B", help="Render frames A to B-1 only, like a Python slice: also A:B:STEP, "
                                                "-10: (the last ten) or N (frame N alone).")
-@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
 @click.option("--overwrite", is_flag=True, help="Render frames again even if complete files exist.")
 @click.option("--strict", is_flag=True, help="Treat warnings (missing MTL textures...) as errors.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress and no summary line.")
@@ -200,7 +224,7 @@ def _overrides(sets, size, samples) -> list[str]:
                    "be on storage every worker sees (needs the 'distributed' extra).")
 @_asset_root_option
 @_limit_option
-def render(scene, output, size, samples, fmt, frames, sets, overwrite, strict, quiet, profile, check,
+def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, profile, check,
            update_references, workers, scheduler, asset_roots, limit_texts):
     """Render SCENE into -o OUTPUT: a folder of frames, or the video or image file it names.
 
@@ -222,22 +246,25 @@ def render(scene, output, size, samples, fmt, frames, sets, overwrite, strict, q
     Exit codes: 0 done, 1 frames changed (--check), 2 bad input or an output that cannot be
     written, 3 the machine lacks something (no OpenGL driver), 130 / 143 interrupted.
     """
-    from scenerender.interrupts import signals_as_exceptions
-    from scenerender.job import RenderOptions, run_render
+    from scenerender.run.interrupts import signals_as_exceptions
+    from scenerender.run.job import RenderOptions, run_render
 
     if update_references and check is None:
         raise click.UsageError("--update-references needs --check REF_DIR (the references to rewrite)")
 
-    def echo(text):
-        if not quiet or text.startswith(("warning", "FAIL", "CHANGED", "MISSING", "EXTRA", "report", "updated")):
-            click.echo(text, err=True)
+    def notice(text):  # warnings and a failing check: shown even with -q
+        click.echo(text, err=True)
 
-    options = RenderOptions(output=output, overrides=_overrides(sets, size, samples), frames=frames,
+    def echo(text):
+        if not quiet:
+            notice(text)
+
+    options = RenderOptions(output=output, overrides=overrides, frames=frames,
                             overwrite=overwrite, strict=strict, quiet=quiet, format=fmt, profile=profile,
                             check=check, update_references=update_references, asset_roots=tuple(asset_roots),
                             workers=workers, scheduler=scheduler, limits=_limits(limit_texts))
     with signals_as_exceptions():  # also while the scene loads: exit 143/129 with a message
-        summary = run_render(scene, options, echo=echo)
+        summary = run_render(scene, options, echo=echo, notice=notice)
     if summary.profile:
         click.echo(summary.profile)
     if summary.check is not None and not summary.check.passed and not update_references:
@@ -246,13 +273,13 @@ def render(scene, output, size, samples, fmt, frames, sets, overwrite, strict, q
 
 @main.command()
 @click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
-@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
+@_scene_overrides()
 @click.option("--strict", is_flag=True, help="Treat warnings as errors.")
 @click.option("--assets/--no-assets", default=True, show_default=True,
               help="Also load meshes, MTL files, textures and skybox faces to check them.")
 @_asset_root_option
 @_limit_option
-def validate(scene, sets, strict, assets, asset_roots, limit_texts):
+def validate(scene, overrides, strict, assets, asset_roots, limit_texts):
     """Check SCENE without rendering: everything `render` checks short of drawing. Keys and
     values; every file the scene names (inside the allowed folders, regular files); meshes
     and MTL files parsed; textures and skybox faces decoded; limits. Lists every warning,
@@ -262,7 +289,7 @@ def validate(scene, sets, strict, assets, asset_roots, limit_texts):
     from scenerender.scene import load_scene
 
     warnings = Warnings(strict=strict, echo=lambda t: click.echo(t, err=True))
-    loaded = load_scene(scene, list(sets), asset_roots=tuple(asset_roots), limits=_limits(limit_texts))
+    loaded = load_scene(scene, overrides, asset_roots=tuple(asset_roots), limits=_limits(limit_texts))
     if assets:
         from scenerender.world.build import build_world
 
@@ -301,12 +328,10 @@ def schema(output, markdown):
 @main.command()
 @click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
 @click.option("--dot", is_flag=True, help="Graphviz dot instead of text.")
-@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
-@click.option("--size", type=ImageSize(), metavar="WxH", help="Image size (overrides render.size).")
-@click.option("--samples", type=click.IntRange(1, 64), help="MSAA samples: 1, 2, 4, 8, 16, 32 or 64.")
+@_scene_overrides()
 @_asset_root_option
 @_limit_option
-def graph(scene, dot, sets, size, samples, asset_roots, limit_texts):
+def graph(scene, dot, overrides, asset_roots, limit_texts):
     """Print the render graph SCENE compiles to: the world's inputs (static or animated),
     the passes kept (static ones render once per run, derived from what they read), passes
     culled, and the images between them. Works without a GL device; where one is at hand,
@@ -314,7 +339,7 @@ def graph(scene, dot, sets, size, samples, asset_roots, limit_texts):
     from scenerender.api import load
     from scenerender.rendering.renderer import device_samples, plan
 
-    loaded_scene = load(scene, _overrides(sets, size, samples), asset_roots=asset_roots, limits=_limits(limit_texts),
+    loaded_scene = load(scene, overrides, asset_roots=asset_roots, limits=_limits(limit_texts),
                         on_warning=lambda t: click.echo(t, err=True))
     world = loaded_scene.world
     settings = world.settings
@@ -426,10 +451,9 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
               help="Frames to render (like a Python slice).")
 @click.option("--spp", type=click.IntRange(1, 32), default=4, show_default=True,
               help="Stratified samples a pixel along each axis (4 gives 4x4 = 16).")
-@click.option("--size", type=ImageSize(), metavar="WxH", help="Image size (overrides render.size).")
-@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
+@_scene_overrides(with_samples=False)
 @_asset_root_option
-def reference(scene, output, frames, spp, size, sets, asset_roots):
+def reference(scene, output, frames, spp, overrides, asset_roots):
     """Render SCENE (render.mode: shaded) with the CPU reference: ray-cast visibility, exact
     hard shadows, the GPU's shading equations, spp x spp samples a pixel. It is the truth
     error is measured against (`scenerender bench`), not a second renderer: normal and
@@ -438,10 +462,10 @@ def reference(scene, output, frames, spp, size, sets, asset_roots):
     import time
 
     import scenerender
-    from scenerender.job import parse_frame_range
     from scenerender.raytrace import embree_available, render_reference, write_reference
+    from scenerender.run.plan import parse_frame_range
 
-    loaded = scenerender.load(scene, _overrides(sets, size, None), asset_roots=asset_roots,
+    loaded = scenerender.load(scene, overrides, asset_roots=asset_roots,
                               on_warning=lambda line: click.echo(line, err=True))
     warn = lambda text: click.echo(f"warning: {text}", err=True)  # noqa: E731
     if not embree_available():
@@ -467,11 +491,10 @@ def reference(scene, output, frames, spp, size, sets, asset_roots):
               help="Rounds over all variants; ms/frame is the median over all of them.")
 @click.option("--spp", type=click.IntRange(1, 32), default=4, show_default=True,
               help="Reference samples a pixel along each axis.")
-@click.option("--size", type=ImageSize(), metavar="WxH", help="Image size (overrides render.size).")
-@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE", help=SET_HELP)
+@_scene_overrides(with_samples=False)
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON on stdout.")
 @_asset_root_option
-def bench(scene, output, knobs, frames, rounds, spp, size, sets, as_json, asset_roots):
+def bench(scene, output, knobs, frames, rounds, spp, overrides, as_json, asset_roots):
     """Sweep SCENE's quality knobs (MSAA, shadow map size, PCF, bias, AO, image size) on
     the GPU path and measure each variant's ms/frame and its error against the CPU
     reference (RMSE linear and sRGB, PSNR, FLIP, shadow-edge, cone-edge and interior RMSE).
@@ -482,9 +505,9 @@ def bench(scene, output, knobs, frames, rounds, spp, size, sets, as_json, asset_
     from scenerender.raytrace import bench as sweep
 
     echo = (lambda text: click.echo(text, err=True))
-    rows = sweep.run_bench(scene, _overrides(sets, size, None), knobs=knobs or sweep.KNOBS, frames=frames,
+    rows = sweep.run_bench(scene, overrides, knobs=knobs or sweep.KNOBS, frames=frames,
                            rounds=rounds, spp=spp, echo=echo, asset_roots=asset_roots)
-    meta = {"frames": frames, "rounds": rounds, "spp": spp, "overrides": list(sets)}
+    meta = {"frames": frames, "rounds": rounds, "spp": spp, "overrides": overrides}
     paths = sweep.write_outputs(scene.stem, rows, output, meta)
     if as_json:
         click.echo(json.dumps([row.to_json() for row in rows], indent=2))

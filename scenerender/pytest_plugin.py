@@ -43,9 +43,8 @@ class SceneRegression:
         when a test checks several); rule: a ``scenerender.compare.DiffRule``.
         Returns the ``references.CheckResult``; fails the test on any change.
         """
-        from scenerender.api import Scene
-        from scenerender.job import render_to
-        from scenerender.references import check_output, has_references, reference_path
+        from scenerender.api import Scene, render_to
+        from scenerender.run.references import check_output, has_references, reference_path
 
         label = _safe_name(name or self.test_name)
         output = self.work_dir / label

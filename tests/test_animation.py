@@ -12,7 +12,7 @@ from PIL import Image
 
 from conftest import SCENES, load
 from scenerender.errors import Warnings
-from scenerender.job import RenderOptions, run_render
+from scenerender.run.job import RenderOptions, run_render
 
 SMALL = ["render.size=[96, 64]"]
 
@@ -189,7 +189,7 @@ def test_cli_progress_summary_and_quiet(tmp_path):
 
 
 def test_frame_names_pad_past_9999(tmp_path):
-    from scenerender.job import make_sink
+    from scenerender.run.output import make_sink
 
     loaded = load(write_scene(tmp_path, ANIMATED.replace("frames: 12", "frames: 12000")))
     sink = make_sink(loaded, "png", tmp_path, (96, 64))

@@ -9,7 +9,7 @@ import pytest
 from click.testing import CliRunner
 
 from scenerender.cli import main
-from scenerender.distribute import ChunkTask, chunk_tasks, render_chunk
+from scenerender.run.workers import ChunkTask, chunk_tasks, render_chunk
 
 from conftest import SCENES
 
@@ -71,7 +71,7 @@ def test_a_retried_chunk_keeps_the_frames_its_first_try_wrote(single, tmp_path):
 
 def test_an_unreachable_scheduler_is_a_clear_error(tmp_path, monkeypatch):
     pytest.importorskip("distributed")
-    from scenerender.distribute import DaskWorkers
+    from scenerender.run.workers import DaskWorkers
 
     monkeypatch.setattr(DaskWorkers, "CONNECT_TIMEOUT", "1s")
     result = CliRunner().invoke(main, ["render", SCENE, "-o", str(tmp_path), *SMALL, "--frames", "0:4",

@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 from conftest import skip_without_gl
 from scenerender.cli import main
 from scenerender.errors import EnvironmentProblem, UserError, display_path
-from scenerender.job import resolve_output
+from scenerender.run.output import resolve_output
 from scenerender.sinks import ImageSequenceSink, SingleImageSink, ThreadedSink, VideoSink, remove_stale_partials
 from scenerender.sinks import base as base_module
 from scenerender.sinks import images as images_module
@@ -214,7 +214,7 @@ def test_stale_partials_removed_only_when_ours_and_dead(tmp_path):
 
 
 def test_signals_become_exceptions_only_inside_the_block():
-    from scenerender.interrupts import Interrupted, signals_as_exceptions
+    from scenerender.run.interrupts import Interrupted, signals_as_exceptions
 
     before = signal.getsignal(signal.SIGTERM)
     with pytest.raises(Interrupted) as info:
@@ -228,7 +228,7 @@ def test_signals_become_exceptions_only_inside_the_block():
 
 def test_ignored_signals_stay_ignored():
     """Under nohup SIGHUP is ignored: a render must not turn it into an exit."""
-    from scenerender.interrupts import signals_as_exceptions
+    from scenerender.run.interrupts import signals_as_exceptions
 
     previous = signal.signal(signal.SIGHUP, signal.SIG_IGN)
     try:

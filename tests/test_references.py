@@ -8,7 +8,7 @@ import pytest
 from click.testing import CliRunner
 
 from scenerender.cli import main
-from scenerender.references import renderer_key
+from scenerender.run.references import renderer_key
 
 SCENE = """\
 render: {size: [32, 24], samples: 1}
@@ -128,7 +128,7 @@ def test_a_video_is_never_its_own_reference(project):
 
 def test_the_renderers_own_folder_is_never_the_output(project):
     """-o ref/llvmpipe --check ref compares ref/llvmpipe with itself once it exists."""
-    from scenerender.references import recorded_renderer
+    from scenerender.run.references import recorded_renderer
 
     assert render().exit_code == 0
     key = renderer_key(recorded_renderer(project / "out"))

@@ -439,7 +439,7 @@ objects:
 def test_exr_holds_linear_values_before_the_output_transform(tmp_path):
     import OpenEXR
 
-    from scenerender.job import RenderOptions, run_render
+    from scenerender.run.job import RenderOptions, run_render
 
     scene = tmp_path / "grey.yaml"
     scene.write_text(FLAT.format(samples=4, transform="srgb", c=0.5) + "output: {format: exr}\n")

@@ -11,7 +11,8 @@ import pytest
 from PIL import Image
 
 from scenerender.errors import UserError
-from scenerender.job import make_sink, parse_frame_range
+from scenerender.run.output import make_sink
+from scenerender.run.plan import parse_frame_range
 from scenerender.sinks import ImageSequenceSink, ThreadedSink, VideoSink, frame_name_pattern
 from scenerender.sinks import images as images_module
 

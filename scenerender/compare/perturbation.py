@@ -16,6 +16,7 @@ It renders the scenes of a source checkout (scenes/ and tests/diff_corpus/ besid
 """
 from __future__ import annotations
 
+import argparse
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,6 +26,8 @@ import numpy as np
 
 from scenerender.compare.metrics import FrameMetrics, measure
 from scenerender.compare.rule import DEFAULT_RULE, DiffRule
+from scenerender.gpu.context import create_context
+from scenerender.run.session import Renderer, load
 
 ROOT = Path(__file__).resolve().parents[2]
 NOISE = ("re-render", "jitter 1/8 px", "jitter 1/4 px", "dither +-1 level", "offset +1 level")
@@ -335,10 +338,8 @@ def run_suite(render: RenderFn, cases=CASES, rule: DiffRule = DEFAULT_RULE, with
 
 def api_render_fn(gl) -> RenderFn:
     """Renders through the public API on the shared context ``gl``."""
-    import scenerender
-
     def render(path: Path, overrides: list, frame: int) -> np.ndarray:
-        with scenerender.Renderer(scenerender.load(path, overrides), gl=gl) as renderer:
+        with Renderer(load(path, overrides), gl=gl) as renderer:
             return renderer.render(frame).pixels
     return render
 
@@ -380,10 +381,6 @@ def _with_kept_prose(path: Path, tables: str) -> str:
 
 
 def main(argv=None) -> int:
-    import argparse
-
-    from scenerender.gpu.context import create_context
-
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--write", type=Path, help="Also write the tables to this Markdown file.")
     args = parser.parse_args(argv)

@@ -17,10 +17,6 @@ noise (a thin lamp arm under jitter, 78 levels) lies close to the thin changes i
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:  # the rule itself needs no numpy: the command line reads its defaults at start-up
-    from scenerender.compare.metrics import FrameMetrics
 
 TILE = 8  # side of the square blocks and windows of the scores, pixels
 
@@ -39,8 +35,10 @@ class DiffRule:
     max_shift_tile: float = 5.0          # worst |signed mean| left after a shift, any TILE x TILE window, levels
     aa_tolerance: int = 1                # levels of rounding forgiven on every channel
 
-    def failures(self, metrics: "FrameMetrics") -> list[str]:
-        """The limits ``metrics`` exceeds, as short phrases ([] when the frame passes)."""
+    def failures(self, metrics) -> list[str]:
+        """The limits ``metrics`` (a ``compare.metrics.FrameMetrics``) exceeds, as short phrases
+        ([] when the frame passes). The rule imports no metrics code, so the command line
+        reads its defaults at start-up without loading numpy."""
         out = []
         if metrics.worst_tile_aa > self.max_tile:
             out.append(f"worst {TILE}x{TILE} tile {metrics.worst_tile_aa:.2f} > {self.max_tile:g} levels unexplained")

@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from scenerender.errors import SourceLocation, UserError
+from scenerender.limits import exceeded_message
 
 
 @dataclass
@@ -28,8 +29,6 @@ class TriangleBudget:
     def check(self, more: int, location: SourceLocation | None = None) -> None:
         """Raise when ``more`` triangles on top of those loaded would exceed the limit."""
         if self.used + more > self.limit:
-            from scenerender.limits import exceeded_message
-
             what = "triangles in the scene's meshes" if self.used else "triangles in this mesh"
             raise UserError(exceeded_message("triangles", self.used + more, self.limit, what), location)
 

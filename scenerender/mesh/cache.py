@@ -39,8 +39,10 @@ from typing import Callable
 
 import numpy as np
 
+from scenerender import __version__
 from scenerender.errors import SourceLocation, UserError, Warnings, display_path
 from scenerender.mesh.data import MeshData, MeshGroup
+from scenerender.mesh.obj import materials_of_libraries
 from scenerender.scene.files import read_regular_file
 
 # Bump whenever the OBJ reader or the normals code would give other arrays for the same
@@ -75,8 +77,6 @@ def cache_folder(environ=None) -> Path | None:
 
 def entry_key(data: bytes, *, normals: str, normalize: bool) -> str:
     """The hex SHA-256 naming the entry of an OBJ with bytes ``data`` loaded with these options."""
-    from scenerender import __version__
-
     digest = hashlib.sha256(data).hexdigest()
     options = f"format={ENTRY_FORMAT};loader={LOADER_VERSION};scenerender={__version__};" \
               f"normals={normals};normalize={bool(normalize)};file={digest}"
@@ -187,7 +187,7 @@ def _revive(stored: StoredMesh, path: Path, warnings: Warnings, assets, budget) 
     if len(stored.indices) > budget.remaining:
         return None
     try:
-        materials = _materials(path, stored.libraries, assets)
+        materials = materials_of_libraries(path, stored.libraries, assets)
     except UserError:
         return None
     if materials_digest(materials) != stored.materials_digest:
@@ -200,19 +200,6 @@ def _revive(stored: StoredMesh, path: Path, warnings: Warnings, assets, budget) 
     if stored.winding is not None:
         mesh.record_winding(stored.winding)  # a whole-mesh analysis, ~0.6 s per 1M triangles
     return mesh
-
-
-def _materials(path: Path, libraries: list[str], assets) -> dict:
-    """The materials of the ``mtllib`` names, read as the OBJ reader reads them (through
-    ``assets``); their warnings are dropped, the stored ones are given instead."""
-    if not libraries:
-        return {}
-    from scenerender.mesh import obj
-
-    statements = obj._Statements(mtllib_statements=[(rest, 0) for rest in libraries])
-    silent = Warnings()
-    materials, _all_found = obj._load_material_libraries(path, statements, obj._Warners(silent, silent), assets)
-    return materials
 
 
 def materials_digest(materials: dict) -> str:

@@ -8,6 +8,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from scenerender.mesh.topology import closed_winding
+
 
 @dataclass(frozen=True)
 class MeshGroup:
@@ -75,8 +77,6 @@ class MeshData:
         """+1: a closed surface wound counter-clockwise seen from outside; -1: closed,
         clockwise; 0: open or inconsistent (mesh.topology.closed_winding). Computed once."""
         if self._winding is None:
-            from scenerender.mesh.topology import closed_winding
-
             self._winding = closed_winding(self.positions, self.indices)
         return self._winding
 

@@ -14,6 +14,7 @@ import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, Warnings, display_path
 from scenerender.mesh.budget import TriangleBudget
+from scenerender.mesh.cache import load_obj_cached
 from scenerender.mesh.data import MeshData
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
@@ -49,8 +50,6 @@ def load_mesh(
     budget = budget if budget is not None else TriangleBudget.unlimited()
     suffix = path.suffix.lower()
     if suffix == ".obj":
-        from scenerender.mesh.cache import load_obj_cached
-
         def parse(warned: Warnings) -> MeshData:
             return _finished(parse_obj(path, warned, assets=assets, budget=budget), normals, normalize, shown)
 

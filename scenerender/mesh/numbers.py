@@ -13,7 +13,6 @@ import numpy as np
 
 from scenerender.scene.values import FLOAT32_MAX
 
-
 # How messages say that a value (a number read, or one computed from them) is too large.
 BEYOND_FLOAT32 = "beyond 32-bit floats (at most 3.4e38 in size)"
 

@@ -17,7 +17,6 @@ and one warning per file counts them (``--strict`` makes that an error).
 from __future__ import annotations
 
 import re
-
 import warnings as _pywarnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -693,6 +692,18 @@ def _warn_skipped(st: _Statements, zero_area: int, shown: str, warnings: Warning
 
 # ---------------------------------------------------------------------------------------
 # Materials.
+
+
+def materials_of_libraries(obj_path: Path, libraries: list[str], assets: AssetPolicy) -> dict:
+    """The materials of the ``mtllib`` names of the OBJ at ``obj_path``, read as the OBJ
+    reader reads them (through ``assets``), with their warnings dropped: for a reader that
+    keeps the warnings of the first read (the mesh cache)."""
+    if not libraries:
+        return {}
+    statements = _Statements(mtllib_statements=[(rest, 0) for rest in libraries])
+    silent = Warnings()
+    materials, _all_found = _load_material_libraries(obj_path, statements, _Warners(silent, silent), assets)
+    return materials
 
 
 def _load_material_libraries(

@@ -15,8 +15,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from scenerender.raytrace.render import ReferenceFrame, render_reference, unsupported_features
 from scenerender.raytrace.rays import embree_available
+from scenerender.raytrace.render import (
+    ReferenceFrame,
+    render_reference,
+    unsupported_features,
+)
+from scenerender.sinks.base import atomic_path
+from scenerender.sinks.images import write_exr, write_image
 
 __all__ = ["ReferenceFrame", "render_reference", "write_reference", "unsupported_features", "embree_available"]
 
@@ -24,9 +30,6 @@ __all__ = ["ReferenceFrame", "render_reference", "write_reference", "unsupported
 def write_reference(frame: ReferenceFrame, folder, formats=("exr", "png")) -> list[Path]:
     """Write ``frame`` as ``folder/frame_NNNN.exr`` (linear float) and ``.png`` (display
     values), each to a temporary name renamed when whole. Returns the paths written."""
-    from scenerender.sinks.base import atomic_path
-    from scenerender.sinks.images import write_exr, write_image
-
     folder = Path(folder)
     written = []
     for fmt in formats:

@@ -18,8 +18,11 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from scenerender.gpu.context import create_context
 from scenerender.raytrace.quality import frame_errors
 from scenerender.raytrace.render import render_reference
+from scenerender.run.session import Renderer, load
+from scenerender.sinks.base import atomic_path
 
 SAMPLES = (1, 2, 4, 8)
 SHADOW_SIZES = (512, 1024, 2048, 4096)
@@ -113,22 +116,20 @@ def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int =
               echo=lambda text: None, asset_roots=()) -> list[BenchRow]:
     """Sweep ``path`` (a scene file) and return one BenchRow per variant, Pareto flags set
     on (ms_per_frame, rmse_linear)."""
-    import scenerender
-    from scenerender.gpu.context import create_context
 
-    base = scenerender.load(path, list(overrides), asset_roots=asset_roots)
+    base = load(path, list(overrides), asset_roots=asset_roots)
     rows = [BenchRow(v) for v in sweep_variants(base, knobs)]
     references: dict = {}
     gl = create_context()
     try:
         for row in rows:
-            scene = scenerender.load(path, list(overrides) + list(row.variant.overrides), asset_roots=asset_roots)
+            scene = load(path, list(overrides) + list(row.variant.overrides), asset_roots=asset_roots)
             if scene.size not in references:
                 started = time.perf_counter()
                 references[scene.size] = render_reference(scene, 0, spp=spp, warn=echo)
                 echo(f"reference {scene.size[0]}x{scene.size[1]}, {spp}x{spp} samples a pixel: "
                      f"{time.perf_counter() - started:.1f} s")
-            with scenerender.Renderer(scene, gl=gl, want_linear=True) as renderer:
+            with Renderer(scene, gl=gl, want_linear=True) as renderer:
                 frame = renderer.render(0)
                 row.samples_used = renderer.samples
             row.errors = frame_errors(references[scene.size], frame.pixels, frame.linear)
@@ -148,13 +149,12 @@ def _time_interleaved(path, overrides, rows: list[BenchRow], frames: int, rounds
     (in a rotated order each round), so a slow spell of a shared machine hits them alike."""
     import contextlib
 
-    import scenerender
 
     with contextlib.ExitStack() as stack:
         renderers = []
         for row in rows:
-            scene = scenerender.load(path, list(overrides) + list(row.variant.overrides), asset_roots=asset_roots)
-            renderer = stack.enter_context(scenerender.Renderer(scene, gl=gl, want_linear=False))
+            scene = load(path, list(overrides) + list(row.variant.overrides), asset_roots=asset_roots)
+            renderer = stack.enter_context(Renderer(scene, gl=gl, want_linear=False))
             renderer.render(0)  # warm-up: programs, uploads, static passes
             renderers.append(renderer)
         order = list(range(len(rows)))
@@ -205,8 +205,6 @@ def _cell(value, fmt: str) -> str:
 
 def write_outputs(name: str, rows: list[BenchRow], folder: Path, meta: dict) -> list[Path]:
     """folder/NAME.md, NAME.json and NAME.png (each written whole, then renamed)."""
-    from scenerender.sinks.base import atomic_path
-
     folder = Path(folder)
     payload = {"scene": name, **meta, "rows": [r.to_json() for r in rows]}
     outputs = {folder / f"{name}.md": markdown_table(name, rows).encode(),

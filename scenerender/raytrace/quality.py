@@ -18,6 +18,8 @@ import math
 import numpy as np
 from scipy import ndimage
 
+from scenerender.compare.metrics import flip_available, flip_error, psnr
+
 EDGE_RADIUS = 2
 
 
@@ -66,8 +68,6 @@ def frame_errors(reference, pixels: np.ndarray, linear: np.ndarray | None, with_
     pixels: (H, W, 3) uint8 display values; linear: (H, W, 3) float linear colour, or None
     (then the linear numbers are None). Returns a flat dict of floats (None where a region
     is empty or a metric is unavailable) and the pixel count of each region."""
-    from scenerender.compare.metrics import flip_available, flip_error, psnr
-
     masks = region_masks(reference)
     ref_linear = np.clip(reference.linear, 0.0, 1.0)
     out_linear = None if linear is None else np.clip(linear, 0.0, 1.0)

@@ -22,9 +22,14 @@ from scenerender.errors import SourceLocation, UserError, display_path
 class FrameSink:
     """Receives frames in order. ``write`` takes a ``render.renderer.FrameResult``-like
     object with ``index``, ``pixels`` ((H, W, 3) uint8) and ``linear`` ((H, W, 3) float32
-    or None). ``close`` finishes the output; ``abort`` discards anything unfinished."""
+    or None). ``close`` finishes the output; ``abort`` discards anything unfinished.
+
+    ``target`` is what it writes: the folder of an image sequence (``is_sequence``), else
+    the one file (a video, or a single image)."""
 
     needs_linear = False
+    is_sequence = False
+    target: Path
 
     def write(self, frame) -> None:  # pragma: no cover - interface
         raise NotImplementedError

@@ -40,11 +40,13 @@ def frame_name_pattern(pattern: str | None, frame_count: int) -> str:
 class ImageSequenceSink(FrameSink):
     """One file per frame in ``folder``, named by ``pattern`` (``{frame}`` is the index)."""
 
+    is_sequence = True
+
     def __init__(self, folder: Path, fmt: str, pattern: str, quality: int = 90):
         problem = name_template_problem(pattern)
         if problem is not None:  # scenes are validated earlier; this guards callers in code
             raise ValueError(f"bad frame name pattern {pattern!r}: {problem}")
-        self.folder = Path(folder)
+        self.folder = self.target = Path(folder)
         self.fmt = fmt
         self.pattern = pattern
         self.quality = quality
@@ -95,9 +97,11 @@ class SingleImageSink(ImageSequenceSink):
     """Exactly one file, ``path`` (``-o still.png`` with a one-frame render), whatever the
     frame's index."""
 
+    is_sequence = False
+
     def __init__(self, path: Path, fmt: str, quality: int = 90):
         super().__init__(Path(path).parent, fmt, "frame", quality)
-        self.path = Path(path)
+        self.path = self.target = Path(path)
 
     def path_for(self, index: int) -> Path:
         return self.path

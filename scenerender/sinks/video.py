@@ -133,7 +133,7 @@ class VideoSink(FrameSink):
     """Encodes frames into ``path`` (.mp4 or .gif) at ``fps``."""
 
     def __init__(self, path: Path, fmt: str, fps: float, size: tuple, quality: int = 90):
-        self.path = Path(path)
+        self.path = self.target = Path(path)
         self.fmt = fmt
         self.fps = fps
         self.size = tuple(size)

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.limits import exceeded_message
 from scenerender.scene.files import open_regular_file
 
 # Pillow format names that may be decoded: the common texture formats. Everything else
@@ -154,8 +155,6 @@ def _opened(path: Path, max_pixels: int):
             if width <= 0 or height <= 0:
                 raise ImageError(f"the image header gives an empty size {width}x{height}", path)
             if width * height > max_pixels:
-                from scenerender.limits import exceeded_message
-
                 raise ImageError(exceeded_message("texture_pixels", width * height, max_pixels,
                                                   f"the image's size {width}x{height} in pixels"), path)
             if max(width, height) > MAX_SIDE:

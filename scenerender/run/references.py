@@ -13,7 +13,12 @@ import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from scenerender.compare import DEFAULT_RULE, compare_paths, write_html_report
+from scenerender.compare.sources import is_frame_file
 from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.gpu.context import create_context
+from scenerender.run.manifest import read_sidecar, sidecar_for
+from scenerender.sinks.base import atomic_path, make_folders, output_errors
 
 # GL_RENDERER text -> key, first match wins. Mesa's software rasterisers name themselves;
 # vendor drivers put the vendor first ("NVIDIA H100 80GB HBM3/PCIe/SSE2").
@@ -89,16 +94,18 @@ class CheckResult:
         return self.comparison is None or self.comparison.passed
 
 
-def check_output(target: Path, root: Path, update: bool = False, echo=print, rule=None) -> CheckResult:
+def check_output(target: Path, root: Path, update: bool = False, echo=print, rule=None,
+                 notice=None) -> CheckResult:
     """Compare the render output ``target`` (a frame folder or one file) with its
     references under ``root`` (the set for the GL renderer its manifest names); with
     ``update``, make the references equal to the output. ``rule``: a ``compare.DiffRule``.
+    A passing verdict goes to ``echo``; a failing one, the report's path and the
+    references updated go to ``notice`` (default ``echo``), which ``-q`` keeps.
 
     Without references and without ``update`` this is a UserError: a first run must never
     pass by silently creating what it compares with.
     """
-    from scenerender.compare import DEFAULT_RULE, compare_paths, write_html_report
-
+    notice = echo if notice is None else notice
     target = Path(target)
     reference = reference_path(target, root)
     require_apart(target, reference)
@@ -107,29 +114,25 @@ def check_output(target: Path, root: Path, update: bool = False, echo=print, rul
             raise UserError(f"no references to check against in {display_path(reference)} "
                             "(render once with --update-references to create them, then commit them)",
                             SourceLocation(CHECK_OPTION))
-        return CheckResult(reference, None, None, _update(target, reference, None, echo))
+        return CheckResult(reference, None, None, _update(target, reference, None, notice))
     comparison = compare_paths(reference, target, rule or DEFAULT_RULE)
     report = report_path(target)
     write_html_report(comparison, report)
     for line in comparison.summary_lines():
-        echo(line)
-    echo(f"report: {display_path(report)}")
-    updated = _update(target, reference, comparison, echo) if update else []
+        (echo if comparison.passed else notice)(line)
+    notice(f"report: {display_path(report)}")
+    updated = _update(target, reference, comparison, notice) if update else []
     return CheckResult(reference, report, comparison, updated)
 
 
 def recorded_renderer(target: Path) -> str | None:
     """The GL renderer that made ``target``, from its run manifest."""
-    from scenerender.manifest import read_sidecar, sidecar_for
-
     gl = read_sidecar(sidecar_for(target, target.is_dir())).get("gl") or {}
     return gl.get("renderer")
 
 
 def _this_renderer() -> str | None:
     """The GL renderer of this machine, for outputs whose manifest does not say."""
-    from scenerender.gpu.context import create_context
-
     gl = create_context()
     try:
         return gl.info.get("GL_RENDERER")
@@ -139,8 +142,6 @@ def _this_renderer() -> str | None:
 
 def has_references(reference: Path) -> bool:
     """True when ``reference`` is a file, or a folder holding at least one frame."""
-    from scenerender.compare.sources import is_frame_file
-
     if reference.is_dir():
         return any(is_frame_file(p) for p in reference.iterdir())
     return reference.is_file()
@@ -149,9 +150,6 @@ def has_references(reference: Path) -> bool:
 def _update(target: Path, reference: Path, comparison, echo) -> list[str]:
     """Make ``reference`` hold exactly the output's frames (and its provenance sidecar).
     The references are a destination given with --check: failures to write name it."""
-    from scenerender.manifest import sidecar_for
-    from scenerender.sinks.base import output_errors
-
     with output_errors(reference, CHECK_OPTION):
         if target.is_dir():
             changes = _sync_folder(target, reference, comparison)
@@ -165,9 +163,6 @@ def _update(target: Path, reference: Path, comparison, echo) -> list[str]:
 
 
 def _sync_folder(output: Path, reference: Path, comparison) -> list[str]:
-    from scenerender.compare.sources import is_frame_file
-    from scenerender.sinks.base import make_folders
-
     make_folders(reference)
     produced = {p.name for p in output.iterdir() if is_frame_file(p)}
     existing = {p.name for p in reference.iterdir() if is_frame_file(p)}
@@ -184,8 +179,6 @@ def _sync_folder(output: Path, reference: Path, comparison) -> list[str]:
 
 def _copy(source: Path, destination: Path) -> None:
     """Copy whole or not at all (temporary name, then rename); a missing source is skipped."""
-    from scenerender.sinks.base import atomic_path
-
     if not source.is_file():
         return
     with atomic_path(destination, CHECK_OPTION) as temp:

@@ -21,7 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
+from scenerender import __version__
 from scenerender.errors import UserError, display_path
+from scenerender.mesh.data import MeshData
+from scenerender.sinks.base import atomic_path, write_file
 
 FORMAT_VERSION = 1
 SAVE_INTERVAL = 1.0  # seconds between saves during a run: a killed run loses at most this much
@@ -90,8 +93,6 @@ class Fingerprint:
 def fingerprint(loaded, overrides=()) -> Fingerprint:
     """The fingerprint of a loaded scene whose world has been built (so every asset it
     reads has been resolved and is listed in ``loaded.assets.files_read``)."""
-    from scenerender import __version__
-
     parts = {
         "version": __version__,
         "overrides": _digest_text(json.dumps(list(overrides))),
@@ -110,8 +111,6 @@ def _digest_text(text: str) -> str:
 
 def _encode_value(value):
     """JSON for what scene data may hold besides plain values: meshes made in code, arrays."""
-    from scenerender.mesh.data import MeshData
-
     if isinstance(value, MeshData):
         arrays = (value.positions, value.indices, value.normals, value.uvs)
         digest = hashlib.sha256()
@@ -182,8 +181,6 @@ class Manifest:
 
     def start(self, gl_info: dict | None) -> None:
         """A run begins writing: record what it is made of and the GL renderer."""
-        from scenerender import __version__
-
         self.data.update(format=FORMAT_VERSION, scenerender=__version__)
         self.data["runs"][self.scene] = {"run": self.run.digest, "inputs": self.run.parts}
         if gl_info:
@@ -200,8 +197,6 @@ class Manifest:
 
     def save(self) -> None:
         """Write the manifest whole (temporary file + rename)."""
-        from scenerender.sinks.base import atomic_path, write_file
-
         self._last_save = time.monotonic()
         # the frames' own helper: a full or read-only disk is a UserError naming the
         # manifest, and no temporary file is left behind

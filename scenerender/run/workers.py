@@ -21,7 +21,13 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from scenerender.compare.sources import read_image
 from scenerender.errors import EnvironmentProblem, SourceLocation, UserError
+from scenerender.gpu.context import gl_info
+from scenerender.rendering.renderer import FrameResult
+from scenerender.run.loop import render_into
+from scenerender.run.session import Renderer, load
+from scenerender.sinks import ImageSequenceSink
 
 CHUNKS_PER_WORKER = 4  # small enough to balance uneven frames, large enough to amortise start-up
 STAGED_PATTERN = "frame_{frame:08d}"
@@ -60,31 +66,17 @@ _worker_state: dict = {}  # one loaded scene + renderer per worker process, reus
 
 def render_chunk(task: ChunkTask) -> ChunkResult:
     """Render ``task.indices`` into ``task.folder`` (runs in a worker process)."""
-    from scenerender.sinks import ImageSequenceSink, ThreadedSink
-
     try:
         renderer, gl = _renderer_for(task)
         sink = ImageSequenceSink(Path(task.folder), task.fmt, task.pattern, task.quality)
-        result = ChunkResult(gl=gl)
-        writer = ThreadedSink(sink)
-        try:
-            for index in task.indices:
-                if not sink.path_for(index).is_file():  # else written by an earlier try of this chunk
-                    writer.write(renderer.render(index))
-                result.written.append((index, sink.path_for(index).name))
-            writer.close()
-        except BaseException:
-            writer.abort()
-            raise
-        return result
+        due = [i for i in task.indices if not sink.path_for(i).is_file()]  # else an earlier try wrote it
+        render_into(renderer, sink, due)
+        return ChunkResult(gl=gl, written=[(i, sink.path_for(i).name) for i in task.indices])
     except UserError as exc:
         return ChunkResult(error=str(exc))
 
 
 def _renderer_for(task: ChunkTask):
-    from scenerender.api import Renderer, load
-    from scenerender.gpu.context import gl_info
-
     key = (task.scene, task.overrides, task.asset_roots, repr(task.limits), task.fmt)
     if _worker_state.get("key") != key:
         if "renderer" in _worker_state:
@@ -160,13 +152,11 @@ def open_workers(count: int, scheduler: str | None):
 
 
 def render_with_workers(scene, options, plan, progress) -> None:
-    """Render ``plan.todo`` of ``scene`` (an ``api.Scene`` loaded from a file) on workers;
+    """Render ``plan.todo`` of ``scene`` (a ``Scene`` loaded from a file) on workers;
     frames enter ``plan.manifest`` as chunks finish, and a video is encoded in frame order
     at the end."""
-    from scenerender.sinks import ImageSequenceSink
-
-    sequence = isinstance(plan.sink, ImageSequenceSink)
-    folder = Path(plan.sink.folder) if sequence else _staging_folder(plan.sink.path)
+    sequence = plan.sink.is_sequence
+    folder = plan.sink.target if sequence else _staging_folder(plan.sink.target)
     for index in plan.todo:  # old files of due frames are not vouched for: start clean
         if sequence:
             plan.sink.path_for(index).unlink(missing_ok=True)
@@ -178,7 +168,7 @@ def render_with_workers(scene, options, plan, progress) -> None:
                      asset_roots=tuple(str(Path(r).resolve()) for r in source.asset_roots), limits=source.limits,
                      folder=str(folder.resolve()), fmt=plan.sink.fmt if sequence else "png",
                      pattern=plan.sink.pattern if sequence else STAGED_PATTERN,
-                     quality=getattr(plan.sink, "quality", 90), indices=())
+                     quality=plan.sink.quality, indices=())
     workers = open_workers(options.workers, options.scheduler)
     try:
         started = False
@@ -204,18 +194,20 @@ def _staging_folder(video: Path) -> Path:
     return Path(video).parent / f".{Path(video).name}.frames"
 
 
+class StagedFrames:
+    """Reads the PNG frames workers staged in ``folder`` back as frames, in the renderer's
+    shape (``render(index)``), so a video is encoded by the same loop as a render."""
+
+    def __init__(self, folder: Path):
+        self.folder = folder
+
+    def render(self, index: int) -> FrameResult:
+        return FrameResult(index, 0.0, read_image(self.folder / (STAGED_PATTERN.format(frame=index) + ".png")))
+
+
 def _encode_staged(plan, folder: Path) -> None:
     """Feed the staged PNG frames to the video sink in frame order, then remove them."""
-    from scenerender.compare.sources import read_image
-    from scenerender.rendering.renderer import FrameResult
-
     try:
-        for index in plan.todo:
-            pixels = read_image(folder / (STAGED_PATTERN.format(frame=index) + ".png"))
-            plan.recording.write(FrameResult(index, 0.0, pixels))
-        plan.recording.close()
-    except BaseException:
-        plan.recording.abort()
-        raise
+        render_into(StagedFrames(folder), plan.recording, plan.todo)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
