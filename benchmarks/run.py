@@ -1,5 +1,5 @@
 """scenerender benchmarks: start-up, throughput, static-pass caching and memory over a long
-run. Prints Markdown tables (the README quotes them). Speed against error is measured by
+run. Prints Markdown tables (docs/performance.md quotes them). Speed against error is measured by
 `scenerender bench` against the CPU reference (benchmarks/quality/), and the comparison
 with other renderers by benchmarks/compare/.
 

@@ -16,7 +16,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from scenerender.machine import available_cores
 
 _STOP = object()
-MAX_ENCODERS = 4  # beyond this PNG encoding stops being the bottleneck (see README)
+MAX_ENCODERS = 4  # beyond this PNG encoding stops being the bottleneck (see docs/performance.md)
 
 
 def encode_workers(cores: int | None = None) -> int:
