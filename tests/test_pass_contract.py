@@ -25,6 +25,7 @@ from scenerender.rendering.passes.data import ImageData
 from scenerender.rendering.renderer import GLBackend, plan
 from scenerender.scene.reference import scene_tables
 from scenerender.world.frame import FrameEvaluator
+from scenerender.world.shadows import first_shadow_views
 
 BASE = {
     "render": {"size": [32, 24], "samples": 1, "background": [0.1, 0.1, 0.12],
@@ -294,6 +295,23 @@ def test_a_real_pass_that_forgets_a_read_fails(gl, tmp_path, monkeypatch):
     with scenerender.Renderer(scene, gl=gl) as renderer:
         with pytest.raises(UndeclaredResource, match="'skybox' uses 'skybox'"):
             renderer.render(0)
+
+
+def test_lights_and_their_shadows_share_one_index(tmp_path):
+    """Ambient lights are World.ambient, not World.lights: light i has atlas tiles i,
+    shadow views i, first shadow view i and FrameState.lights[i], wherever the ambient
+    light sits in the scene's list."""
+    scene = copy.deepcopy(BASE)
+    scene["lights"] = [scene["lights"][3], *scene["lights"][:3], {"type": "ambient", "color": [0.1, 0.0, 0.0]}]
+    world, graph_plan = _plan(scenerender.Scene.from_dict(scene, base_dir=tmp_path))
+    assert [light.name for light in world.lights] == ["sun", "bulb", "torch"]
+    assert [light.kind for light in world.ambient] == ["ambient", "ambient"]
+    assert sorted(graph_plan.atlas.tiles) == [0, 1, 2]
+    frame = FrameEvaluator(world, world.settings.size, graph_plan.atlas).evaluate(0, 0.0)
+    np.testing.assert_allclose(frame.ambient, [0.3, 0.2, 0.2])
+    assert [state.definition for state in frame.lights] == world.lights
+    assert sorted(frame.shadow_views) == [0, 1, 2]
+    assert first_shadow_views(world.lights) == (0, 1, 7)  # the sun's one view, the bulb's six faces, the torch's
 
 
 def _pass_classes() -> list[type]:

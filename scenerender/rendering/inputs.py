@@ -27,7 +27,7 @@ class InputHandles:
     materials: Handle
     background: Handle
     ambient: Handle
-    lights: tuple             # one per non-ambient light, FrameState.lights order
+    lights: tuple             # one per light of World.lights, same index
     shadow_views: tuple       # (light index, handle) per shadowed light
     fog: Handle | None
     outlines: Handle | None

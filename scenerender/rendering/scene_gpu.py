@@ -67,7 +67,8 @@ class GpuScene:
         buffer.write(data)
 
     def _pack_shadow_views(self, frame: FrameState) -> bytes:
-        """ShadowView structs (see shaders/lighting/shadows.glsl), in light order."""
+        """ShadowView structs (see shaders/lighting/shadows.glsl), in light order (the
+        index of World.lights, FrameState.lights and the atlas's tiles)."""
         rows = []
         self.first_shadow_view = {}
         if self.atlas is None:

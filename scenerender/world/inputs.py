@@ -49,9 +49,9 @@ class WorldInput:
 
 @dataclass(frozen=True)
 class WorldInputs:
-    """Every input a scene has. ``lights`` follow ``world.lights`` order without ambient
-    lights (the order of FrameState.lights); ``ambient`` is the ambient lights' sum;
-    ``shadow_views`` has one entry per shadowed light, keyed by its index in ``lights``."""
+    """Every input a scene has. ``lights`` has one per light of ``world.lights``, same
+    index; ``ambient`` is the ambient lights' sum; ``shadow_views`` has one entry per
+    shadowed light, keyed by its index."""
 
     camera: WorldInput
     objects: WorldInput
@@ -93,20 +93,15 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
                                  for key in animated_keys(obj, skip=OBJECT_LOOK_KEYS)])
     auto_planes = spec.camera is None or "auto" in (spec.camera.near, spec.camera.far)
     camera = _input("camera", animated_keys(spec.camera), (objects,) if auto_planes else ())
-    names = _unique_names(world.lights)
-    lights, ambient_keys, views = [], [], {}
-    for index, (light, name) in enumerate(zip(world.lights, names)):
-        if light.kind == "ambient":
-            ambient_keys += [f"{name}.{key}" for key in animated_keys(light)]
-            continue
-        follows = (camera,) if light.attach_camera else ()
-        light_input = _input(f"light:{name}", animated_keys(light), follows)
+    lights, views = [], {}
+    for index, (light, name) in enumerate(zip(world.lights, _unique_names(world.lights))):
+        lights.append(_input(f"light:{name}", animated_keys(light), (camera,) if light.attach_camera else ()))
         if light.shadow is not None:
             follows_camera = (light.kind == "directional" and index not in fixed_views) or light.attach_camera
             fitted_to = (objects, camera) if follows_camera else (objects,)
-            views[len(lights)] = _input(f"shadow_views:{name}", animated_keys(light, skip=LIGHT_APPEARANCE_KEYS),
-                                        fitted_to)
-        lights.append(light_input)
+            views[index] = _input(f"shadow_views:{name}", animated_keys(light, skip=LIGHT_APPEARANCE_KEYS), fitted_to)
+    ambient_keys = [f"{name}.{key}" for light, name in zip(world.ambient, _unique_names(world.ambient))
+                    for key in animated_keys(light)]
     outlined = [obj for obj in world.objects if obj.outline is not None]
     return WorldInputs(
         camera=camera, objects=objects,
@@ -132,5 +127,4 @@ def _unique_names(lights) -> list[str]:
 def redrawn_shadow_maps(world) -> frozenset:
     """Indices in ``world.lights`` of the shadowed lights whose views change during the
     run (their maps are redrawn every frame)."""
-    non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
-    return frozenset(non_ambient[i] for i, views in world_inputs(world).shadow_views.items() if views.dynamic)
+    return frozenset(index for index, views in world_inputs(world).shadow_views.items() if views.dynamic)
