@@ -193,6 +193,6 @@ def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, siz
     light_index, handle = shadow_passes[0]
     views = inputs.shadow_view(light_index)
     if mode == "shadow":
-        return graph.add(ShadowFactorViewPass(handle, size, inputs.camera, inputs.objects, inputs.lights[light_index],
-                                              views, view_format)).color
+        return graph.add(ShadowFactorViewPass(handle, size, inputs.camera, inputs.objects, light_index,
+                                              inputs.per_light[light_index], views, inputs.lights, view_format)).color
     return graph.add(LightDepthViewPass(handle, size, views, view_format)).image
