@@ -15,13 +15,20 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from PIL import Image
 
 import scenerender
-from scenerender.graph import FrameGraph, InputDesc, RenderPass, ResourceDesc, UndeclaredResource
+from scenerender.gpu.depth import depth_convention
+from scenerender.gpu.resources import allocate
+from scenerender.graph import (
+    COLOR_FORMATS, DEPTH_FORMATS, FrameGraph, InputDesc, RenderPass, ResourceDesc, UndeclaredResource,
+)
 from scenerender.rendering import passes
-from scenerender.rendering.inputs import ObjectsInput, input_values
+from scenerender.rendering.features import SHADOW_VIEW_BYTES
+from scenerender.rendering.inputs import ObjectsInput, import_inputs, input_values
+from scenerender.rendering.lights import pack_lights
 from scenerender.rendering.passes import ambient_occlusion, forward, output, shadow, sky, views
-from scenerender.rendering.passes.data import ImageData
+from scenerender.rendering.passes.data import ImageData, TargetData
 from scenerender.rendering.renderer import GLBackend, plan
 from scenerender.scene.reference import scene_tables
 from scenerender.world.frame import FrameEvaluator
@@ -146,21 +153,17 @@ def _same(a, b) -> bool:
 
 
 def changed_inputs(world, graph_plan) -> set[str]:
-    """Names of the inputs whose value differs between t = 0 and t = 1."""
+    """Names of the inputs whose value differs between t = 0 and t = 1. The ``lights``
+    input is compared by the bytes packed for its buffers."""
     evaluator = FrameEvaluator(world, world.settings.size, graph_plan.atlas)
-    stub_gpu = SimpleNamespace(textures=None, skybox=None, first_shadow_view={i: 0 for i in range(16)})
-    names = {h.resource: h.name for h in _handles(graph_plan.inputs)}
+    stub_gpu = SimpleNamespace(textures=None, skybox=None)
+    names = {h.resource: h.name for h in graph_plan.inputs.all()}
     values = []
     for index, time in ((0, 0.0), (2, 1.0)):
         frame = evaluator.evaluate(index, time)
-        values.append(input_values(graph_plan.inputs, frame, frame.camera, stub_gpu, world))
+        packed = pack_lights(frame, graph_plan.atlas)
+        values.append(input_values(graph_plan.inputs, frame, frame.camera, stub_gpu, world, packed))
     return {names[i] for i in values[0] if not _same(_canonical(values[0][i]), _canonical(values[1][i]))}
-
-
-def _handles(inputs) -> list:
-    found = [inputs.camera, inputs.objects, inputs.materials, inputs.background, inputs.ambient, *inputs.lights,
-             *(h for _, h in inputs.shadow_views), inputs.fog, inputs.outlines, inputs.skybox]
-    return [h for h in found if h is not None]
 
 
 def _plan(scene: scenerender.Scene):
@@ -286,13 +289,91 @@ def test_a_real_pass_that_forgets_a_read_fails(gl, tmp_path, monkeypatch):
     monkeypatch.setattr(sky.SkyboxPass, "setup", setup_without_the_sky)
     faces = tmp_path / "sky"
     faces.mkdir()
-    from PIL import Image
-
     for face in ("posx", "negx", "posy", "negy", "posz", "negz"):
         Image.new("RGB", (4, 4), (90, 120, 200)).save(faces / f"{face}.png")
     scene = scenerender.Scene.from_dict({**BASE, "render": {**BASE["render"], "skybox": "sky"}}, base_dir=tmp_path)
     with scenerender.Renderer(scene, gl=gl) as renderer:
         with pytest.raises(UndeclaredResource, match="'skybox' uses 'skybox'"):
+            renderer.render(0)
+
+
+def _world_graph(tmp_path, scene: dict = BASE):
+    """A graph with the BASE scene's inputs imported, and their handles."""
+    graph = FrameGraph()
+    return graph, import_inputs(graph, scenerender.Scene.from_dict(scene, base_dir=tmp_path).world)
+
+
+def test_reading_light_data_without_declaring_it_is_an_error(tmp_path):
+    """Light data reaches a pass only through the packed ``lights`` input: a pass that
+    declares every light and shadow view but not ``lights`` cannot read it."""
+    graph, inputs = _world_graph(tmp_path)
+    declared = [handle for handle in inputs.shading() if handle != inputs.lights]
+    graph.add(_Reads(declared, used=inputs.lights))
+    with pytest.raises(UndeclaredResource, match="'reader' uses 'lights', which its setup does not declare"):
+        _run_one_frame(graph)
+
+
+@pytest.mark.parametrize("name", ["light:sun", "shadow_views:torch"])
+def test_reading_one_light_without_declaring_it_is_an_error(tmp_path, name):
+    graph, inputs = _world_graph(tmp_path)
+    wanted = next(handle for handle in inputs.all() if handle.name == name)
+    graph.add(_Reads([handle for handle in inputs.shading() if handle != wanted], used=wanted))
+    with pytest.raises(UndeclaredResource, match=f"'reader' uses '{name}'"):
+        _run_one_frame(graph)
+
+
+def test_shading_declares_the_light_data_it_reads(tmp_path):
+    graph, inputs = _world_graph(tmp_path)
+    graph.add(_Reads(inputs.shading(), used=inputs.lights))
+    _run_one_frame(graph)
+    assert [h.name for h in inputs.per_light] == ["light:sun", "light:bulb", "light:torch"]  # no ambient light
+
+
+def test_lights_and_their_shadows_share_one_index(tmp_path):
+    """Ambient lights are World.ambient, not World.lights: light i has atlas tiles i,
+    shadow views i, first_view[i] and FrameState.lights[i], wherever the ambient light
+    sits in the scene's list."""
+    scene = copy.deepcopy(BASE)
+    scene["lights"] = [scene["lights"][3], *scene["lights"][:3], {"type": "ambient", "color": [0.1, 0.0, 0.0]}]
+    world, graph_plan = _plan(scenerender.Scene.from_dict(scene, base_dir=tmp_path))
+    assert [light.name for light in world.lights] == ["sun", "bulb", "torch"]
+    assert [light.kind for light in world.ambient] == ["ambient", "ambient"]
+    assert sorted(graph_plan.atlas.tiles) == [0, 1, 2]
+    frame = FrameEvaluator(world, world.settings.size, graph_plan.atlas).evaluate(0, 0.0)
+    np.testing.assert_allclose(frame.ambient, [0.3, 0.2, 0.2])
+    assert [state.definition for state in frame.lights] == world.lights
+    assert sorted(frame.shadow_views) == [0, 1, 2]
+    packed = pack_lights(frame, graph_plan.atlas)
+    assert packed.first_view == (0, 1, 7)  # the sun's one view, the bulb's six faces, the torch's
+    assert len(packed.views) == 8 * SHADOW_VIEW_BYTES
+
+
+@pytest.mark.gl
+def test_shading_that_forgets_the_light_data_fails(gl, tmp_path, monkeypatch):
+    """The opaque pass with the ``lights`` input left out of its setup: the render stops
+    there, so no light reaches a shader any other way."""
+    def declare_without_lights(self, builder):
+        builder.read(*(h for h in self.inputs.shading() if h != self.inputs.lights), *self.atlas_pages,
+                     *((self.ao,) if self.ao is not None else ()))
+
+    monkeypatch.setattr(forward.Shading, "declare", declare_without_lights)
+    scene = scenerender.Scene.from_dict(BASE, base_dir=tmp_path)
+    with scenerender.Renderer(scene, gl=gl) as renderer:
+        with pytest.raises(UndeclaredResource, match="'opaque' uses 'lights'"):
+            renderer.render(0)
+
+
+@pytest.mark.gl
+def test_the_shadow_view_that_forgets_the_light_data_fails(gl, tmp_path, monkeypatch):
+    def setup_without_lights(self, builder):
+        builder.read(self.atlas, self.camera, self.objects, self.light, self.views)
+        return TargetData(builder.create("view", ResourceDesc("color", self.size, self.format)),
+                          builder.create("view_depth", ResourceDesc("depth", self.size, "camera_depth")))
+
+    monkeypatch.setattr(views.ShadowFactorViewPass, "setup", setup_without_lights)
+    scene = scenerender.Scene.from_dict({**BASE, "render": {**BASE["render"], "mode": "shadow"}}, base_dir=tmp_path)
+    with scenerender.Renderer(scene, gl=gl) as renderer:
+        with pytest.raises(UndeclaredResource, match="'view:shadow' uses 'lights'"):
             renderer.render(0)
 
 
@@ -313,10 +394,6 @@ def test_every_pass_is_frozen_configuration():
 
 @pytest.mark.gl
 def test_the_backend_allocates_every_format_the_graph_offers(gl):
-    from scenerender.gpu.depth import depth_convention
-    from scenerender.gpu.resources import allocate
-    from scenerender.graph import COLOR_FORMATS, DEPTH_FORMATS
-
     convention = depth_convention(gl)
     for kind, formats in (("color", COLOR_FORMATS), ("depth", DEPTH_FORMATS)):
         for fmt in formats:

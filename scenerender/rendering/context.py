@@ -3,18 +3,17 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
+import moderngl
+import numpy as np
+
+from scenerender.gpu.depth import DepthConvention
+from scenerender.gpu.resources import FramebufferCache
+from scenerender.gpu.shaders import ProgramCache
 from scenerender.graph import Handle, UndeclaredResource
-
-if TYPE_CHECKING:
-    import moderngl
-
-    from scenerender.gpu.depth import DepthConvention
-    from scenerender.gpu.resources import FramebufferCache
-    from scenerender.gpu.shaders import ProgramCache
-    from scenerender.rendering.features import SceneFeatures
-    from scenerender.rendering.scene_gpu import GpuScene
+from scenerender.rendering.features import SceneFeatures
+from scenerender.rendering.inputs import ObjectsInput
+from scenerender.rendering.scene_gpu import GpuScene
 
 
 @dataclass(frozen=True)
@@ -89,6 +88,25 @@ class PassContext:
     def fullscreen(self, program) -> None:
         """Draw one viewport-covering triangle with ``program`` (no vertex buffers)."""
         self.run.gpu.fullscreen_array(program).render(vertices=3)
+
+    def place_instances(self, objects: ObjectsInput, index: int, eye: np.ndarray) -> None:
+        """Write object ``index``'s instance transforms (from the declared ``objects``
+        input) relative to the world point ``eye`` (float64, rounded to float32 only after
+        the subtraction) into its scratch instance buffer, for ``draw_placed``. What such
+        draws make then depends on the objects and ``eye`` alone, not on where the camera
+        is: a shadow map comes out the same bytes whichever frame draws it."""
+        state = objects.frames[index]
+        models = state.models.copy()
+        models[:, :3, 3] -= eye
+        self.run.gpu.write_eye_relative(index, models, state.normals)
+
+    def draw_placed(self, program, objects: ObjectsInput, index: int) -> None:
+        """Draw every instance of object ``index`` as ``place_instances`` last placed them."""
+        count = objects.frames[index].count
+        if count:
+            vao = self.run.gpu.vertex_array(program, index, eye_relative=True)
+            vao.render(moderngl.TRIANGLES, vertices=objects.definitions[index].mesh.triangle_count * 3,
+                       instances=count)
 
     def shared(self, key: str, make):
         """A GL object passes share for the whole run (noise textures, samplers), made once

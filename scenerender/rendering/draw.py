@@ -9,7 +9,8 @@ import numpy as np
 
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.features import TEXTURE_UNITS
-from scenerender.rendering.inputs import MaterialsInput, ObjectsInput
+from scenerender.rendering.inputs import LightsInput, MaterialsInput, ObjectsInput
+from scenerender.rendering.lights import LIGHT_BINDING, SHADOW_VIEW_BINDING
 from scenerender.world.shadows import atlas_page_name
 
 # The vertex shader of every pass that draws scene meshes.
@@ -134,6 +135,16 @@ def bind_shadow_atlas(ctx, atlas, page: int = 0) -> None:
     texture.compare_func = "<="
     texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
     texture.use(TEXTURE_UNITS["u_" + atlas_page_name(page)])
+
+
+def bind_lights(lights: LightsInput) -> None:
+    """The packed lights and shadow views (the declared ``lights`` input's value) on the
+    binding points shaders/lighting/lights.glsl and shadows.glsl read. The same buffers
+    serve programs declaring them as uniform blocks (where they fit) and as storage
+    buffers: the two binding namespaces are separate."""
+    for buffer, binding in ((lights.buffer, LIGHT_BINDING), (lights.views, SHADOW_VIEW_BINDING)):
+        buffer.bind_to_storage_buffer(binding)
+        buffer.bind_to_uniform_block(binding)
 
 
 def bind_texture_units(program) -> None:

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from scenerender.world.shadows import first_shadow_views, view_count
+
 # Light and shadow data live in uniform blocks (fast on every driver) up to the size every
 # OpenGL implementation must offer; beyond that, in storage buffers (no cap on lights).
 UNIFORM_BLOCK_BYTES = 16384
@@ -117,22 +119,19 @@ def _footprint_samples(samples: int) -> int:
 
 
 def _first_shadow_views(lights, atlas) -> dict:
-    """Where each light's views start in the shadow-view array: shadowed lights in light
-    order, one view each, six for a point light (the order GpuScene packs them in); each
-    light's filter taps per side (shaders/lighting/shadows.glsl, filter_taps); and the
-    atlas page holding its maps."""
+    """Where each light's views start in the shadow-view array (world.shadows.
+    first_shadow_views: the order rendering.lights packs them in); each light's filter taps
+    per side (shaders/lighting/shadows.glsl, filter_taps); and the atlas page holding its
+    maps. Each per light type, in light order."""
     firsts = {f"{kind}_shadow_{what}": [] for kind in ("dir", "point", "spot") for what in ("views", "taps", "pages")}
     key = {"directional": "dir", "point": "point", "spot": "spot"}
-    count = 0
+    starts = first_shadow_views(lights)
     for index, light in enumerate(lights):
-        if light.kind == "ambient":
-            continue
         shadowed = light.shadow is not None
-        firsts[f"{key[light.kind]}_shadow_views"].append(count if shadowed else -1)
+        firsts[f"{key[light.kind]}_shadow_views"].append(starts[index])
         firsts[f"{key[light.kind]}_shadow_taps"].append(max(light.shadow.pcf - 1, 1) if shadowed else 0)
         firsts[f"{key[light.kind]}_shadow_pages"].append(atlas.page_of(index) if shadowed and atlas else 0)
-        if shadowed:
-            count += 6 if light.kind == "point" else 1
+    count = sum(view_count(light) for light in lights if light.shadow is not None)
     pages = len(atlas.pages) if atlas is not None else 1
     return {**{k: tuple(v) for k, v in firsts.items()}, "n_shadow_views": count, "shadow_pages": pages}
 

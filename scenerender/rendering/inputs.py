@@ -2,8 +2,9 @@
 
 ``import_inputs`` imports every input of ``world.inputs.world_inputs`` into the graph and
 returns their handles; passes declare the ones they read. Each frame,
-``input_values`` turns the evaluated FrameState (and the GPU scene it was uploaded to)
-into the value each handle resolves to in ``PassContext.input``.
+``input_values`` turns the evaluated FrameState, and what Renderer.import_frame uploaded
+from it, into the value each handle resolves to in ``PassContext.input``. Values are
+read-only: nothing here writes GPU state.
 """
 from __future__ import annotations
 
@@ -20,28 +21,43 @@ from scenerender.world.inputs import WorldInput, world_inputs
 
 @dataclass(frozen=True)
 class InputHandles:
-    """Handles of the world's inputs in one graph (see world.inputs.WorldInputs)."""
+    """Handles of the world's inputs in one graph (see world.inputs.WorldInputs).
+
+    per_light:    "light:NAME", one per light of World.lights, same index.
+    shadow_views: (light index, "shadow_views:NAME") per shadowed light.
+    lights:       "lights": every light and shadow view packed for the shaders
+                  (LightsInput); the only way light data reaches a shader.
+    """
 
     camera: Handle
     objects: Handle
     materials: Handle
     background: Handle
     ambient: Handle
-    lights: tuple             # one per non-ambient light, FrameState.lights order
-    shadow_views: tuple       # (light index, handle) per shadowed light
+    per_light: tuple
+    shadow_views: tuple
+    lights: Handle
     fog: Handle | None
     outlines: Handle | None
     skybox: Handle | None
 
     def shading(self) -> tuple:
-        """Everything lit shading reads: camera, objects, materials, every light, every
-        shadow view (the lookups), fog."""
+        """Everything lit shading reads: camera, objects, materials, the ambient light,
+        the packed ``lights`` and fog. Each light and shadow-view input is declared too:
+        they are what ``lights`` is packed from, so a dump names every light a pass
+        depends on, though the pass resolves only ``lights``."""
         extra = (self.fog,) if self.fog is not None else ()
-        return (self.camera, self.objects, self.materials, self.ambient, *self.lights,
-                *(handle for _, handle in self.shadow_views), *extra)
+        return (self.camera, self.objects, self.materials, self.ambient, *self.per_light,
+                *(handle for _, handle in self.shadow_views), self.lights, *extra)
 
     def shadow_view(self, light_index: int) -> Handle:
         return dict(self.shadow_views)[light_index]
+
+    def all(self) -> list[Handle]:
+        """Every input handle, in import order."""
+        found = [self.camera, self.objects, self.materials, self.background, self.ambient, *self.per_light,
+                 *(handle for _, handle in self.shadow_views), self.lights, self.fog, self.outlines, self.skybox]
+        return [handle for handle in found if handle is not None]
 
 
 def import_inputs(graph: FrameGraph, world) -> InputHandles:
@@ -55,8 +71,9 @@ def import_inputs(graph: FrameGraph, world) -> InputHandles:
     return InputHandles(
         camera=imported(inputs.camera), objects=imported(inputs.objects), materials=imported(inputs.materials),
         background=imported(inputs.background), ambient=imported(inputs.ambient),
-        lights=tuple(imported(i) for i in inputs.lights),
+        per_light=tuple(imported(i) for i in inputs.per_light),
         shadow_views=tuple((index, imported(i)) for index, i in inputs.shadow_views.items()),
+        lights=imported(inputs.lights),
         fog=imported(inputs.fog), outlines=imported(inputs.outlines), skybox=imported(inputs.skybox),
     )
 
@@ -90,7 +107,7 @@ class ObjectsInput:
     def draw(self, program, index: int, *, mode=None, group: int | None = None, welded_normals: bool = False) -> None:
         """Draw object ``index`` (one mesh ``group`` of it, or all) with ``program``: the
         instances in the camera's view (passes drawn from a light draw every instance,
-        through ``draw_relative``)."""
+        through ``PassContext.draw_placed``)."""
         count = self.frames[index].in_view
         if count == 0:
             return
@@ -100,24 +117,6 @@ class ObjectsInput:
             first, vertices = mesh.groups[group].first * 3, mesh.groups[group].count * 3
         vao = self.gpu.vertex_array(program, index, welded_normals)
         vao.render(mode if mode is not None else moderngl.TRIANGLES, vertices=vertices, first=first, instances=count)
-
-    def place_relative_to(self, index: int, eye: np.ndarray) -> None:
-        """Upload object ``index``'s instance transforms relative to the world point
-        ``eye`` (float64, rounded to float32 only after the subtraction), for
-        ``draw_relative``. What such draws make then depends on the objects and ``eye``
-        alone, not on where the camera is: a shadow map comes out the same bytes whichever
-        frame draws it."""
-        state = self.frames[index]
-        models = state.models.copy()
-        models[:, :3, 3] -= eye
-        self.gpu.write_eye_relative(index, models, state.normals)
-
-    def draw_relative(self, program, index: int) -> None:
-        """Draw every instance of object ``index`` as ``place_relative_to`` last placed them."""
-        count = self.frames[index].count
-        if count:
-            vao = self.gpu.vertex_array(program, index, eye_relative=True)
-            vao.render(moderngl.TRIANGLES, vertices=self.definitions[index].mesh.triangle_count * 3, instances=count)
 
 
 @dataclass(frozen=True)
@@ -139,17 +138,30 @@ class FogInput:
 
 @dataclass(frozen=True)
 class ShadowViewsInput:
-    """One light's shadow views this frame (world.shadows.ShadowView) and the index of
-    the first of them in the shadow-view buffer the lighting shaders read."""
+    """One light's shadow views this frame (world.shadows.ShadowView)."""
 
     views: list
-    first_view: int
 
     def same_as(self, other) -> bool:
         """Whether ``other`` holds the same views, to the bit."""
-        return (isinstance(other, ShadowViewsInput) and self.first_view == other.first_view
-                and len(self.views) == len(other.views)
+        return (isinstance(other, ShadowViewsInput) and len(self.views) == len(other.views)
                 and all(a.same_as(b) for a, b in zip(self.views, other.views)))
+
+
+@dataclass(frozen=True)
+class LightsInput:
+    """Every light and shadow view of the frame, packed as the lighting shaders read them
+    (rendering.lights) and uploaded before the passes run.
+
+    buffer:     the light arrays (shaders/lighting/lights.glsl), a moderngl.Buffer.
+    views:      the ShadowView structs (shaders/lighting/shadows.glsl), a moderngl.Buffer.
+    first_view: per light of World.lights, the index of its first view in ``views``, or -1.
+    A pass binds the buffers (rendering.draw.bind_lights); the value itself never writes.
+    """
+
+    buffer: object
+    views: object
+    first_view: tuple
 
 
 def same_value(value, other) -> bool:
@@ -158,20 +170,22 @@ def same_value(value, other) -> bool:
     return value is other or (hasattr(value, "same_as") and value.same_as(other))
 
 
-def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, gpu, world) -> dict:
+def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, gpu, world, lights) -> dict:
     """resource index -> value of every input for ``frame``; ``camera`` is the frame's
-    camera with the device's projection, ``gpu`` the GpuScene the frame was uploaded to."""
+    camera with the device's projection, ``gpu`` the GpuScene the frame was uploaded to,
+    ``lights`` the value of the ``lights`` input (LightsInput) that upload returned."""
     values = {
         handles.camera.resource: camera,
         handles.objects.resource: ObjectsInput(world.objects, frame.objects, frame.camera.position, gpu),
         handles.materials.resource: MaterialsInput(frame.materials, gpu.textures),
         handles.background.resource: frame.background,
         handles.ambient.resource: frame.ambient,
+        handles.lights.resource: lights,
     }
-    for handle, light in zip(handles.lights, frame.lights):
+    for handle, light in zip(handles.per_light, frame.lights):
         values[handle.resource] = light
     for light_index, handle in handles.shadow_views:
-        values[handle.resource] = ShadowViewsInput(frame.shadow_views[light_index], gpu.first_shadow_view[light_index])
+        values[handle.resource] = ShadowViewsInput(frame.shadow_views[light_index])
     if handles.fog is not None:
         fog = world.settings.fog
         values[handles.fog.resource] = FogInput(frame.fog_color, frame.fog_density, (fog.start, fog.end))

@@ -23,6 +23,7 @@ from scenerender.rendering.passes.sky import NO_SKY, SkyboxPass, SkyUnder
 from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
+from scenerender.world.frame import FrameEvaluator
 from scenerender.world.settings import AmbientOcclusionSettings
 
 DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
@@ -144,8 +145,6 @@ def depth_complexity(world, atlas, size) -> float:
     the sum over instances in view of their projected bounding-box area, over the image
     area (an overestimate for round shapes; an instance reaching behind the camera counts
     as the whole image)."""
-    from scenerender.world.frame import FrameEvaluator
-
     frame = FrameEvaluator(world, size, atlas).evaluate(0, 0.0)
     clip = frame.camera.view_proj_relative()
     covered = 0.0
@@ -172,13 +171,12 @@ def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> tuple[list,
     redrawn every frame (world.shadows), so its passes are all static or all dynamic. The
     shadow views show the first shadowed light alone; there file order puts it first and
     culls every other pass."""
-    non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
     handles = []
     current: dict = {}
-    for light_index, views in inputs.shadow_views:  # light_index: among the non-ambient lights
-        light = world.lights[non_ambient[light_index]]
-        page = atlas.page_of(non_ambient[light_index])
-        map_size = atlas.tiles[non_ambient[light_index]][0].size
+    for light_index, views in inputs.shadow_views:
+        light = world.lights[light_index]
+        page = atlas.page_of(light_index)
+        map_size = atlas.tiles[light_index][0].size
         current[page] = graph.add(ShadowMapPass(light.name, light.kind, map_size, light.shadow.pcf, page,
                                                 atlas.pages[page], views, inputs.objects, current.get(page))).atlas
         handles.append((light_index, current[page]))
@@ -195,6 +193,6 @@ def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, siz
     light_index, handle = shadow_passes[0]
     views = inputs.shadow_view(light_index)
     if mode == "shadow":
-        return graph.add(ShadowFactorViewPass(handle, size, inputs.camera, inputs.objects, inputs.lights[light_index],
-                                              views, view_format)).color
+        return graph.add(ShadowFactorViewPass(handle, size, inputs.camera, inputs.objects, light_index,
+                                              inputs.per_light[light_index], views, inputs.lights, view_format)).color
     return graph.add(LightDepthViewPass(handle, size, views, view_format)).image

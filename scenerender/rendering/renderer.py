@@ -14,10 +14,11 @@ from scenerender.gpu.shaders import ProgramCache
 from scenerender.rendering.context import PassContext, RunState
 from scenerender.rendering.features import SceneFeatures
 from scenerender.rendering.inputs import InputHandles, input_values, same_value
+from scenerender.rendering.lights import pack_lights
 from scenerender.rendering.pipeline import GraphOptions, build_graph
-from scenerender.rendering.scene_gpu import GpuScene
 from scenerender.rendering.profile import CPU_SETUP
-from scenerender.world.frame import FrameEvaluator
+from scenerender.rendering.scene_gpu import GpuScene
+from scenerender.world.frame import FrameEvaluator, FrameState
 from scenerender.world.inputs import redrawn_shadow_maps
 from scenerender.world.shadows import plan_atlas
 
@@ -153,7 +154,7 @@ class Renderer:
         # encode linear -> sRGB on writes to (only) sRGB-format targets, decode for blending
         gl.enable_direct(GL_FRAMEBUFFER_SRGB)
         self.programs = ProgramCache(gl)
-        self.scene = GpuScene(gl, world, self.atlas)
+        self.scene = GpuScene(gl, world)
         self.depth = depth_convention(gl)
         images = {index: allocate(gl, desc, self.depth) for index, _, desc in self.compiled.resources()}
         self.timings: dict | None = {} if profile else None
@@ -183,13 +184,21 @@ class Renderer:
         """Time of frame ``index`` in seconds: index / fps, in float64."""
         return index / float(self.world.output.fps)
 
+    def import_frame(self, frame: FrameState) -> dict:
+        """Hand ``frame`` to the graph: upload what the passes draw from (the objects'
+        camera-relative instance transforms, the packed lights and shadow views) and return
+        every input's value (rendering.inputs.input_values). The one place per-frame data
+        reaches the GPU before the passes run; passes then see it only through the inputs
+        they declared."""
+        camera = replace(frame.camera, projection=self.depth.camera_projection(frame.camera.projection))
+        lights = self.scene.upload(frame, pack_lights(frame, self.atlas))
+        return input_values(self.plan.inputs, frame, camera, self.scene, self.world, lights)
+
     def render(self, index: int) -> FrameResult:
         time = self.frame_time(index)
         started = perf_counter()
         frame = self.evaluator.evaluate(index, time)
-        camera = replace(frame.camera, projection=self.depth.camera_projection(frame.camera.projection))
-        self.scene.upload(frame)
-        self.backend.inputs = input_values(self.plan.inputs, frame, camera, self.scene, self.world)
+        self.backend.inputs = self.import_frame(frame)
         if self.timings is not None:
             self.timings.setdefault(CPU_SETUP, []).append(perf_counter() - started)
         first = not self._rendered_any or not self.cache_static_passes

@@ -18,7 +18,7 @@ from scenerender.world import materials as mats
 from scenerender.world import texture_files
 from scenerender.world.directional_views import fixed_view_sizes
 from scenerender.world.images import DEFAULT_MAX_PIXELS, ImageStore
-from scenerender.world.lights import LightDef, light_defs
+from scenerender.world.lights import LightDef, light_defs, split_ambient
 from scenerender.world.settings import OutlineSettings, RenderSettings
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance
 from scenerender.world.reach import check_placements
@@ -31,13 +31,18 @@ class World:
 
     scene:   the LoadedScene (spec, path, source map).
     objects: RenderObjects in scene order.
-    lights:  LightDefs (the default rig when the scene has no ``lights``).
+    lights:  LightDefs of the directional, point and spot lights, in scene order (the
+             default rig's headlight when the scene has no ``lights``). Their index is the
+             one index of a light everywhere: its state in FrameState.lights, its shadow
+             atlas tiles and views, its place in the packed light data.
+    ambient: LightDefs of the ambient lights, in scene order; they light as their sum.
     images:  every texture and skybox face, decoded and checked (the GPU upload reuses them).
     """
 
     scene: LoadedScene
     objects: list
     lights: list
+    ambient: list = field(default_factory=list)
     warnings: Warnings = field(default_factory=Warnings)
     images: ImageStore = field(default_factory=ImageStore)
 
@@ -98,12 +103,12 @@ def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
     loader = _Loader(scene, warnings)
     objects = [loader.build_object(i, obj) for i, obj in enumerate(spec.objects)]
     check_placements(objects, scene.source)
-    lights = light_defs(spec.lights, spec.render.shadows)
+    lights, ambient = split_ambient(light_defs(spec.lights, spec.render.shadows))
     _check_modes(scene, lights)
     images = ImageStore(max_pixels=_limit(scene, "texture_pixels", DEFAULT_MAX_PIXELS))
     texture_files.check_material_textures(objects, scene, images, warnings)
     texture_files.check_skybox(scene, images)
-    return World(scene=scene, objects=objects, lights=lights, warnings=warnings, images=images)
+    return World(scene=scene, objects=objects, lights=lights, ambient=ambient, warnings=warnings, images=images)
 
 
 def _limit(scene: LoadedScene, name: str, default: int) -> int:

@@ -45,10 +45,8 @@ def fixed_view_sizes(world, aspect: float) -> dict:
         return {}  # one frame draws every map once: the camera-fitted view is the finer
     # directional views that change only because the camera moves: not the light, not the
     # objects (a light attached to the camera turns with it)
-    non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
     candidates = []
-    for state_index, views in camera_fitted_inputs(world).shadow_views.items():
-        index = non_ambient[state_index]
+    for index, views in camera_fitted_inputs(world).shadow_views.items():
         light = world.lights[index]
         if light.kind == "directional" and not light.attach_camera and views.because == ("follows camera",):
             candidates.append(index)

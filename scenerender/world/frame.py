@@ -14,7 +14,7 @@ from scenerender.animation import animated_keys
 from scenerender.world.build import World, scene_bounds
 from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
-from scenerender.world.lights import LightState, evaluate_lights
+from scenerender.world.lights import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
 from scenerender.world.transforms import normal_matrices, union_bounds
@@ -62,13 +62,13 @@ class FrameState:
     time: float
     camera: CameraState
     objects: list
-    lights: list            # LightState for directional, point and spot lights
-    ambient: np.ndarray     # (3,) summed ambient light
+    lights: list            # LightState per light of World.lights, same index
+    ambient: np.ndarray     # (3,) the ambient lights summed
     background: np.ndarray  # (4,) linear RGBA
     fog_color: np.ndarray   # (3,)
     fog_density: float
     bounds: np.ndarray | None
-    shadow_views: dict      # light index (in ``lights``) -> list[ShadowView]
+    shadow_views: dict      # light index -> list[ShadowView], for each shadowed light
     materials: dict         # id(Material) -> evaluated uniforms
 
     def shadowed_lights(self) -> list[int]:
@@ -117,11 +117,12 @@ class FrameEvaluator:
         camera = self.rig.at(time, bounds)
         planes = frustum_planes(camera.view_proj_relative())
         objects = [self._object(obj, p, v, camera, planes) for obj, p, v in zip(world.objects, placements, visible)]
-        lights, ambient = evaluate_lights(world.lights, time, camera)
+        lights = evaluate_lights(world.lights, time, camera)
         render = world.render
         fog = render.fog
         return FrameState(
-            index=index, time=time, camera=camera, objects=objects, lights=lights, ambient=ambient,
+            index=index, time=time, camera=camera, objects=objects, lights=lights,
+            ambient=ambient_light(world.ambient, time),
             background=np.asarray(render.background(time), dtype=np.float64),
             fog_color=np.asarray(fog.color(time), dtype=np.float64)[:3] if fog else np.zeros(3),
             fog_density=fog.density(time) if fog else 0.0,
@@ -165,14 +166,11 @@ class FrameEvaluator:
             return {}
         casters = union_bounds([f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows])
         fixed = world.fixed_shadow_sizes
-        non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
-        follows_camera = any(world.lights[i].kind == "directional" and i not in fixed for i in non_ambient)
+        follows_camera = any(light.kind == "directional" and i not in fixed for i, light in enumerate(world.lights))
         visible = visible_region(camera, bounds) if follows_camera else None
         views = {}
-        for state_index, def_index in enumerate(non_ambient):
-            if def_index in self.atlas.tiles:
-                views[state_index] = light_views(lights[state_index], self.atlas.tiles[def_index], casters, bounds,
-                                                 None if def_index in fixed else visible)
+        for index, tiles in sorted(self.atlas.tiles.items()):
+            views[index] = light_views(lights[index], tiles, casters, bounds, None if index in fixed else visible)
         return views
 
 

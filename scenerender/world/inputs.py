@@ -10,7 +10,9 @@ Where one input is computed from another, the dependency is written here once:
 - the camera's automatic near/far planes fit the scene's bounds, so they follow the objects;
 - a light attached to the camera follows the camera;
 - a shadow map's views fit the scene's bounds, and a directional light's also the part of
-  the scene the camera sees, unless its view stays put for the run (world.directional_views).
+  the scene the camera sees, unless its view stays put for the run (world.directional_views);
+- the packed light data holds every light and shadow view, camera-relative, so it follows
+  them all, and the camera wherever it holds a position or a view.
 """
 from __future__ import annotations
 
@@ -31,7 +33,7 @@ OBJECT_LOOK_KEYS = ("materials", "outline")
 class WorldInput:
     """One per-frame input.
 
-    name:     its name in graph dumps ("camera", "light:sun", "shadow_views:sun"...).
+    name:     its name in graph dumps ("camera", "light:sun", "shadow_views:sun", "lights"...).
     dynamic:  True when it can change over the animation.
     because:  why it is dynamic: the animated key paths, or the input it follows.
     """
@@ -49,24 +51,27 @@ class WorldInput:
 
 @dataclass(frozen=True)
 class WorldInputs:
-    """Every input a scene has. ``lights`` follow ``world.lights`` order without ambient
-    lights (the order of FrameState.lights); ``ambient`` is the ambient lights' sum;
-    ``shadow_views`` has one entry per shadowed light, keyed by its index in ``lights``."""
+    """Every input a scene has. ``per_light`` has one per light of ``world.lights``, same
+    index; ``ambient`` is the ambient lights' sum; ``shadow_views`` has one entry per
+    shadowed light, keyed by its index. ``lights`` is all of those lights and views packed
+    as the lighting shaders read them (rendering.lights): it changes when any of them
+    does, and with the camera, since positions and views are packed camera-relative."""
 
     camera: WorldInput
     objects: WorldInput
     materials: WorldInput
     background: WorldInput
-    lights: tuple
+    per_light: tuple
     ambient: WorldInput
     shadow_views: dict
+    lights: WorldInput
     fog: WorldInput | None
     outlines: WorldInput | None
     skybox: WorldInput | None
 
     def all(self) -> list[WorldInput]:
-        fixed = [self.camera, self.objects, self.materials, self.background, *self.lights, self.ambient,
-                 *self.shadow_views.values()]
+        fixed = [self.camera, self.objects, self.materials, self.background, *self.per_light, self.ambient,
+                 *self.shadow_views.values(), self.lights]
         return fixed + [i for i in (self.fog, self.outlines, self.skybox) if i is not None]
 
 
@@ -93,26 +98,23 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
                                  for key in animated_keys(obj, skip=OBJECT_LOOK_KEYS)])
     auto_planes = spec.camera is None or "auto" in (spec.camera.near, spec.camera.far)
     camera = _input("camera", animated_keys(spec.camera), (objects,) if auto_planes else ())
-    names = _unique_names(world.lights)
-    lights, ambient_keys, views = [], [], {}
-    for index, (light, name) in enumerate(zip(world.lights, names)):
-        if light.kind == "ambient":
-            ambient_keys += [f"{name}.{key}" for key in animated_keys(light)]
-            continue
-        follows = (camera,) if light.attach_camera else ()
-        light_input = _input(f"light:{name}", animated_keys(light), follows)
+    per_light, views = [], {}
+    for index, (light, name) in enumerate(zip(world.lights, _unique_names(world.lights))):
+        per_light.append(_input(f"light:{name}", animated_keys(light), (camera,) if light.attach_camera else ()))
         if light.shadow is not None:
             follows_camera = (light.kind == "directional" and index not in fixed_views) or light.attach_camera
             fitted_to = (objects, camera) if follows_camera else (objects,)
-            views[len(lights)] = _input(f"shadow_views:{name}", animated_keys(light, skip=LIGHT_APPEARANCE_KEYS),
-                                        fitted_to)
-        lights.append(light_input)
+            views[index] = _input(f"shadow_views:{name}", animated_keys(light, skip=LIGHT_APPEARANCE_KEYS), fitted_to)
+    ambient_keys = [f"{name}.{key}" for light, name in zip(world.ambient, _unique_names(world.ambient))
+                    for key in animated_keys(light)]
+    placed = bool(views) or any(light.kind != "directional" for light in world.lights)
+    lights = _input("lights", [], (*per_light, *views.values(), *((camera,) if placed else ())))
     outlined = [obj for obj in world.objects if obj.outline is not None]
     return WorldInputs(
         camera=camera, objects=objects,
         materials=_input("materials", [f"{m.name}.{key}" for m in world.materials() for key in animated_keys(m)]),
         background=_input("background", animated_keys(render.background)),
-        lights=tuple(lights), ambient=_input("ambient", ambient_keys), shadow_views=views,
+        per_light=tuple(per_light), ambient=_input("ambient", ambient_keys), shadow_views=views, lights=lights,
         fog=_input("fog", animated_keys(render.fog)) if render.fog is not None else None,
         outlines=_input("outlines", [f"{o.name}.outline.{k}" for o in outlined for k in animated_keys(o.outline)])
         if outlined else None,
@@ -132,5 +134,4 @@ def _unique_names(lights) -> list[str]:
 def redrawn_shadow_maps(world) -> frozenset:
     """Indices in ``world.lights`` of the shadowed lights whose views change during the
     run (their maps are redrawn every frame)."""
-    non_ambient = [i for i, light in enumerate(world.lights) if light.kind != "ambient"]
-    return frozenset(non_ambient[i] for i, views in world_inputs(world).shadow_views.items() if views.dynamic)
+    return frozenset(index for index, views in world_inputs(world).shadow_views.items() if views.dynamic)

@@ -132,18 +132,30 @@ def _from_spec(index: int, light, shadows_default) -> LightDef:
                     shadow=shadow)
 
 
-def evaluate_lights(defs: list[LightDef], t: float, camera) -> tuple[list[LightState], np.ndarray]:
-    """(non-ambient light states, summed ambient RGB (3,)) at time ``t``."""
-    states = []
+def split_ambient(defs: list[LightDef]) -> tuple[list[LightDef], list[LightDef]]:
+    """(directional, point and spot lights, ambient lights), each in scene order. The first
+    list is ``World.lights``: one index runs through it, the shadow atlas's tiles, the
+    shadow views and the packed light data alike; ambient lights only add up to one colour."""
+    return [d for d in defs if d.kind != "ambient"], [d for d in defs if d.kind == "ambient"]
+
+
+def evaluate_lights(defs: list[LightDef], t: float, camera) -> list[LightState]:
+    """The states of ``defs`` (directional, point and spot lights) at time ``t``."""
+    return [_state(light, t, camera, _color(light, t)) for light in defs]
+
+
+def ambient_light(defs: list[LightDef], t: float) -> np.ndarray:
+    """The ambient lights ``defs`` summed at time ``t``: (3,) linear RGB."""
     ambient = np.zeros(3)
     for light in defs:
-        on = light.enabled(t)
-        color = np.asarray(light.color(t), dtype=np.float64)[:3] * light.intensity(t) * (1.0 if on else 0.0)
-        if light.kind == "ambient":
-            ambient += color
-            continue
-        states.append(_state(light, t, camera, color))
-    return states, ambient
+        ambient += _color(light, t)
+    return ambient
+
+
+def _color(light: LightDef, t: float) -> np.ndarray:
+    """(3,) linear RGB times intensity, zero while disabled."""
+    on = light.enabled(t)
+    return np.asarray(light.color(t), dtype=np.float64)[:3] * light.intensity(t) * (1.0 if on else 0.0)
 
 
 def _state(light: LightDef, t: float, camera, color: np.ndarray) -> LightState:

@@ -55,18 +55,20 @@ class Tile:
 
 @dataclass(frozen=True)
 class AtlasLayout:
-    """pages: (width, height) of each page texture; tiles[light_def_index]: its tiles."""
+    """pages: (width, height) of each page texture; tiles[light index]: the tiles of the
+    shadowed light ``World.lights[light index]``."""
 
     pages: tuple
     tiles: dict
 
-    def page_of(self, light_def_index: int) -> int:
-        return self.tiles[light_def_index][0].page
+    def page_of(self, light_index: int) -> int:
+        return self.tiles[light_index][0].page
 
 
 def plan_atlas(lights: list, max_size: int = 16384, warn=None, redrawn: frozenset = frozenset(),
                sizes: dict | None = None) -> AtlasLayout | None:
-    """Pack every shadowed light's tiles into rows (largest first); None when no shadows.
+    """Pack the tiles of every shadowed light of ``lights`` (World.lights) into rows
+    (largest first); None when no shadows.
 
     redrawn: indices of the lights whose views change during the run; their tiles get a
     page of their own, after the page of the others (see the module's docstring).
@@ -74,7 +76,7 @@ def plan_atlas(lights: list, max_size: int = 16384, warn=None, redrawn: frozense
     If a page would exceed ``max_size`` the tiles are halved until it fits, with a warning.
     """
     sizes = sizes or {}
-    requests = [(i, sizes.get(i, light.shadow.size), 6 if light.kind == "point" else 1)
+    requests = [(i, sizes.get(i, light.shadow.size), view_count(light))
                 for i, light in enumerate(lights) if light.shadow is not None]
     if not requests:
         return None
@@ -147,6 +149,23 @@ class ShadowView:
         return (self.tile == other.tile and self.near == other.near and self.far == other.far
                 and self.radial == other.radial and np.array_equal(self.view, other.view)
                 and np.array_equal(self.projection, other.projection))
+
+
+def view_count(light) -> int:
+    """How many shadow views a shadowed light (LightDef) has: six cube faces for a point
+    light, one for the others."""
+    return 6 if light.kind == "point" else 1
+
+
+def first_shadow_views(lights: list) -> tuple:
+    """Per light of ``lights`` (World.lights), the index of its first view in the frame's
+    list of shadow views, or -1 without shadows: the shadowed lights' views in light order,
+    as the lighting shaders read them (rendering.lights)."""
+    firsts, count = [], 0
+    for light in lights:
+        firsts.append(count if light.shadow is not None else -1)
+        count += view_count(light) if light.shadow is not None else 0
+    return tuple(firsts)
 
 
 def atlas_page_name(page: int) -> str:

@@ -5,13 +5,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import moderngl
-import numpy as np
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
-    MESH_VERTEX, begin_camera_pass, bind_material, bind_shadow_atlas, bind_texture_units, cull_hidden_faces,
-    draw_item, opaque_items, stop_culling, transparent_items,
+    MESH_VERTEX, begin_camera_pass, bind_lights, bind_material, bind_shadow_atlas, bind_texture_units,
+    cull_hidden_faces, draw_item, opaque_items, stop_culling, transparent_items,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.inputs import InputHandles
@@ -22,8 +21,9 @@ FORWARD_FRAGMENT = "mesh/forward.frag"
 
 @dataclass(frozen=True)
 class Shading:
-    """What lit shading reads: the world's inputs, plus the shadow atlas pages (in page
-    order, none without shadows) and the AO image when the scene has them."""
+    """What lit shading reads: the world's inputs (InputHandles.shading), plus the shadow
+    atlas pages (in page order, none without shadows) and the AO image when the scene has
+    them. The lights reach the shaders as the ``lights`` input's buffers, bound in ``bind``."""
 
     inputs: InputHandles
     atlas_pages: tuple = ()
@@ -33,6 +33,7 @@ class Shading:
         builder.read(*self.inputs.shading(), *self.atlas_pages, *((self.ao,) if self.ao is not None else ()))
 
     def bind(self, ctx) -> None:
+        bind_lights(ctx.input(self.inputs.lights))
         for page, handle in enumerate(self.atlas_pages):
             bind_shadow_atlas(ctx, handle, page)
         if self.ao is not None:

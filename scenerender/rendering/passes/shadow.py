@@ -82,7 +82,7 @@ class ShadowMapPass(RenderPass):
         casters = objects.shadow_casters()
         eye = views[0].eye  # one anchor for all of a point light's faces
         for index in casters:
-            objects.place_relative_to(index, eye)
+            ctx.place_instances(objects, index, eye)
         from_eye = np.eye(4)
         from_eye[:3, 3] = eye
         for view in views:
@@ -94,5 +94,5 @@ class ShadowMapPass(RenderPass):
                 frame = objects.frames[index]
                 # faces turned away from the light never hold the nearest depth
                 skip_faces(gl, hidden_from_light(view, frame.winding, frame.bounds))
-                objects.draw_relative(program, index)
+                ctx.draw_placed(program, objects, index)
         stop_culling(gl)

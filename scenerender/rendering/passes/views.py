@@ -11,7 +11,7 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
-    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_shadow_atlas,
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_lights, bind_shadow_atlas,
     bind_texture_units,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
@@ -129,26 +129,36 @@ class LightDepthViewPass(_FullscreenView):
 
 @dataclass(frozen=True)
 class ShadowFactorViewPass(RenderPass):
-    """How much of one shadowed light reaches each visible surface."""
+    """How much of one shadowed light reaches each visible surface.
+
+    light_index: the light's index in World.lights; light, views: its ``light:NAME`` and
+    ``shadow_views:NAME`` inputs (the views are declared as what the lookup depends on;
+    it reads them packed); lights: the packed ``lights`` input, whose shadow views the
+    lookup reads from the light's first view on.
+    """
 
     atlas: Handle
     size: tuple
     camera: Handle
     objects: Handle
+    light_index: int
     light: Handle
     views: Handle
+    lights: Handle
     format: str = "rgba8"
 
     name = "view:shadow"
 
     def setup(self, builder) -> TargetData:
-        builder.read(self.atlas, self.camera, self.objects, self.light, self.views)
+        builder.read(self.atlas, self.camera, self.objects, self.light, self.views, self.lights)
         return TargetData(builder.create("view", ResourceDesc("color", self.size, self.format)),
-                        builder.create("view_depth", ResourceDesc("depth", self.size, "camera_depth")))
+                          builder.create("view_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
     def execute(self, ctx, data: TargetData) -> None:
         begin_camera_pass(ctx, [data.color], data.depth, (1.0, 1.0, 1.0, 1.0))
         bind_shadow_atlas(ctx, self.atlas)
+        lights = ctx.input(self.lights)
+        bind_lights(lights)
         program = ctx.programs.get(MESH_VERTEX, "views/shadow_factor.frag")
         bind_texture_units(program)
         light = ctx.input(self.light)
@@ -156,7 +166,7 @@ class ShadowFactorViewPass(RenderPass):
         point = light.kind == "point"
         vector = (light.position - camera.position) if point else light.direction
         set_uniforms(program, u_view_proj=camera.view_proj_relative(),
-                     u_first_view=ctx.input(self.views).first_view, u_point_light=int(point),
+                     u_first_view=lights.first_view[self.light_index], u_point_light=int(point),
                      u_light_vector=vector)
         objects = ctx.input(self.objects)
         for index in objects.in_camera_view():

@@ -1,0 +1,133 @@
+"""A frame's lights and shadow views packed as the lighting shaders read them.
+
+Two arrays: the light structs of shaders/lighting/lights.glsl (one array per light type)
+and the ShadowView structs of shaders/lighting/shadows.glsl. Light ``i`` of
+``World.lights`` is ``FrameState.lights[i]``, owns the atlas tiles ``atlas.tiles[i]`` and
+the views ``FrameState.shadow_views[i]``, which start at ``first_view[i]`` in the view
+array: one index throughout. Positions and views are relative to the frame's camera.
+
+Packing is CPU work with no GL; the renderer uploads the result into the buffers of the
+graph's ``lights`` input before the passes run (Renderer.import_frame).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.world.frame import FrameState
+from scenerender.world.shadows import AtlasLayout, first_shadow_views
+
+# The binding points of the light arrays and the shadow views, as uniform blocks and as
+# storage buffers (the two binding namespaces are separate).
+LIGHT_BINDING = 0
+SHADOW_VIEW_BINDING = 1
+
+
+@dataclass(frozen=True)
+class PackedLights:
+    """lights: the light arrays, std140 / std430 alike (every member a vec4).
+    views: the ShadowView structs, shadowed lights in light order.
+    first_view: per light, the index of its first view in ``views``, or -1."""
+
+    lights: bytes
+    views: bytes
+    first_view: tuple
+
+
+def pack_lights(frame: FrameState, atlas: AtlasLayout | None) -> PackedLights:
+    """The lights and shadow views of ``frame``; ``atlas`` is the run's atlas layout."""
+    views, first_view = _pack_shadow_views(frame, atlas)
+    return PackedLights(_pack_light_arrays(frame, first_view), views, first_view)
+
+
+def _pack_shadow_views(frame: FrameState, atlas: AtlasLayout | None) -> tuple[bytes, tuple]:
+    """ShadowView structs (see shaders/lighting/shadows.glsl), shadowed lights in light
+    order, and where each light's start (world.shadows.first_shadow_views, as the
+    shaders' compile-time constants have them)."""
+    first_view = first_shadow_views([light.definition for light in frame.lights])
+    rows = []
+    if atlas is not None:
+        to_world = np.eye(4)
+        to_world[:3, 3] = frame.camera.position  # camera-relative -> absolute world
+        for light_index in frame.shadowed_lights():
+            settings = frame.lights[light_index].definition.shadow
+            for view in frame.shadow_views[light_index]:
+                rows.append(_shadow_view_row(view, to_world, settings, atlas.pages[view.tile.page]))
+    if not rows:
+        return np.zeros(4, dtype=np.float32).tobytes(), first_view
+    return np.asarray(rows, dtype=np.float32).tobytes(), first_view
+
+
+def _pack_light_arrays(frame: FrameState, first_view: tuple) -> bytes:
+    """std430 light arrays in type order (see shaders/lighting/lights.glsl)."""
+    cam = frame.camera.position
+    dirs, points, spots = [], [], []
+    for light, first in zip(frame.lights, first_view):
+        shadow = [float(first), 0.0, 0.0, 0.0]
+        color = [*light.color, 0.0]
+        if light.kind == "directional":
+            dirs.append([*light.direction, 0.0, *color, *shadow])
+        elif light.kind == "point":
+            points.append([*(light.position - cam), 1.0, *color, *light.definition.attenuation, 0.0, *shadow])
+        else:
+            spots.append([*(light.position - cam), 1.0, *light.direction, 0.0, *color,
+                          *light.definition.attenuation, 0.0, light.cos_inner, light.cos_outer, 0.0, 0.0,
+                          *shadow])
+    parts = [np.asarray(group, dtype=np.float64).reshape(-1) for group in (dirs, points, spots) if group]
+    parts.append(np.zeros(4))  # lights_end
+    return np.concatenate(parts).astype(np.float32).tobytes()
+
+
+def _shadow_view_row(view, to_world: np.ndarray, settings, page_size) -> np.ndarray:
+    """One ShadowView as 36 float64s (see shaders/lighting/shadows.glsl); page_size:
+    (width, height) of the atlas page holding the view's tile.
+
+    Everything the lookup needs per fragment is folded into one matrix here, once per
+    frame: camera-relative world -> (page u * w, page v * w, linear depth, w), so the
+    shader does one matrix product instead of a view, a projection and a tile transform.
+    """
+    width, height = page_size
+    tile = view.tile
+    to_light = view.view @ to_world
+    clip = view.projection @ to_light
+    origin = np.array([tile.x / width, tile.y / height])
+    extent = np.array([tile.size / width, tile.size / height])
+    to_atlas = np.empty((4, 4))
+    to_atlas[:2] = 0.5 * extent[:, None] * clip[:2] + (origin + 0.5 * extent)[:, None] * clip[3]
+    depth_range = view.far - view.near
+    to_atlas[2] = (-to_light[2] - view.near * np.array([0.0, 0.0, 0.0, 1.0])) / depth_range
+    to_atlas[3] = clip[3]
+    light_position = np.linalg.inv(to_light)[:3, 3]  # the light's eye, camera-relative
+    return np.concatenate([
+        to_atlas.T.reshape(-1),
+        [*light_position, 1.0 if view.radial else 0.0],
+        [*origin, *(origin + extent)],
+        [view.near, 1.0 / depth_range, *shadow_bias_texels(settings)],
+        [1.0 / width, 1.0 / height, settings.pcf, 0.0],
+        _texel_world_size(view),
+    ])
+
+
+# The constant depth bias every lookup gets, in shadow texels: covers the depth a texel's
+# centre and a point elsewhere in it can differ by on a surface facing the light.
+BASE_BIAS_TEXELS = 0.5
+
+
+def shadow_bias_texels(settings) -> tuple[float, float]:
+    """(constant, slope) depth bias in shadow texels at the receiver (see
+    shaders/lighting/shadows.glsl): the built-in amounts plus the light's ``bias`` and
+    ``slope_bias``. The slope term covers the filter's reach, pcf / 2 texels."""
+    return BASE_BIAS_TEXELS + settings.bias, 0.5 * settings.pcf + settings.slope_bias
+
+
+def _texel_world_size(view) -> list:
+    """World size of one shadow-map texel: (per unit distance, constant, 0, 0).
+
+    Perspective views (spot, cube faces) grow with distance from the light; orthographic
+    views (directional) have one size everywhere.
+    """
+    p = view.projection
+    if p[3, 3] == 0.0:  # perspective: x_ndc = p00 * x / -z
+        return [2.0 / (p[0, 0] * view.tile.size), 0.0, 0.0, 0.0]
+    return [0.0, 2.0 / (p[0, 0] * view.tile.size), 0.0, 0.0]
