@@ -43,12 +43,9 @@ class InputHandles:
 
     def shading(self) -> tuple:
         """Everything lit shading reads: camera, objects, materials, the ambient light,
-        the packed ``lights`` and fog. Each light and shadow-view input is declared too:
-        they are what ``lights`` is packed from, so a dump names every light a pass
-        depends on, though the pass resolves only ``lights``."""
+        the packed ``lights`` and fog."""
         extra = (self.fog,) if self.fog is not None else ()
-        return (self.camera, self.objects, self.materials, self.ambient, *self.per_light,
-                *(handle for _, handle in self.shadow_views), self.lights, *extra)
+        return (self.camera, self.objects, self.materials, self.ambient, self.lights, *extra)
 
     def shadow_view(self, light_index: int) -> Handle:
         return dict(self.shadow_views)[light_index]

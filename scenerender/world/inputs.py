@@ -107,8 +107,12 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
             views[index] = _input(f"shadow_views:{name}", animated_keys(light, skip=LIGHT_APPEARANCE_KEYS), fitted_to)
     ambient_keys = [f"{name}.{key}" for light, name in zip(world.ambient, _unique_names(world.ambient))
                     for key in animated_keys(light)]
-    placed = bool(views) or any(light.kind != "directional" for light in world.lights)
-    lights = _input("lights", [], (*per_light, *views.values(), *((camera,) if placed else ())))
+    # the packed lights: every light's own keys, its shadow views, and the camera where a
+    # light has a position or views (packed relative to the camera)
+    light_keys = [f"{name}.{key}" for light, name in zip(world.lights, _unique_names(world.lights))
+                  for key in animated_keys(light)]
+    placed = bool(views) or any(light.kind != "directional" or light.attach_camera for light in world.lights)
+    lights = _input("lights", light_keys, (*views.values(), *((camera,) if placed else ())))
     outlined = [obj for obj in world.objects if obj.outline is not None]
     return WorldInputs(
         camera=camera, objects=objects,
