@@ -1,5 +1,5 @@
-"""Forward passes from the camera: opaque meshes, skybox, outlines, transparent meshes and
-the wireframe overlay, all into the (multisampled) colour target."""
+"""Forward passes from the camera: opaque meshes, outlines, transparent meshes and the
+wireframe overlay, all into the (multisampled) colour target (the skybox is passes/sky.py)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
