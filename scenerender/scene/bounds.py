@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from scenerender.errors import UserError
 from scenerender.limits import Limits
+from scenerender.scene.describe import describe
 from scenerender.scene.messages import format_key
-from scenerender.scene.values import describe
 from scenerender.scene.yaml_source import SourceMap
 
 _TOP_KEYS = "render, output, camera, lights, materials, objects"

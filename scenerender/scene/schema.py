@@ -18,9 +18,10 @@ from scenerender.errors import UserError
 from scenerender.scene.assets import AssetPolicy
 from scenerender.scene.strict import StrictModel
 from scenerender.scene.suggest import did_you_mean
+from scenerender.scene.describe import describe
 from scenerender.scene.values import (
-    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedFloat, AnimatedScale, AnimatedVec3, Bool, Text, animated_number, choice, describe, number, vector,
-    check_number,
+    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedFloat, AnimatedScale, AnimatedVec3, Bool, Text, animated_number, choice, number, vector,
+    check_number, check_at, vector_item,
 )
 
 def mapping_or(mapping_type, other_type):
@@ -324,8 +325,6 @@ class OutputSettings(StrictModel):
 def _near_far(value):
     if value == "auto":
         return "auto"
-    from scenerender.scene.values import check_number
-
     try:
         return check_number(value, 0.0, lo_open=True)
     except PydanticCustomError:
@@ -389,12 +388,10 @@ ShadowsOption = mapping_or(ShadowOverride, Bool)
 
 
 def _attenuation(value):
-    from scenerender.scene.values import _vector_item
-
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise PydanticCustomError("attenuation", "expected [constant, linear, quadratic], got {got}",
                                   {"got": describe(value)})
-    out = tuple(_vector_item(v, i, 0.0, None) for i, v in enumerate(value))
+    out = tuple(vector_item(v, i, 0.0, None) for i, v in enumerate(value))
     if out[0] == 0 and out[1] == 0 and out[2] == 0:
         raise PydanticCustomError("attenuation", "attenuation [0, 0, 0] divides by zero; use [1, 0, 0] for no falloff")
     return out
@@ -490,7 +487,6 @@ def _segments(lo):
 
 def _extent(n):
     """A positive size: one number or a per-axis list of ``n``."""
-    from scenerender.scene.values import _at, check_number
 
     def positive(v):
         return check_number(v, 0.0, lo_open=True)
@@ -500,7 +496,7 @@ def _extent(n):
             if len(value) != n:
                 raise PydanticCustomError("size", "expected a number or a list of {n} numbers, got {got}",
                                           {"n": n, "got": describe(value)})
-            return tuple(_at((i,), positive, v) for i, v in enumerate(value))
+            return tuple(check_at((i,), positive, v) for i, v in enumerate(value))
         return positive(value)
 
     return Annotated[Union[float, tuple], PlainValidator(validate),
