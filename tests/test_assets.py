@@ -1,6 +1,7 @@
 """Assets a scene reads: confinement to the allowed folders (scenerender.scene.assets),
-regular files only, hostile and broken images (scenerender.world.images), texture
-fallbacks, skybox checks, and what ``validate`` reports. No GL needed.
+regular files only, hostile and broken images (scenerender.scene.image_files and
+scenerender.world.images), texture fallbacks, skybox checks, and what ``validate``
+reports. No GL needed.
 """
 from __future__ import annotations
 
@@ -21,9 +22,10 @@ from scenerender.limits import Limits
 from scenerender.mesh import load_mesh
 from scenerender.scene.assets import ENV_ROOTS, AssetPolicy
 from scenerender.scene.files import read_regular_file
+from scenerender.scene.image_files import ImageError, image_size
 from scenerender.scene.loading import load_scene
 from scenerender.world.build import build_world
-from scenerender.world.images import ImageError, decode_image, image_size
+from scenerender.world.images import decode_image
 
 SKY_FACES = ("posx", "negx", "posy", "negy", "posz", "negz")
 

@@ -122,7 +122,7 @@ def image_header_size(path: Path, info: ValidationInfo) -> tuple[int, int]:
     """(width, height) of an image the scene names, from its header (each file read once
     per validation); raises PydanticCustomError when it is not a readable image or is over
     the ``texture_pixels`` limit."""
-    from scenerender.world.images import DEFAULT_MAX_PIXELS, ImageError, image_size
+    from scenerender.scene.image_files import DEFAULT_MAX_PIXELS, ImageError, image_size
 
     context = info.context if isinstance(info.context, dict) else {}
     sizes = context.setdefault("image_sizes", {})
@@ -299,7 +299,7 @@ class OutputSettings(StrictModel):
                     "frames_duration", "frames ({f}) and duration x fps ({d}) disagree; give one of them",
                     {"f": self.frames, "d": from_duration, "subpath": ("frames",)})
         if self.name is not None:
-            from scenerender.sinks.names import name_template_problem
+            from scenerender.frame_names import name_template_problem
 
             # parsed, never formatted blindly: '{frame.__class__}' or '../x_{frame}' must
             # neither run attribute lookups nor name files outside -o

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
+from scenerender.frame_names import name_template_problem
 from scenerender.sinks.base import FrameSink, atomic_path, write_file
-from scenerender.sinks.names import name_template_problem
 
 SUFFIXES = {"png": ".png", "jpg": ".jpg", "tga": ".tga", "exr": ".exr"}
 # the suffixes an `-o` file name may end in, and the format each means
