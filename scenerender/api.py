@@ -20,7 +20,12 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import UserError, Warnings
+from scenerender.gpu.context import create_context
+from scenerender.mesh.data import MeshData
 from scenerender.rendering.renderer import FrameResult
+from scenerender.rendering.renderer import Renderer as GraphRenderer
+from scenerender.scene.loading import load_scene, load_scene_data, load_scene_text
+from scenerender.world.build import build_world
 
 # A rendered frame: ``index``, ``time`` (seconds, float64), ``pixels`` ((H, W, 3) uint8,
 # top row first, display-encoded) and ``linear`` ((H, W, 3) float32 linear light, or None).
@@ -63,11 +68,10 @@ class Scene:
         also pass a ``trimesh.Trimesh`` or a ``(vertices, faces)`` pair: vertices (N, 3)
         float, faces (M, 3) int, counter-clockwise seen from outside.
         """
-        from scenerender.scene.loading import load_scene_data
-
         data = _with_in_memory_meshes(mapping)
         warnings = Warnings(strict=strict, echo=on_warning)
-        loaded = load_scene_data(data, base_dir, list(overrides), name=name, asset_roots=tuple(asset_roots), limits=limits)
+        loaded = load_scene_data(data, base_dir, list(overrides), name=name, asset_roots=tuple(asset_roots), limits=limits,
+                                 mesh_types=(MeshData,))
         return cls._built(loaded, warnings)
 
     @classmethod
@@ -75,16 +79,12 @@ class Scene:
                   strict: bool = False, asset_roots: Iterable = (), limits=None, on_warning=None) -> "Scene":
         """Like ``load`` for YAML text in memory; relative paths resolve against ``base_dir``
         and messages name ``NAME.yaml``."""
-        from scenerender.scene.loading import load_scene_text
-
         loaded = load_scene_text(text, base_dir, list(overrides), name=f"{name}.yaml", limits=limits,
                                  asset_roots=tuple(asset_roots))
         return cls._built(loaded, Warnings(strict=strict, echo=on_warning))
 
     @classmethod
     def _built(cls, loaded, warnings: Warnings) -> "Scene":
-        from scenerender.world.build import build_world
-
         return cls(loaded, build_world(loaded, warnings))
 
     @property
@@ -127,8 +127,6 @@ def load(path, overrides: Iterable[str] = (), *, strict: bool = False, asset_roo
     is called with each warning line ("warning: ...") as it is raised; ``strict`` makes warnings errors.
     Raises ``SceneError`` naming file, line and key.
     """
-    from scenerender.scene import load_scene
-
     loaded = load_scene(path, list(overrides), asset_roots=tuple(asset_roots), limits=limits)
     scene = Scene._built(loaded, Warnings(strict=strict, echo=on_warning))
     scene.source = SceneSource(loaded.path, tuple(overrides), tuple(asset_roots), limits)
@@ -162,9 +160,6 @@ class Renderer:
 
     def __init__(self, scene: Scene, size: tuple[int, int] | None = None, samples: int | None = None,
                  *, gl=None, want_linear: bool = False, profile: bool = False, cache_static_passes: bool = True):
-        from scenerender.gpu.context import create_context
-        from scenerender.rendering.renderer import Renderer as GraphRenderer
-
         self.scene = scene
         self._owns_gl = gl is None
         self.gl = create_context() if gl is None else gl
@@ -241,8 +236,6 @@ def _object_with_mesh(obj):
 
 def _as_mesh_data(value):
     """MeshData for a trimesh.Trimesh or a (vertices, faces) pair; None for anything else."""
-    from scenerender.mesh.data import MeshData
-
     if isinstance(value, MeshData):
         return value
     if type(value).__name__ == "Trimesh" and hasattr(value, "faces"):
@@ -259,8 +252,6 @@ def _as_mesh_data(value):
 
 
 def _mesh_from_arrays(vertices, faces, uv=None, source: str = "arrays"):
-    from scenerender.mesh.data import MeshData
-
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces)
     if vertices.ndim != 2 or vertices.shape[1] != 3 or not np.isfinite(vertices).all():

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from scenerender.errors import SourceLocation, UserError, display_path
 from scenerender.interrupts import signals_as_exceptions
-from scenerender.scene.schema import VIDEO_FORMATS
+from scenerender.scene.model.output import VIDEO_FORMATS
 
 
 @dataclass

@@ -143,6 +143,7 @@ def _validate_text(value):
 Text = Annotated[str, PlainValidator(_validate_text), WithJsonSchema({"type": "string", "minLength": 1})]
 
 Float = number()
+Positive = number(0, lo_open=True)
 Vec3 = vector(3)
 Direction = vector(3, nonzero=True, description="a direction; need not be unit length")
 
