@@ -8,9 +8,21 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from scenerender.api import Scene, load
 from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.gpu.context import create_context, gl_info
 from scenerender.interrupts import signals_as_exceptions
+from scenerender.manifest import Manifest, RecordingSink, fingerprint
+from scenerender.progress import Progress
+from scenerender.references import check_output, require_apart_before_rendering
+from scenerender.rendering.profile import profile_report
+from scenerender.rendering.renderer import Renderer
 from scenerender.scene.model.output import VIDEO_FORMATS
+from scenerender.sinks import (
+    IMAGE_SUFFIX_FORMATS, ImageSequenceSink, SingleImageSink, ThreadedSink, VideoSink, frame_name_pattern, output_errors,
+    remove_stale_partials,
+)
+from scenerender.sinks.base import make_folders
 
 
 @dataclass
@@ -83,10 +95,6 @@ def make_sink(loaded, fmt: str, output: Path, size: tuple, frames: range | None 
     """The sink ``-o output`` asks for (see ``resolve_output``): a video file, one image
     file, or an image sequence in a folder. Temporary files a killed run left in the
     target folder are removed here, before anything is decided about resuming."""
-    from scenerender.sinks import (
-        ImageSequenceSink, SingleImageSink, VideoSink, frame_name_pattern, output_errors, remove_stale_partials,
-    )
-
     out = loaded.spec.output
     count = len(frames) if frames is not None else out.frame_count
     with output_errors(output):  # e.g. a name too long to even look up
@@ -118,8 +126,6 @@ def resolve_output(output: Path, fmt: str, fmt_explicit: bool, frame_count: int,
     that video, anything else a folder (for frames, or for ``<scene>.<fmt>``). The format
     comes from the suffix unless ``fmt_explicit`` (--format or output.format) disagrees.
     Raises UserError (at ``-o``) for every combination that cannot be honoured."""
-    from scenerender.sinks import IMAGE_SUFFIX_FORMATS
-
     suffix = output.suffix.lower()
     named = IMAGE_SUFFIX_FORMATS.get(suffix) or (suffix[1:] if suffix[1:] in VIDEO_FORMATS else None)
     if named is None:
@@ -186,8 +192,6 @@ def remove_if_empty(folders: list[Path]) -> None:
 
 
 def _create_folder(folder: Path) -> None:
-    from scenerender.sinks.base import make_folders, output_errors
-
     with output_errors(folder):
         make_folders(folder)
 
@@ -213,8 +217,6 @@ def run_render(scene, options: RenderOptions, echo=print) -> RenderSummary:
     inputs; with ``options.check`` the output is then compared with references.
     Raises UserError on bad input.
     """
-    from scenerender.api import Scene, load
-
     overrides = list(options.overrides) + ([f"output.format={options.format}"] if options.format else [])
     if isinstance(scene, Scene):
         if overrides:
@@ -231,15 +233,11 @@ def run_render(scene, options: RenderOptions, echo=print) -> RenderSummary:
 
 
 def _run_loaded(scene, overrides: list, options: RenderOptions, echo) -> RenderSummary:
-    from scenerender.manifest import fingerprint
-
     loaded, world = scene.loaded, scene.world
     spec = loaded.spec
     frames = parse_frame_range(options.frames, spec.output.frame_count)
     sink = make_sink(loaded, spec.output.format, Path(options.output), spec.render.size, frames)
     if options.check is not None:  # before planning, which may delete out-of-date frames
-        from scenerender.references import require_apart_before_rendering
-
         require_apart_before_rendering(*sink_target(sink), Path(options.check))
     plan = plan_frames(sink, frames, fingerprint(loaded, overrides), loaded.path.as_posix(), options.overwrite, echo)
     if plan.todo and _distributed(options, plan):
@@ -250,8 +248,6 @@ def _run_loaded(scene, overrides: list, options: RenderOptions, echo) -> RenderS
         summary = RenderSummary(0, len(frames), 0.0, sink.describe())
     echo(summary.line())
     if options.check is not None:
-        from scenerender.references import check_output
-
         summary.check = check_output(plan.target, Path(options.check), update=options.update_references, echo=echo)
     return summary
 
@@ -281,8 +277,6 @@ def plan_frames(sink, frames: range, run, scene: str, overwrite: bool, echo) -> 
     Frames an earlier run made from other inputs are deleted first (they are out of date),
     and one line says what changed.
     """
-    from scenerender.manifest import Manifest, RecordingSink
-
     target, is_sequence = sink_target(sink)
     manifest = Manifest.open(target, is_sequence, run, scene)
     _say_what_changed(manifest, run, target, echo)
@@ -325,8 +319,9 @@ def _distributed(options: RenderOptions, plan: FramePlan) -> bool:
 
 @signals_as_exceptions()
 def _render_on_workers(scene, plan: FramePlan, options: RenderOptions) -> RenderSummary:
+    # imported here: multiprocessing and the pool cost 20-70 ms, which a one-process render
+    # (the default) would otherwise pay
     from scenerender.distribute import render_with_workers
-    from scenerender.progress import Progress
 
     started = time.perf_counter()
     progress = Progress(len(plan.todo), quiet=options.quiet)
@@ -340,11 +335,6 @@ def _render_on_workers(scene, plan: FramePlan, options: RenderOptions) -> Render
 
 @signals_as_exceptions()  # SIGTERM and SIGHUP stop the render as cleanly as Ctrl-C does
 def _render_frames(world, plan: FramePlan, options: RenderOptions, warnings) -> RenderSummary:
-    from scenerender.gpu.context import create_context, gl_info
-    from scenerender.progress import Progress
-    from scenerender.rendering.renderer import Renderer
-    from scenerender.sinks import ThreadedSink
-
     started = time.perf_counter()
     todo = plan.todo
     gl = create_context()
@@ -367,8 +357,6 @@ def _render_frames(world, plan: FramePlan, options: RenderOptions, warnings) -> 
         summary = RenderSummary(len(todo), plan.skipped, time.perf_counter() - started, plan.sink.describe(),
                                 list(todo))
         if options.profile:
-            from scenerender.rendering.profile import profile_report
-
             summary.profile = profile_report(renderer, len(todo))
         renderer.release()
     finally:
