@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from PIL import Image
 
 from asset_files import (
     TRIANGLE_OBJ, png_bytes, png_header_only, truncated_png, write,
@@ -299,8 +300,6 @@ def test_a_decompression_bomb_header_is_refused_before_decoding(tmp_path, capfd)
         assert "100000x100000" in caught.value.reason
         assert "--limit texture_pixels=N" in caught.value.reason
     assert capfd.readouterr().err == ""  # Pillow's multi-line warning does not leak
-    from PIL import Image
-
     assert Image.MAX_IMAGE_PIXELS is not None  # Pillow's own check is back for other callers
 
 

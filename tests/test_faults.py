@@ -22,6 +22,7 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from PIL import Image
 
 from conftest import skip_without_gl
 from scenerender.cli import main
@@ -614,8 +615,6 @@ def test_resolve_output_rejects(tmp_path, monkeypatch, output, fmt, explicit, fr
 def test_image_suffix_writes_exactly_that_file(scene):
     render_ok("anim.yaml", "-o", "still.png", "--frames", "5")
     render_ok("anim.yaml", "-o", "shots/still.jpeg", "--frames", "0")
-    from PIL import Image
-
     with Image.open(scene / "still.png") as image:
         assert image.format == "PNG" and image.size == (W, H)
     with Image.open(scene / "shots" / "still.jpeg") as image:

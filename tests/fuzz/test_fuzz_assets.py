@@ -21,6 +21,7 @@ import trimesh
 import yaml
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
+from PIL import Image
 
 from scenerender.errors import UserError, Warnings
 from scenerender.mesh import box, load_mesh, parse_mtl
@@ -247,16 +248,12 @@ def test_generated_mtl(folder, lines):
 
 
 def _png(width: int, height: int) -> bytes:
-    from PIL import Image
-
     out = io.BytesIO()
     Image.fromarray(np.full((height, width, 4), 90, np.uint8)).save(out, format="PNG")
     return out.getvalue()
 
 
 def _encoded(fmt: str) -> bytes:
-    from PIL import Image
-
     pixels = np.random.default_rng(3).integers(0, 255, (6, 5, 3), dtype=np.uint8)
     out = io.BytesIO()
     Image.fromarray(pixels).save(out, format=fmt)
