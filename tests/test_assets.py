@@ -1,6 +1,7 @@
 """Assets a scene reads: confinement to the allowed folders (scenerender.scene.assets),
-regular files only, hostile and broken images (scenerender.world.images), texture
-fallbacks, skybox checks, and what ``validate`` reports. No GL needed.
+regular files only, hostile and broken images (scenerender.scene.image_files and
+scenerender.world.images), texture fallbacks, skybox checks, and what ``validate``
+reports. No GL needed.
 """
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from PIL import Image
 
 from asset_files import (
     TRIANGLE_OBJ, png_bytes, png_header_only, truncated_png, write,
@@ -21,9 +23,10 @@ from scenerender.limits import Limits
 from scenerender.mesh import load_mesh
 from scenerender.scene.assets import ENV_ROOTS, AssetPolicy
 from scenerender.scene.files import read_regular_file
+from scenerender.scene.image_files import ImageError, image_size
 from scenerender.scene.loading import load_scene
 from scenerender.world.build import build_world
-from scenerender.world.images import ImageError, decode_image, image_size
+from scenerender.world.images import decode_image
 
 SKY_FACES = ("posx", "negx", "posy", "negy", "posz", "negz")
 
@@ -297,8 +300,6 @@ def test_a_decompression_bomb_header_is_refused_before_decoding(tmp_path, capfd)
         assert "100000x100000" in caught.value.reason
         assert "--limit texture_pixels=N" in caught.value.reason
     assert capfd.readouterr().err == ""  # Pillow's multi-line warning does not leak
-    from PIL import Image
-
     assert Image.MAX_IMAGE_PIXELS is not None  # Pillow's own check is back for other callers
 
 

@@ -13,6 +13,7 @@ import signal
 import stat
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -21,16 +22,19 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from PIL import Image
 
 from conftest import skip_without_gl
 from scenerender.cli import main
 from scenerender.errors import EnvironmentProblem, UserError, display_path
+from scenerender.run.interrupts import Interrupted, signals_as_exceptions
 from scenerender.run.output import resolve_output
+from scenerender.sinks.names import name_template_problem
 from scenerender.sinks import ImageSequenceSink, SingleImageSink, ThreadedSink, VideoSink, remove_stale_partials
 from scenerender.sinks import base as base_module
 from scenerender.sinks import images as images_module
 from scenerender.sinks import video as video_module
-from scenerender.sinks.names import name_template_problem
+from scenerender.sinks.video import container_is_whole
 
 from test_sinks import H, W, Frame  # the sinks' synthetic frames
 
@@ -214,8 +218,6 @@ def test_stale_partials_removed_only_when_ours_and_dead(tmp_path):
 
 
 def test_signals_become_exceptions_only_inside_the_block():
-    from scenerender.run.interrupts import Interrupted, signals_as_exceptions
-
     before = signal.getsignal(signal.SIGTERM)
     with pytest.raises(Interrupted) as info:
         with signals_as_exceptions():
@@ -228,8 +230,6 @@ def test_signals_become_exceptions_only_inside_the_block():
 
 def test_ignored_signals_stay_ignored():
     """Under nohup SIGHUP is ignored: a render must not turn it into an exit."""
-    from scenerender.run.interrupts import signals_as_exceptions
-
     previous = signal.signal(signal.SIGHUP, signal.SIG_IGN)
     try:
         with signals_as_exceptions():
@@ -242,8 +242,6 @@ def test_ignored_signals_stay_ignored():
 
 def test_threaded_sink_abort_drops_queued_frames():
     """An interrupt should not wait for (or write) frames still in the queue."""
-    import threading
-
     gate = threading.Event()
     written = []
 
@@ -413,8 +411,6 @@ def test_full_disk_during_mp4_render(scene, monkeypatch):
 
 
 def test_container_check():
-    from scenerender.sinks.video import container_is_whole
-
     assert not container_is_whole(Path("/nonexistent.mp4"), "mp4")
 
 
@@ -619,8 +615,6 @@ def test_resolve_output_rejects(tmp_path, monkeypatch, output, fmt, explicit, fr
 def test_image_suffix_writes_exactly_that_file(scene):
     render_ok("anim.yaml", "-o", "still.png", "--frames", "5")
     render_ok("anim.yaml", "-o", "shots/still.jpeg", "--frames", "0")
-    from PIL import Image
-
     with Image.open(scene / "still.png") as image:
         assert image.format == "PNG" and image.size == (W, H)
     with Image.open(scene / "shots" / "still.jpeg") as image:

@@ -6,12 +6,14 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+import OpenEXR
 import pytest
 from click.testing import CliRunner
 
 from conftest import SCENES
 from scenerender.cli import main
-from scenerender.scene.schema import FORMATS, MODES, VIDEO_FORMATS
+from scenerender.scene.model.output import FORMATS, VIDEO_FORMATS
+from scenerender.scene.model.render import MODES
 
 pytestmark = pytest.mark.gl
 
@@ -36,8 +38,6 @@ def test_every_mode_renders_in_every_format(tmp_path, mode, fmt):
 
 @pytest.mark.parametrize("mode", ["depth", "normals"])
 def test_exr_keeps_data_modes_in_float(tmp_path, mode):
-    import OpenEXR
-
     result, out = _render(tmp_path, mode, "exr")
     assert result.exit_code == 0, result.output
     with OpenEXR.File(str(next(out.glob("*.exr")))) as exr:

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from scenerender.errors import SourceLocation, UserError, display_path
-from scenerender.scene.schema import VIDEO_FORMATS
+from scenerender.scene.model.output import VIDEO_FORMATS
 from scenerender.sinks import (
     IMAGE_SUFFIX_FORMATS,
     ImageSequenceSink,

@@ -68,7 +68,8 @@ class Scene:
         """
         data = _with_in_memory_meshes(mapping)
         warnings = Warnings(strict=strict, echo=on_warning)
-        loaded = load_scene_data(data, base_dir, list(overrides), name=name, asset_roots=tuple(asset_roots), limits=limits)
+        loaded = load_scene_data(data, base_dir, list(overrides), name=name, asset_roots=tuple(asset_roots), limits=limits,
+                                 mesh_types=(MeshData,))
         return cls._built(loaded, warnings)
 
     @classmethod

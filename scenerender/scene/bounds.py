@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from scenerender.errors import UserError
 from scenerender.limits import Limits
+from scenerender.scene.describe import describe
 from scenerender.scene.messages import format_key
-from scenerender.scene.values import describe
 from scenerender.scene.yaml_source import SourceMap
 
 _TOP_KEYS = "render, output, camera, lights, materials, objects"
@@ -31,7 +31,7 @@ def check_document(data, source: SourceMap, limits: Limits) -> dict:
 
 
 def check_scene(spec, source: SourceMap, limits: Limits) -> None:
-    """Frames, image size and instances of the validated ``schema.Scene`` against ``limits``."""
+    """Frames, image size and instances of the validated ``SceneSpec`` against ``limits``."""
     output = spec.output
     frames_key = ("output", "frames") if output.frames is not None else ("output", "duration")
     _check(limits, "frames", output.frame_count, "the number of frames", frames_key, source)

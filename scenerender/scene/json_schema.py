@@ -7,13 +7,38 @@ import numpy as np
 from pydantic.json_schema import GenerateJsonSchema
 
 from scenerender.animation import Track
+from scenerender.scene.model.scene import SceneSpec
+from scenerender.scene.strict import StrictModel
 
 
 class _SceneSchema(GenerateJsonSchema):
-    """Writes defaults that are Tracks (animatable values) as their constant value."""
+    """Writes defaults that are Tracks (animatable values) as their constant value, and
+    gives a model that sets a ``title`` that name in ``$defs`` too: the published schema
+    keeps its names when a class is renamed (``RenderSpec`` is ``RenderSettings`` there)."""
 
     def encode_default(self, dft):
         return super().encode_default(_plain(dft))
+
+    def get_defs_ref(self, core_mode_ref):
+        core_ref, mode = core_mode_ref
+        name, _, identity = core_ref.rpartition(":")
+        title = _published_names().get(name)
+        if title is not None:
+            core_ref = f"{name.rpartition('.')[0]}.{title}:{identity}"
+        return super().get_defs_ref((core_ref, mode))
+
+
+def _published_names() -> dict[str, str]:
+    """'module.ClassName' -> the title it sets, for every model of the format whose title
+    differs from its class name."""
+    names, pending = {}, [StrictModel]
+    while pending:
+        model = pending.pop()
+        pending.extend(model.__subclasses__())
+        title = model.model_config.get("title")
+        if title is not None and title != model.__name__:
+            names[f"{model.__module__}.{model.__qualname__}"] = title
+    return names
 
 
 def _plain(value):
@@ -28,9 +53,7 @@ def _plain(value):
 
 
 def scene_json_schema() -> str:
-    from scenerender.scene.schema import Scene
-
-    schema = Scene.model_json_schema(schema_generator=_SceneSchema)
+    schema = SceneSpec.model_json_schema(schema_generator=_SceneSchema)
     schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
     schema["title"] = "scenerender scene"
     return json.dumps(schema, indent=2)

@@ -1,6 +1,8 @@
-"""Read a scene file, apply ``--set`` overrides, validate: the scene model's front door."""
+"""Read a scene file, apply ``--set`` overrides, validate, check the files it names: the
+scene model's front door."""
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -10,9 +12,10 @@ from scenerender.errors import SourceLocation, UserError
 from scenerender.limits import Limits
 from scenerender.scene.assets import AssetPolicy
 from scenerender.scene.bounds import check_document, check_scene
+from scenerender.scene.file_checks import check_files
 from scenerender.scene.messages import to_user_errors
+from scenerender.scene.model.scene import SceneSpec
 from scenerender.scene.overrides import apply_overrides
-from scenerender.scene.schema import Scene
 from scenerender.scene.yaml_source import SourceMap, load_yaml, parse_yaml_text
 
 
@@ -20,7 +23,8 @@ from scenerender.scene.yaml_source import SourceMap, load_yaml, parse_yaml_text
 class LoadedScene:
     """A validated scene and where it came from.
 
-    spec:     the validated ``schema.Scene`` (animatable values are ``Track`` objects).
+    spec:     the validated ``SceneSpec`` (animatable values are ``Track`` objects, paths
+              resolved ``Path`` objects).
     path:     the scene file (absolute); assets resolve against ``path.parent``.
     source:   key path -> file position, for messages about assets found later.
     data:     the raw data after overrides (for ``graph``/debug output).
@@ -30,7 +34,7 @@ class LoadedScene:
               each file the scene read (after ``build_world``, every file the run reads).
     """
 
-    spec: Scene
+    spec: SceneSpec
     path: Path
     source: SourceMap
     data: dict
@@ -73,26 +77,26 @@ def load_scene_text(text: str, base_dir, overrides=(), name: str = "scene.yaml",
     return _validate(data, source, Path(base_dir).resolve() / name, overrides, limits, asset_roots)
 
 
-
 def load_scene_data(data, base_dir, overrides=(), name: str = "scene", limits: Limits | None = None,
-                    asset_roots=()) -> LoadedScene:
+                    asset_roots=(), mesh_types: tuple = ()) -> LoadedScene:
     """Like ``load_scene`` for a mapping built in code. ``name`` names its outputs (videos);
-    messages say "NAME (built in code)" and the key path."""
-    import copy
-
+    messages say "NAME (built in code)" and the key path. A ``mesh`` may hold an object of
+    one of ``mesh_types`` (meshes made in code) as it is."""
     return _validate(copy.deepcopy(dict(data)), SourceMap(f"{name} (built in code)"), Path(base_dir).resolve() / name,
-                     overrides, limits or Limits(), asset_roots)
+                     overrides, limits or Limits(), asset_roots, mesh_types)
 
 
-def _validate(data, source: SourceMap, path: Path, overrides, limits: Limits, asset_roots=()) -> LoadedScene:
+def _validate(data, source: SourceMap, path: Path, overrides, limits: Limits, asset_roots=(),
+              mesh_types: tuple = ()) -> LoadedScene:
     data = check_document(data, source, limits)
     data = apply_overrides(data, overrides, source)
     check_document(data, source, limits)  # --set may have added objects
     assets = AssetPolicy(path.parent, asset_roots)
     try:
-        spec = Scene.model_validate(data, context={"base_dir": path.parent, "assets": assets, "limits": limits})
+        spec = SceneSpec.model_validate(data, context={"mesh_types": tuple(mesh_types)})
     except ValidationError as exc:
         raise to_user_errors(exc, data, source) from None
+    spec = check_files(spec, data, source, assets, limits)
     check_scene(spec, source, limits)
     return LoadedScene(spec=spec, path=path, source=source, data=data, limits=limits, assets=assets)
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 from pydantic import ValidationError
 
 from scenerender.errors import SceneErrors, UserError
-from scenerender.scene.values import describe
+from scenerender.scene.describe import describe
 from scenerender.scene.yaml_source import SourceMap
 
 _GENERIC = {

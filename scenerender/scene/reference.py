@@ -1,9 +1,9 @@
-"""The scene-format reference, ``docs/scene-format.md``, generated from the schema models.
+"""The scene-format reference, ``docs/scene-format.md``, generated from the format's models.
 
 ``scenerender schema --markdown`` (or ``python -m scenerender.scene.reference``) prints it.
 What can drift is generated: each key's type, range or choices, default, whether it takes
 a keyframe track, and which keys exist at all, are read from the JSON Schema that the
-pydantic models of ``schema.py`` produce (the same schema ``scenerender schema`` prints).
+pydantic models of ``scene/model/`` produce (the same schema ``scenerender schema`` prints).
 What a key means, and an example, are written in ``reference_keys.py``, keyed by key path;
 ``tests/test_format_reference.py`` fails when a key lacks an entry, when an entry names a
 key that no longer exists, when an example does not validate, and when the committed
@@ -22,6 +22,9 @@ import json
 import re
 from dataclasses import dataclass
 
+from scenerender.limits import Limits
+from scenerender.scene.json_schema import scene_json_schema
+from scenerender.scene.reference_keys import KEYS
 from scenerender.scene.reference_text import HEADER, SECTIONS, Section
 
 REGENERATE = "scenerender schema --markdown -o docs/scene-format.md"
@@ -282,8 +285,6 @@ class SchemaWalker:
 
 def scene_tables() -> list[Table]:
     """Every mapping of the format with its keys, in the format's order."""
-    from scenerender.scene.json_schema import scene_json_schema
-
     return SchemaWalker(json.loads(scene_json_schema())).walk()
 
 
@@ -306,16 +307,12 @@ def entry_for(path: str, keys: dict) -> str | None:
 
 def undocumented_keys(tables=None) -> list[str]:
     """Key paths of the schema that no entry of ``reference_keys.KEYS`` describes."""
-    from scenerender.scene.reference_keys import KEYS
-
     tables = scene_tables() if tables is None else tables
     return [row.path for table in tables for row in table.rows if entry_for(row.path, KEYS) is None]
 
 
 def stale_entries(tables=None) -> list[str]:
     """Entries of ``reference_keys.KEYS`` that describe no key of the schema."""
-    from scenerender.scene.reference_keys import KEYS
-
     tables = scene_tables() if tables is None else tables
     used = {entry_for(row.path, KEYS) for table in tables for row in table.rows}
     return [path for path in KEYS if path not in used]
@@ -325,9 +322,6 @@ def editor_schema() -> str:
     """What ``scenerender schema`` prints (and ``scene.schema.json`` holds): the models'
     JSON Schema with each key's meaning from ``reference_keys`` as its ``description``,
     which editors show on hover and in completion lists."""
-    from scenerender.scene.json_schema import scene_json_schema
-    from scenerender.scene.reference_keys import KEYS
-
     schema = json.loads(scene_json_schema())
     walker = SchemaWalker(json.loads(scene_json_schema()))
     tables = walker.walk()
@@ -372,8 +366,6 @@ def _animatable_list(tables: list[Table]) -> str:
 
 def _limits_table() -> str:
     """The size limits and their defaults, from ``scenerender.limits.Limits``."""
-    from scenerender.limits import Limits
-
     meanings = dict(re.findall(r"^\s+(\w+):\s+(.+(?:\n\s{5,}[^\s].*)*)", Limits.__doc__ or "", re.M))
     lines = ["| limit | default | what it bounds |", "|---|---|---|"]
     for field in dataclasses.fields(Limits):
@@ -433,8 +425,6 @@ def _section_markdown(section: Section, tables: list[Table], keys: dict) -> list
 
 def reference_markdown() -> str:
     """The whole of ``docs/scene-format.md``."""
-    from scenerender.scene.reference_keys import KEYS
-
     tables = scene_tables()
     anchors = _table_anchors(tables)
     tables = [dataclasses.replace(t, rows=tuple(dataclasses.replace(r, type_text=_linked(r.type_text, anchors))

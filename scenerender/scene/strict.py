@@ -5,6 +5,7 @@ from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 from pydantic_core import PydanticCustomError
 
 from scenerender.errors import SceneErrors
+from scenerender.scene.describe import describe
 from scenerender.scene.suggest import did_you_mean
 
 
@@ -20,8 +21,6 @@ class StrictModel(BaseModel):
         if isinstance(data, cls):
             return data
         if not isinstance(data, dict):
-            from scenerender.scene.values import describe
-
             raise PydanticCustomError("mapping", "expected a mapping (key: value), got {got}",
                                       {"got": describe(data)})
         reject_unknown_keys(data, cls.model_fields.keys())

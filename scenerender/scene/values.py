@@ -13,34 +13,9 @@ from pydantic import PlainValidator, WithJsonSchema
 from pydantic_core import PydanticCustomError
 
 from scenerender.animation import INTERPOLATIONS, Track, shared_constant
+from scenerender.scene.describe import LARGEST_FLOAT_INT, describe
 from scenerender.scene.strict import reject_unknown_keys
-
-
-def describe(value: Any) -> str:
-    """A short rendering of a bad value for messages."""
-    if isinstance(value, str):
-        return repr(value) if len(value) < 40 else repr(value[:37] + "...")
-    if isinstance(value, dict):
-        return "a mapping"
-    if isinstance(value, list):
-        return _describe_list(value)
-    if value is None:
-        return "nothing (null)"
-    if isinstance(value, bool):
-        return "true" if value else "false"  # as the YAML says it, not Python's True
-    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**15:
-        return f"{float(value):.6g}" if abs(value) <= _LARGEST_FLOAT_INT else "a number over 1.8e308"
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _describe_list(items: list) -> str:
-    """A short list of plain values as written ("[100000, 100000]"), else its length."""
-    if len(items) <= 4 and all(isinstance(v, (int, float, str, bool)) or v is None for v in items):
-        text = "[" + ", ".join(describe(v) for v in items) + "]"
-        if len(text) <= 60:
-            return text
-    return f"a list of {len(items)}"
+from scenerender.scene.suggest import did_you_mean
 
 
 def is_number(value: Any) -> bool:
@@ -56,7 +31,6 @@ def _bounds_text(lo, hi, lo_open, hi_open) -> str:
     return " and ".join(parts)
 
 
-_LARGEST_FLOAT_INT = int(1.7976931348623157e308)
 FLOAT32_MAX = 3.4028234663852886e38
 FLOAT32_TINY = 1.1754943508222875e-38  # the smallest normal float32
 
@@ -68,7 +42,7 @@ def check_number(value, lo=None, hi=None, lo_open=False, hi_open=False, integer=
         raise PydanticCustomError("number", "expected {what}, got {got}", {"what": what, "got": describe(value)})
     if isinstance(value, float) and not math.isfinite(value):
         raise PydanticCustomError("finite", "must be a finite number, got {got}", {"got": describe(value)})
-    if isinstance(value, int) and abs(value) > _LARGEST_FLOAT_INT:  # float(value) would raise OverflowError
+    if isinstance(value, int) and abs(value) > LARGEST_FLOAT_INT:  # float(value) would raise OverflowError
         raise PydanticCustomError("finite", "number too large (more than 1.8e308)")
     if integer and not (isinstance(value, int) or float(value).is_integer()):
         raise PydanticCustomError("integer", "expected a whole number, got {got}", {"got": describe(value)})
@@ -110,7 +84,7 @@ def vector(n: int, lo=None, hi=None, *, nonzero=False, description=""):
         if not isinstance(value, (list, tuple)) or len(value) != n:
             raise PydanticCustomError("vector", "expected a list of {n} numbers, got {got}",
                                       {"n": n, "got": describe(value)})
-        out = tuple(_vector_item(v, i, lo, hi) for i, v in enumerate(value))
+        out = tuple(vector_item(v, i, lo, hi) for i, v in enumerate(value))
         if nonzero and not any(out):
             raise PydanticCustomError("zero_vector", "must not be all zeros (it gives a direction)")
         return out
@@ -126,7 +100,9 @@ def vector(n: int, lo=None, hi=None, *, nonzero=False, description=""):
     return Annotated[tuple, PlainValidator(validate), WithJsonSchema(schema)]
 
 
-def _vector_item(value, index, lo, hi):
+def vector_item(value, index, lo, hi):
+    """Item ``index`` of a list of numbers, checked like ``check_number``; a failure says
+    which item ("item 2: must be >= 0, got -1")."""
     try:
         return check_number(value, lo, hi)
     except PydanticCustomError as exc:
@@ -138,7 +114,7 @@ def _validate_color(value):
     if not isinstance(value, (list, tuple)) or len(value) not in (3, 4):
         raise PydanticCustomError("color", "expected a colour of 3 or 4 numbers in [0, 1], got {got}",
                                   {"got": describe(value)})
-    rgba = [_vector_item(v, i, 0.0, 1.0) for i, v in enumerate(value)]
+    rgba = [vector_item(v, i, 0.0, 1.0) for i, v in enumerate(value)]
     if len(rgba) == 3:
         rgba.append(1.0)
     return tuple(rgba)
@@ -167,6 +143,7 @@ def _validate_text(value):
 Text = Annotated[str, PlainValidator(_validate_text), WithJsonSchema({"type": "string", "minLength": 1})]
 
 Float = number()
+Positive = number(0, lo_open=True)
 Vec3 = vector(3)
 Direction = vector(3, nonzero=True, description="a direction; need not be unit length")
 
@@ -181,7 +158,7 @@ TRACK_KEYS = ("keys", "interpolation", "loop")
 KEY_MAPPING_KEYS = ("t", "value", "interpolation")  # a key written {t: 1, value: [0, 1, 0]}
 
 
-def _at(subpath: tuple, check, value):
+def check_at(subpath: tuple, check, value):
     """Run ``check(value)``; on failure re-raise with ``subpath`` appended to the location."""
     try:
         return check(value)
@@ -195,8 +172,6 @@ def _at(subpath: tuple, check, value):
 
 def _interpolation(value):
     if value not in INTERPOLATIONS:
-        from scenerender.scene.suggest import did_you_mean
-
         raise PydanticCustomError("interpolation", "unknown interpolation {got}{hint} (one of {names})",
                                   {"got": describe(value), "hint": did_you_mean(str(value), INTERPOLATIONS),
                                    "names": ", ".join(INTERPOLATIONS)})
@@ -218,16 +193,16 @@ def _parse_key(index: int, key, check, default_mode: str):
         if len(key) != 2:
             raise PydanticCustomError("key", "a key is [time, value], got {got}",
                                       {"got": describe(key), "subpath": where})
-        t = _at(where + (0,), check_number, key[0])
-        return t, _as_row(_at(where + (1,), check, key[1])), default_mode
+        t = check_at(where + (0,), check_number, key[0])
+        return t, _as_row(check_at(where + (1,), check, key[1])), default_mode
     if isinstance(key, dict):
         reject_unknown_keys(key, KEY_MAPPING_KEYS, where)
         for name in ("t", "value"):
             if name not in key:
                 raise PydanticCustomError("missing", "a key mapping needs '{name}'", {"name": name, "subpath": where})
-        t = _at(where + ("t",), check_number, key["t"])
-        mode = _at(where + ("interpolation",), _interpolation, key.get("interpolation", default_mode))
-        return t, _as_row(_at(where + ("value",), check, key["value"])), mode
+        t = check_at(where + ("t",), check_number, key["t"])
+        mode = check_at(where + ("interpolation",), _interpolation, key.get("interpolation", default_mode))
+        return t, _as_row(check_at(where + ("value",), check, key["value"])), mode
     raise PydanticCustomError("key", "a key is [time, value] or {t: ..., value: ...}, got {got}",
                               {"got": describe(key), "subpath": where})
 
@@ -239,7 +214,7 @@ def parse_track(spec: dict, check, kind: str) -> Track:
     if not isinstance(keys, list) or not keys:
         raise PydanticCustomError("keys", "a track needs 'keys': a non-empty list of [time, value]",
                                   {"subpath": ("keys",) if "keys" in spec else ()})
-    default_mode = _at(("interpolation",), _interpolation, spec.get("interpolation", "linear"))
+    default_mode = check_at(("interpolation",), _interpolation, spec.get("interpolation", "linear"))
     loop = spec.get("loop", False)
     if not isinstance(loop, bool):
         raise PydanticCustomError("bool", "expected true or false, got {got}", {"got": describe(loop), "subpath": ("loop",)})
@@ -337,8 +312,6 @@ def choice(*names: str, description: str = ""):
 
     def validate(value):
         if value not in names:
-            from scenerender.scene.suggest import did_you_mean
-
             raise PydanticCustomError("choice", "expected one of {names}, got {got}{hint}",
                                       {"names": ", ".join(names), "got": describe(value),
                                        "hint": did_you_mean(str(value), names)})

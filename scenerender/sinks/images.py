@@ -7,9 +7,10 @@ import zlib
 from pathlib import Path
 
 import numpy as np
+from PIL import Image
 
-from scenerender.sinks.base import FrameSink, atomic_path, write_file
 from scenerender.sinks.names import name_template_problem
+from scenerender.sinks.base import FrameSink, atomic_path, write_file
 
 SUFFIXES = {"png": ".png", "jpg": ".jpg", "tga": ".tga", "exr": ".exr"}
 # the suffixes an `-o` file name may end in, and the format each means
@@ -63,8 +64,6 @@ class ImageSequenceSink(FrameSink):
             return False
         if self.fmt == "exr":
             return _exr_readable(path)
-        from PIL import Image
-
         try:  # decode it all: a header-only check accepts a JPEG or TGA cut in half
             with Image.open(path) as image:
                 image.load()
@@ -121,8 +120,6 @@ def write_image(path: Path, pixels: np.ndarray, fmt: str, quality: int = 90) -> 
 
 def encode_image(pixels: np.ndarray, fmt: str, quality: int = 90) -> bytes:
     """(H, W, 3) uint8 -> the bytes of an image file of ``fmt`` ("png", "jpg", "tga")."""
-    from PIL import Image
-
     pixels = np.ascontiguousarray(pixels, dtype=np.uint8)
     if fmt == "png":
         return encode_png(pixels)

@@ -3,6 +3,9 @@ optional integer format spec such as ``{frame:05d}``. Checked by parsing, never 
 formatting an arbitrary template, so ``{frame.__class__}`` or ``{0}`` cannot reach
 attributes, and a name can never contain a path separator or be ``.``/``..``: a frame
 file cannot leave its output folder.
+
+The scene model checks ``output.name`` with it and the image sinks check the pattern
+they are given; it imports nothing of either.
 """
 from __future__ import annotations
 

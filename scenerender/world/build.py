@@ -13,11 +13,12 @@ from scenerender.errors import Warnings
 from scenerender.mesh import MeshData, apply_normals_mode, load_mesh, make_primitive, normalize_unit
 from scenerender.mesh.budget import TriangleBudget
 from scenerender.scene import LoadedScene
+from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
 from scenerender.scene.messages import single_error
 from scenerender.world import materials as mats
 from scenerender.world import texture_files
 from scenerender.world.directional_views import fixed_view_sizes
-from scenerender.world.images import DEFAULT_MAX_PIXELS, ImageStore
+from scenerender.world.images import ImageStore
 from scenerender.world.lights import LightDef, light_defs, split_ambient
 from scenerender.world.settings import OutlineSettings, RenderSettings
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance

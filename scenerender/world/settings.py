@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from scenerender.scene.model.render import SKY_FACES, AmbientOcclusion
+
 
 @dataclass(frozen=True)
 class FogSettings:
@@ -28,8 +30,6 @@ class AmbientOcclusionSettings:
     @classmethod
     def default(cls) -> "AmbientOcclusionSettings":
         """The format's defaults (what `mode: ambient_occlusion` shows without settings)."""
-        from scenerender.scene.schema import AmbientOcclusion
-
         return cls.of(AmbientOcclusion())
 
 
@@ -70,9 +70,7 @@ class RenderSettings:
 
     @classmethod
     def of(cls, render) -> "RenderSettings":
-        """From the validated ``render:`` section (scene.schema.RenderSettings)."""
-        from scenerender.scene.schema import SKY_FACES
-
+        """From the validated ``render:`` section (``scene.model.render.RenderSpec``)."""
         fog = render.fog
         ao = render.ambient_occlusion
         sky = render.skybox

@@ -11,9 +11,10 @@ from pathlib import Path
 
 from scenerender.errors import Warnings, display_path
 from scenerender.mesh.capped import CappedWarnings
+from scenerender.scene.image_files import ImageError
 from scenerender.scene.messages import single_error
-from scenerender.scene.schema import SKY_FACES
-from scenerender.world.images import ImageError, ImageStore
+from scenerender.scene.model.render import SKY_FACES
+from scenerender.world.images import ImageStore
 
 
 def check_material_textures(objects: list, scene, images: ImageStore, warnings: Warnings) -> None:

@@ -17,13 +17,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import trimesh
+import yaml
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
+from PIL import Image
 
 from scenerender.errors import UserError, Warnings
-from scenerender.mesh import load_mesh, parse_mtl
+from scenerender.mesh import box, load_mesh, parse_mtl
 from scenerender.scene.assets import AssetPolicy
-from scenerender.world.images import ImageError, decode_image, image_size
+from scenerender.scene.image_files import ImageError, image_size
+from scenerender.scene.loading import load_scene
+from scenerender.world.build import build_world
+from scenerender.world.images import decode_image
 
 # Each example writes a few small files; hypothesis' deadline is about speed, not this.
 FUZZ = settings(deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
@@ -242,16 +248,12 @@ def test_generated_mtl(folder, lines):
 
 
 def _png(width: int, height: int) -> bytes:
-    from PIL import Image
-
     out = io.BytesIO()
     Image.fromarray(np.full((height, width, 4), 90, np.uint8)).save(out, format="PNG")
     return out.getvalue()
 
 
 def _encoded(fmt: str) -> bytes:
-    from PIL import Image
-
     pixels = np.random.default_rng(3).integers(0, 255, (6, 5, 3), dtype=np.uint8)
     out = io.BytesIO()
     Image.fromarray(pixels).save(out, format=fmt)
@@ -316,10 +318,6 @@ def test_random_bytes_as_an_image(data):
 
 def _trimesh_seeds() -> dict:
     """A box in every trimesh-read format (written by trimesh itself)."""
-    import trimesh
-
-    from scenerender.mesh import box
-
     cube = box(1.0)
     mesh = trimesh.Trimesh(cube.positions, cube.indices.astype(np.int64), process=False)
     seeds = {}
@@ -358,9 +356,6 @@ def test_mutated_trimesh_formats(folder, seed, changes):
 def test_scene_to_world(obj, mtl, image, scene_map, strict):
     """A scene naming a fuzzed OBJ (with a fuzzed MTL and texture): ``build_world`` gives a
     world whose every texture decodes, or a UserError."""
-    from scenerender.scene.loading import load_scene
-    from scenerender.world.build import build_world
-
     with tempfile.TemporaryDirectory() as temp:
         root = Path(temp)
         (root / "model.obj").write_bytes(("mtllib lib.mtl\nusemtl a\n" + "\n".join(obj)).encode("utf-8", "surrogatepass"))
@@ -396,10 +391,6 @@ def path_texts():
 @example(mesh="model.obj", texture="\x00", sky="..")
 def test_paths_written_in_the_scene(folder, mesh, texture, sky):
     """Any string where the scene names a file: a UserError or a file inside the folder."""
-    import yaml
-
-    from scenerender.scene.loading import load_scene
-
     (folder.root / "model.obj").write_text(valid_obj())
     scene = {"render": {"skybox": sky} if sky is not None else {},
              "materials": {"m": {"diffuse_map": texture} if texture is not None else {}},

@@ -1,0 +1,69 @@
+"""``camera:``: where it is, where it looks (a target, or yaw and pitch), its lens and its
+clipping planes."""
+from __future__ import annotations
+
+from typing import Annotated, Union
+
+from pydantic import PlainValidator, WithJsonSchema, model_validator
+from pydantic_core import PydanticCustomError
+
+from scenerender.scene.describe import describe
+from scenerender.scene.strict import StrictModel
+from scenerender.scene.values import AnimatedFloat, AnimatedVec3, animated_number, check_number, choice, vector
+
+
+def _near_far(value):
+    if value == "auto":
+        return "auto"
+    try:
+        return check_number(value, 0.0, lo_open=True)
+    except PydanticCustomError:
+        raise PydanticCustomError("near_far", "expected 'auto' or a positive number, got {got}",
+                                  {"got": describe(value)}) from None
+
+
+NearFar = Annotated[Union[float, str], PlainValidator(_near_far),
+                    WithJsonSchema({"anyOf": [{"const": "auto"}, {"type": "number", "exclusiveMinimum": 0}]})]
+
+
+class CameraSpec(StrictModel):
+    position: AnimatedVec3 | None = None
+    target: AnimatedVec3 | None = None
+    yaw: AnimatedFloat | None = None
+    pitch: AnimatedFloat | None = None
+    up: vector(3, nonzero=True) = (0.0, 1.0, 0.0)
+    fov: animated_number(0.1, 179, hi_open=False) = 60.0
+    projection: choice("perspective", "orthographic") = "perspective"
+    height: animated_number(0, lo_open=True) | None = None
+    near: NearFar = "auto"
+    far: NearFar = "auto"
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.target is not None and (self.yaw is not None or self.pitch is not None):
+            raise PydanticCustomError("camera_aim", "give either target or yaw/pitch, not both",
+                                      {"subpath": ("yaw" if self.yaw is not None else "pitch",)})
+        if (self.yaw is not None or self.pitch is not None) and self.position is None:
+            raise PydanticCustomError("camera_aim", "yaw/pitch need a camera position", {"subpath": ("position",)})
+        if self._looks_at_itself():
+            raise PydanticCustomError(
+                "camera_aim", "camera position and target are the same point {point}: there is no direction to "
+                "look in; move the target or give yaw/pitch instead", {"point": _vector_text(self.target(0.0)),
+                                                                         "subpath": ("target",)})
+        if (isinstance(self.near, float) and isinstance(self.far, float) and self.near >= self.far):
+            raise PydanticCustomError("near_far", "near ({n}) must be less than far ({f})",
+                                      {"n": f"{self.near:g}", "f": f"{self.far:g}", "subpath": ("far",)})
+        return self
+
+    def _looks_at_itself(self) -> bool:
+        """Position and target fixed at one point. Animated ones that meet only at some
+        instants are left to the renderer, which then looks down -Z for those frames."""
+        if self.position is None or self.target is None:
+            return False
+        if not (self.position.is_constant and self.target.is_constant):
+            return False
+        return tuple(self.position(0.0)) == tuple(self.target(0.0))
+
+
+def _vector_text(values) -> str:
+    return "[" + ", ".join(f"{float(v):g}" for v in values) + "]"

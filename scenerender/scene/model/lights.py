@@ -1,0 +1,84 @@
+"""``lights:``: directional, point, spot and ambient lights, chosen by ``type``."""
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import PlainValidator, WithJsonSchema, model_validator
+from pydantic_core import PydanticCustomError
+
+from scenerender.scene.describe import describe
+from scenerender.scene.model.render import ShadowOverride
+from scenerender.scene.model.unions import mapping_or, tagged_union
+from scenerender.scene.strict import StrictModel
+from scenerender.scene.values import (
+    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedVec3, Bool, Text, animated_number, choice, vector_item,
+)
+
+# true / false, or a mapping overriding render.shadows for this light
+ShadowsOption = mapping_or(ShadowOverride, Bool)
+
+
+def _attenuation(value):
+    if not isinstance(value, (list, tuple)) or len(value) != 3:
+        raise PydanticCustomError("attenuation", "expected [constant, linear, quadratic], got {got}",
+                                  {"got": describe(value)})
+    out = tuple(vector_item(v, i, 0.0, None) for i, v in enumerate(value))
+    if out[0] == 0 and out[1] == 0 and out[2] == 0:
+        raise PydanticCustomError("attenuation", "attenuation [0, 0, 0] divides by zero; use [1, 0, 0] for no falloff")
+    return out
+
+
+Attenuation = Annotated[tuple, PlainValidator(_attenuation),
+                        WithJsonSchema({"type": "array", "items": {"type": "number", "minimum": 0},
+                                        "minItems": 3, "maxItems": 3, "description": "1 / (c + l d + q d^2)"})]
+
+
+class _LightBase(StrictModel):
+    name: Text | None = None
+    color: AnimatedColor = (1.0, 1.0, 1.0)
+    intensity: animated_number(0) = 1.0
+    enabled: AnimatedBool = True
+
+
+class DirectionalLight(_LightBase):
+    type: Literal["directional"]
+    direction: AnimatedDirection = (-1.0, -1.0, -0.5)
+    shadows: ShadowsOption = False
+
+
+class PointLight(_LightBase):
+    type: Literal["point"]
+    position: AnimatedVec3 = (0.0, 3.0, 0.0)
+    attenuation: Attenuation = (1.0, 0.0, 0.0)
+    shadows: ShadowsOption = False
+
+
+class SpotLight(_LightBase):
+    type: Literal["spot"]
+    position: AnimatedVec3 | None = None
+    direction: AnimatedDirection | None = None
+    attenuation: Attenuation = (1.0, 0.0, 0.0)
+    inner_angle: animated_number(0, 89.9) = 12.5
+    outer_angle: animated_number(0, 89.9, lo_open=True) = 17.5
+    attach: choice("camera") | None = None
+    shadows: ShadowsOption = False
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.attach is None and self.position is None:
+            raise PydanticCustomError("spot_position", "a spot light needs a position (or attach: camera)",
+                                      {"subpath": ()})
+        inner, outer = self.inner_angle, self.outer_angle
+        if inner.is_constant and outer.is_constant and inner(0) > outer(0):
+            raise PydanticCustomError("cone", "inner_angle ({i}) must not exceed outer_angle ({o})",
+                                      {"i": f"{inner(0):g}", "o": f"{outer(0):g}", "subpath": ("inner_angle",)})
+        return self
+
+
+class AmbientLight(_LightBase):
+    type: Literal["ambient"]
+    color: AnimatedColor = (0.25, 0.25, 0.25)
+
+
+LightSpec = tagged_union("type", "light", {"directional": DirectionalLight, "point": PointLight,
+                                           "spot": SpotLight, "ambient": AmbientLight})
