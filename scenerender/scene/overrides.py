@@ -9,6 +9,7 @@ import copy
 import re
 
 from scenerender.errors import SourceLocation, UserError
+from scenerender.scene.messages import format_key
 from scenerender.scene.yaml_source import SourceMap, parse_yaml_text
 
 _STEP = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
@@ -98,6 +99,4 @@ def _set(data, path: tuple, value, text: str) -> None:
 
 
 def _show(path: tuple) -> str:
-    from scenerender.scene.messages import format_key
-
     return format_key(path) or "(top level)"
