@@ -12,7 +12,7 @@ The public API (see ``scenerender.api``)::
         pixels = renderer.render(0).pixels      # (H, W, 3) uint8
 """
 
-__version__ = "0.5.0"
+from scenerender.version import __version__
 
 __all__ = ["Frame", "Renderer", "Scene", "SceneError", "load", "render", "render_to", "__version__"]
 

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import click
 
-from scenerender import __version__
 from scenerender.errors import EnvironmentProblem, SceneErrors, UserError
+from scenerender.version import __version__
 
 SET_HELP = "Override any scene key, e.g. --set render.samples=8 or --set objects[0].position=[0,1,0] (repeatable)."
 ASSET_ROOT_HELP = ("Also let the scene read assets (meshes, MTL files, textures, skyboxes) from DIR; by default "
@@ -461,12 +461,11 @@ def reference(scene, output, frames, spp, overrides, asset_roots):
     warning names what the scene has of them)."""
     import time
 
-    import scenerender
+    from scenerender.api import load
     from scenerender.raytrace import embree_available, render_reference, write_reference
     from scenerender.run.plan import parse_frame_range
 
-    loaded = scenerender.load(scene, overrides, asset_roots=asset_roots,
-                              on_warning=lambda line: click.echo(line, err=True))
+    loaded = load(scene, overrides, asset_roots=asset_roots, on_warning=lambda line: click.echo(line, err=True))
     warn = lambda text: click.echo(f"warning: {text}", err=True)  # noqa: E731
     if not embree_available():
         warn("embreex is not installed (pip install 'scenerender[reference]'): ray casting is slow")

@@ -37,3 +37,14 @@ def test_installed_layout_finds_the_packaged_shaders(wheel, tmp_path):
                          env={"PYTHONPATH": str(tmp_path), "PATH": ""}, timeout=60)
     assert run.returncode == 0, run.stderr
     assert str(tmp_path / "scenerender" / "shaders") in run.stdout
+
+
+def test_the_version_is_the_one_the_package_is_built_with():
+    """The manifest, the mesh cache and diff record scenerender.version; pip reads
+    pyproject.toml. They must say the same."""
+    import re
+
+    from scenerender.version import __version__
+
+    pyproject = (Path(__file__).resolve().parent.parent / "pyproject.toml").read_text(encoding="utf-8")
+    assert re.search(r'^version = "([^"]+)"', pyproject, re.M).group(1) == __version__

@@ -7,10 +7,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from scenerender import __version__
 from scenerender.compare.metrics import FrameMetrics
 from scenerender.compare.rule import TILE, DiffRule
 from scenerender.compare.sources import Side
+from scenerender.version import __version__
 
 Box = tuple[int, int, int, int]  # x, y, width, height in pixels
 

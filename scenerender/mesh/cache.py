@@ -39,11 +39,11 @@ from typing import Callable
 
 import numpy as np
 
-from scenerender import __version__
 from scenerender.errors import SourceLocation, UserError, Warnings, display_path
 from scenerender.mesh.data import MeshData, MeshGroup
 from scenerender.mesh.obj import materials_of_libraries
 from scenerender.scene.files import read_regular_file
+from scenerender.version import __version__
 
 # Bump whenever the OBJ reader or the normals code would give other arrays for the same
 # file, or refuses a file it used to read: old entries then stop matching. 3: numbers

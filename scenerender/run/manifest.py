@@ -21,10 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from scenerender import __version__
 from scenerender.errors import UserError, display_path
 from scenerender.mesh.data import MeshData
 from scenerender.sinks.base import atomic_path, write_file
+from scenerender.version import __version__
 
 FORMAT_VERSION = 1
 SAVE_INTERVAL = 1.0  # seconds between saves during a run: a killed run loses at most this much
