@@ -3,7 +3,8 @@
 Each variant is a renderer of its own on one GL context; frames are rendered by the
 variants in turn (A B C A B C ...), so a busy machine slows them alike, and each pass is
 timed GPU-synchronised (the --profile timings). Prints one Markdown row per variant: the
-median ms per pass.
+median ms per pass, and of the whole frame (``frame``: the render call, readback included),
+and the median ratio of a variant's frame to the default's frame of the same round.
 
     python benchmarks/variants.py scenes/foggy_road.yaml --set "render.size=[640,360]" \\
         --variant no-msaa=render.samples=1 --variant unlit=render.shading=unlit --variant no-footprint
@@ -23,6 +24,7 @@ from __future__ import annotations
 import argparse
 import statistics
 import sys
+import time
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -98,16 +100,25 @@ def main() -> None:
     for _, renderer in renderers:
         renderer.render(0)  # shaders compiled, static passes drawn
         renderer.timings.clear()
+    frames = {name: [] for name, _ in renderers}
     for index in range(1, args.frames + 1):
-        for _, renderer in renderers:
+        for name, renderer in renderers:
+            started = time.perf_counter()
             renderer.render(index)
-    passes = list(dict.fromkeys(name for _, r in renderers for name in r.timings))
-    print("| variant | " + " | ".join(passes) + " |")
-    print("|---" * (len(passes) + 1) + "|")
+            frames[name].append(time.perf_counter() - started)
+    passes = list(dict.fromkeys(name for _, r in renderers for name in r.timings)) + ["frame"]
+    for name, renderer in renderers:
+        renderer.timings["frame"] = frames[name]
+    print("| variant | " + " | ".join(passes) + " | frame vs default |")
+    print("|---" * (len(passes) + 2) + "|")
+    baseline = frames["default"]
     for name, renderer in renderers:
         cells = [f"{statistics.median(renderer.timings[p]) * 1000:.1f}" if p in renderer.timings else "-"
                  for p in passes]
-        print(f"| {name} | " + " | ".join(cells) + " |")
+        # each frame against the default's frame of the same round: steadier than two medians
+        # on a machine whose load drifts
+        ratio = statistics.median(t / b for t, b in zip(frames[name], baseline))
+        print(f"| {name} | " + " | ".join(cells) + f" | {ratio:.3f} |")
 
 
 if __name__ == "__main__":

@@ -170,6 +170,16 @@ def test_graph_lists_passes(scenes):
         assert any(name in line for line in lines), name
 
 
+def test_graph_shows_the_exposure_and_tone_map_in_the_output_pass(scenes):
+    result = cli("graph", "good.yaml", "--set", "render.tone_map=agx", "--set", "render.exposure=0.5")
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    output, = [line for line in lines if "resolve+output_transform" in line]
+    assert output.endswith("4x MSAA, exposure +0.5, agx tone map, srgb")
+    assert "exposure" in lines[lines.index(output) + 1]  # the input it reads
+    assert any(line.split() == ["exposure", "static"] for line in lines)
+
+
 def test_graph_size_and_samples_options(scenes):
     result = cli("graph", "good.yaml", "--size", "20x10", "--samples", "1")
     assert result.exit_code == 0, result.output

@@ -60,6 +60,7 @@ VALUES = {
     "background": ([0.1, 0.1, 0.12], [0.6, 0.3, 0.1]),
     "color": ([1.0, 0.6, 0.1], [0.1, 0.4, 1.0]),
     "density": (0.02, 0.2),
+    "exposure": (0.0, 1.0),
     "position": ([0.5, 1.0, 0.5], [-0.5, 1.5, 1.0]),
     "target": ([0.0, 0.5, 0.0], [1.0, 0.0, -1.0]),
     "yaw": (-90.0, -60.0),
@@ -207,7 +208,8 @@ def test_a_colour_animation_leaves_shadow_maps_and_geometry_cached(tmp_path):
 
 @pytest.mark.gl
 @pytest.mark.parametrize("path", ["camera.fov", "objects[].visible", "lights[spot].outer_angle",
-                                  "materials.<name>.opacity", "render.fog.density", "objects[].outline.color",
+                                  "materials.<name>.opacity", "render.fog.density", "render.exposure",
+                                  "objects[].outline.color",
                                   "lights[directional].direction", "objects[].instances[].position"])
 def test_cached_frames_equal_uncached_frames(gl, tmp_path, path):
     """The behaviour the marks stand for: a frame drawn with static passes kept from

@@ -3,8 +3,10 @@
 For each pixel, spp x spp stratified (jittered) primary rays; each hit is shaded with
 scenerender.raytrace.shading (the GPU's equations), with exact hard shadows from shadow
 rays to every shadowed light; the samples are averaged in linear light (a box filter, what
-MSAA converges to), then encoded like the output pass. The scene, camera and lights come
-from the same World and frame evaluator the GPU path uses.
+MSAA converges to), then scaled by the exposure, mapped through the tone curve
+(scenerender.colorspace.tone_map: the shaders' curves in NumPy) and encoded like the
+output pass. The scene, camera and lights come from the same World and frame evaluator
+the GPU path uses.
 
 Diffuse and specular maps are sampled at the base level, bilinearly, for every sample
 (scenerender.raytrace.textures). What it leaves out (one warning line names what a scene
@@ -18,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scenerender.colorspace import tone_map
 from scenerender.errors import UserError
 from scenerender.raytrace import shading
 from scenerender.raytrace.geometry import Soup, frame_soup
@@ -34,8 +37,9 @@ _CHUNK_SAMPLES = 400_000
 class ReferenceFrame:
     """One reference frame.
 
-    linear:   (H, W, 3) float32 mean of the samples' linear colour (unclamped).
-    pixels:   (H, W, 3) uint8 display-encoded, as the scene's output transform says.
+    linear:   (H, W, 3) float32 mean of the samples' linear colour (unclamped; before the
+              exposure and tone curve, as EXR output holds it).
+    pixels:   (H, W, 3) uint8 display-encoded: exposure, tone curve and output transform.
     shadow:   (H, W, S) float32 per shadowed light (S of them, in scene order), the fraction
               of the pixel's samples blocked from it; samples facing away from the light or
               missing the scene count as not blocked.
@@ -102,7 +106,8 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
     chunks = [scene.render_rows(y0, min(height, y0 + rows_per_chunk), width, height, spp, rng)
               for y0 in range(0, height, rows_per_chunk)]
     linear, shadow, cone, objects, mixed = (np.concatenate(parts) for parts in zip(*chunks))
-    pixels = shading.encode_output(linear, world.render.output_transform, world.render.gamma)
+    toned = tone_map(linear, world.render.tone_map, frame.exposure)
+    pixels = shading.encode_output(toned, world.render.output_transform, world.render.gamma)
     return ReferenceFrame(index, time, linear.astype(np.float32), pixels, shadow, cone, objects, mixed, spp)
 
 

@@ -27,6 +27,8 @@ class InputHandles:
     shadow_views: (light index, "shadow_views:NAME") per shadowed light.
     lights:       "lights": every light and shadow view packed for the shaders
                   (LightsInput); the only way light data reaches a shader.
+    exposure:     "exposure": the factor 2^render.exposure the output transform scales
+                  linear light by; None where the exposure stays 0.
     """
 
     camera: Handle
@@ -40,6 +42,7 @@ class InputHandles:
     fog: Handle | None
     outlines: Handle | None
     skybox: Handle | None
+    exposure: Handle | None
 
     def shading(self) -> tuple:
         """Everything lit shading reads: camera, objects, materials, the ambient light,
@@ -53,7 +56,8 @@ class InputHandles:
     def all(self) -> list[Handle]:
         """Every input handle, in import order."""
         found = [self.camera, self.objects, self.materials, self.background, self.ambient, *self.per_light,
-                 *(handle for _, handle in self.shadow_views), self.lights, self.fog, self.outlines, self.skybox]
+                 *(handle for _, handle in self.shadow_views), self.lights, self.fog, self.outlines, self.skybox,
+                 self.exposure]
         return [handle for handle in found if handle is not None]
 
 
@@ -72,6 +76,7 @@ def import_inputs(graph: FrameGraph, world) -> InputHandles:
         shadow_views=tuple((index, imported(i)) for index, i in inputs.shadow_views.items()),
         lights=imported(inputs.lights),
         fog=imported(inputs.fog), outlines=imported(inputs.outlines), skybox=imported(inputs.skybox),
+        exposure=imported(inputs.exposure),
     )
 
 
@@ -192,4 +197,6 @@ def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, 
             for i, obj in enumerate(world.objects) if obj.outline is not None}
     if handles.skybox is not None:
         values[handles.skybox.resource] = gpu.skybox
+    if handles.exposure is not None:
+        values[handles.exposure.resource] = 2.0 ** frame.exposure
     return values

@@ -16,7 +16,7 @@ from scenerender.rendering.inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
 from scenerender.rendering.passes.output import (
-    OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass,
+    NO_TONE, OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass, ToneCurve,
 )
 from scenerender.rendering.passes.shadow import ShadowMapPass
 from scenerender.rendering.passes.sky import NO_SKY, SkyboxPass, SkyUnder
@@ -64,7 +64,9 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     fill = settings.mode if settings.mode in ("wireframe", "points") else "solid"
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else prepass_pays(world, atlas, size, samples))
-    hdr = options.hdr_target if options.hdr_target is not None else hdr_target_pays(options, settings.output_transform)
+    tone = _tone_curve(world, inputs)
+    hdr = (options.hdr_target if options.hdr_target is not None
+           else hdr_target_pays(options, settings.output_transform, tone is not NO_TONE))
     # with MSAA the resolve adds the sky behind the samples; without, a pass draws it (passes/sky.py)
     sky = (SkyUnder(inputs.camera, inputs.skybox)
            if inputs.skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY)
@@ -80,18 +82,18 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         color = graph.add(TransparentPass(color, depth, shading)).image
     if settings.wireframe_overlay:
         color = graph.add(WireframeOverlayPass(color, depth, inputs.camera, inputs.objects, settings.line_width)).image
-    if not hdr and settings.output_transform == "srgb" and options.fuse_resolve:
+    if not hdr and settings.output_transform == "srgb" and tone is NO_TONE and options.fuse_resolve:
         # the 8-bit sRGB target already holds the output values: resolve (in linear
         # light) where multisampled, and read back
         final = graph.add(ResolveToSrgbPass(color, size, sky=sky)).image if samples > 1 else color
     elif samples > 1 and not options.want_linear and options.fuse_resolve:
         # nothing needs the resolved linear image: resolve and encode in one pass
-        final = graph.add(ResolveOutputPass(color, size, settings.output_transform, settings.gamma, samples,
-                                            sky=sky)).image
+        final = graph.add(ResolveOutputPass(color, size, settings.output_transform, settings.gamma, tone,
+                                            samples=samples, sky=sky)).image
     else:
         if samples > 1:
             color = graph.add(ResolvePass(color, size, sky=sky)).image
-        final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma)).image
+        final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma, tone)).image
 
     linear = color if options.want_linear else None
     if settings.mode in DATA_MODES:
@@ -100,6 +102,19 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         linear = final if options.want_linear else None  # the values themselves, not a colour
     graph.add(ReadbackPass(final, size, linear))
     return graph, inputs
+
+
+def _tone_curve(world, inputs: InputHandles) -> ToneCurve:
+    """What the output transform applies before encoding: NO_TONE where the exposure stays
+    0 and the tone map is ``none`` (the output shader and the image are as without either)."""
+    curve = world.settings.tone_map
+    if curve == "none" and inputs.exposure is None:
+        return NO_TONE
+    if inputs.exposure is None:
+        return ToneCurve(curve)
+    exposure = world.render.exposure
+    text = "animated exposure" if not exposure.is_constant else f"exposure {exposure(0.0):+g}"
+    return ToneCurve(curve, inputs.exposure, text)
 
 
 # A depth prepass pays only where opaque surfaces cover the image this many times over
@@ -124,20 +139,23 @@ def prepass_pays(world, atlas, size, samples: int) -> bool:
     return depth_complexity(world, atlas, size) >= PREPASS_DEPTH_COMPLEXITY
 
 
-def hdr_target_pays(options: GraphOptions, output_transform: str) -> bool:
+def hdr_target_pays(options: GraphOptions, output_transform: str, tone: bool = False) -> bool:
     """Whether shading goes to a 16-bit float target rather than 8-bit sRGB-encoded.
 
-    EXR output needs the linear values above 1. A gamma or linear output transform needs
-    the linear values too: re-encoding 8-bit sRGB would round twice and lose a level
-    (linear 0.5 would become 127, not 128). sRGB output is clamped to [0, 1] and stored in
-    8 bits anyway, and the hardware's sRGB encoding stays within 0.6 levels of the exact
-    curve, as the float path does (measured over 200 grey levels on llvmpipe); the one
-    difference is that samples above 1 are clamped before the MSAA resolve rather than
-    after (a few edge pixels of highlights; golden scenes: worst 8x8 block 0.7 levels).
+    EXR output needs the linear values above 1, and so does an exposure or a tone curve
+    (``tone``): they bring values above 1 down into the image, and an exposure above 0
+    must not scale up values the 8-bit target already rounded. A gamma or linear output
+    transform needs the linear values too: re-encoding 8-bit sRGB would round twice and
+    lose a level (linear 0.5 would become 127, not 128). sRGB output is clamped to [0, 1]
+    and stored in 8 bits anyway, and the hardware's sRGB encoding stays within 0.6 levels
+    of the exact curve, as the float path does (measured over 200 grey levels on
+    llvmpipe); the one difference is that samples above 1 are clamped before the MSAA
+    resolve rather than after (a few edge pixels of highlights; golden scenes: worst 8x8
+    block 0.7 levels).
     With 4x MSAA the float target costs about 14 ms more per 640x480 layer on llvmpipe
     (writes and resolve), without MSAA about 3 ms.
     """
-    return options.want_linear or output_transform != "srgb"
+    return options.want_linear or output_transform != "srgb" or tone
 
 
 def depth_complexity(world, atlas, size) -> float:

@@ -41,6 +41,8 @@ KEYS: dict[str, Key] = {
     "render.fog": Key("Distance fog; no fog when not set.", "{density: 0.05}"),
     "render.ambient_occlusion": Key("Screen-space ambient occlusion; off when not set.", "{radius: 0.8}"),
     "render.shadows": Key("Shadow-map settings for every shadowed light; a light may override any of them.", "{size: 4096, pcf: 5}"),
+    "render.exposure": Key("Brightness in stops, applied to linear light before the tone curve: values are multiplied by 2^exposure (+1 doubles them, -1 halves them). At 0 the output shader leaves it out. Not applied to EXR output.", "0.5"),
+    "render.tone_map": Key("The tone curve that brings linear light above 1 into the image, after `exposure` and before `output_transform`: `none` clips at 1 (the image is as without the key); `aces` is Stephen Hill's fit of the ACES RRT + sRGB ODT; `agx` is the minimal AgX fit (Missing Deadlines). Not applied to EXR output.", "agx"),
     "render.output_transform": Key("How linear light becomes stored values: the exact sRGB curve, a power curve (`gamma`), or none.", "gamma"),
     "render.gamma": Key("The exponent of `output_transform: gamma` (values are raised to 1 / gamma).", "2.4"),
     "render.wireframe_overlay": Key("Draw the triangle edges over the shaded image.", "true"),

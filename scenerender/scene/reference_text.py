@@ -142,8 +142,14 @@ render:
   fog: {color: [0.5, 0.5, 0.5], density: 0.03, mode: exp2}
   ambient_occlusion: {radius: 0.5, samples: 16, strength: 1.0}
   shadows: {size: 2048, pcf: 3, bias: 0.002, slope_bias: 0.02}
+  exposure: 0                   # stops; animatable
+  tone_map: none                # none | aces | agx
   output_transform: srgb
 ```
+
+Linear light becomes the stored image in three steps: times 2^`exposure`, through the
+`tone_map` curve, then encoded by `output_transform`. EXR output holds the linear light
+before all three.
 """
 
 RENDER_MODES = """

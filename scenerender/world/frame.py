@@ -67,6 +67,7 @@ class FrameState:
     background: np.ndarray  # (4,) linear RGBA
     fog_color: np.ndarray   # (3,)
     fog_density: float
+    exposure: float         # render.exposure in stops
     bounds: np.ndarray | None
     shadow_views: dict      # light index -> list[ShadowView], for each shadowed light
     materials: dict         # id(Material) -> evaluated uniforms
@@ -125,7 +126,7 @@ class FrameEvaluator:
             ambient=ambient_light(world.ambient, time),
             background=np.asarray(render.background(time), dtype=np.float64),
             fog_color=np.asarray(fog.color(time), dtype=np.float64)[:3] if fog else np.zeros(3),
-            fog_density=fog.density(time) if fog else 0.0,
+            fog_density=fog.density(time) if fog else 0.0, exposure=float(render.exposure(time)),
             bounds=bounds, shadow_views=self._shadow_views(lights, world, objects, bounds, camera),
             materials={id(m): _material_values(m, time) for m in world.materials()},
         )

@@ -55,7 +55,8 @@ class WorldInputs:
     index; ``ambient`` is the ambient lights' sum; ``shadow_views`` has one entry per
     shadowed light, keyed by its index. ``lights`` is all of those lights and views packed
     as the lighting shaders read them (rendering.lights): it changes when any of them
-    does, and with the camera, since positions and views are packed camera-relative."""
+    does, and with the camera, since positions and views are packed camera-relative.
+    ``exposure`` is there only where ``render.exposure`` scales the image (has_exposure)."""
 
     camera: WorldInput
     objects: WorldInput
@@ -68,11 +69,12 @@ class WorldInputs:
     fog: WorldInput | None
     outlines: WorldInput | None
     skybox: WorldInput | None
+    exposure: WorldInput | None
 
     def all(self) -> list[WorldInput]:
         fixed = [self.camera, self.objects, self.materials, self.background, *self.per_light, self.ambient,
                  *self.shadow_views.values(), self.lights]
-        return fixed + [i for i in (self.fog, self.outlines, self.skybox) if i is not None]
+        return fixed + [i for i in (self.fog, self.outlines, self.skybox, self.exposure) if i is not None]
 
 
 def _input(name: str, keys: list, follows: tuple = ()) -> WorldInput:
@@ -123,7 +125,16 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
         outlines=_input("outlines", [f"{o.name}.outline.{k}" for o in outlined for k in animated_keys(o.outline)])
         if outlined else None,
         skybox=_input("skybox", []) if render.skybox is not None else None,
+        exposure=_input("exposure", ["render.exposure"] if animated_keys(render.exposure) else [])
+        if has_exposure(render) else None,
     )
+
+
+def has_exposure(render) -> bool:
+    """Whether ``render.exposure`` (a ``scene.model.render.RenderSpec``'s) ever scales the
+    image: it is animated, or a constant other than 0 stops. At 0 throughout, the output
+    shaders leave the multiply out."""
+    return bool(animated_keys(render.exposure)) or render.exposure(0.0) != 0.0
 
 
 def _unique_names(lights) -> list[str]:

@@ -53,12 +53,14 @@ class OutlineSettings:
 
 @dataclass(frozen=True)
 class RenderSettings:
-    """size: (width, height); skybox: the six face paths (+x -x +y -y +z -z) or None."""
+    """size: (width, height); skybox: the six face paths (+x -x +y -y +z -z) or None;
+    tone_map: "none" | "aces" | "agx" (the exposure, a Track, is an input: world.inputs)."""
 
     size: tuple
     samples: int
     shading: str
     mode: str
+    tone_map: str
     output_transform: str
     gamma: float
     wireframe_overlay: bool
@@ -76,7 +78,7 @@ class RenderSettings:
         sky = render.skybox
         return cls(
             size=tuple(render.size), samples=render.samples, shading=render.shading, mode=render.mode,
-            output_transform=render.output_transform, gamma=render.gamma,
+            tone_map=render.tone_map, output_transform=render.output_transform, gamma=render.gamma,
             wireframe_overlay=render.wireframe_overlay, line_width=render.line_width, point_size=render.point_size,
             fog=FogSettings(fog.mode, fog.start, fog.end) if fog is not None else None,
             ambient_occlusion=AmbientOcclusionSettings.of(ao) if ao is not None else None,

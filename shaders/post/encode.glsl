@@ -1,6 +1,15 @@
-// Linear HDR colour -> display values: the exact sRGB transfer function (IEC 61966-2-1,
+// Linear HDR colour -> display values: times the exposure (EXPOSURE), through a tone curve
+// (TONE_MAP_ACES, TONE_MAP_AGX), then the exact sRGB transfer function (IEC 61966-2-1,
 // not pow(1/2.2)), a plain gamma, or linear; then 8-bit storage rounds to nearest.
 uniform float u_gamma;
+#ifdef EXPOSURE
+uniform float u_exposure;  // 2^render.exposure
+#endif
+#if defined(TONE_MAP_ACES)
+#include "post/tone_aces.glsl"
+#elif defined(TONE_MAP_AGX)
+#include "post/tone_agx.glsl"
+#endif
 
 vec3 srgb_encode(vec3 c) {
     vec3 low = c * 12.92;
@@ -9,7 +18,14 @@ vec3 srgb_encode(vec3 c) {
 }
 
 vec4 encode_output(vec4 c) {
-    vec3 linear = clamp(c.rgb, 0.0, 1.0);
+    vec3 scene = c.rgb;
+#ifdef EXPOSURE
+    scene *= u_exposure;
+#endif
+#if defined(TONE_MAP_ACES) || defined(TONE_MAP_AGX)
+    scene = tone_map(scene);
+#endif
+    vec3 linear = clamp(scene, 0.0, 1.0);
 #if defined(OUTPUT_SRGB)
     vec3 encoded = srgb_encode(linear);
 #elif defined(OUTPUT_GAMMA)

@@ -133,7 +133,9 @@ SCENE = mapping(
     render=mapping(size=st.lists(st.integers(0, 2000), min_size=2, max_size=2), samples=NUMBERS,
                    shading=st.sampled_from(["phong", "blinn_phong", "unlit"]),
                    mode=st.sampled_from(["shaded", "depth", "shadow", "light_depth", "wireframe"]),
-                   background=animated(COLOR), skybox=WORDS, output_transform=st.sampled_from(["srgb", "gamma"]),
+                   background=animated(COLOR), skybox=WORDS, exposure=animated(NUMBERS),
+                   tone_map=st.sampled_from(["none", "aces", "agx"]),
+                   output_transform=st.sampled_from(["srgb", "gamma"]),
                    fog=mapping(density=animated(NUMBERS), mode=st.sampled_from(["exp", "linear"]), start=NUMBERS,
                                end=NUMBERS),
                    ambient_occlusion=mapping(radius=NUMBERS, samples=NUMBERS), shadows=mapping(size=NUMBERS)),
@@ -316,6 +318,7 @@ def test_builder_agrees_with_pyyaml(data):
 
 BASE_SCENE = {
     "render": {"size": [32, 24], "samples": 1, "background": {"keys": [[0, [0, 0, 0]], [1, [1, 1, 1]]]},
+               "exposure": {"keys": [[0, 0], [1, 0.5]]}, "tone_map": "agx",
                "fog": {"mode": "linear", "start": 1, "end": 20, "density": 0.1},
                "ambient_occlusion": {"radius": 0.5, "samples": 4}, "shadows": {"size": 64, "pcf": 1}},
     "output": {"fps": 24, "duration": 2, "format": "png", "name": "f_{frame:03d}", "quality": 90},

@@ -1,4 +1,5 @@
-"""The end of the chain: MSAA resolve, the output transform, and readback to the CPU."""
+"""The end of the chain: MSAA resolve, exposure and tone curve, the output transform, and
+readback to the CPU."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -64,26 +65,65 @@ class ResolveToSrgbPass(ResolvePass):
 
 
 @dataclass(frozen=True)
+class ToneCurve:
+    """What the output transform does to linear light before encoding it: scale it by the
+    ``exposure`` input (2^render.exposure; None: the exposure stays 0), then map it through
+    the tone ``curve`` ("aces", "agx"; "none": values above 1 clip). Each is compiled into
+    the output shader only where the scene has it (post/encode.glsl); NO_TONE, the
+    default, compiles neither."""
+
+    curve: str = "none"
+    exposure: Handle | None = None
+    exposure_text: str = "exposure"  # how describe() shows it: "exposure +0.5", "animated exposure"
+
+    def declare(self, builder) -> None:
+        if self.exposure is not None:
+            builder.read(self.exposure)
+
+    def defines(self) -> dict:
+        found = {"EXPOSURE": True} if self.exposure is not None else {}
+        if self.curve != "none":
+            found[f"TONE_MAP_{self.curve.upper()}"] = True
+        return found
+
+    def describe(self) -> str:
+        """What comes before the encoding, as "exposure +0.5, agx tone map, " ("" for none)."""
+        steps = ([self.exposure_text] if self.exposure is not None else []) + (
+            [f"{self.curve} tone map"] if self.curve != "none" else [])
+        return "".join(f"{step}, " for step in steps)
+
+    def bind(self, ctx, program) -> None:
+        if self.exposure is not None:
+            set_uniforms(program, u_exposure=float(ctx.input(self.exposure)))
+
+
+NO_TONE = ToneCurve()
+
+
+@dataclass(frozen=True)
 class OutputTransformPass(RenderPass):
-    """Linear HDR -> 8-bit display values: exact sRGB, a plain gamma, or linear."""
+    """Linear HDR -> 8-bit display values: exact sRGB, a plain gamma, or linear; with
+    ``tone``, after the exposure and the tone curve."""
 
     color: Handle
     size: tuple
     transform: str
     gamma: float
+    tone: ToneCurve = NO_TONE
 
     name = "output_transform"
     fragment = "post/output_transform.frag"
 
     def setup(self, builder) -> ImageData:
         builder.read(self.color)
+        self.tone.declare(builder)
         return ImageData(builder.create("ldr", ResourceDesc("color", self.size, "rgba8")))
 
     def describe(self) -> str:
-        return self.transform if self.transform != "gamma" else f"gamma {self.gamma:g}"
+        return self.tone.describe() + (self.transform if self.transform != "gamma" else f"gamma {self.gamma:g}")
 
     def defines(self) -> dict:
-        return {f"OUTPUT_{self.transform.upper()}": True}
+        return {f"OUTPUT_{self.transform.upper()}": True, **self.tone.defines()}
 
     def execute(self, ctx, data: ImageData) -> None:
         begin_fullscreen_pass(ctx, data.image)
@@ -91,6 +131,7 @@ class OutputTransformPass(RenderPass):
         bind_texture_units(program)
         ctx.image(self.color).use(TEXTURE_UNITS["u_color"])
         set_uniforms(program, u_gamma=self.gamma)
+        self.tone.bind(ctx, program)
         self.sky.bind(ctx, program)
         ctx.fullscreen(program)
 

@@ -1,5 +1,6 @@
-"""``render:``: image size, sampling, shading and mode, sky, fog, ambient occlusion and the
-shadow-map defaults."""
+"""``render:``: image size, sampling, shading and mode, sky, fog, ambient occlusion, the
+shadow-map defaults, and how linear light becomes stored values (exposure, tone curve,
+output transform)."""
 from __future__ import annotations
 
 from typing import Annotated
@@ -7,6 +8,7 @@ from typing import Annotated
 from pydantic import ConfigDict, PlainValidator, WithJsonSchema, model_validator
 from pydantic_core import PydanticCustomError
 
+from scenerender.colorspace import TONE_MAPS
 from scenerender.scene.describe import describe
 from scenerender.scene.model.paths import ImagePath, folder_path
 from scenerender.scene.model.unions import mapping_or
@@ -120,6 +122,8 @@ class RenderSpec(StrictModel):
     fog: Fog | None = None
     ambient_occlusion: AmbientOcclusion | None = None
     shadows: ShadowSettings = ShadowSettings()
+    exposure: animated_number(-20, 20) = 0.0
+    tone_map: choice(*TONE_MAPS) = "none"
     output_transform: choice("srgb", "gamma", "linear") = "srgb"
     gamma: number(0.1, 10) = 2.2
     wireframe_overlay: Bool = False
