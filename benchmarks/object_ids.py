@@ -4,9 +4,10 @@ Renders scenes/showcase.yaml at 640x480 with two renderers on one GL context, on
 object-id pass and one without, alternating frame by frame (the same frame index for both,
 so both see the same animation and the machine's load falls on both alike). The time is
 ``Renderer.render`` (evaluation, every pass and the readback), the first frames of each left
-out as warm-up. Also times encoding one frame's ids as a 16-bit PNG (done on the encoder
-threads beside the renderer) and the object verdict of one frame pair (``diff`` on frames
-with ids: a frame against the camera turned by a quarter pixel).
+out as warm-up; the cost is also the median of the per-frame differences, which a
+machine's changing load disturbs less. Also times encoding one frame's ids as a 16-bit PNG
+(done on the encoder threads beside the renderer) and the object verdict of one frame pair
+(``diff`` on frames with ids: a frame against the camera turned by a quarter pixel).
 
     python benchmarks/object_ids.py [--frames 60] [--size 640x480]
 """
@@ -68,10 +69,13 @@ def main() -> None:
         verdict.append(time.perf_counter() - started)
 
     plain_ms, ids_ms = (1000 * statistics.median(times[k]) for k in (False, True))
+    paired = 1000 * statistics.median(b - a for a, b in zip(times[False], times[True]))
     print(f"{args.scene.name} at {width}x{height}, {args.frames} frames each, alternated on {renderer_name}")
     print("| | median ms/frame |\n|---|---|")
     print(f"| without --object-ids | {plain_ms:.1f} |")
-    print(f"| with --object-ids | {ids_ms:.1f} (+{ids_ms - plain_ms:.1f}, {100 * (ids_ms / plain_ms - 1):+.1f} %) |")
+    print(f"| with --object-ids | {ids_ms:.1f} ({ids_ms - plain_ms:+.1f}, {100 * (ids_ms / plain_ms - 1):+.1f} %) |")
+    print(f"| median of the per-frame differences (same frame, with - without) | {paired:+.1f} "
+          f"({100 * paired / plain_ms:+.1f} %) |")
     print(f"| encoding one frame's ids (16-bit PNG, encoder thread) | {1000 * statistics.median(encode):.1f} |")
     print(f"| object verdict of one frame pair (quarter-pixel jitter) | {1000 * statistics.median(verdict):.1f} |")
 
