@@ -348,3 +348,13 @@ def test_a_single_image_keeps_its_ids_beside_it(project):
     assert result.exit_code == 1 and "ball moved" in result.output
     again = cli("render", "scene.yaml", "-o", "still.png", "--frames", "1", "--object-ids")
     assert "nothing to do" in again.stderr
+
+
+@pytest.mark.gl
+def test_the_api_renders_ids_on_request():
+    import scenerender
+
+    scene = scenerender.Scene.from_yaml(SCENE)
+    first, = scenerender.render(scene, frames=[0], object_ids=True)
+    plain, = scenerender.render(scene, frames=[0])
+    assert first.object_ids.shape == (48, 64) and plain.object_ids is None

@@ -217,10 +217,12 @@ class Renderer:
         self.close()
 
 
-def render(scene: Scene, frames: Iterable[int] | None = None, size=None, samples=None) -> Iterator[Frame]:
-    """Render ``frames`` (default: every frame of the scene) one by one on one context."""
+def render(scene: Scene, frames: Iterable[int] | None = None, size=None, samples=None, *,
+           object_ids: bool = False) -> Iterator[Frame]:
+    """Render ``frames`` (default: every frame of the scene) one by one on one context;
+    ``object_ids``: each frame's ``object_ids`` too (see ``Renderer``)."""
     indices = range(scene.frame_count) if frames is None else frames
-    with Renderer(scene, size=size, samples=samples) as renderer:
+    with Renderer(scene, size=size, samples=samples, object_ids=object_ids) as renderer:
         for index in indices:
             yield renderer.render(index)
 
