@@ -217,6 +217,10 @@ def _scene_overrides(with_samples: bool = True):
                    "REF_DIR is a folder of its own, never -o itself.")
 @click.option("--update-references", is_flag=True,
               help="With --check: make the references equal to this output on purpose, and say what changed.")
+@click.option("--object-ids", is_flag=True,
+              help="Also keep which object each pixel shows (OUT/.object_ids/, 16-bit PNGs and objects.json), "
+                   "so `diff` and --check name changes by object and catch small moves and material changes "
+                   "colour alone cannot. Image sequences and single images only (not MP4/GIF).")
 @click.option("--workers", type=click.IntRange(1, 256), default=1, show_default=True,
               help="Render on N local processes, each with its own GL context (same files as one).")
 @click.option("--scheduler", metavar="ADDRESS",
@@ -225,7 +229,7 @@ def _scene_overrides(with_samples: bool = True):
 @_asset_root_option
 @_limit_option
 def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, profile, check,
-           update_references, workers, scheduler, asset_roots, limit_texts):
+           update_references, object_ids, workers, scheduler, asset_roots, limit_texts):
     """Render SCENE into -o OUTPUT: a folder of frames, or the video or image file it names.
 
     A frame already in OUTPUT is kept only when the run manifest (OUTPUT/.scenerender.json)
@@ -242,6 +246,7 @@ def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, prof
     In CI:
       scenerender render scene.yaml -o out/ --check ref/             # exit 1 when frames changed
       scenerender render scene.yaml -o out/ --check ref/ --update-references
+      scenerender render scene.yaml -o out/ --object-ids --check ref/    # changes named by object
 
     Exit codes: 0 done, 1 frames changed (--check), 2 bad input or an output that cannot be
     written, 3 the machine lacks something (no OpenGL driver), 130 / 143 interrupted.
@@ -261,7 +266,8 @@ def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, prof
 
     options = RenderOptions(output=output, overrides=overrides, frames=frames,
                             overwrite=overwrite, strict=strict, quiet=quiet, format=fmt, profile=profile,
-                            check=check, update_references=update_references, asset_roots=tuple(asset_roots),
+                            check=check, update_references=update_references, object_ids=object_ids,
+                            asset_roots=tuple(asset_roots),
                             workers=workers, scheduler=scheduler, limits=_limits(limit_texts))
     with signals_as_exceptions():  # also while the scene loads: exit 143/129 with a message
         summary = run_render(scene, options, echo=echo, notice=notice)
@@ -412,9 +418,26 @@ LEVELS = FiniteFloatRange(min=0)  # a limit on differences of 8-bit levels: fini
 @click.option("--aa-tolerance", type=click.IntRange(0, 255), metavar="LEVELS", default=_DIFF_DEFAULTS.aa_tolerance,
               show_default=True,
               help="Levels of rounding forgiven on every channel, before both tests.")
-def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max_shift_tile, aa_tolerance):
+@click.option("--min-object-pixels", type=click.IntRange(1), metavar="PX", default=_DIFF_DEFAULTS.min_object_pixels,
+              show_default=True,
+              help="With object ids on both sides: an object covering this many pixels or more on one side and "
+                   "none on the other fails (a dropped pole, a new glow).")
+@click.option("--max-object-shift", type=LEVELS, metavar="PX", default=_DIFF_DEFAULTS.max_object_shift,
+              show_default=True,
+              help="With object ids on both sides: largest allowed move of an object against the frame's common "
+                   "displacement (a camera jitter moves every object alike), pixels.")
+@click.option("--max-interior-change", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_interior_change,
+              show_default=True,
+              help="With object ids on both sides: largest allowed signed mean change of an object's interior, "
+                   "after its own move, discounted by the change of the other sign (a shininess, a colour).")
+def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max_shift_tile, aa_tolerance,
+         min_object_pixels, max_object_shift, max_interior_change):
     """Compare OUTPUT with REFERENCE: two images, two folders of frames (PNG, JPG, TGA, EXR;
     matched by file name) or two videos (MP4, GIF; matched frame by frame).
+
+    Frames both sides rendered with --object-ids are also judged by object: the changed
+    pixels are named by the objects they belong to, and an object that appeared or went, moved
+    against the frame or changed inside fails the frame.
 
     Prints one line per changed, missing or extra frame and a total line. Exits 0 when every
     frame matches, 1 when a frame changed (a different size counts as changed) or is missing
@@ -427,7 +450,8 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
     from scenerender.compare import DiffRule, compare_paths, write_html_report
 
     rule = DiffRule(max_tile=max_tile, max_unexplained_mean=max_unexplained_mean, max_shift_tile=max_shift_tile,
-                    aa_tolerance=aa_tolerance)
+                    aa_tolerance=aa_tolerance, min_object_pixels=min_object_pixels,
+                    max_object_shift=max_object_shift, max_interior_change=max_interior_change)
     result = compare_paths(reference, output, rule)
     if report is not None:
         write_html_report(result, report, option="--report")

@@ -34,13 +34,16 @@ class SceneRegression:
         self.work_dir = work_dir
         self.update = update
 
-    def check(self, scene, overrides=(), frames: str | None = None, name: str | None = None, rule=None):
+    def check(self, scene, overrides=(), frames: str | None = None, name: str | None = None, rule=None,
+              object_ids: bool = False):
         """Render ``scene`` (a path, relative to the test file's folder or the working
         directory, or a ``scenerender.Scene``) and compare its frames with the references.
 
         overrides: ``--set`` style strings (``"render.size=[160,120]"``); frames: "A:B";
         name: the reference folder's name (default: the test's name; give one per scene
-        when a test checks several); rule: a ``scenerender.compare.DiffRule``.
+        when a test checks several); rule: a ``scenerender.compare.DiffRule``; object_ids:
+        keep the frames' object ids with the references too, so changes are named by object
+        and judged by object (a reference without ids is judged by colour alone).
         Returns the ``references.CheckResult``; fails the test on any change.
         """
         from scenerender.api import Scene, render_to
@@ -54,7 +57,7 @@ class SceneRegression:
             options["overrides"] = list(overrides)
         elif overrides:
             raise ValueError("overrides apply when a scene is loaded: pass them to scenerender.load")
-        render_to(scene, output, overwrite=True, **options)
+        render_to(scene, output, overwrite=True, object_ids=object_ids, **options)
         target, root = _only_output(output), self.test_dir / "scene_references" / label
         reference = reference_path(target, root)
         if not self.update and not has_references(reference):

@@ -380,13 +380,17 @@ def test_json_output(tmp_path):
     assert data["missing"] == ["c.png"] and data["extra"] == []
     assert data["rule"] == {"max_tile": DEFAULT_RULE.max_tile, "aa_tolerance": DEFAULT_RULE.aa_tolerance,
                             "max_unexplained_mean": DEFAULT_RULE.max_unexplained_mean,
-                            "max_shift_tile": DEFAULT_RULE.max_shift_tile}
+                            "max_shift_tile": DEFAULT_RULE.max_shift_tile,
+                            "min_object_pixels": DEFAULT_RULE.min_object_pixels,
+                            "max_object_shift": DEFAULT_RULE.max_object_shift,
+                            "max_interior_change": DEFAULT_RULE.max_interior_change}
     assert data["reference"]["provenance"]["gl"]["renderer"].startswith("llvmpipe")
     assert data["output"]["provenance"] == {"scenerender": "unknown", "gl": {"renderer": "unknown",
                                                                                "version": "unknown"}, "sidecar": None}
     a, b = data["frames"]
     assert a["passed"] and a["metrics"]["psnr"] is None and a["reason"] == ""
     assert not b["passed"] and b["regions"] and b["size"] == [64, 48]
+    assert a["objects"] is None and b["objects"] is None  # no object ids on either side
     assert set(b["metrics"]) == {"mean_abs", "max_abs", "worst_tile", "bad_percent", "psnr", "unexplained_mean",
                                  "worst_tile_aa", "shift_tile", "shift_pixel", "changed_percent",
                                  "excused_pixels", "largest_shift", "ssim", "flip"}

@@ -53,6 +53,16 @@ def test_local_workers_write_the_same_files(single, tmp_path):
     assert "nothing to do" in again.stderr  # the manifest vouches for what the workers wrote
 
 
+def test_local_workers_keep_the_same_object_ids(tmp_path):
+    one = render(tmp_path / "one", "--frames", "0:6", "--object-ids")
+    two = render(tmp_path / "two", "--frames", "0:6", "--object-ids", "--workers", "2")
+    assert frame_bytes(two / ".object_ids") == frame_bytes(one / ".object_ids")
+    assert len(frame_bytes(two / ".object_ids")) == 7  # six frames' ids and objects.json
+    again = CliRunner().invoke(main, ["render", SCENE, "-o", str(two), *SMALL, "--frames", "0:6", "--object-ids",
+                                      "--workers", "2"])
+    assert "nothing to do" in again.stderr  # the manifest vouches for the ids the workers wrote
+
+
 def test_local_workers_make_the_same_video(single, tmp_path):
     render(tmp_path / "gif", "--frames", "0:12", "--format", "gif", "--workers", "2")
     assert frame_bytes(tmp_path / "gif") == frame_bytes(single / "gif")

@@ -55,3 +55,24 @@ def test_a_change_fails_naming_frame_numbers_and_report(suite):
     result.assert_outcomes(failed=1)
     result.stdout.fnmatch_lines(["*scene test_ball: frames differ*", "*CHANGED frame_0000.png: *mean*",
                                  "*report: *report.html*"])
+
+
+def test_object_ids_are_kept_with_the_references_and_name_a_change(suite):
+    two = SCENE + """\
+  - mesh: {primitive: box, size: [0.5, 0.5, 0.5]}
+    position: [1.2, 0, 0]
+    material: {diffuse: [0.2, 0.8, 0.2]}
+"""
+    suite.makefile(".yaml", ball=two)
+    suite.makepyfile(test_scene="""\
+def test_ball(scene_regression):
+    scene_regression.check("ball.yaml", object_ids=True)
+""")
+    run(suite, "--scenerender-update").assert_outcomes(passed=1)
+    kept = suite.path / "scene_references" / "test_ball" / ".object_ids"
+    assert sorted(p.name for p in kept.iterdir()) == ["frame_0000.png", "frame_0001.png", "objects.json"]
+    run(suite).assert_outcomes(passed=1)
+    suite.makefile(".yaml", ball=two.replace("position: [1.2, 0, 0]", "position: [1.2, 0.3, 0]"))
+    result = run(suite)
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*CHANGED frame_0000.png: *box1 moved*by object:*box1: *"])

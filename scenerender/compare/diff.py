@@ -2,7 +2,8 @@
 
 Folders are matched by file name; videos by frame index (decoded side by side, so memory
 stays flat however long they are), also inside folders (frames named
-``clip.mp4/frame_0003``). Frames only one side has are listed as missing or extra. A frame
+``clip.mp4/frame_0003``). A frame both sides rendered with ``--object-ids`` is also judged
+by object (scenerender.compare.objects). Frames only one side has are listed as missing or extra. A frame
 whose size differs is a changed frame (the render changed), not bad input; bad
 input (a path that does not exist, an unreadable file, a folder against a video, nothing
 to compare) is a UserError.
@@ -16,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.compare.metrics import DiffMaps, flip_error, measure, ssim, tile_means
+from scenerender.compare.objects import IdMap, measure_objects, picture
 from scenerender.compare.result import Box, CompareResult, FrameComparison, FrameImages
 from scenerender.compare.rule import DEFAULT_RULE, TILE, DiffRule
 from scenerender.compare.sources import Side, is_video_name, open_side, video_frames
@@ -27,27 +29,37 @@ MAX_KEPT_IMAGES = 24
 
 
 def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: DiffRule = DEFAULT_RULE,
-                   keep_images: bool = True) -> FrameComparison:
+                   keep_images: bool = True, object_ids: tuple[IdMap | None, IdMap | None] | None = None
+                   ) -> FrameComparison:
     """Judge one frame pair, each (H, W, 3) uint8. Pictures are kept (when ``keep_images``)
     for every frame that differs at all, passing or not, so a report can show what a pass
     excused. SSIM is computed for failing frames only, and FLIP (slow: about 0.4 s at
-    640x480) only for failing frames whose pictures are kept, the ones a person looks at."""
+    640x480) only for failing frames whose pictures are kept, the ones a person looks at.
+    ``object_ids``: both sides' object ids (compare.objects.IdMap, or None); where both
+    sides have them for the frame, the difference is named by object and the rule's object
+    limits apply too; else the frame is judged by its colours alone."""
     size = (reference.shape[1], reference.shape[0])
     if reference.shape != output.shape:
         reason = f"size differs: {size[0]}x{size[1]} vs {output.shape[1]}x{output.shape[0]}"
         images = FrameImages(reference, output, None, None) if keep_images else None
         return FrameComparison(name, False, reason, size=size, images=images)
     metrics, maps = measure(reference, output, rule.aa_tolerance, with_flip=False, with_ssim=False)
-    failures = rule.failures(metrics)
+    objects = None
+    if object_ids is not None and all(side is not None and side.ids.shape == reference.shape[:2]
+                                      for side in object_ids):
+        objects = measure_objects(reference, output, *object_ids, tolerance=rule.aa_tolerance)
+    failures = rule.failures(metrics, objects)
     passed = not failures
     regions = [] if passed else changed_regions(maps)  # a pass outlines nothing: its pictures show what it excused
     images = None
-    if keep_images and metrics.max_abs > 0:
-        images = FrameImages(reference, output, heatmap(reference, maps), shift_map(maps))
+    offenders = [] if objects is None else list(dict.fromkeys(s.name for kind in rule.offenders(objects) for s in kind))
+    if keep_images and (metrics.max_abs > 0 or offenders):
+        shown = picture(reference, *object_ids, offenders) if offenders else None
+        images = FrameImages(reference, output, heatmap(reference, maps), shift_map(maps), shown)
     if not passed:
         flip = flip_error(reference, output) if images is not None else None
         metrics = dataclasses.replace(metrics, ssim=ssim(reference, output), flip=flip)
-    return FrameComparison(name, passed, "; ".join(failures), metrics, regions, size, images)
+    return FrameComparison(name, passed, "; ".join(failures), metrics, regions, size, images, objects)
 
 
 def heatmap(reference: np.ndarray, maps: DiffMaps) -> np.ndarray:
@@ -134,7 +146,8 @@ def compare_paths(reference: Path, output: Path, rule: DiffRule = DEFAULT_RULE) 
     elif ref_side.kind == "folder":
         _compare_folders(result)
     else:
-        _add(result, out_side.path.name, ref_side.load(ref_side.names[0]), out_side.load(out_side.names[0]))
+        _add(result, out_side.path.name, ref_side.load(ref_side.names[0]), out_side.load(out_side.names[0]),
+             (ref_side.object_ids(ref_side.names[0]), out_side.object_ids(out_side.names[0])))
     if not result.frames and not result.missing and not result.extra:
         raise UserError("no frames to compare on either side (frames are .png, .jpg, .tga or .exr files, "
                         "videos .mp4 or .gif)",
@@ -146,9 +159,10 @@ def _kind_phrase(side: Side) -> str:
     return {"folder": "a folder", "video": "a video", "image": "an image"}[side.kind]
 
 
-def _add(result: CompareResult, name: str, reference: np.ndarray, output: np.ndarray) -> None:
+def _add(result: CompareResult, name: str, reference: np.ndarray, output: np.ndarray,
+         object_ids: tuple | None = None) -> None:
     keep = result.images_kept < MAX_KEPT_IMAGES
-    frame = compare_images(name, reference, output, result.rule, keep_images=keep)
+    frame = compare_images(name, reference, output, result.rule, keep_images=keep, object_ids=object_ids)
     if frame.images is not None:
         result.images_kept += 1
     elif not frame.passed:
@@ -167,7 +181,8 @@ def _compare_folders(result: CompareResult) -> None:
         if is_video_name(name):
             _compare_videos(result, ref_side.path / name, out_side.path / name, prefix=f"{name}/")
         else:
-            _add(result, name, ref_side.load(name), out_side.load(name))
+            _add(result, name, ref_side.load(name), out_side.load(name),
+                 (ref_side.object_ids(name), out_side.object_ids(name)))
 
 
 def _compare_videos(result: CompareResult, reference: Path | None = None, output: Path | None = None,

@@ -4,10 +4,12 @@ Each scene is rendered once as the base. *Noise* stands in for what differs betw
 and runs: a re-render, the camera turned by 1/8 and 1/4 pixel (right and up at once), a
 +-1-level random dither on the output, and +1 level on every channel (rounding). *Changes*
 are real regressions, small ones above all: objects moved, dropped, added, recoloured or
-re-textured, a light turned, a spot cone narrowed, a shininess halved. For every metric the
-margin is the gap between the largest noise score and the smallest change score; the
-default rule (scenerender.compare.rule) is chosen from it and must pass every noise case
-and fail every change case except the few listed in KNOWN_MISSES, whose scores are printed.
+re-textured, a light turned, a spot cone narrowed, a shininess halved. Every render keeps
+its object ids too (a jittered render its own; dither and offset the base's), so each case
+is scored by colour and by object. For every metric the margin is the gap between the
+largest noise score and the smallest change score; the default rule
+(scenerender.compare.rule) is chosen from it and must pass every noise case and fail every
+change case except those listed in KNOWN_MISSES (none now), whose scores are printed.
 
     python -m scenerender.compare.perturbation              # print the tables (needs GL)
     python -m scenerender.compare.perturbation --write docs/diff-margins.md
@@ -20,11 +22,12 @@ import argparse
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 
 from scenerender.compare.metrics import FrameMetrics, measure
+from scenerender.compare.objects import IdMap, ObjectMetrics, measure_objects
 from scenerender.compare.rule import DEFAULT_RULE, DiffRule
 from scenerender.gpu.context import create_context
 from scenerender.run.session import Renderer, load
@@ -34,8 +37,17 @@ NOISE = ("re-render", "jitter 1/8 px", "jitter 1/4 px", "dither +-1 level", "off
 STANDARD_CHANGES = ("object moved 3 px", "object dropped", "colour -10%", "shadow off", "fov +1 degree",
                     "texture swapped")
 
-# render(scene file, overrides, frame) -> (H, W, 3) uint8
-RenderFn = Callable[[Path, list, int], np.ndarray]
+
+
+class Shot(NamedTuple):
+    """One render: ``pixels`` (H, W, 3) uint8 and its object ids (compare.objects.IdMap)."""
+
+    pixels: np.ndarray
+    ids: IdMap
+
+
+# render(scene file, overrides, frame) -> Shot
+RenderFn = Callable[[Path, list, int], Shot]
 
 
 @dataclass(frozen=True)
@@ -175,6 +187,17 @@ class Score:
     case: str
     noise: bool
     metrics: FrameMetrics
+    objects: ObjectMetrics
+
+    def failures(self, rule: DiffRule = DEFAULT_RULE, object_ids: bool = True) -> list[str]:
+        """What ``rule`` fails this case for, with the object ids or by colour alone."""
+        return rule.failures(self.metrics, self.objects if object_ids else None)
+
+    def value(self, metric: str):
+        """A colour metric (FrameMetrics) or an object one (OBJECT_METRICS) by name."""
+        if metric in OBJECT_METRICS:
+            return getattr(self.objects, OBJECT_METRICS[metric])
+        return getattr(self.metrics, metric)
 
 
 def dither(image: np.ndarray, seed: int = 0) -> np.ndarray:
@@ -183,29 +206,36 @@ def dither(image: np.ndarray, seed: int = 0) -> np.ndarray:
     return np.clip(image.astype(np.int16) + noise, 0, 255).astype(np.uint8)
 
 
-def perturbed_images(case: SceneCase, render: RenderFn) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """The base render of ``case`` and every perturbed image, by perturbation name."""
+def perturbed_images(case: SceneCase, render: RenderFn) -> tuple[Shot, dict[str, Shot]]:
+    """The base render of ``case`` and every perturbed render, by perturbation name. Noise
+    made on the image (dither, offset) keeps the base's ids; a jittered render has its own."""
     def shot(extra):
         return render(case.path, case.base() + list(extra), case.frame)
 
     base = shot([])
-    images = {"re-render": shot([]), "jitter 1/8 px": shot(case.jittered(1 / 8)),
-              "jitter 1/4 px": shot(case.jittered(1 / 4)), "dither +-1 level": dither(base),
-              "offset +1 level": np.clip(base.astype(np.int16) + 1, 0, 255).astype(np.uint8)}
-    images.update({name: shot(overrides) for name, overrides in case.changes().items()})
-    return base, images
+    offset = np.clip(base.pixels.astype(np.int16) + 1, 0, 255).astype(np.uint8)
+    shots = {"re-render": shot([]), "jitter 1/8 px": shot(case.jittered(1 / 8)),
+             "jitter 1/4 px": shot(case.jittered(1 / 4)), "dither +-1 level": Shot(dither(base.pixels), base.ids),
+             "offset +1 level": Shot(offset, base.ids)}
+    shots.update({name: shot(overrides) for name, overrides in case.changes().items()})
+    return base, shots
 
 
 def score_case(case: SceneCase, render: RenderFn, rule: DiffRule = DEFAULT_RULE, with_flip: bool = True) -> list[Score]:
-    base, images = perturbed_images(case, render)
-    return [Score(case.name, name, name in NOISE, measure(base, image, rule.aa_tolerance, with_flip)[0])
-            for name, image in images.items()]
+    base, shots = perturbed_images(case, render)
+    return [Score(case.name, name, name in NOISE, measure(base.pixels, other.pixels, rule.aa_tolerance, with_flip)[0],
+                  measure_objects(base.pixels, other.pixels, base.ids, other.ids, rule.aa_tolerance))
+            for name, other in shots.items()]
 
 
 # Changes the default rule passes, measured and printed (the test asserts every other change
-# fails): each is smaller after the best quarter-pixel shift than a quarter-pixel jitter of
-# aliasing detail elsewhere in the corpus (docs/diff-margins.md, "What the rule cannot see").
-KNOWN_MISSES = frozenset({
+# fails). With object ids there are none.
+KNOWN_MISSES: frozenset = frozenset()
+
+# The changes the colours alone cannot tell from a quarter-pixel jitter (each is smaller after
+# the best quarter-pixel shift than a jitter of aliasing detail elsewhere in the corpus), which
+# the object ids catch (docs/diff-margins.md, "What the colours alone cannot see").
+CAUGHT_BY_OBJECT_IDS = frozenset({
     ("detail", "3-px bead moved 1 px"),
     ("detail", "shininess halved"),
     ("primitives 320", "sphere moved 5 cm"),
@@ -227,9 +257,21 @@ METRICS = {
     "unexplained_mean": ("mean outside the ranges (levels)", True),
     "shift_tile": ("worst 8x8 window after the shift (levels)", True),
     "shift_pixel": ("worst pixel after the shift (levels)", True),
+    "object_one_side": ("object on one side only (px)", True),
+    "object_shift": ("object moved against the frame (px)", True),
+    "object_interior": ("object interior change (levels)", True),
 }
+# the object metrics -> their ObjectMetrics attribute
+OBJECT_METRICS = {"object_one_side": "one_side_pixels", "object_shift": "shift", "object_interior": "interior"}
 RULE_METRICS = {"worst_tile_aa": "max_tile", "unexplained_mean": "max_unexplained_mean",
-                "shift_tile": "max_shift_tile"}
+                "shift_tile": "max_shift_tile", "object_one_side": "min_object_pixels",
+                "object_shift": "max_object_shift", "object_interior": "max_interior_change"}
+
+
+def exceeds(metric: str, value: float, limit: float) -> bool:
+    """Whether ``value`` of ``metric`` fails its limit: an object on the minimum number of
+    pixels or more fails; every other score fails above its limit."""
+    return value >= limit if metric == "object_one_side" else value > limit
 
 
 @dataclass(frozen=True)
@@ -257,7 +299,7 @@ class Margin:
 def margins(scores: list[Score]) -> list[Margin]:
     out = []
     for metric, (_, higher) in METRICS.items():
-        values = [(getattr(s.metrics, metric), s) for s in scores if getattr(s.metrics, metric) is not None]
+        values = [(s.value(metric), s) for s in scores if s.value(metric) is not None]
         noise = [(v, s) for v, s in values if s.noise and not math.isinf(v)]
         change = [(v, s) for v, s in values if not s.noise]
         if not noise or not change:
@@ -289,12 +331,11 @@ def limit_table(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
              "|---|---|---|---|---|---|"]
     for metric, field_name in RULE_METRICS.items():
         limit = getattr(rule, field_name)
-        noise = max((s for s in scores if s.noise), key=lambda s: getattr(s.metrics, metric))
-        worst = getattr(noise.metrics, metric)
-        alone = [s for s in scores if not s.noise and rule.failures(s.metrics)
-                 and _caught_by(s.metrics, rule) == [field_name]]
-        closest = min(alone, key=lambda s: getattr(s.metrics, metric), default=None)
-        closest_text = (f"{getattr(closest.metrics, metric) / limit:.2f} ({closest.scene}: {closest.case})"
+        noise = max((s for s in scores if s.noise), key=lambda s: s.value(metric))
+        worst = noise.value(metric)
+        alone = [s for s in scores if not s.noise and _caught_by(s, rule) == [field_name]]
+        closest = min(alone, key=lambda s: s.value(metric), default=None)
+        closest_text = (f"{closest.value(metric) / limit:.2f} ({closest.scene}: {closest.case})"
                         if closest else "")
         ratio = f"{limit / worst:.2f}" if worst > 0 else "inf"
         lines.append(f"| `{field_name}` | {limit:g} | {_num(worst)} ({noise.scene}: {noise.case}) | {ratio} | "
@@ -302,34 +343,59 @@ def limit_table(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
     return "\n".join(lines)
 
 
-def _caught_by(metrics: FrameMetrics, rule: DiffRule) -> list[str]:
-    return [name for metric, name in RULE_METRICS.items() if getattr(metrics, metric) > getattr(rule, name)]
+def _caught_by(score: Score, rule: DiffRule) -> list[str]:
+    return [name for metric, name in RULE_METRICS.items() if exceeds(metric, score.value(metric), getattr(rule, name))]
 
 
 RANGE_ONLY = DiffRule(max_shift_tile=math.inf)  # the rule before the shift test
 
 
 def verdict_table(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
-    """Every case's rule scores, the verdict of the ranges alone (the earlier rule) and of
-    the whole rule, and whether the rule judged it as it should."""
+    """Every case's rule scores, the verdicts of the ranges alone (the rule before the shift
+    test), of the colours alone (the rule without object ids) and of the whole rule, and
+    whether the rule judged it as it should."""
     lines = ["| scene | case | kind | tile outside ranges | mean outside ranges | window after shift | "
-             "pixel after shift | ranges alone | rule |", "|---|---|---|---|---|---|---|---|---|"]
+             "pixel after shift | object on one side (px) | object moved (px) | object interior (levels) | "
+             "ranges alone | colours alone | rule |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for s in scores:
-        m = s.metrics
-        old, new = bool(RANGE_ONLY.failures(m)), bool(rule.failures(m))
+        m, o = s.metrics, s.objects
+        ranges, colours, new = (bool(RANGE_ONLY.failures(m)), bool(s.failures(rule, object_ids=False)),
+                                bool(s.failures(rule)))
         right = new != s.noise
         known = " (known miss)" if not right and (s.scene, s.case) in KNOWN_MISSES else ""
         lines.append(f"| {s.scene} | {s.case} | {'noise' if s.noise else 'change'} | {m.worst_tile_aa:.3f} | "
                      f"{m.unexplained_mean:.5f} | {m.shift_tile:.2f} | {m.shift_pixel:.1f} | "
-                     f"{'fail' if old else 'pass'} | {'fail' if new else 'pass'}"
+                     f"{o.one_side_pixels} | {o.shift:.3f} | {o.interior:.2f} | "
+                     f"{_verdict(ranges)} | {_verdict(colours)} | {_verdict(new)}"
                      f"{known or ('' if right else ' (WRONG)')} |")
     return "\n".join(lines)
 
 
+def object_id_table(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
+    """The changes the colours alone pass and the object ids catch: the colour limit
+    closest to failing them, and the object limit that fails them, as score / limit."""
+    lines = ["| scene | case | colours alone: window after the shift / limit | caught by | score | score / limit |",
+             "|---|---|---|---|---|---|"]
+    for s in scores:
+        if s.noise or s.failures(rule, object_ids=False) or not s.failures(rule):
+            continue
+        caught = [(metric, name) for metric, name in RULE_METRICS.items() if metric in OBJECT_METRICS
+                  and exceeds(metric, s.value(metric), getattr(rule, name))]
+        for metric, name in caught:
+            limit = getattr(rule, name)
+            lines.append(f"| {s.scene} | {s.case} | {s.metrics.shift_tile / rule.max_shift_tile:.2f} | `{name}` "
+                         f"({getattr(s.objects, metric.replace('object_', '') + '_object', '')}) | "
+                         f"{_num(s.value(metric))} | {s.value(metric) / limit:.2f} |")
+    return "\n".join(lines)
+
+
+def _verdict(failed: bool) -> str:
+    return "fail" if failed else "pass"
+
+
 def misjudged(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> list[Score]:
     """Noise the rule fails and changes it passes, the known misses left out."""
-    return [s for s in scores if bool(rule.failures(s.metrics)) == s.noise
-            and (s.scene, s.case) not in KNOWN_MISSES]
+    return [s for s in scores if bool(s.failures(rule)) == s.noise and (s.scene, s.case) not in KNOWN_MISSES]
 
 
 def run_suite(render: RenderFn, cases=CASES, rule: DiffRule = DEFAULT_RULE, with_flip: bool = True) -> list[Score]:
@@ -337,34 +403,46 @@ def run_suite(render: RenderFn, cases=CASES, rule: DiffRule = DEFAULT_RULE, with
 
 
 def api_render_fn(gl) -> RenderFn:
-    """Renders through the public API on the shared context ``gl``."""
-    def render(path: Path, overrides: list, frame: int) -> np.ndarray:
-        with Renderer(load(path, overrides), gl=gl) as renderer:
-            return renderer.render(frame).pixels
+    """Renders through the public API on the shared context ``gl``, with object ids."""
+    def render(path: Path, overrides: list, frame: int) -> Shot:
+        with Renderer(load(path, overrides), gl=gl, object_ids=True) as renderer:
+            result = renderer.render(frame)
+            names = {index + 1: obj.name for index, obj in enumerate(renderer.scene.world.objects)}
+            return Shot(result.pixels, IdMap(result.object_ids, names))
     return render
 
 
 def report_text(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
     noise = sum(s.noise for s in scores)
     changes = len(scores) - noise
-    caught_old = sum(1 for s in scores if not s.noise and RANGE_ONLY.failures(s.metrics))
-    caught = sum(1 for s in scores if not s.noise and rule.failures(s.metrics))
+    caught_ranges = sum(1 for s in scores if not s.noise and RANGE_ONLY.failures(s.metrics))
+    caught_colours = sum(1 for s in scores if not s.noise and s.failures(rule, object_ids=False))
+    caught = sum(1 for s in scores if not s.noise and s.failures(rule))
+    noise_failed = sum(1 for s in scores if s.noise and s.failures(rule))
     scenes = ", ".join(f"{c.name} ({c.size[0]}x{c.size[1]})" for c in CASES)
     return "\n".join([
         "## The corpus: noise against change, metric by metric", "",
         "Made by `python -m scenerender.compare.perturbation --write docs/diff-margins.md`. "
-        f"Scenes: {scenes}. Noise: {', '.join(NOISE)}. {noise} noise cases, {changes} changes.", "",
-        f"The default rule fails {caught} of the {changes} changes and passes all {noise} noise cases; the "
-        f"neighbourhood ranges alone (the rule before the shift test) failed {caught_old}.", "",
+        f"Scenes: {scenes}. Noise: {', '.join(NOISE)}. {noise} noise cases, {changes} changes. Every "
+        "render keeps its object ids.", "",
+        f"The default rule fails {caught} of the {changes} changes and passes "
+        f"{'all' if not noise_failed else noise - noise_failed} of the {noise} noise cases; by the colours alone "
+        f"(both sides without object ids) it fails {caught_colours}, and the neighbourhood ranges alone (the rule "
+        f"before the shift test) failed {caught_ranges}.", "",
         "### Each metric", "",
         "For each metric, the largest score any noise case reached, the smallest score any change "
         "case reached (for PSNR and SSIM the other way round: lower means more different), "
         "and the gap between them. A metric separates noise from change when the gap is positive; "
-        "none does alone, which is why the rule holds three limits.", "",
+        "none does alone, which is why the rule holds several limits. The object metrics score the "
+        "frame's worst object: most changes leave every object where it was, so their closest change is 0.", "",
         margin_table(scores), "",
         "### Each limit", "",
         f"Default rule: {rule.describe()}.", "",
         limit_table(scores, rule), "",
+        "### What the object ids catch", "",
+        "The changes the rule passes by the colours alone (each within the shift limit, here as its "
+        "window after the shift over that limit) and the object limit that fails them.", "",
+        object_id_table(scores, rule), "",
         "### Every case", "",
         verdict_table(scores, rule), "",
     ])

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.compare.metrics import PIXEL_THRESHOLD, FrameMetrics
+from scenerender.compare.objects import PICTURE_COLOURS
 from scenerender.compare.result import CompareResult, FrameComparison
 from scenerender.compare.rule import TILE, DiffRule
 from scenerender.compare.sources import Side
@@ -51,6 +52,7 @@ figure { margin: 0; } figcaption { font-size: 12px; color: #555; }
 .controls { font-size: 12px; margin-top: 4px; } .controls input { vertical-align: middle; }
 .side { display: inline-block; vertical-align: top; margin-right: 32px; }
 pre { white-space: pre-wrap; overflow-wrap: anywhere; }
+.swatch { display: inline-block; width: 10px; height: 10px; margin-right: 5px; border: 1px solid #333; }
 """
 
 SCRIPT = """
@@ -118,10 +120,11 @@ def _fmt(value, digits=3) -> str:
     return f"{value:.{digits}f}" if isinstance(value, float) else str(value)
 
 
-def metrics_rows(metrics: FrameMetrics, rule: DiffRule) -> list[tuple[str, str, str, bool | None]]:
-    """(name, value, limit, within limit or None for information only) per metric."""
+def metrics_rows(metrics: FrameMetrics, rule: DiffRule, objects=None) -> list[tuple[str, str, str, bool | None]]:
+    """(name, value, limit, within limit or None for information only) per metric; with
+    ``objects`` (compare.objects.ObjectMetrics) the object limits first."""
     flip = _fmt(metrics.flip, 5) if metrics.flip is not None else "n/a (pip install 'scenerender[flip]')"
-    return [
+    return _object_rows(objects, rule) + [
         (f"worst {TILE}x{TILE} tile outside the 3x3 ranges (levels, largest channel)", _fmt(metrics.worst_tile_aa),
          f"<= {rule.max_tile:g}", metrics.worst_tile_aa <= rule.max_tile),
         ("mean outside the 3x3 ranges (levels)", _fmt(metrics.unexplained_mean, 5), f"<= {rule.max_unexplained_mean:g}",
@@ -142,9 +145,56 @@ def metrics_rows(metrics: FrameMetrics, rule: DiffRule) -> list[tuple[str, str, 
     ]
 
 
-def _metrics_table(metrics: FrameMetrics, rule: DiffRule) -> str:
+def _object_rows(objects, rule: DiffRule) -> list[tuple[str, str, str, bool | None]]:
+    if objects is None:
+        return []
+    def named(value: str, name: str) -> str:
+        return f"{value} ({name})" if name else value
+    return [
+        ("object on one side only (px it covers)", named(str(objects.one_side_pixels), objects.one_side_object),
+         f"< {rule.min_object_pixels}", objects.one_side_pixels < rule.min_object_pixels),
+        ("object moved against the frame (px)", named(_fmt(objects.shift), objects.shift_object),
+         f"<= {rule.max_object_shift:g}", objects.shift <= rule.max_object_shift),
+        ("object interior change (levels)", named(_fmt(objects.interior), objects.interior_object),
+         f"<= {rule.max_interior_change:g}", objects.interior <= rule.max_interior_change),
+    ]
+
+
+MAX_OBJECT_ROWS = 40
+
+
+def _objects_table(objects, rule: DiffRule) -> str:
+    """The objects either side shows, the most changed first: pixels, changed pixels, shift
+    and interior change, the values past a limit marked."""
     rows = []
-    for name, value, limit, ok in metrics_rows(metrics, rule):
+    offenders = list(dict.fromkeys(s.name for kind in rule.offenders(objects) for s in kind))
+    for score in objects.objects[:MAX_OBJECT_ROWS]:
+        swatch = ""
+        if score.name in offenders:
+            colour = PICTURE_COLOURS[offenders.index(score.name) % len(PICTURE_COLOURS)]
+            swatch = f'<span class="swatch" style="background:rgb{colour}"></span>'
+        one_side = score.status != "both" and score.coverage >= rule.min_object_pixels
+        moved = score.shift is not None and score.shift > rule.max_object_shift
+        inside = score.interior is not None and abs(score.interior) > rule.max_interior_change
+        shift = "" if score.shift is None else _fmt(score.shift, 2)
+        interior = "" if score.interior is None else f"{score.interior:+.2f}"
+        rows.append(f'<tr><td>{swatch}{escape(score.name)}</td>'
+                    f'<td class="{"bad" if one_side else ""}">{score.status}</td>'
+                    f'<td class="num">{score.reference_pixels}</td><td class="num">{score.output_pixels}</td>'
+                    f'<td class="num">{score.changed_pixels}</td><td class="num {"bad" if moved else ""}">{shift}</td>'
+                    f'<td class="num {"bad" if inside else ""}">{interior}</td></tr>')
+    more = len(objects.objects) - MAX_OBJECT_ROWS
+    dy, dx = objects.common_shift
+    return (f"<p>by object: {escape(objects.attribution() or 'no pixel off by 5 levels or more')}; the frame as a "
+            f"whole moved {dx:+.2f} px across, {dy:+.2f} px down</p>"
+            "<table><tr><th>object</th><th>shown</th><th>px reference</th><th>px output</th><th>px changed</th>"
+            "<th>moved against the frame (px)</th><th>interior change (levels)</th></tr>" + "".join(rows) + "</table>"
+            + (f"<p>{more} more object(s) not listed</p>" if more > 0 else ""))
+
+
+def _metrics_table(metrics: FrameMetrics, rule: DiffRule, objects=None) -> str:
+    rows = []
+    for name, value, limit, ok in metrics_rows(metrics, rule, objects):
         css = "" if ok is None else ("ok" if ok else "bad")
         rows.append(f'<tr><td>{escape(name)}</td><td class="num {css}">{escape(value)}</td>'
                     f'<td>{escape(limit)}</td></tr>')
@@ -168,14 +218,19 @@ def _frame_section(frame: FrameComparison, rule: DiffRule) -> str:
         if images.shifts is not None:
             figures.append(_figure("best shift per tile: red right, green down (1/4 px full), grey none",
                                    images.shifts, boxes))
+        if images.objects is not None:
+            figures.append(_figure("objects past an object limit, at both sides' places (table below)",
+                                   images.objects))
         if images.heatmap is not None:
             figures.append(_compare_widget(images.reference, images.output))
         parts.append('<div class="row">' + "".join(figures) + "</div>")
     if frame.metrics is not None:
         regions = ", ".join(f"x {x}..{x + w - 1} y {y}..{y + h - 1}" for x, y, w, h in frame.regions)
-        parts.append(_metrics_table(frame.metrics, rule))
+        parts.append(_metrics_table(frame.metrics, rule, frame.objects))
         if regions:
             parts.append(f"<p>changed regions (outlined): {escape(regions)}</p>")
+        if frame.objects is not None:
+            parts.append(_objects_table(frame.objects, rule))
     return "".join(parts) + "</section>"
 
 

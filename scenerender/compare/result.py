@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from scenerender.compare.metrics import FrameMetrics
+from scenerender.compare.objects import ObjectMetrics
 from scenerender.compare.rule import TILE, DiffRule
 from scenerender.compare.sources import Side
 from scenerender.version import __version__
@@ -19,18 +20,21 @@ Box = tuple[int, int, int, int]  # x, y, width, height in pixels
 class FrameImages:
     """The pictures a report shows for a frame that differs, each (H, W, 3) uint8. ``output``
     has the reference's size only when the sizes matched; ``heatmap`` and ``shifts`` (each
-    differing tile coloured by its best shift) are None otherwise."""
+    differing tile coloured by its best shift) are None otherwise; ``objects`` (the objects
+    an object limit failed) only where both sides have object ids and one did."""
 
     reference: np.ndarray
     output: np.ndarray
     heatmap: np.ndarray | None
     shifts: np.ndarray | None
+    objects: np.ndarray | None = None   # the objects a limit failed, each in a colour of its own
 
 
 @dataclass
 class FrameComparison:
     """One frame pair. ``reason`` says why it failed ("" when it passed); ``metrics`` is
-    None when the sizes differ; ``regions`` box the connected changed tiles."""
+    None when the sizes differ; ``regions`` box the connected changed tiles; ``objects``:
+    the scores by object where both sides have object ids, else None."""
 
     name: str
     passed: bool
@@ -39,6 +43,11 @@ class FrameComparison:
     regions: list[Box] = field(default_factory=list)
     size: tuple[int, int] | None = None          # (width, height) of the reference frame
     images: FrameImages | None = None           # kept for frames that differ, up to a cap
+    objects: ObjectMetrics | None = None
+
+    def attribution(self) -> str:
+        """The changed pixels by object ('bunny: 482 px; new: thin_pole 111 px'), or ''."""
+        return self.objects.attribution() if self.objects is not None else ""
 
     def summary_line(self) -> str:
         text = f"CHANGED {self.name}: {self.reason}"
@@ -53,6 +62,8 @@ class FrameComparison:
             text += f" ({', '.join(extras)})"
         if self.regions:
             text += f"; {len(self.regions)} region(s), largest at {_box_text(max(self.regions, key=_area))}"
+        if self.attribution():
+            text += f"; by object: {self.attribution()}"
         return text
 
     def excused_line(self) -> str:
@@ -60,15 +71,21 @@ class FrameComparison:
         m = self.metrics
         if m is None or m.excused_pixels == 0:
             return ""
-        return (f"PASS {self.name}: {m.excused_pixels} px excused as sub-pixel edge shifts and rounding (tiles "
+        text = (f"PASS {self.name}: {m.excused_pixels} px excused as sub-pixel edge shifts and rounding (tiles "
                 f"shifted <= {m.largest_shift:g} px; left after the shift: window {m.shift_tile:.2f}, "
                 f"pixel {m.shift_pixel:.0f} levels)")
+        if self.objects is not None:
+            o = self.objects
+            text += (f"; objects moved <= {o.shift:.2f} px against the frame, interiors <= {o.interior:.2f} levels"
+                     + (f"; by object: {self.attribution()}" if self.attribution() else ""))
+        return text
 
     def to_json(self) -> dict:
         return {"name": self.name, "passed": self.passed, "reason": self.reason,
                 "size": list(self.size) if self.size else None,
                 "metrics": self.metrics.to_json() if self.metrics else None,
-                "regions": [list(box) for box in self.regions]}
+                "regions": [list(box) for box in self.regions],
+                "objects": self.objects.to_json() if self.objects is not None else None}
 
 
 def _area(box: Box) -> int:
@@ -111,6 +128,11 @@ class CompareResult:
                 "changed": len(self.changed), "missing": len(self.missing), "extra": len(self.extra)}
 
     def total_line(self) -> str:
+        line = self._total()
+        by_object = sum(frame.objects is not None for frame in self.frames)
+        return line + (f"; judged by object ids too: {by_object} of {len(self.frames)} frame(s)" if by_object else "")
+
+    def _total(self) -> str:
         c = self.counts()
         if self.passed:
             measured = [f.metrics for f in self.frames if f.metrics]

@@ -1,7 +1,8 @@
 """The verdict: which differences between two frames are noise and which are a change.
 
-A frame passes when all three limits hold (the two views of a difference are explained in
-scenerender.compare.metrics). The defaults come from the perturbation corpus (``python -m
+A frame passes when all three colour limits hold (the two views of a difference are explained
+in scenerender.compare.metrics) and, where both sides carry object ids, the three object
+limits too (scenerender.compare.objects). The defaults come from the perturbation corpus (``python -m
 scenerender.compare.perturbation``, tables in docs/diff-margins.md): re-renders, sub-pixel
 camera jitter of 1/8 and 1/4 pixel, one-level dither and a one-level offset must pass;
 moved, dropped, added, recoloured, re-lit and re-textured objects must fail.
@@ -13,6 +14,16 @@ and catches what the ranges excuse: a one-pixel pole added or removed, a small g
 dropped, a cylinder 10% smaller, a box turned 5 degrees, a cone 9% shorter. A cap on the
 worst pixel was measured too and left out: nothing in the corpus fails by it alone, and its
 noise (a thin lamp arm under jitter, 78 levels) lies close to the thin changes it would catch.
+
+Where both sides were rendered with object ids (``render --object-ids``), three more limits
+judge each object (scenerender.compare.objects): one covering pixels on one side only, one
+moved against the rest of the frame, one whose interior changed colour. They catch what no
+image statistic separates from a sub-pixel camera move: a 3-px bead moved 1 px, a sphere
+moved 5 cm, a shininess halved, a thin pole dropped at 160x120. No noise case makes an
+object appear or vanish (the thin pole covers 6 px, three times the limit); the shift limit
+sits 2.2 times above the worst noise (0.20 px, a 4-px glow under a quarter-pixel jitter) and
+2.1 times under the closest change (the sphere, 0.95 px); the interior limit 4.8 times above
+its worst noise (0.21 levels) and 2.6 times under the closest change (2.59 levels).
 """
 from __future__ import annotations
 
@@ -23,23 +34,30 @@ TILE = 8  # side of the square blocks and windows of the scores, pixels
 
 @dataclass(frozen=True)
 class DiffRule:
-    """A frame passes when all three limits hold. The tile limit catches a local change the
-    neighbourhood ranges cannot explain (an object moved or dropped, a lost shadow); the mean
-    limit a faint change spread wide (a colour, the field of view); the shift window limit a
-    small or thin change the ranges excuse (a bias no quarter-pixel shift makes: a shape
-    grown, an edge turned); the shift pixel limit one strong feature only one image has (a
-    thin pole added or removed)."""
+    """A frame passes when all three colour limits hold, and the object limits where both
+    sides have object ids. The tile limit catches a local change the neighbourhood ranges
+    cannot explain (an object moved or dropped, a lost shadow); the mean limit a faint change
+    spread wide (a colour, the field of view); the shift window limit a small or thin change
+    the ranges excuse (a bias no quarter-pixel shift makes: a shape grown, an edge turned),
+    and one strong feature only one image has (a thin pole added or removed). The object
+    limits catch an object on one side only, one moved against the frame's common
+    displacement, and an interior changed one way (a shininess, a colour)."""
 
     max_tile: float = 1.0                # worst TILE x TILE block outside the neighbourhood ranges, levels
     max_unexplained_mean: float = 0.001  # frame mean outside the neighbourhood ranges, levels
     max_shift_tile: float = 5.0          # worst |signed mean| left after a shift, any TILE x TILE window, levels
     aa_tolerance: int = 1                # levels of rounding forgiven on every channel
+    # with object ids on both sides (compare.objects)
+    min_object_pixels: int = 2           # an object on this many px or more on one side and none on the other
+    max_object_shift: float = 0.45       # px an object may move against the frame's common displacement
+    max_interior_change: float = 1.0     # levels: an object interior's signed mean, discounted by the other sign
 
-    def failures(self, metrics) -> list[str]:
-        """The limits ``metrics`` (a ``compare.metrics.FrameMetrics``) exceeds, as short phrases
-        ([] when the frame passes). The rule imports no metrics code, so the command line
-        reads its defaults at start-up without loading numpy."""
-        out = []
+    def failures(self, metrics, objects=None) -> list[str]:
+        """The limits ``metrics`` (a ``compare.metrics.FrameMetrics``) and ``objects`` (a
+        ``compare.objects.ObjectMetrics``, where both sides have object ids) exceed, as short
+        phrases ([] when the frame passes). The rule imports no metrics code, so the command
+        line reads its defaults at start-up without loading numpy."""
+        out = self.object_failures(objects) if objects is not None else []
         if metrics.worst_tile_aa > self.max_tile:
             out.append(f"worst {TILE}x{TILE} tile {metrics.worst_tile_aa:.2f} > {self.max_tile:g} levels unexplained")
         if metrics.unexplained_mean > self.max_unexplained_mean:
@@ -49,14 +67,44 @@ class DiffRule:
                        "after the best shift")
         return out
 
+    def object_failures(self, objects) -> list[str]:
+        """The object limits ``objects`` (a ``compare.objects.ObjectMetrics``) exceeds, a
+        phrase per object (the first few of each kind, the worst first)."""
+        one_side, moved, inside = self.offenders(objects)
+        return (_first([f"{s.status}: {s.name} on {s.coverage} px of the "
+                        f"{'output' if s.status == 'new' else 'reference'} only" for s in one_side], "object(s)")
+                + _first([f"{s.name} moved {s.shift:.2f} px against the frame (> {self.max_object_shift:g})"
+                          for s in moved], "moved")
+                + _first([f"{s.name} interior {abs(s.interior):.2f} levels {'brighter' if s.interior > 0 else 'darker'}"
+                          f" (> {self.max_interior_change:g})" for s in inside], "interior(s) changed"))
+
+    def offenders(self, objects) -> tuple[list, list, list]:
+        """The objects (``ObjectScore``) past each object limit, the worst first: on one side
+        only, moved, changed inside."""
+        one_side = sorted((s for s in objects.objects if s.status != "both" and s.coverage >= self.min_object_pixels),
+                          key=lambda s: -s.coverage)
+        moved = sorted((s for s in objects.objects if s.shift is not None and s.shift > self.max_object_shift),
+                       key=lambda s: -s.shift)
+        inside = sorted((s for s in objects.objects
+                         if s.interior is not None and abs(s.interior) > self.max_interior_change),
+                        key=lambda s: -abs(s.interior))
+        return one_side, moved, inside
+
     def describe(self) -> str:
         return (f"difference outside both 3x3 colour ranges ({self.aa_tolerance} level tolerance): worst {TILE}x{TILE} "
                 f"tile <= {self.max_tile:g} levels, frame mean <= {self.max_unexplained_mean:g} levels; difference "
                 f"left after the best shift of up to 1/4 px per {TILE}x{TILE} tile, both ways: signed mean of any "
-                f"{TILE}x{TILE} window <= {self.max_shift_tile:g} levels")
+                f"{TILE}x{TILE} window <= {self.max_shift_tile:g} levels; where both sides have object ids, no "
+                f"object on {self.min_object_pixels} px or more of one side only, none moved more than "
+                f"{self.max_object_shift:g} px against the frame, no interior changed more than "
+                f"{self.max_interior_change:g} levels")
 
     def to_json(self) -> dict:
         return asdict(self)
+
+
+def _first(phrases: list[str], what: str, shown: int = 3) -> list[str]:
+    return phrases[:shown] + ([f"{len(phrases) - shown} more {what}"] if len(phrases) > shown else [])
 
 
 DEFAULT_RULE = DiffRule()

@@ -16,7 +16,9 @@ from typing import Iterator
 import numpy as np
 
 from scenerender.colorspace import srgb_encode
+from scenerender.compare.objects import IdMap
 from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.sinks.object_ids import ids_path, read_ids, read_names
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr")
 VIDEO_SUFFIXES = (".mp4", ".gif")
@@ -166,9 +168,25 @@ class Side:
     kind: str
     names: list[str] = field(default_factory=list)
     provenance: Provenance = field(default_factory=Provenance)
+    _object_names: dict | None = field(default=None, repr=False)
 
     def load(self, name: str) -> np.ndarray:
-        return read_image(self.path / name if self.kind == "folder" else self.path)
+        return read_image(self.frame_path(name))
+
+    def frame_path(self, name: str) -> Path:
+        return self.path / name if self.kind == "folder" else self.path
+
+    def object_ids(self, name: str) -> IdMap | None:
+        """Frame ``name``'s object ids (sinks/object_ids.py) with the objects' names, or None
+        where the render kept none (videos never do)."""
+        if self.kind == "video":
+            return None
+        ids = read_ids(ids_path(self.frame_path(name)))
+        if ids is None:
+            return None
+        if self._object_names is None:
+            self._object_names = read_names(self.frame_path(name).parent)
+        return IdMap(ids, self._object_names)
 
     def to_json(self) -> dict:
         return {"path": str(self.path), "kind": self.kind, "provenance": self.provenance.to_json()}

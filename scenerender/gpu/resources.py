@@ -14,6 +14,7 @@ _COLOR_FORMATS = {  # format -> (components, dtype, internal format or None for 
     "rgba16f": (4, "f2", None),
     "rgba32f": (4, "f4", None),  # the data views' values kept whole for EXR output
     "r8": (1, "f1", None),
+    "r16ui": (1, "u2", None),  # object ids (unsigned integers, never filtered)
 }
 
 

@@ -15,6 +15,7 @@ from scenerender.graph import FrameGraph
 from scenerender.rendering.inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
+from scenerender.rendering.passes.object_ids import ObjectIdPass
 from scenerender.rendering.passes.output import (
     NO_TONE, OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass, ToneCurve,
 )
@@ -34,6 +35,7 @@ class GraphOptions:
     size: tuple
     samples: int  # what the device gives (Renderer clamps the scene's request to it)
     want_linear: bool = False  # also read back linear HDR (EXR output)
+    object_ids: bool = False   # also read back which object each pixel shows (passes/object_ids.py)
     # Choices the builder normally makes per scene; set only to measure the alternatives.
     depth_prepass: bool | None = None
     fuse_resolve: bool = True
@@ -100,7 +102,8 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         view_format = "rgba32f" if options.want_linear else "rgba8"
         final = _add_view(graph, settings.mode, inputs, gbuffer, ao, shadow_passes, size, view_format)
         linear = final if options.want_linear else None  # the values themselves, not a colour
-    graph.add(ReadbackPass(final, size, linear))
+    ids = graph.add(ObjectIdPass(size, inputs.camera, inputs.objects)).color if options.object_ids else None
+    graph.add(ReadbackPass(final, size, linear, ids))
     return graph, inputs
 
 

@@ -7,6 +7,7 @@ from time import perf_counter
 
 import numpy as np
 
+from scenerender.errors import UserError
 from scenerender.graph import CompiledGraph
 from scenerender.gpu.depth import depth_convention
 from scenerender.gpu.resources import GL_FRAMEBUFFER_SRGB, FramebufferCache, allocate
@@ -15,6 +16,7 @@ from scenerender.rendering.context import PassContext, RunState
 from scenerender.rendering.features import SceneFeatures
 from scenerender.rendering.inputs import InputHandles, input_values, same_value
 from scenerender.rendering.lights import pack_lights
+from scenerender.rendering.passes.object_ids import MAX_OBJECT_IDS
 from scenerender.rendering.pipeline import GraphOptions, build_graph
 from scenerender.rendering.profile import CPU_SETUP
 from scenerender.rendering.scene_gpu import GpuScene
@@ -48,12 +50,15 @@ def first_non_finite(linear: np.ndarray) -> str | None:
 
 @dataclass
 class FrameResult:
-    """pixels: (H, W, 3) uint8 top row first; linear: (H, W, 3) float32 or None."""
+    """pixels: (H, W, 3) uint8 top row first; linear: (H, W, 3) float32 or None;
+    object_ids: (H, W) uint16 top row first, each pixel's object index + 1 (0: none), or
+    None (passes/object_ids.py)."""
 
     index: int
     time: float
     pixels: np.ndarray
     linear: np.ndarray | None = None
+    object_ids: np.ndarray | None = None
 
 
 class GLBackend:
@@ -107,14 +112,19 @@ class Plan:
 
 
 def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: bool = False, warn=None,
-         tuning: dict | None = None) -> Plan:
+         tuning: dict | None = None, object_ids: bool = False) -> Plan:
     """The atlas layout and the compiled graph for ``world`` at ``size`` with ``samples``
     (what the device gives). Needs no GL context, so ``scenerender graph`` and the tests
     can inspect a scene's graph anywhere. ``tuning``: GraphOptions fields that override
-    the builder's per-scene choices (benchmarks compare them).
+    the builder's per-scene choices (benchmarks compare them). ``object_ids``: add the
+    object-id pass (passes/object_ids.py); without it the graph has no trace of one.
     """
+    if object_ids and len(world.objects) > MAX_OBJECT_IDS:
+        raise UserError(f"object ids are 16-bit: at most {MAX_OBJECT_IDS} objects, and this scene has "
+                        f"{len(world.objects)}; render without --object-ids")
     atlas = plan_atlas(world.lights, max_texture_size, warn, redrawn_shadow_maps(world), world.fixed_shadow_sizes)
-    graph, inputs = build_graph(world, atlas, GraphOptions(tuple(size), samples, want_linear, **(tuning or {})))
+    options = GraphOptions(tuple(size), samples, want_linear, object_ids, **(tuning or {}))
+    graph, inputs = build_graph(world, atlas, options)
     return Plan(atlas, inputs, graph.compile())
 
 
@@ -136,7 +146,8 @@ class Renderer:
     """Renders frames of one World at one size. Create once, call ``render`` per frame."""
 
     def __init__(self, world, gl, size=None, samples=None, warn=None, want_linear: bool = False,
-                 profile: bool = False, cache_static_passes: bool = True, tuning: dict | None = None):
+                 profile: bool = False, cache_static_passes: bool = True, tuning: dict | None = None,
+                 object_ids: bool = False):
         render = world.settings
         self.world = world
         self.gl = gl
@@ -149,7 +160,9 @@ class Renderer:
         # the finite check reads the linear (float) colour back, whether the caller wants it or not
         self.check_finite = check_finite_enabled()
         self.want_linear = want_linear
-        self.plan = plan(world, self.size, self.samples, max_size, want_linear or self.check_finite, warn, tuning)
+        self.object_ids = object_ids
+        self.plan = plan(world, self.size, self.samples, max_size, want_linear or self.check_finite, warn, tuning,
+                         object_ids)
         self.features = SceneFeatures.of(world, self.samples, self.plan.atlas)
         # encode linear -> sRGB on writes to (only) sRGB-format targets, decode for blending
         gl.enable_direct(GL_FRAMEBUFFER_SRGB)
@@ -209,9 +222,9 @@ class Renderer:
             self.depth.end_frame()
         self._rendered_any = True
         outputs = self.backend.outputs
-        pixels, linear = outputs.pop("pixels"), outputs.pop("linear", None)
+        pixels, linear, ids = outputs.pop("pixels"), outputs.pop("linear", None), outputs.pop("object_ids", None)
         if self.check_finite and linear is not None:
             problem = first_non_finite(linear)
             if problem is not None:
                 raise NonFiniteOutput(f"frame {index}: {problem} ({ENV_CHECK_FINITE} is on)")
-        return FrameResult(index, time, pixels, linear if self.want_linear else None)
+        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids)

@@ -36,6 +36,7 @@ class RenderOptions:
     workers: int = 1                 # local worker processes, each with its own GL context
     scheduler: str | None = None     # a Dask scheduler address: render on that cluster's workers
     update_references: bool = False  # with check: rewrite the references from this output
+    object_ids: bool = False         # keep each frame's object ids beside it (sinks/object_ids.py)
 
 
 @dataclass
@@ -68,11 +69,18 @@ def render_to(scene, output, **options) -> "RenderSummary":
 
     Options are the CLI's (see ``RenderOptions``): ``overrides``, ``frames`` ("A:B"),
     ``overwrite``, ``strict``, ``format``, ``check`` (a reference folder),
-    ``update_references``, ``quiet`` (default True: no progress here).
+    ``update_references``, ``object_ids`` (keep each frame's object ids for ``diff``),
+    ``quiet`` (default True: no progress here).
     Returns a ``RenderSummary``.
     """
     options.setdefault("quiet", True)
     return run_render(scene, RenderOptions(output=Path(output), **options), echo=_silent)
+
+
+def object_names(world) -> dict:
+    """id -> name of every object of ``world``: the object's index + 1 (its id in the
+    object-id pass) -> its name, or the one the world gave it (``sphere6``)."""
+    return {index + 1: obj.name for index, obj in enumerate(world.objects)}
 
 
 def _silent(text: str) -> None:
@@ -109,10 +117,12 @@ def _run_loaded(scene: Scene, overrides: list, options: RenderOptions, echo, not
     loaded = scene.loaded
     spec = loaded.spec
     frames = parse_frame_range(options.frames, spec.output.frame_count)
-    sink = make_sink(loaded, spec.output.format, Path(options.output), spec.render.size, frames)
+    names = object_names(scene.world) if options.object_ids else None
+    sink = make_sink(loaded, spec.output.format, Path(options.output), spec.render.size, frames, names)
     if options.check is not None:  # before planning, which may delete out-of-date frames
         require_apart_before_rendering(sink.target, sink.is_sequence, Path(options.check))
-    plan = plan_frames(sink, frames, fingerprint(loaded, overrides), loaded.path.as_posix(), options.overwrite, echo)
+    plan = plan_frames(sink, frames, fingerprint(loaded, overrides, options.object_ids), loaded.path.as_posix(),
+                       options.overwrite, echo)
     if plan.todo:
         summary = _render_due(scene, plan, options)
     else:
@@ -148,7 +158,8 @@ def _distributed(options: RenderOptions, plan: FramePlan) -> bool:
 
 def _render_here(scene: Scene, plan: FramePlan, options: RenderOptions, progress) -> str | None:
     """Render ``plan.todo`` in this process -> the per-pass table with ``options.profile``."""
-    with Renderer(scene, want_linear=plan.sink.needs_linear, profile=options.profile) as renderer:
+    with Renderer(scene, want_linear=plan.sink.needs_linear, profile=options.profile,
+                  object_ids=options.object_ids) as renderer:
         plan.manifest.start(gl_info(renderer.gl))
         render_into(renderer, plan.recording, plan.todo, progress)
         return renderer.profile_report(len(plan.todo)) if options.profile else None

@@ -79,6 +79,8 @@ class Fingerprint:
             changed.append(f"scenerender {old_parts.get('version', 'unknown')} -> {self.parts['version']}")
         if old_parts.get("overrides") != self.parts["overrides"]:
             changed.append("the --set/--size/--samples/--format options")
+        if old_parts.get("object_ids") != self.parts.get("object_ids"):
+            changed.append("the --object-ids option")
         if old_parts.get("scene_file") != self.parts.get("scene_file"):
             changed.append("the scene file")
         elif old_parts.get("settings") != self.parts["settings"] and not changed:
@@ -90,14 +92,18 @@ class Fingerprint:
         return changed
 
 
-def fingerprint(loaded, overrides=()) -> Fingerprint:
+def fingerprint(loaded, overrides=(), object_ids: bool = False) -> Fingerprint:
     """The fingerprint of a loaded scene whose world has been built (so every asset it
-    reads has been resolved and is listed in ``loaded.assets.files_read``)."""
+    reads has been resolved and is listed in ``loaded.assets.files_read``). A run that
+    keeps object ids (``object_ids``) has a part of its own, so its frames are not taken
+    for a run's without, nor the other way round."""
     parts = {
         "version": __version__,
         "overrides": _digest_text(json.dumps(list(overrides))),
         "settings": _digest_text(json.dumps(loaded.data, sort_keys=True, default=_encode_value)),
     }
+    if object_ids:
+        parts["object_ids"] = "kept"
     if loaded.path.is_file():  # a comment edit re-renders too: cheap, and never wrong
         parts["scene_file"] = file_digest(loaded.path)
     for path in loaded.assets.files_read:
@@ -160,15 +166,15 @@ class Manifest:
     def previous_inputs(self) -> dict:
         return self.data["runs"].get(self.scene, {}).get("inputs", {})
 
-    def is_current(self, name: str, file: Path) -> bool:
-        """True when ``file`` is the frame ``name`` this same run would write, unaltered."""
+    def is_current(self, name: str, file: Path, ids: Path | None = None) -> bool:
+        """True when ``file`` is the frame ``name`` this same run would write, unaltered,
+        and so are its object ids ``ids`` when the run keeps them."""
         entry = self.data["frames"].get(name)
         if not entry or entry.get("run") != self.run.digest:
             return False
-        try:
-            return file.stat().st_size == entry.get("bytes") and file_digest(file) == entry.get("sha256")
-        except OSError:
+        if ids is not None and not _unaltered(ids, entry.get("object_ids") or {}):
             return False
+        return _unaltered(file, entry)
 
     def stale_frames(self) -> list[str]:
         """Names of this scene's frames recorded by a run with other inputs (out of date).
@@ -188,10 +194,13 @@ class Manifest:
                                "version": gl_info.get("GL_VERSION")}
         self.save()
 
-    def record(self, name: str, index: int, file: Path) -> None:
-        """``file`` (frame ``index``) was written completely."""
-        self.data["frames"][name] = {"index": int(index), "scene": self.scene, "run": self.run.digest,
-                                     "bytes": file.stat().st_size, "sha256": file_digest(file)}
+    def record(self, name: str, index: int, file: Path, ids: Path | None = None) -> None:
+        """``file`` (frame ``index``) was written completely, and its object ids ``ids``."""
+        entry = {"index": int(index), "scene": self.scene, "run": self.run.digest,
+                 "bytes": file.stat().st_size, "sha256": file_digest(file)}
+        if ids is not None:
+            entry["object_ids"] = {"bytes": ids.stat().st_size, "sha256": file_digest(ids)}
+        self.data["frames"][name] = entry
         if time.monotonic() - self._last_save >= SAVE_INTERVAL:
             self.save()
 
@@ -202,6 +211,14 @@ class Manifest:
         # manifest, and no temporary file is left behind
         with atomic_path(self.path) as temp:
             write_file(temp, (json.dumps(self.data, indent=1, sort_keys=True) + "\n").encode("utf-8"))
+
+
+def _unaltered(file: Path, entry: dict) -> bool:
+    """Whether ``file`` has the size and digest ``entry`` recorded."""
+    try:
+        return file.stat().st_size == entry.get("bytes") and file_digest(file) == entry.get("sha256")
+    except OSError:
+        return False
 
 
 class RecordingSink:
@@ -223,15 +240,20 @@ class RecordingSink:
     def write(self, frame) -> None:
         self.sink.write(frame)
         if self.file_entry is None:
-            self.manifest.record(self.frame_names[frame.index], frame.index, self.sink.path_for(frame.index))
+            self.manifest.record(self.frame_names[frame.index], frame.index, self.sink.path_for(frame.index),
+                                 self._ids(frame.index))
         elif self._first_index is None:
             self._first_index = frame.index
 
     def close(self) -> None:
         self.sink.close()
         if self.file_entry is not None and self._first_index is not None:
-            self.manifest.record(self.file_entry, self._first_index, self.sink.path)
+            self.manifest.record(self.file_entry, self._first_index, self.sink.path, self._ids(self._first_index))
         self.manifest.save()
+
+    def _ids(self, index: int) -> Path | None:
+        ids_path_for = getattr(self.sink, "ids_path_for", None)
+        return ids_path_for(index) if ids_path_for is not None else None
 
     def abort(self) -> None:
         self.sink.abort()

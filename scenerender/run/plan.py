@@ -7,6 +7,7 @@ from pathlib import Path
 
 from scenerender.errors import SourceLocation, UserError, display_path
 from scenerender.run.manifest import Manifest, RecordingSink
+from scenerender.sinks.object_ids import ids_path
 
 
 def parse_frame_range(text: str | None, total: int) -> range:
@@ -58,14 +59,20 @@ def plan_frames(sink, frames: range, run, scene: str, overwrite: bool, echo) -> 
     if sink.is_sequence:
         _remove_stale_frames(manifest, target)
         names = {i: sink.path_for(i).name for i in frames}
-        todo = [i for i in frames if overwrite or not manifest.is_current(names[i], sink.path_for(i))]
+        todo = [i for i in frames if overwrite or not manifest.is_current(names[i], sink.path_for(i), _ids(sink, i))]
         recording = RecordingSink(sink, manifest, frame_names=names)
     else:
         name = f"frames {frames.start}:{frames.stop}:{frames.step}"
-        current = not overwrite and manifest.is_current(name, target)
+        current = not overwrite and manifest.is_current(name, target, _ids(sink, frames.start))
         todo = [] if current else list(frames)
         recording = RecordingSink(sink, manifest, file_entry=name)
     return FramePlan(sink, manifest, target, todo, len(frames) - len(todo), recording)
+
+
+def _ids(sink, index: int) -> Path | None:
+    """Where the sink keeps frame ``index``'s object ids, when it keeps them."""
+    ids_path_for = getattr(sink, "ids_path_for", None)
+    return ids_path_for(index) if ids_path_for is not None else None
 
 
 def _say_what_changed(manifest, run, target: Path, echo) -> None:
@@ -79,9 +86,12 @@ def _say_what_changed(manifest, run, target: Path, echo) -> None:
 
 
 def _remove_stale_frames(manifest, folder: Path) -> None:
-    """Delete frame files an earlier run with other inputs wrote: they no longer match the scene."""
+    """Delete frame files an earlier run with other inputs wrote, and their object ids:
+    they no longer match the scene."""
     for name in manifest.stale_frames():
         candidate = folder / name
-        if candidate.parent == folder and candidate.is_file():
-            candidate.unlink()
+        if candidate.parent == folder:
+            for stale in (candidate, ids_path(candidate)):  # the frame, and its ids if a run kept them
+                if stale.is_file():
+                    stale.unlink()
         manifest.forget(name)

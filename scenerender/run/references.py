@@ -8,6 +8,7 @@ exists, else ``ref/`` itself.
 """
 from __future__ import annotations
 
+import filecmp
 import re
 import shutil
 from dataclasses import dataclass, field
@@ -19,6 +20,7 @@ from scenerender.errors import SourceLocation, UserError, display_path
 from scenerender.gpu.context import create_context
 from scenerender.run.manifest import read_sidecar, sidecar_for
 from scenerender.sinks.base import atomic_path, make_folders, output_errors
+from scenerender.sinks.object_ids import ids_path, names_path
 
 # GL_RENDERER text -> key, first match wins. Mesa's software rasterisers name themselves;
 # vendor drivers put the vendor first ("NVIDIA H100 80GB HBM3/PCIe/SSE2").
@@ -158,6 +160,7 @@ def _update(target: Path, reference: Path, comparison, echo) -> list[str]:
             changes = [] if comparison is not None and comparison.passed else [f"wrote {reference.name}"]
             _copy(target, reference)
             _copy(sidecar_for(target, False), sidecar_for(reference, False))
+            changes += _sync_ids(target.parent, reference.parent, {target.name}, set(), set())
     echo(f"updated references in {display_path(reference)}: " + (", ".join(changes) if changes else "no change"))
     return changes
 
@@ -167,14 +170,39 @@ def _sync_folder(output: Path, reference: Path, comparison) -> list[str]:
     produced = {p.name for p in output.iterdir() if is_frame_file(p)}
     existing = {p.name for p in reference.iterdir() if is_frame_file(p)}
     changed = {f.name for f in comparison.changed} if comparison is not None else set()
-    for name in sorted(produced):
-        if name in changed or name not in existing:
-            _copy(output / name, reference / name)
+    copied = {name for name in produced if name in changed or name not in existing}
+    for name in sorted(copied):
+        _copy(output / name, reference / name)
     for name in sorted(existing - produced):
         (reference / name).unlink()
     return ([f"{len(changed)} changed"] if changed else []) + \
         ([f"{len(produced - existing)} added"] if produced - existing else []) + \
-        ([f"{len(existing - produced)} removed"] if existing - produced else [])
+        ([f"{len(existing - produced)} removed"] if existing - produced else []) + \
+        _sync_ids(output, reference, copied, produced - copied, existing - produced)
+
+
+def _sync_ids(output: Path, reference: Path, copied: set, kept: set, removed: set) -> list[str]:
+    """The object ids of the reference frames: those of the output for the frames ``copied``
+    (a frame the output has no ids for loses its own, which would name another render);
+    for the frames ``kept`` (they passed), the output's only where the reference has none;
+    none for the frames ``removed``. objects.json comes along."""
+    written = 0
+    for name in sorted(copied | kept):
+        source, destination = ids_path(output / name), ids_path(reference / name)
+        if name in kept and destination.is_file():
+            continue
+        if source.is_file():
+            if not destination.is_file() or not filecmp.cmp(source, destination, shallow=False):
+                _copy(source, destination)
+                written += 1
+        elif destination.is_file():
+            destination.unlink()
+    for name in sorted(removed):
+        ids_path(reference / name).unlink(missing_ok=True)
+    names, kept_names = names_path(output), names_path(reference)
+    if names.is_file() and not (kept_names.is_file() and filecmp.cmp(names, kept_names, shallow=False)):
+        _copy(names, kept_names)
+    return [f"object ids of {written} frame(s)"] if written else []
 
 
 def _copy(source: Path, destination: Path) -> None:

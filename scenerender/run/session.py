@@ -26,7 +26,8 @@ from scenerender.scene.loading import load_scene, load_scene_data, load_scene_te
 from scenerender.world.build import build_world
 
 # A rendered frame: ``index``, ``time`` (seconds, float64), ``pixels`` ((H, W, 3) uint8,
-# top row first, display-encoded) and ``linear`` ((H, W, 3) float32 linear light, or None).
+# top row first, display-encoded), ``linear`` ((H, W, 3) float32 linear light, or None) and
+# ``object_ids`` ((H, W) uint16, each pixel's object index + 1, 0 for none; or None).
 Frame = FrameResult
 
 # Bad input: a scene, an asset or an option. ``str(error)`` is the one-line message;
@@ -152,19 +153,24 @@ class Renderer:
     samples: MSAA samples, default the scene's ``render.samples`` (lowered, with a warning, to
              the largest power of two the device offers)
     want_linear: also return each frame's linear colours (``Frame.linear``; a float target, slower)
+    object_ids: also return which object each pixel shows (``Frame.object_ids``: (H, W) uint16,
+             the object's index in the scene's ``objects`` + 1, 0 for none; one sample at each
+             pixel's centre, the nearest surface)
     profile: time every pass (GPU-synchronised); see ``timings``
     cache_static_passes: False renders every pass every frame (to measure what caching saves)
     """
 
     def __init__(self, scene: Scene, size: tuple[int, int] | None = None, samples: int | None = None,
-                 *, gl=None, want_linear: bool = False, profile: bool = False, cache_static_passes: bool = True):
+                 *, gl=None, want_linear: bool = False, profile: bool = False, cache_static_passes: bool = True,
+                 object_ids: bool = False):
         self.scene = scene
         self._owns_gl = gl is None
         self.gl = create_context() if gl is None else gl
         try:
             self._renderer = GraphRenderer(scene.world, self.gl, size=size, samples=samples,
                                            warn=scene.world.warnings.warn, want_linear=want_linear,
-                                           profile=profile, cache_static_passes=cache_static_passes)
+                                           profile=profile, cache_static_passes=cache_static_passes,
+                                           object_ids=object_ids)
         except BaseException:
             self._release_gl()
             raise
@@ -212,10 +218,12 @@ class Renderer:
         self.close()
 
 
-def render(scene: Scene, frames: Iterable[int] | None = None, size=None, samples=None) -> Iterator[Frame]:
-    """Render ``frames`` (default: every frame of the scene) one by one on one context."""
+def render(scene: Scene, frames: Iterable[int] | None = None, size=None, samples=None, *,
+           object_ids: bool = False) -> Iterator[Frame]:
+    """Render ``frames`` (default: every frame of the scene) one by one on one context;
+    ``object_ids``: each frame's ``object_ids`` too (see ``Renderer``)."""
     indices = range(scene.frame_count) if frames is None else frames
-    with Renderer(scene, size=size, samples=samples) as renderer:
+    with Renderer(scene, size=size, samples=samples, object_ids=object_ids) as renderer:
         for index in indices:
             yield renderer.render(index)
 

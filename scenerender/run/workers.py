@@ -28,6 +28,7 @@ from scenerender.rendering.renderer import FrameResult
 from scenerender.run.loop import render_into
 from scenerender.run.session import Renderer, load
 from scenerender.sinks import ImageSequenceSink
+from scenerender.sinks.object_ids import ids_path
 
 CHUNKS_PER_WORKER = 4  # small enough to balance uneven frames, large enough to amortise start-up
 STAGED_PATTERN = "frame_{frame:08d}"
@@ -47,6 +48,8 @@ class ChunkTask:
     pattern: str         # file stem pattern with {frame}
     quality: int
     indices: tuple
+    object_names: tuple | None = None  # (id, name) pairs: keep each frame's object ids too
+    scene_key: str = ""               # the scene as objects.json names it
 
 
 @dataclass
@@ -68,21 +71,29 @@ def render_chunk(task: ChunkTask) -> ChunkResult:
     """Render ``task.indices`` into ``task.folder`` (runs in a worker process)."""
     try:
         renderer, gl = _renderer_for(task)
-        sink = ImageSequenceSink(Path(task.folder), task.fmt, task.pattern, task.quality)
-        due = [i for i in task.indices if not sink.path_for(i).is_file()]  # else an earlier try wrote it
+        names = dict(task.object_names) if task.object_names is not None else None
+        sink = ImageSequenceSink(Path(task.folder), task.fmt, task.pattern, task.quality, names, task.scene_key)
+        due = [i for i in task.indices if not _written(sink, i)]  # else an earlier try wrote it
         render_into(renderer, sink, due)
         return ChunkResult(gl=gl, written=[(i, sink.path_for(i).name) for i in task.indices])
     except UserError as exc:
         return ChunkResult(error=str(exc))
 
 
+def _written(sink: ImageSequenceSink, index: int) -> bool:
+    """Whether frame ``index`` is in the folder, with its object ids where they are kept."""
+    ids = sink.ids_path_for(index)
+    return sink.path_for(index).is_file() and (ids is None or ids.is_file())
+
+
 def _renderer_for(task: ChunkTask):
-    key = (task.scene, task.overrides, task.asset_roots, repr(task.limits), task.fmt)
+    object_ids = task.object_names is not None
+    key = (task.scene, task.overrides, task.asset_roots, repr(task.limits), task.fmt, object_ids)
     if _worker_state.get("key") != key:
         if "renderer" in _worker_state:
             _worker_state.pop("renderer").close()
         scene = load(task.scene, list(task.overrides), asset_roots=task.asset_roots, limits=task.limits)
-        renderer = Renderer(scene, want_linear=task.fmt == "exr")
+        renderer = Renderer(scene, want_linear=task.fmt == "exr", object_ids=object_ids)
         _worker_state.update(key=key, renderer=renderer, gl=gl_info(renderer.gl))
     return _worker_state["renderer"], {k: str(v) for k, v in _worker_state["gl"].items()}
 
@@ -160,6 +171,7 @@ def render_with_workers(scene, options, plan, progress) -> None:
     for index in plan.todo:  # old files of due frames are not vouched for: start clean
         if sequence:
             plan.sink.path_for(index).unlink(missing_ok=True)
+            ids_path(plan.sink.path_for(index)).unlink(missing_ok=True)
     source = scene.source
     if source is None:
         raise UserError("rendering on several workers needs a scene file (workers load it themselves); "
@@ -168,7 +180,9 @@ def render_with_workers(scene, options, plan, progress) -> None:
                      asset_roots=tuple(str(Path(r).resolve()) for r in source.asset_roots), limits=source.limits,
                      folder=str(folder.resolve()), fmt=plan.sink.fmt if sequence else "png",
                      pattern=plan.sink.pattern if sequence else STAGED_PATTERN,
-                     quality=plan.sink.quality, indices=())
+                     quality=plan.sink.quality, indices=(),
+                     object_names=_pairs(plan.sink.object_names) if sequence else None,
+                     scene_key=plan.sink.scene if sequence else "")
     workers = open_workers(options.workers, options.scheduler)
     try:
         started = False
@@ -180,7 +194,7 @@ def render_with_workers(scene, options, plan, progress) -> None:
                 started = True
             for index, name in result.written:
                 if sequence:
-                    plan.manifest.record(name, index, folder / name)
+                    plan.manifest.record(name, index, folder / name, plan.sink.ids_path_for(index))
                 progress.advance()
     finally:
         workers.close()
@@ -188,6 +202,10 @@ def render_with_workers(scene, options, plan, progress) -> None:
         plan.manifest.save()
     else:
         _encode_staged(plan, folder)
+
+
+def _pairs(names: dict | None) -> tuple | None:
+    return None if names is None else tuple(sorted(names.items()))
 
 
 def _staging_folder(video: Path) -> Path:

@@ -11,6 +11,7 @@ from PIL import Image
 
 from scenerender.sinks.names import name_template_problem
 from scenerender.sinks.base import FrameSink, atomic_path, write_file
+from scenerender.sinks.object_ids import encode_ids_png, ids_path, write_names
 
 SUFFIXES = {"png": ".png", "jpg": ".jpg", "tga": ".tga", "exr": ".exr"}
 # the suffixes an `-o` file name may end in, and the format each means
@@ -39,11 +40,17 @@ def frame_name_pattern(pattern: str | None, frame_count: int) -> str:
 
 
 class ImageSequenceSink(FrameSink):
-    """One file per frame in ``folder``, named by ``pattern`` (``{frame}`` is the index)."""
+    """One file per frame in ``folder``, named by ``pattern`` (``{frame}`` is the index).
+
+    ``object_names`` (id -> name) asks for each frame's object ids too: written beside the
+    frame (sinks/object_ids.py) from ``frame.object_ids``, named in objects.json for
+    ``scene``. Without it a frame written over one that had ids loses them, so ids never
+    describe another render than their frame."""
 
     is_sequence = True
 
-    def __init__(self, folder: Path, fmt: str, pattern: str, quality: int = 90):
+    def __init__(self, folder: Path, fmt: str, pattern: str, quality: int = 90, object_names: dict | None = None,
+                 scene: str = ""):
         problem = name_template_problem(pattern)
         if problem is not None:  # scenes are validated earlier; this guards callers in code
             raise ValueError(f"bad frame name pattern {pattern!r}: {problem}")
@@ -52,10 +59,21 @@ class ImageSequenceSink(FrameSink):
         self.pattern = pattern
         self.quality = quality
         self.needs_linear = fmt == "exr"
+        self.object_names = object_names
+        self.scene = scene
         self.written = 0
+
+    @property
+    def object_ids(self) -> bool:
+        """Whether each frame's object ids are written too."""
+        return self.object_names is not None
 
     def path_for(self, index: int) -> Path:
         return self.folder / (self.pattern.format(frame=index) + SUFFIXES[self.fmt])
+
+    def ids_path_for(self, index: int) -> Path | None:
+        """Where frame ``index``'s object ids go, when they are written."""
+        return ids_path(self.path_for(index)) if self.object_ids else None
 
     def is_complete(self, index: int) -> bool:
         """True when the frame's file exists and reads back as a whole image."""
@@ -84,7 +102,17 @@ class ImageSequenceSink(FrameSink):
         data = getattr(frame, "encoded", None)
         if data is None:
             data = self.encode_frame(frame)
-        with atomic_path(self.path_for(frame.index)) as temp:
+        path = self.path_for(frame.index)
+        if self.object_ids:
+            if frame.object_ids is None:
+                raise ValueError("the sink writes object ids, but the frame has none: render with object_ids=True")
+            if self.written == 0:
+                write_names(path.parent, self.scene, self.object_names)
+            with atomic_path(ids_path(path)) as temp:
+                write_file(temp, encode_ids_png(frame.object_ids))
+        else:
+            ids_path(path).unlink(missing_ok=True)  # another render's ids would misname this frame
+        with atomic_path(path) as temp:
             write_file(temp, data)
         self.written += 1
 
@@ -98,8 +126,8 @@ class SingleImageSink(ImageSequenceSink):
 
     is_sequence = False
 
-    def __init__(self, path: Path, fmt: str, quality: int = 90):
-        super().__init__(Path(path).parent, fmt, "frame", quality)
+    def __init__(self, path: Path, fmt: str, quality: int = 90, object_names: dict | None = None, scene: str = ""):
+        super().__init__(Path(path).parent, fmt, "frame", quality, object_names, scene)
         self.path = self.target = Path(path)
 
     def path_for(self, index: int) -> Path:

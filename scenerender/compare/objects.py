@@ -1,0 +1,456 @@
+"""Comparing two frames in scene terms, from the object ids rendered with them.
+
+A frame rendered with ``--object-ids`` carries a map of which object each pixel shows (the
+object's index in the scene's ``objects`` + 1, 0 for none; one sample at each pixel's
+centre) and the objects' names. With both sides' maps, a difference can be named (which
+objects the changed pixels belong to) and judged by what happened to each object, which
+image statistics alone cannot see (docs/diff-margins.md, "Object ids"):
+
+*Attribution.* Every pixel off by ``CHANGED_LEVELS`` or more on some channel is counted
+for the object either side shows there (once when both show the same one).
+
+*Appeared and gone.* An object that covers pixels on one side and none on the other.
+
+*Moved.* Each object present on both sides is registered: the sub-pixel displacement ``d``
+that makes the reference, resampled (bilinear) at ``p - d``, best match the output over
+the object's pixels and a pixel around them, in least squares (Gauss-Newton from no shift
+and from the shift of the object's id centroid, the better of the two). The frame's
+common displacement is the median of the objects' displacements weighted by their pixel
+counts: a camera moved by a fraction of a pixel moves every object alike, a moved object
+only itself. An object's score is the length of its displacement less the common one.
+The colour image carries the sub-pixel detail the id map lacks (4x MSAA edges): the id
+centroid of a thin or small object jumps by half a pixel under a quarter-pixel camera
+move (a row of pixel centres crosses an edge), the registration by a tenth.
+
+*Interior change.* An object's interior is where it shows on both sides with every pixel
+within two of it (its 5x5 neighbourhood) showing it too; objects with at least
+``MIN_INTERIOR`` interior pixels are judged. Per channel, the output less the reference
+moved by the object's own displacement, less the rounding tolerance, is summed: the score
+is the signed mean times the share of the change that has its sign, (sum r)^2 / (n sum |r|),
+the largest channel. A recolour or a wider highlight changes the interior one way; a
+sub-pixel move of a textured surface leaves residuals of both signs, which cancel.
+"""
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+CHANGED_LEVELS = 5       # a pixel off by this many levels on some channel counts as changed
+INTERIOR_RADIUS = 2      # interior pixels: the object's own within this many pixels, both sides
+MIN_INTERIOR = 32        # objects with fewer interior pixels are not judged by their interior
+MAX_REGISTERED = 2048    # pixels a registration reads at most (the strongest edges of a large object)
+MAX_INTERIOR_READ = 65536  # interior pixels read at most per object (evenly spaced)
+CONTESTED_RATIO = 10.0   # how much better an object's own pixels must fit their own displacement
+CONTESTED_LEVELS = 2.0   # ... and by how many levels rms at least
+MIN_OWN_PIXELS = 32      # pixels away from other objects an object needs to be registered by them alone
+RECHECK_SHIFT = 0.2      # px from the common displacement past which an object is registered again
+BACKGROUND = "background"
+SHOWN_OBJECTS = 5        # objects named in a summary line, the most changed first
+
+
+@dataclass(frozen=True)
+class IdMap:
+    """One side's object ids: ``ids`` (H, W) uint16 (0: no object), ``names`` id -> name."""
+
+    ids: np.ndarray
+    names: dict
+
+    def label(self, object_id: int, duplicated: set) -> str:
+        name = self.names.get(object_id)
+        if name is None:
+            return f"objects[{object_id - 1}]"
+        return f"{name} (objects[{object_id - 1}])" if name in duplicated else name
+
+
+@dataclass(frozen=True)
+class ObjectScore:
+    """One object of a frame pair. ``shift`` (pixels, against the frame's common displacement)
+    and ``displacement`` ((dy, dx), pixels) are None unless both sides show it; ``interior``
+    (levels, signed: + brighter) is None below MIN_INTERIOR interior pixels."""
+
+    name: str
+    reference_pixels: int
+    output_pixels: int
+    changed_pixels: int
+    shift: float | None = None
+    displacement: tuple | None = None
+    interior: float | None = None
+    interior_pixels: int = 0
+
+    @property
+    def status(self) -> str:
+        if self.reference_pixels == 0:
+            return "new"
+        if self.output_pixels == 0:
+            return "gone"
+        return "both"
+
+    @property
+    def coverage(self) -> int:
+        """The pixels it covers on the side that shows more of it."""
+        return max(self.reference_pixels, self.output_pixels)
+
+    def to_json(self) -> dict:
+        return {"name": self.name, "status": self.status, "reference_pixels": self.reference_pixels,
+                "output_pixels": self.output_pixels, "changed_pixels": self.changed_pixels,
+                "shift": None if self.shift is None else round(self.shift, 4),
+                "displacement": None if self.displacement is None else [round(v, 4) for v in self.displacement],
+                "interior": None if self.interior is None else round(self.interior, 4),
+                "interior_pixels": self.interior_pixels}
+
+
+@dataclass(frozen=True)
+class ObjectMetrics:
+    """The id-based scores of a frame pair (see the module notes). ``objects``: every object
+    either side shows, the most changed pixels first; ``background_changed``: changed pixels
+    where neither side shows an object. The three scores the rule judges are the largest over
+    the objects: ``one_side_pixels`` (coverage of an object only one side shows), ``shift``
+    and ``interior`` (its magnitude); ``*_object`` name whose they are ("" for none)."""
+
+    objects: tuple = ()
+    background_changed: int = 0
+    common_shift: tuple = (0.0, 0.0)
+    one_side_pixels: int = 0
+    one_side_object: str = ""
+    shift: float = 0.0
+    shift_object: str = ""
+    interior: float = 0.0
+    interior_object: str = ""
+
+    def attribution(self, limit: int = SHOWN_OBJECTS) -> str:
+        """The changed pixels in scene terms: 'bunny: 482 px; new: thin_pole 111 px; gone:
+        lantern_pole 40 px' (new and gone objects with the pixels they cover), the most
+        first; '' when nothing changed."""
+        parts = []
+        for score in self.objects:
+            if score.status == "both" and score.changed_pixels == 0:
+                continue
+            if score.status == "both":
+                parts.append((score.changed_pixels, f"{score.name}: {score.changed_pixels} px"))
+            else:
+                parts.append((score.coverage, f"{score.status}: {score.name} {score.coverage} px"))
+        if self.background_changed:
+            parts.append((self.background_changed, f"{BACKGROUND}: {self.background_changed} px"))
+        parts.sort(key=lambda item: -item[0])
+        shown = [text for _, text in parts[:limit]]
+        if len(parts) > limit:
+            shown.append(f"{len(parts) - limit} more")
+        return "; ".join(shown)
+
+    def to_json(self) -> dict:
+        return {"one_side_pixels": self.one_side_pixels, "one_side_object": self.one_side_object,
+                "shift": round(self.shift, 4), "shift_object": self.shift_object,
+                "interior": round(self.interior, 4), "interior_object": self.interior_object,
+                "common_shift": [round(v, 4) for v in self.common_shift],
+                "background_changed": self.background_changed,
+                "attribution": self.attribution(),
+                "objects": [score.to_json() for score in self.objects]}
+
+
+def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
+                    tolerance: int = 1) -> ObjectMetrics:
+    """The id-based scores of two (H, W, 3) uint8 frames of one shape and their id maps
+    ((H, W) each). Objects are matched by name (by index where a side has no names), so a
+    reordered ``objects`` list still pairs them."""
+    labels, ref_map, out_map = _unified_labels(reference_ids, output_ids)
+    count = len(labels)
+    ref_counts = np.bincount(ref_map.ravel(), minlength=count)
+    out_counts = np.bincount(out_map.ravel(), minlength=count)
+    changed = np.abs(reference.astype(np.int16) - output.astype(np.int16)).max(axis=2) >= CHANGED_LEVELS
+    changed_counts = (np.bincount(ref_map[changed], minlength=count)
+                      + np.bincount(out_map[changed & (out_map != ref_map)], minlength=count))
+    identical = not changed.any() and np.array_equal(reference, output)
+    weights = {label: int(min(ref_counts[label], out_counts[label])) for label in range(1, count)
+               if ref_counts[label] and out_counts[label]}
+    images = None if identical else _Images.of(reference, output)
+    displacement = {} if identical else _displacements(images, ref_map, out_map, weights)
+    for label in weights:
+        displacement.setdefault(label, np.zeros(2))
+    common = _common_shift(displacement, weights)
+    # an object found away from the rest is registered again from the common displacement:
+    # a thin or small object's fit can stop short of a move of a third of a pixel
+    away = [label for label, d in displacement.items() if math.hypot(*(d - common)) > RECHECK_SHIFT]
+    if away and not identical:
+        displacement.update(_displacements(images, ref_map, out_map, away, common))
+        common = _common_shift(displacement, weights)
+    interiors = {} if identical else _interior_changes(images, ref_map, out_map, displacement, tolerance)
+    scores = []
+    for label in range(1, count):
+        if not ref_counts[label] and not out_counts[label]:
+            continue
+        d = displacement.get(label)
+        interior, interior_pixels = interiors.get(label, (None, 0))
+        scores.append(ObjectScore(
+            labels[label], int(ref_counts[label]), int(out_counts[label]), int(changed_counts[label]),
+            shift=None if d is None else float(math.hypot(*(d - common))),
+            displacement=None if d is None else (float(d[0]), float(d[1])),
+            interior=interior, interior_pixels=interior_pixels))
+    scores.sort(key=lambda s: (-s.changed_pixels, -s.coverage, s.name))
+    one_side = max((s for s in scores if s.status != "both"), key=lambda s: s.coverage, default=None)
+    moved = max((s for s in scores if s.shift is not None), key=lambda s: s.shift, default=None)
+    inside = max((s for s in scores if s.interior is not None), key=lambda s: abs(s.interior), default=None)
+    return ObjectMetrics(
+        objects=tuple(scores), background_changed=int(changed_counts[0]),
+        common_shift=(float(common[0]), float(common[1])),
+        one_side_pixels=one_side.coverage if one_side else 0, one_side_object=one_side.name if one_side else "",
+        shift=moved.shift if moved else 0.0, shift_object=moved.name if moved and moved.shift > 0 else "",
+        interior=abs(inside.interior) if inside else 0.0,
+        interior_object=inside.name if inside and inside.interior else "")
+
+
+def picture(reference: np.ndarray, reference_ids: IdMap, output_ids: IdMap, names: list[str]) -> np.ndarray:
+    """(H, W, 3) uint8 for a report: the reference dimmed to grey, and the pixels either side
+    shows each of ``names`` on (the objects a limit failed) in a colour of its own: a gone
+    object where it was, a new one where it is, a moved one at both places."""
+    labels, ref_map, out_map = _unified_labels(reference_ids, output_ids)
+    by_name = {name: label for label, name in enumerate(labels) if label}
+    grey = (reference.mean(axis=2) * 0.35).astype(np.uint8)
+    out = np.stack([grey, grey, grey], axis=2)
+    for rank, name in enumerate(names):
+        label = by_name.get(name)
+        if label is not None:
+            out[(ref_map == label) | (out_map == label)] = PICTURE_COLOURS[rank % len(PICTURE_COLOURS)]
+    return out
+
+
+PICTURE_COLOURS = ((255, 60, 60), (255, 200, 40), (60, 200, 255), (120, 255, 90), (255, 90, 230), (255, 140, 40))
+
+
+# -- matching the two sides ------------------------------------------------------------------
+
+def _unified_labels(reference: IdMap, output: IdMap) -> tuple[list, np.ndarray, np.ndarray]:
+    """Both sides' ids mapped to one label space: 0 the background, then every object by
+    name (a name two objects of one side share is told apart by index) -> (label names,
+    reference labels (H, W), output labels (H, W))."""
+    labels = [BACKGROUND]
+    index = {}
+    maps = []
+    for side in (reference, output):
+        present = [int(i) for i in np.unique(side.ids) if i]
+        duplicated = {name for name, times in Counter(side.names.values()).items() if times > 1}
+        lookup = np.zeros(int(side.ids.max(initial=0)) + 1, np.int32)
+        for object_id in present:
+            label = side.label(object_id, duplicated)
+            if label not in index:
+                index[label] = len(labels)
+                labels.append(label)
+            lookup[object_id] = index[label]
+        maps.append(lookup[side.ids])
+    return labels, maps[0], maps[1]
+
+
+# -- where each object moved ------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Images:
+    """What registering reads, worked out once a frame pair: the reference (H, W, 3) and its
+    gradients down and across after it in one (H, W, 9) array (one lookup samples all three),
+    the output, and the strongest gradient of each pixel (H, W)."""
+
+    ref: np.ndarray
+    stacked: np.ndarray
+    out: np.ndarray
+    strength: np.ndarray
+
+    @classmethod
+    def of(cls, reference: np.ndarray, output: np.ndarray) -> "_Images":
+        ref = reference.astype(np.float32)
+        grad_y, grad_x = _gradients(ref)
+        strength = np.maximum(np.abs(grad_y), np.abs(grad_x)).max(axis=2)
+        return cls(ref, np.concatenate([ref, grad_y, grad_x], axis=2), output.astype(np.float32), strength)
+
+
+def _displacements(images: _Images, ref_map, out_map, labels, start=None) -> dict:
+    """label -> (dy, dx) pixels, for the objects ``labels`` (both sides show them) whose
+    pixels differ; ``start``: a displacement to start from besides no shift and the id
+    centroids' shift."""
+    height, width = ref_map.shape
+    found = {}
+    ref_boxes = ndimage.find_objects(ref_map)
+    out_boxes = ndimage.find_objects(out_map)
+    for label in labels:
+        a, b = ref_boxes[label - 1], out_boxes[label - 1]
+        y0 = max(min(a[0].start, b[0].start) - 3, 0)
+        y1 = min(max(a[0].stop, b[0].stop) + 3, height)
+        x0 = max(min(a[1].start, b[1].start) - 3, 0)
+        x1 = min(max(a[1].stop, b[1].stop) + 3, width)
+        window = (slice(y0, y1), slice(x0, x1))
+        ref_labels, out_labels = ref_map[window], out_map[window]
+        others = ((ref_labels != label) & (ref_labels > 0)) | ((out_labels != label) & (out_labels > 0))
+        found[label] = _register(images, (y0, x0), ref_labels == label, out_labels == label, others, start)
+    return found
+
+
+def _register(images: _Images, origin: tuple, in_ref: np.ndarray, in_out: np.ndarray, others: np.ndarray,
+              start=None) -> np.ndarray:
+    """The displacement (dy, dx) of an object: ``in_ref`` and ``in_out`` its pixels on each
+    side, ``others`` where either side shows another object, all three over a window of the
+    frame whose top left pixel is ``origin``.
+
+    Its pixels and those next to them are registered. Where it touches another object the
+    edge belongs to whichever is in front, which the ids do not say: a plain wall would
+    follow a ball moving in front of it. So the object's pixels away from other objects are
+    registered too, from the displacement found, and where they are explained ten times
+    better (CONTESTED_RATIO) than by it, theirs is taken: the wall's own silhouette did not
+    move. Only with MIN_OWN_PIXELS such pixels, and an improvement of CONTESTED_LEVELS rms
+    or more: a few pixels fit anything about as well."""
+    square = np.ones((3, 3), bool)
+    region = ndimage.binary_dilation(in_ref | in_out, structure=square)
+    points, target = _points(images, region, origin)
+    if np.array_equal(target, images.ref[points[0].astype(np.int64), points[1].astype(np.int64)]):
+        return np.zeros(2)
+    extra = [np.asarray(start, np.float64)] if start is not None else []
+    starts = [np.zeros(2), *extra]
+    moved = _centroid(in_out) - _centroid(in_ref)
+    if np.abs(moved).max() > 0.5:
+        starts.append(moved)
+    found = _best(images, points, target, starts)
+    clean = region & ~ndimage.binary_dilation(others, structure=square)
+    if np.count_nonzero(clean) >= MIN_OWN_PIXELS and not np.array_equal(clean, region):
+        own_points, own_target = _points(images, clean, origin)
+        own = _best(images, own_points, own_target, [found, *extra])
+        with_found = _energy(images, own_points, own_target, found)
+        with_own = _energy(images, own_points, own_target, own)
+        if with_found > CONTESTED_RATIO * with_own and with_found - with_own > CONTESTED_LEVELS ** 2 * own_target.size:
+            return own
+    return found
+
+
+def _points(images: _Images, region: np.ndarray, origin: tuple):
+    """The pixels of ``region`` (a window at ``origin``) a registration reads, the
+    MAX_REGISTERED strongest edges of a large one -> ((ys, xs) float64 in the frame, their
+    output colours)."""
+    ys, xs = np.nonzero(region)
+    ys, xs = ys + origin[0], xs + origin[1]
+    if len(ys) > MAX_REGISTERED:  # the strongest edges carry the displacement
+        keep = np.argpartition(-images.strength[ys, xs], MAX_REGISTERED)[:MAX_REGISTERED]
+        keep.sort()
+        ys, xs = ys[keep], xs[keep]
+    return (ys.astype(np.float64), xs.astype(np.float64)), images.out[ys, xs]
+
+
+def _best(images: _Images, points, target, starts) -> np.ndarray:
+    """The displacement Gauss-Newton reaches from the best of ``starts``."""
+    best = None
+    for start in starts:
+        d, energy = _gauss_newton(images, points, target, np.array(start, np.float64))
+        if best is None or energy < best[1]:
+            best = (d, energy)
+    return best[0]
+
+
+def _energy(images: _Images, points, target, d) -> float:
+    """The squared residual of ``target`` against the reference moved by ``d``, the best
+    offset per channel taken out."""
+    residual = target - _bilinear(images.ref, points[0] - d[0], points[1] - d[1])
+    residual -= residual.mean(axis=0)
+    return float(np.square(residual, dtype=np.float64).sum())
+
+
+def _gauss_newton(images: _Images, points, target, d, iterations: int = 12):
+    """Least-squares displacement of the reference from ``d``, with an offset per channel (a
+    brightness change is not taken for a move): steps of at most half a pixel, damped by a
+    thousandth of the mean curvature (a direction without edges stays put) -> (d, energy)."""
+    ys, xs = points
+    count, channels = target.shape
+    offsets = np.zeros(channels)
+    ones = np.repeat(np.eye(channels)[None], count, axis=0).reshape(-1, channels)  # d(sample)/d(offset)
+    for _ in range(iterations):
+        sampled = _bilinear(images.stacked, ys - d[0], xs - d[1])
+        residual = (target - sampled[:, :channels] - offsets).reshape(-1)
+        jacobian = np.concatenate([-np.stack([sampled[:, channels:2 * channels].reshape(-1),
+                                              sampled[:, 2 * channels:].reshape(-1)], axis=1), ones], axis=1)
+        normal = jacobian.T @ jacobian
+        damping = np.diag([1e-3 * (normal[0, 0] + normal[1, 1]) + 1e-9] * 2 + [1e-9] * channels)
+        step = np.linalg.solve(normal + damping, jacobian.T @ residual)
+        move = np.clip(step[:2], -0.5, 0.5)
+        d, offsets = d + move, offsets + step[2:]
+        if np.abs(move).max() < 1e-3:
+            break
+    residual = target - _bilinear(images.ref, ys - d[0], xs - d[1]) - offsets
+    return d, float(np.square(residual, dtype=np.float64).sum())
+
+
+def _bilinear(image: np.ndarray, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+    """(H, W, C) sampled at float positions (edges repeated) -> (N, C)."""
+    height, width, channels = image.shape
+    ys = np.clip(ys, 0, height - 1)
+    xs = np.clip(xs, 0, width - 1)
+    y0 = np.minimum(ys.astype(np.int64), max(height - 2, 0))
+    x0 = np.minimum(xs.astype(np.int64), max(width - 2, 0))
+    fy, fx = (ys - y0).astype(image.dtype)[:, None], (xs - x0).astype(image.dtype)[:, None]
+    flat = image.reshape(-1, channels)
+    corner = y0 * width + x0
+    down, across = (width if height > 1 else 0), (1 if width > 1 else 0)
+    top_left, top_right = flat.take(corner, axis=0), flat.take(corner + across, axis=0)
+    bottom_left, bottom_right = flat.take(corner + down, axis=0), flat.take(corner + down + across, axis=0)
+    top = top_left + fx * (top_right - top_left)
+    bottom = bottom_left + fx * (bottom_right - bottom_left)
+    return top + fy * (bottom - top)
+
+
+def _gradients(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Central differences down and across (edges repeated), (H, W, C) each."""
+    padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
+    return (padded[2:, 1:-1] - padded[:-2, 1:-1]) * 0.5, (padded[1:-1, 2:] - padded[1:-1, :-2]) * 0.5
+
+
+def _centroid(mask: np.ndarray) -> np.ndarray:
+    ys, xs = np.nonzero(mask)
+    return np.array([ys.mean(), xs.mean()])
+
+
+def _common_shift(displacement: dict, weights: dict) -> np.ndarray:
+    """The median of the objects' displacements, each axis apart, weighted by pixel count."""
+    labels = [label for label in displacement if label in weights]
+    if not labels:
+        return np.zeros(2)
+    values = np.array([displacement[label] for label in labels])
+    counts = np.array([weights[label] for label in labels], np.float64)
+    return np.array([_weighted_median(values[:, axis], counts) for axis in range(2)])
+
+
+def _weighted_median(values: np.ndarray, weights: np.ndarray) -> float:
+    order = np.argsort(values, kind="stable")
+    cumulative = np.cumsum(weights[order])
+    return float(values[order][np.searchsorted(cumulative, cumulative[-1] / 2)])
+
+
+# -- what changed inside each object ----------------------------------------------------------
+
+def _interior_changes(images: _Images, ref_map, out_map, displacement: dict, tolerance: int) -> dict:
+    """label -> (signed score in levels, interior pixels) for objects with MIN_INTERIOR
+    interior pixels or more (see the module notes). A large interior is read at an even
+    spacing, MAX_INTERIOR_READ pixels at most: its mean needs no more."""
+    side = 2 * INTERIOR_RADIUS + 1
+
+    def uniform(labels):
+        return (ndimage.minimum_filter(labels, side, mode="nearest")
+                == ndimage.maximum_filter(labels, side, mode="nearest"))
+
+    inside = uniform(ref_map) & uniform(out_map) & (ref_map == out_map) & (ref_map > 0)
+    labels = ref_map[inside]
+    sizes = np.bincount(labels)
+    judged = [label for label in np.nonzero(sizes >= MIN_INTERIOR)[0] if label > 0]
+    if not judged:
+        return {}
+    ys, xs = np.nonzero(inside)
+    found = {}
+    for label in judged:
+        where = np.flatnonzero(labels == label)
+        n = len(where)
+        where = where[::-(-n // MAX_INTERIOR_READ)]
+        d = displacement.get(label, np.zeros(2))
+        moved = _bilinear(images.ref, ys[where] - d[0], xs[where] - d[1])
+        residual = images.out[ys[where], xs[where]] - moved
+        residual = np.sign(residual) * np.maximum(np.abs(residual) - tolerance, 0)
+        total = residual.sum(axis=0, dtype=np.float64)
+        spread = np.abs(residual).sum(axis=0, dtype=np.float64)
+        scores = np.where(spread > 0, total * np.abs(total) / np.maximum(len(where) * spread, 1e-12), 0.0)
+        strongest = int(np.abs(scores).argmax())
+        found[int(label)] = (float(scores[strongest]), n)
+    return found

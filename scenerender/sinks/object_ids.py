@@ -1,0 +1,99 @@
+"""Where a frame's object ids are kept, and how: ``render --object-ids`` writes them,
+``scenerender diff`` reads them (scenerender.compare.objects).
+
+The ids of the frame file ``OUT/frame_0003.png`` (or ``.jpg``, ``.exr``...) are the 16-bit
+grayscale PNG ``OUT/.object_ids/frame_0003.png``: per pixel, top row first, the index of
+the object it shows in the scene's ``objects`` + 1, 0 for none. ``OUT/.object_ids/objects.json``
+names them: ``{"format": 1, "scene": "garden.yaml", "objects": {"1": "ground", ...}}``. The
+folder starts with a dot, so nothing that lists frames sees it. A single image ``-o still.png``
+keeps its ids the same way, in ``.object_ids/`` beside it.
+"""
+from __future__ import annotations
+
+import json
+import struct
+import zlib
+from pathlib import Path
+
+import numpy as np
+
+from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.sinks.base import atomic_path, write_file
+
+FOLDER = ".object_ids"
+NAMES_FILE = "objects.json"
+FORMAT = 1
+
+
+def ids_path(frame: Path) -> Path:
+    """Where the ids of the frame file ``frame`` are kept."""
+    frame = Path(frame)
+    return frame.parent / FOLDER / (frame.stem + ".png")
+
+
+def names_path(folder: Path) -> Path:
+    """The objects.json of the frames in ``folder``."""
+    return Path(folder) / FOLDER / NAMES_FILE
+
+
+def encode_ids_png(ids: np.ndarray) -> bytes:
+    """(H, W) uint16 -> the bytes of a 16-bit grayscale PNG (rows "Sub"-filtered byte by
+    byte, deflated at level 1: ids are large flat areas)."""
+    height, width = ids.shape
+    rows = np.ascontiguousarray(ids, dtype=">u2").view(np.uint8).reshape(height, width * 2)
+    filtered = np.empty((height, width * 2 + 1), dtype=np.uint8)
+    filtered[:, 0] = 1  # filter type Sub, two bytes a pixel
+    filtered[:, 1:3] = rows[:, :2]
+    np.subtract(rows[:, 2:], rows[:, :-2], out=filtered[:, 3:])
+    data = zlib.compress(filtered.tobytes(), 1)
+    header = struct.pack(">IIBBBBB", width, height, 16, 0, 0, 0, 0)
+    return b"".join((b"\x89PNG\r\n\x1a\n", _chunk(b"IHDR", header), _chunk(b"IDAT", data), _chunk(b"IEND", b"")))
+
+
+def _chunk(kind: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(data, zlib.crc32(kind)))
+
+
+def read_ids(path: Path) -> np.ndarray | None:
+    """The ids in ``path`` as (H, W) uint16, or None when there is no such file or it is
+    not a 16-bit grayscale image (then the frame is compared by its colours alone)."""
+    from PIL import Image
+
+    try:
+        with Image.open(path) as image:
+            if image.mode not in ("I;16", "I;16B", "I"):
+                return None
+            values = np.asarray(image)
+    except (OSError, ValueError, SyntaxError):
+        return None
+    if values.ndim != 2 or values.min(initial=0) < 0 or values.max(initial=0) > 65535:
+        return None
+    return values.astype(np.uint16)
+
+
+def read_names(folder: Path) -> dict:
+    """id -> object name from ``folder``'s objects.json; {} when absent or unreadable."""
+    try:
+        data = json.loads(names_path(folder).read_text(encoding="utf-8"))
+        objects = data["objects"]
+        return {int(key): str(value) for key, value in objects.items()}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return {}
+
+
+def write_names(folder: Path, scene: str, names: dict, option: str = "-o") -> None:
+    """Write ``folder``'s objects.json (whole or not at all). Another scene's names there
+    are a UserError: two scenes' ids in one folder could not both be named."""
+    path = names_path(folder)
+    try:
+        old = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        old = None
+    if isinstance(old, dict) and old.get("scene") not in (None, scene) and any(
+            p.name != NAMES_FILE for p in path.parent.iterdir()):
+        raise UserError(f"{display_path(path.parent)} holds the object ids of {old.get('scene')}; render "
+                        f"{scene} with --object-ids into a folder of its own", SourceLocation(option))
+    text = json.dumps({"format": FORMAT, "scene": scene, "objects": {str(k): v for k, v in sorted(names.items())}},
+                      indent=1)
+    with atomic_path(path, option) as temp:
+        write_file(temp, (text + "\n").encode("utf-8"))
