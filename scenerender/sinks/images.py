@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from scenerender.sinks.names import name_template_problem
 from scenerender.sinks.base import FrameSink, atomic_path, write_file
+from scenerender.sinks.names import name_template_problem
 from scenerender.sinks.object_ids import encode_ids_png, ids_path, write_names
 
 SUFFIXES = {"png": ".png", "jpg": ".jpg", "tga": ".tga", "exr": ".exr"}
