@@ -1,6 +1,10 @@
 // Sum of direct light from every light of the scene at one surface point.
 #include "lighting/lights.glsl"
+#ifdef SHADING_PBR
+#include "lighting/pbr.glsl"
+#else
 #include "lighting/specular.glsl"
+#endif
 #ifdef HAS_SHADOWS
 #include "lighting/shadows.glsl"
 // First shadow view of each light, or -1, its filter's taps per side and its atlas page
@@ -27,7 +31,11 @@ vec3 shade_one(vec3 l, vec3 radiance, vec3 n, vec3 v, Surface s) {
     if (n_dot_l <= 0.0) {
         return vec3(0.0);
     }
+#ifdef SHADING_PBR
+    return radiance * pbr_direct(n, l, v, n_dot_l, s);
+#else
     return radiance * (s.base * n_dot_l + s.specular * specular_lobe(n, l, v, u_shininess));
+#endif
 }
 
 vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
