@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from PIL import Image
 
 import scenerender
 from scenerender.raytrace import ambient_fit, render_reference, shading
@@ -186,3 +187,67 @@ def test_gpu_matches_the_reference_on_the_pbr_benchmark_scenes(gl, name):
     errors = frame_errors(render_reference(scene, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
     assert errors["rmse_linear"] < TOLERANCES["rmse_linear"]
     assert errors["interior_rmse"] < TOLERANCES["interior_rmse"]
+
+
+# -- the maps and keys of YAML and MTL materials ---------------------------------------------------
+
+def halves(left, right, channels=3) -> np.ndarray:
+    pixels = np.zeros((8, 8, channels), np.uint8)
+    pixels[:, :4] = left
+    pixels[:, 4:] = right
+    return pixels
+
+
+QUAD_OBJ = ("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+            "usemtl m\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")
+FACING = """
+render: {{size: [48, 48], samples: 1, background: [0, 0, 0]}}
+camera: {{position: [0, 0, 5], target: [0, 0, 0], projection: orthographic, height: 2}}
+lights: [{{type: directional, direction: [0, 0, -1]}}, {{type: ambient, color: [0.2, 0.2, 0.2]}}]
+objects:
+  - mesh: {mesh}
+{material}
+"""
+
+
+def left_right(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return image[8:40, 4:20].reshape(-1, 3).mean(axis=0), image[8:40, 28:44].reshape(-1, 3).mean(axis=0)
+
+
+def test_mtl_roughness_and_metallic_maps(render_scene, tmp_path):
+    Image.fromarray(halves(0, 255)).save(tmp_path / "metal.png")   # left dielectric, right metal
+    Image.fromarray(halves(255, 255)).save(tmp_path / "rough.png")
+    (tmp_path / "quad.mtl").write_text("newmtl m\nKd 1 0.7 0.2\nPr 1\nPm 1\nmap_Pr rough.png\nmap_Pm metal.png\n")
+    (tmp_path / "quad.obj").write_text("mtllib quad.mtl\n" + QUAD_OBJ)
+    image = render_scene(FACING.format(mesh="quad.obj", material=""), base_dir=tmp_path)
+    left, right = left_right(image)
+    assert left[0] > right[0] + 40  # the metal half has no diffuse light
+
+
+def test_yaml_pbr_maps_and_keys(render_scene, tmp_path):
+    Image.fromarray(halves((0, 255, 0), (0, 255, 255))).save(tmp_path / "mr.png")   # right half metal
+    Image.fromarray(halves(255, 64)).save(tmp_path / "ao.png")
+    Image.fromarray(halves(0, 255)).save(tmp_path / "glow.png")
+    (tmp_path / "quad.obj").write_text(QUAD_OBJ)
+    base = "    material: {{base_color: [0.9, 0.9, 0.9], roughness: 1, {extra}}}"
+    plain = render_scene(FACING.format(mesh="quad.obj", material=base.format(extra="shading: pbr, metallic: 1")),
+                         base_dir=tmp_path)
+    mapped = render_scene(FACING.format(mesh="quad.obj", material=base.format(
+        extra="shading: pbr, metallic: 1, metallic_roughness_map: mr.png")), base_dir=tmp_path)
+    assert left_right(mapped)[0][0] > left_right(plain)[0][0] + 40  # blue 0: the left half is no metal
+    occluded = render_scene(FACING.format(mesh="quad.obj", material=base.format(
+        extra="shading: pbr, metallic: 0, occlusion_map: ao.png, occlusion_strength: 1")), base_dir=tmp_path)
+    left, right = left_right(occluded)
+    assert left[0] > right[0] + 5  # the ambient light is cut on the right
+    glowing = render_scene(FACING.format(mesh="quad.obj", material=base.format(
+        extra="shading: pbr, metallic: 1, emissive: [0.2, 0, 0], emissive_strength: 3, emissive_map: glow.png")),
+        base_dir=tmp_path)
+    assert left_right(glowing)[1][0] > left_right(plain)[1][0] + 60  # 0.6 more red on the right
+    assert abs(left_right(glowing)[0] - left_right(plain)[0]).max() <= 1  # and none on the left
+    masked = render_scene(FACING.format(mesh="quad.obj", material=base.format(
+        extra="shading: pbr, base_color_map: glow.png, alpha_mode: mask, opacity: 0.4")), base_dir=tmp_path)
+    assert masked.max() == 0  # every pixel's alpha 0.4 is under the cutoff 0.5
+    back = FACING.replace("position: [0, 0, 5]", "position: [0, 0, -5]")
+    one_sided = render_scene(back.format(mesh="quad.obj", material=base.format(
+        extra="shading: pbr, double_sided: false")), base_dir=tmp_path)
+    assert one_sided.max() == 0

@@ -33,6 +33,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
+import scenerender
+
 ROOT = Path(__file__).resolve().parents[2]
 SIZE = (640, 480)
 LIGHT = (-1.0, -1.0, -1.0)
@@ -79,8 +81,6 @@ def scene_yaml(glb: Path, setup: dict) -> str:
 def camera_for(glb: Path, frames: int) -> tuple[list, list, float]:
     """Positions (one per frame, turning 30 degrees about the bounds' centre), the target and
     the field of view that frames the model's bounds from +Z."""
-    import scenerender
-
     scene = scenerender.Scene.from_yaml(f"objects: [{{mesh: {glb.resolve()}}}]\n", glb.parent,
                                         asset_roots=[glb.resolve().parent])
     low, high = scene.world.objects[0].mesh.bounds()

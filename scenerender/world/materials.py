@@ -207,7 +207,6 @@ def apply_gltf(material: Material, gltf, location: SourceLocation | None = None)
     material.roughness = Track.constant(float(gltf.roughness))
     material.emissive = _color_track(gltf.emissive)
     material.emissive_strength = float(gltf.emissive_strength)
-    material.specular = _color_track((0.0, 0.0, 0.0))
     material.alpha_mode = gltf.alpha_mode
     material.alpha_cutoff = float(gltf.alpha_cutoff)
     material.double_sided = bool(gltf.double_sided)
