@@ -475,14 +475,17 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
               help="Frames to render (like a Python slice).")
 @click.option("--spp", type=click.IntRange(1, 32), default=4, show_default=True,
               help="Stratified samples a pixel along each axis (4 gives 4x4 = 16).")
+@click.option("--ambient-samples", type=click.IntRange(0, 65536), default=0, show_default=True,
+              help="0: ambient light by the GPU's formula. N: integrated over N directions a sample "
+                   "(Monte Carlo, seeded), each weighted by the BRDF and blocked by surfaces in its way.")
 @_scene_overrides(with_samples=False)
 @_asset_root_option
-def reference(scene, output, frames, spp, overrides, asset_roots):
+def reference(scene, output, frames, spp, ambient_samples, overrides, asset_roots):
     """Render SCENE (render.mode: shaded) with the CPU reference: ray-cast visibility, exact
     hard shadows, the GPU's shading equations, spp x spp samples a pixel. It is the truth
     error is measured against (`scenerender bench`), not a second renderer: normal and
-    opacity maps, ambient occlusion, transparency, outlines and the skybox are left out (one
-    warning names what the scene has of them)."""
+    opacity maps, ambient occlusion, transparency, alpha masks, outlines and the skybox are
+    left out (one warning names what the scene has of them)."""
     import time
 
     from scenerender.api import load
@@ -495,7 +498,7 @@ def reference(scene, output, frames, spp, overrides, asset_roots):
         warn("embreex is not installed (pip install 'scenerender[reference]'): ray casting is slow")
     for index in parse_frame_range(frames, loaded.frame_count):
         started = time.perf_counter()
-        frame = render_reference(loaded, index, spp=spp, warn=warn)
+        frame = render_reference(loaded, index, spp=spp, warn=warn, ambient_samples=ambient_samples)
         paths = write_reference(frame, output)
         warn = None  # the left-out features are the same on every frame
         click.echo(f"frame {index}: {', '.join(str(p) for p in paths)} ({time.perf_counter() - started:.1f} s)")

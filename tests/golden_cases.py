@@ -36,6 +36,7 @@ CASES = {
     "viewer_modes@wireframe": ("viewer_modes.yaml", 0, ["render.mode=wireframe"]),
     "primitives": ("primitives.yaml", 30, []),
     "primitives@phong": ("primitives.yaml", 30, ["render.shading=phong"]),
+    "gltf_pbr": ("gltf_pbr.yaml", 36, []),
 }
 
 

@@ -22,7 +22,7 @@ GOOD = "render: {size: [32, 24]}\nobjects:\n  - mesh: {primitive: box}\n"
 BAD = ("render:\n  size: [32, 24]\n  shading: blin_phong\n"
        "objects:\n  - mesh: {primitive: bx}\n  - mesh: {primitive: box}\n    visible: yes\n")
 BAD_LINES = [
-    "error: bad.yaml:3:3: render.shading: expected one of phong, blinn_phong, unlit, got 'blin_phong' "
+    "error: bad.yaml:3:3: render.shading: expected one of phong, blinn_phong, pbr, unlit, got 'blin_phong' "
     "(did you mean 'blinn_phong'?)",
     "error: bad.yaml:5:12: objects[0].mesh.primitive: unknown primitive 'bx' (did you mean 'box'?) "
     "(one of plane, box, sphere, cylinder, prism, cone)",

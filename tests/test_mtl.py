@@ -7,6 +7,7 @@ import pytest
 
 from scenerender.errors import UserError, Warnings
 from scenerender.mesh import MtlMaterial, TextureRef, parse_mtl
+from scenerender.world.materials import resolve
 
 
 def write(folder: Path, name: str, text: str = "") -> Path:
@@ -260,3 +261,28 @@ def test_statement_before_newmtl_warns(tmp_path):
     materials = parse(tmp_path, "Kd 1 0 0\nnewmtl m\nKd 0 1 0\n", warnings)
     assert materials["m"].diffuse == (0.0, 1.0, 0.0)
     assert len(warnings.items) == 1 and "materials.mtl:1:" in warnings.items[0]
+
+
+def test_pbr_extension_keys(tmp_path):
+    for name in ("rough.png", "metal.png", "glow.png", "n.png"):
+        touch_image(tmp_path, name)
+    material = only_material(tmp_path, "Kd 0.8 0.2 0.1\nPr 0.35\nPm 1.5\nKe 0.1 0.2 0.3\nmap_Pr rough.png\n"
+                                       "map_Pm metal.png\nmap_Ke glow.png\nnorm n.png\n")
+    assert material.roughness == 0.35
+    assert material.metallic == 1.0  # clamped to [0, 1]
+    assert material.emissive == (0.1, 0.2, 0.3)
+    assert material.roughness_map.path.name == "rough.png"
+    assert material.metallic_map.path.name == "metal.png"
+    assert material.emissive_map.path.name == "glow.png"
+    assert material.normal_map.path.name == "n.png"
+
+
+def test_pbr_extension_keys_make_a_pbr_material(tmp_path):
+    touch_image(tmp_path, "rough.png")
+    pbr = resolve("m", only_material(tmp_path, "Kd 0.8 0.2 0.1\nPr 0.35\nPm 0.5\nmap_Pr rough.png\n"))
+    assert pbr.model("blinn_phong") == "pbr"
+    assert pbr.roughness(0.0) == 0.35 and pbr.metallic(0.0) == 0.5
+    assert pbr.diffuse(0.0)[:3] == pytest.approx((0.8, 0.2, 0.1))
+    assert not pbr.maps["roughness_map"].srgb
+    plain = resolve("m", only_material(tmp_path, "Kd 0.8 0.2 0.1\nNs 20\n"))
+    assert plain.model("phong") == "phong"

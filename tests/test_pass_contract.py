@@ -78,6 +78,9 @@ VALUES = {
     "shininess": (32.0, 4.0),
     "emissive": ([0.0, 0.0, 0.0], [0.5, 0.1, 0.1]),
     "opacity": (1.0, 0.5),
+    "base_color": ([0.8, 0.2, 0.2], [0.2, 0.8, 0.2]),
+    "metallic": (0.0, 1.0),
+    "roughness": (0.5, 0.2),
     "rotation": ([0.0, 0.0, 0.0], [0.0, 45.0, 10.0]),
     "scale": (1.0, 1.5),
     "visible": (True, False),
@@ -118,6 +121,8 @@ def animated_scene(path: str) -> dict:
     node, leaf = _locate(scene, path)
     first, second = VALUES[leaf]
     node[leaf] = {"keys": [[0, first], [1, second]]}
+    if leaf == "base_color":  # the pbr name of diffuse: one of the two
+        node.pop("diffuse", None)
     return scene
 
 

@@ -18,7 +18,8 @@ render: {{size: [{SIZE}, {SIZE}], samples: 1, background: [0, 0, 0], shading: {{
 camera: {{position: [0.3, 6, 0.2], target: [0.3, 0, 0.2], up: [0, 0, -1], projection: orthographic, height: {VIEW}}}
 objects:
   - mesh: {{primitive: plane, size: 10}}
-    material: {{diffuse: [0.7, 0.55, 0.4], specular: [0.6, 0.6, 0.6], shininess: 24, ambient: [0.5, 0.5, 0.5]}}
+    material: {{diffuse: [0.7, 0.55, 0.4], specular: [0.6, 0.6, 0.6], shininess: 24, ambient: [0.5, 0.5, 0.5],
+                metallic: 0.3, roughness: 0.35}}
 """
 
 LIGHTS = {
@@ -51,7 +52,10 @@ def formula_pixels(scene) -> np.ndarray:
     base = np.broadcast_to(values["diffuse"][:3], p.shape)
     ks = np.broadcast_to(values["specular"][:3], p.shape)
     shininess = np.full(len(p), values["shininess"])
-    color = shading.ambient_term(frame.ambient, np.broadcast_to(values["ambient"][:3], p.shape), base)
+    metallic, roughness = np.full(len(p), values["metallic"]), np.full(len(p), values["roughness"])
+    pbr = world.render.shading == "pbr"
+    reflected = shading.pbr_ambient(n, v, base, metallic, roughness) if pbr else base
+    color = shading.ambient_term(frame.ambient, np.broadcast_to(values["ambient"][:3], p.shape), reflected)
     for light in frame.lights:
         if light.kind == "directional":
             l = np.broadcast_to(-light.direction, p.shape)
@@ -64,7 +68,10 @@ def formula_pixels(scene) -> np.ndarray:
             if light.kind == "spot":
                 cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1))
                 radiance = radiance * cone[:, None]
-        color = color + shading.direct_term(n, l, v, radiance, base, ks, shininess, world.render.shading)
+        if pbr:
+            color = color + shading.pbr_direct_term(n, l, v, radiance, base, metallic, roughness)
+        else:
+            color = color + shading.direct_term(n, l, v, radiance, base, ks, shininess, world.render.shading)
     fog = world.render.fog
     if fog is not None:
         color = shading.apply_fog(color, np.linalg.norm(p, axis=1), frame.fog_color, fog.mode, frame.fog_density,
@@ -74,7 +81,8 @@ def formula_pixels(scene) -> np.ndarray:
 
 FOG = ", fog: {mode: exp2, density: 0.12, color: [0.3, 0.4, 0.5]}"
 CASES = [("point", "blinn_phong", ""), ("point", "phong", ""), ("spot", "blinn_phong", ""),
-         ("directional", "phong", ""), ("point", "blinn_phong", FOG)]
+         ("directional", "phong", ""), ("point", "blinn_phong", FOG),
+         ("point", "pbr", ""), ("spot", "pbr", ""), ("directional", "pbr", ""), ("point", "pbr", FOG)]
 
 
 @pytest.mark.parametrize("light,model,extra", CASES, ids=[f"{c[0]}-{c[1]}{'-fog' if c[2] else ''}" for c in CASES])

@@ -311,7 +311,7 @@ def test_key_after_merge_overrides_merged_value(tmp_path):
     ("lights: [{type: spott, position: [0, 1, 0]}]\n", "(did you mean 'spot'?)"),
     ("objects: [{mesh: {primitive: bx}}]\n", "objects[0].mesh.primitive: unknown primitive 'bx' (did you mean 'box'?)"),
     ("objects: [{mesh: {primitive: spehre}}]\n", "(did you mean 'sphere'?)"),
-    ("render: {shading: blin_phong}\n", "render.shading: expected one of phong, blinn_phong, unlit, "
+    ("render: {shading: blin_phong}\n", "render.shading: expected one of phong, blinn_phong, pbr, unlit, "
                                         "got 'blin_phong' (did you mean 'blinn_phong'?)"),
     ("render: {mode: wirefame}\n", "(did you mean 'wireframe'?)"),
     ("objects:\n - mesh: {primitive: box}\n   position: {keys: [[0, [0, 0, 0]], [1, [1, 1, 1]]], "

@@ -69,7 +69,8 @@ def test_an_opaque_surface_whose_texture_alpha_is_low_still_hides_the_sky(gl, tm
     scene = _scene(tmp_path)
     assert _disagreement(gl, scene)[1] < 0.04
     real = features.material_defines
-    monkeypatch.setattr(features, "material_defines", lambda material: {**real(material), "TRANSPARENT": True})
+    monkeypatch.setattr(features, "material_defines",
+                        lambda material, *model: {**real(material, *model), "TRANSPARENT": True})
     (tmp_path / "again").mkdir()
     scene = _scene(tmp_path / "again")
     mean, share = _disagreement(gl, scene)

@@ -10,7 +10,8 @@ INSTANCE_FLOATS = 16 + 9  # camera-relative model matrix, normal matrix
 
 
 class GpuMesh:
-    """Interleaved position/normal/uv (8 float32), uint32 indices, optional tangents."""
+    """Interleaved position/normal/uv (8 float32), uint32 indices, optional tangents and
+    vertex colours (4 float32 each, in buffers of their own)."""
 
     def __init__(self, ctx, mesh: MeshData, with_tangents: bool):
         uvs = mesh.uvs if mesh.uvs is not None else np.zeros((mesh.vertex_count, 2), dtype=np.float32)
@@ -20,12 +21,15 @@ class GpuMesh:
         self.tangents = None
         if with_tangents:
             self.tangents = ctx.buffer(np.ascontiguousarray(tangents(mesh), dtype=np.float32).tobytes())
+        self.colors = None
+        if mesh.colors is not None:
+            self.colors = ctx.buffer(np.ascontiguousarray(mesh.colors, dtype=np.float32).tobytes())
         self.mesh = mesh
         self._ctx = ctx
         self._smooth = None
 
     def release(self) -> None:
-        for buffer in (self.vertices, self.indices, self.tangents, self._smooth):
+        for buffer in (self.vertices, self.indices, self.tangents, self.colors, self._smooth):
             if buffer is not None:
                 buffer.release()
 
@@ -59,6 +63,8 @@ class GpuMesh:
             layout.append((self.smooth_normals(), "3f", "in_normal"))
         if self.tangents is not None and "in_tangent" in names:
             layout.append((self.tangents, "4f", "in_tangent"))
+        if self.colors is not None and "in_color" in names:
+            layout.append((self.colors, "4f", "in_color"))
         inst_fmt, inst_attrs = [], []
         for size, name in ((16, "in_model"), (9, "in_normal_matrix")):
             if name in names:

@@ -33,8 +33,12 @@ class MeshData:
     uvs:       (N, 2) float32, or None when the source has no texture coordinates.
     indices:   (M, 3) uint32, counter-clockwise triangles seen from the outside.
     groups:    triangle ranges by material, covering 0..M in order.
-    materials: MTL materials by name (``scenerender.mesh.mtl.MtlMaterial``), empty when none.
+    materials: the file's materials by name: ``scenerender.mesh.mtl.MtlMaterial`` (OBJ) or
+               ``scenerender.mesh.gltf.GltfMaterial`` (glTF); empty when none.
     source:    a human-readable origin ("models/duck.obj", "primitive sphere").
+    colors:    (N, 4) float32 linear RGBA vertex colours (glTF ``COLOR_0``), or None.
+    images:    images the file holds itself (glTF), by the key its materials' textures name:
+               (H, W, 4) uint8 RGBA, top row first; empty when none.
     """
 
     positions: np.ndarray
@@ -44,6 +48,8 @@ class MeshData:
     groups: list[MeshGroup] = field(default_factory=list)
     materials: dict = field(default_factory=dict)
     source: str = ""
+    colors: np.ndarray | None = None
+    images: dict = field(default_factory=dict)
     _bounds: np.ndarray | None = field(default=None, init=False, repr=False, compare=False)
     _winding: int | None = field(default=None, init=False, repr=False, compare=False)
 

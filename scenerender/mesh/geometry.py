@@ -94,6 +94,7 @@ def flat_shaded(mesh: MeshData) -> MeshData:
         positions=mesh.positions[corners].astype(np.float32),
         normals=np.repeat(normals, 3, axis=0).astype(np.float32),
         uvs=None if mesh.uvs is None else mesh.uvs[corners].astype(np.float32),
+        colors=None if mesh.colors is None else mesh.colors[corners].astype(np.float32),
         indices=np.arange(len(corners), dtype=np.uint32).reshape(-1, 3),
         groups=list(mesh.groups),
     )

@@ -16,7 +16,9 @@ from scenerender.errors import SourceLocation, UserError, Warnings, display_path
 from scenerender.mesh.budget import TriangleBudget
 from scenerender.mesh.cache import load_obj_cached
 from scenerender.mesh.data import MeshData
+from scenerender.mesh.data import MeshGroup
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
+from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, vertex_colors
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
 from scenerender.mesh.obj import parse_obj
 from scenerender.scene.assets import AssetPolicy, policy_for
@@ -57,7 +59,7 @@ def load_mesh(
         return load_obj_cached(path, parse, normals=normals, normalize=normalize, warnings=warnings,
                                assets=assets, budget=budget)
     if suffix in TRIMESH_FORMATS:
-        mesh = _load_with_trimesh(path, assets, budget)
+        mesh = _load_with_trimesh(path, assets, budget, warnings)
         budget.charge(mesh.triangle_count, SourceLocation(shown))
     else:
         raise UserError(
@@ -87,7 +89,7 @@ def _finished(mesh: MeshData, normals: str, normalize: bool, shown: str) -> Mesh
     return mesh
 
 
-def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget) -> MeshData:
+def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget, warnings: Warnings) -> MeshData:
     """Read ``path`` with trimesh and flatten the scene it describes into one mesh.
 
     Node transforms are applied; UVs are kept when any part has them (parts without get
@@ -95,6 +97,10 @@ def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget) 
     normals mode to compute. Files the mesh refers to (glTF buffers and images, a PLY's
     texture) are read through ``assets``. Where the header declares the face count (PLY,
     binary STL, OFF), ``budget`` is checked before trimesh allocates anything.
+
+    A glTF file also gives its materials (mesh.gltf: one group per run of triangles with
+    one material, the images they use, ``COLOR_0``). Materials that cannot be read are one
+    warning, and the file is drawn with the scene's material.
     """
     import trimesh  # deliberately lazy: see the module docstring
 
@@ -105,6 +111,7 @@ def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget) 
         budget.check(declared, SourceLocation(shown))
     data = io.BytesIO(raw)
     resolver = _policy_resolver(trimesh, path, assets)
+    gltf = _read_gltf(raw, path, resolver, warnings) if path.suffix.lower() in (".glb", ".gltf") else None
     try:
         with _pywarnings.catch_warnings(), np.errstate(all="ignore"):
             # Pillow's decompression-bomb (a RuntimeWarning), NumPy's overflow and the readers'
@@ -117,7 +124,7 @@ def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget) 
             else:  # trimesh < 4.5
                 scene = trimesh.load(data, file_type=path.suffix.lower()[1:], resolver=resolver,
                                      force="scene", process=False)
-            raw_parts = _raw_parts(scene, trimesh)
+            raw_parts = _raw_parts(scene, trimesh, _gltf_slots(scene, gltf, warnings, shown))
     except UserError:
         raise  # a referenced file outside the allowed folders, already explained
     except MemoryError:
@@ -129,7 +136,50 @@ def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget) 
     parts = [_part_arrays(raw, shown) for raw in raw_parts]
     if not parts:
         raise UserError("the file contains no triangles", SourceLocation(shown))
-    return _concatenate(parts, shown)
+    mesh = _concatenate(parts, shown)
+    if gltf is not None:
+        used = {group.material for group in mesh.groups if group.material is not None}
+        mesh.materials = {m.name: m for m in gltf.materials if m.name in used}
+        mesh.images = {key: data for key, data in gltf.images.items()
+                       if any(t.image == key for m in mesh.materials.values() for t in m.textures().values())}
+    return mesh
+
+
+def _read_gltf(raw: bytes, path: Path, resolver, warnings: Warnings) -> GltfFile | None:
+    """The file's own glTF materials (mesh.gltf), or None with a warning where they cannot
+    be read (the geometry may still be fine: trimesh judges it)."""
+    shown = display_path(path)
+    try:
+        gltf = read_gltf(raw, str(path), resolver.get)
+    except GltfProblem as exc:
+        warnings.warn(f"materials not read ({exc}); drawn with the scene's material", SourceLocation(shown))
+        return None
+    except UserError:
+        raise  # a file it names outside the allowed folders
+    except (ValueError, OSError, RecursionError) as exc:
+        warnings.warn(f"materials not read ({_short(exc)}); drawn with the scene's material", SourceLocation(shown))
+        return None
+    for note in gltf.unsupported:
+        warnings.warn(f"{note}", SourceLocation(shown))
+    return gltf
+
+
+def _gltf_slots(scene, gltf: GltfFile | None, warnings: Warnings, shown: str) -> dict:
+    """{geometry name: (GltfMaterial or None, COLOR_0 componentType or None)}: trimesh makes
+    one geometry per primitive, in file order; each is matched to its primitive here, its
+    vertex count checked against the POSITION accessor's. Empty where they do not match
+    (a trimesh that reads the file another way): then no material is applied, with a warning."""
+    if gltf is None:
+        return {}
+    names = list(scene.geometry)
+    counts = [len(getattr(scene.geometry[name], "vertices", ())) for name in names]
+    if len(names) != len(gltf.slots) or any(c != slot[1] for c, slot in zip(counts, gltf.slots)):
+        if gltf.materials:
+            warnings.warn("materials not matched to the primitives; drawn with the scene's material",
+                          SourceLocation(shown))
+        return {}
+    return {name: (gltf.materials[slot[0]] if slot[0] is not None else None, slot[2])
+            for name, slot in zip(names, gltf.slots)}
 
 
 def _stored_vertex_normals(geometry) -> np.ndarray | None:
@@ -148,20 +198,25 @@ def _stored_vertex_normals(geometry) -> np.ndarray | None:
     return np.asarray(stored, dtype=np.float64)
 
 
-def _raw_parts(scene, trimesh) -> list[dict]:
+def _raw_parts(scene, trimesh, slots: dict) -> list[dict]:
     """The arrays of each geometry instance as trimesh read them, not yet trusted:
-    vertices (N, 3), faces (M, 3), stored normals or None, uv or None, transform (4, 4)."""
+    vertices (N, 3), faces (M, 3), stored normals or None, uv or None, transform (4, 4);
+    and from ``slots`` (see _gltf_slots) the glTF material (or None) and vertex colours."""
     raw = []
     for node in scene.graph.nodes_geometry:
         transform, geometry_name = scene.graph[node]
         geometry = scene.geometry.get(geometry_name)
         if isinstance(geometry, trimesh.Trimesh) and len(geometry.faces):
+            material, color_type = slots.get(geometry_name, (None, None))
+            visual = getattr(geometry, "visual", None)
             raw.append({
                 "vertices": np.asarray(geometry.vertices, dtype=np.float64),
                 "faces": np.asarray(geometry.faces, dtype=np.int64),
                 "normals": _stored_vertex_normals(geometry),
-                "uv": getattr(getattr(geometry, "visual", None), "uv", None),
+                "uv": getattr(visual, "uv", None),
                 "transform": np.asarray(transform, dtype=np.float64),
+                "material": material.name if material is not None else None,
+                "colors": vertex_colors(visual, color_type, len(geometry.vertices)) if color_type else None,
             })
     return raw
 
@@ -203,7 +258,8 @@ def _part_arrays(raw: dict, shown: str) -> dict:
     _check_float32(normals, "a normal component after the node transform", where)
     if determinant < 0:  # a mirroring transform turns the winding inside out
         faces = faces[:, ::-1]
-    return {"positions": positions, "normals": normals, "uvs": uvs, "faces": faces}
+    return {"positions": positions, "normals": normals, "uvs": uvs, "faces": faces,
+            "material": raw.get("material"), "colors": raw.get("colors")}
 
 
 def _check_float32(values: np.ndarray | None, what: str, where: SourceLocation) -> None:
@@ -231,14 +287,35 @@ def _concatenate(parts: list[dict], shown: str) -> MeshData:
         ).astype(np.float32)
     if all(p["normals"] is not None for p in parts):
         normals = np.concatenate([p["normals"] for p in parts]).astype(np.float32)
+    colors = None
+    if any(p.get("colors") is not None for p in parts):  # parts without are white
+        colors = np.concatenate([p["colors"] if p.get("colors") is not None else np.ones((len(p["positions"]), 4))
+                                 for p in parts]).astype(np.float32)
     faces = [p["faces"] + offset for p, offset in zip(parts, offsets)]
     return MeshData(
         positions=np.concatenate([p["positions"] for p in parts]).astype(np.float32),
         normals=normals,
         uvs=uvs,
         indices=np.concatenate(faces).astype(np.uint32),
+        groups=_material_groups(parts),
         source=shown,
+        colors=colors,
     )
+
+
+def _material_groups(parts: list[dict]) -> list[MeshGroup]:
+    """One group per run of consecutive parts with the same material (None: the object's)."""
+    groups: list[MeshGroup] = []
+    first = 0
+    for part in parts:
+        count = len(part["faces"])
+        material = part.get("material")
+        if groups and groups[-1].material == material:
+            groups[-1] = MeshGroup(material, groups[-1].first, groups[-1].count + count)
+        else:
+            groups.append(MeshGroup(material, first, count))
+        first += count
+    return groups
 
 
 def _short(exc: BaseException) -> str:

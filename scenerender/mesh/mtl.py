@@ -1,8 +1,9 @@
 """Wavefront MTL reader: the material statements the renderer uses.
 
 Read keys (case-insensitive): Ka Kd Ks Ke Ns d Tr illum map_Ka map_Kd map_Ks map_Bump bump
-norm map_d. Every other key (Ni, Tf, map_Ns, refl, PBR extensions, ...) is skipped
-silently, as the scene-file contract asks.
+norm map_d, and the PBR extension's Pr Pm map_Pr map_Pm map_Ke (roughness, metallic, their
+single-channel maps, an emission map). Every other key (Ni, Tf, map_Ns, refl, Ps, ...) is
+skipped silently, as the scene-file contract asks.
 """
 from __future__ import annotations
 
@@ -46,7 +47,9 @@ class MtlMaterial:
 
     Colours are linear RGB 3-tuples. ``opacity`` comes from ``d``, or ``1 - Tr`` when only
     ``Tr`` is given, clamped to [0, 1]. ``normal_map`` comes from map_Bump, bump or norm
-    (the last of them in the block wins).
+    (the last of them in the block wins). ``roughness`` and ``metallic`` (``Pr``, ``Pm``)
+    are clamped to [0, 1]; ``roughness_map`` and ``metallic_map`` (``map_Pr``, ``map_Pm``)
+    are single-channel data, ``emissive_map`` (``map_Ke``) a colour map.
     """
 
     name: str
@@ -57,11 +60,16 @@ class MtlMaterial:
     shininess: float | None = None
     opacity: float | None = None
     illum: int | None = None
+    roughness: float | None = None
+    metallic: float | None = None
     ambient_map: TextureRef | None = None
     diffuse_map: TextureRef | None = None
     specular_map: TextureRef | None = None
     normal_map: TextureRef | None = None
     opacity_map: TextureRef | None = None
+    roughness_map: TextureRef | None = None
+    metallic_map: TextureRef | None = None
+    emissive_map: TextureRef | None = None
     location: SourceLocation | None = None
 
 
@@ -74,8 +82,11 @@ _MAP_KEYS = {
     "bump": "normal_map",
     "norm": "normal_map",
     "map_d": "opacity_map",
+    "map_pr": "roughness_map",
+    "map_pm": "metallic_map",
+    "map_ke": "emissive_map",
 }
-_SCALAR_KEYS = {"ns", "d", "tr", "illum"}
+_SCALAR_KEYS = {"ns", "d", "tr", "illum", "pr", "pm"}
 
 # Texture options and how many arguments each takes (fewest, most). They have to be
 # known to find where the file name starts, even the ones the renderer does not use.
@@ -208,6 +219,9 @@ def _apply_statement(current: dict, key: str, lowered: str, rest: str, ctx: _Mtl
         if tokens and tokens[0].lower() == "-halo":  # "d -halo 0.5": the halo is not drawn
             tokens = tokens[1:]
         current["opacity"] = _clamp01(ctx.number(_first_argument(" ".join(tokens), key, ctx), key))
+    elif lowered in ("pr", "pm"):
+        value = _clamp01(ctx.number(_first_argument(rest, key, ctx), key))
+        current["roughness" if lowered == "pr" else "metallic"] = value
     elif lowered == "tr":
         current["_transmission"] = ctx.number(_first_argument(rest, key, ctx), key)
     elif lowered == "illum":

@@ -20,6 +20,7 @@ class Soup:
     corners:  (T, 3, 3) float64 camera-relative positions, corner-major.
     normals:  (T, 3, 3) float64 world-space vertex normals (not renormalised).
     uvs:      (T, 3, 2) float64 texture coordinates (zero where the mesh has none).
+    colors:   (T, 3, 4) float64 vertex colours (white where the mesh has none).
     material: (T,) int32 index into ``materials`` (the frame's material values).
     object:   (T,) int32 index of the scene object.
     casts:    (T,) bool, the object casts shadows.
@@ -30,6 +31,7 @@ class Soup:
     corners: np.ndarray
     normals: np.ndarray
     uvs: np.ndarray
+    colors: np.ndarray
     material: np.ndarray
     object: np.ndarray
     casts: np.ndarray
@@ -60,20 +62,24 @@ def frame_soup(world, frame) -> Soup:
                                        obj.cast_shadows))
     if not parts:
         empty = np.zeros((0, 3, 3))
-        return Soup(empty, empty, np.zeros((0, 3, 2)), np.zeros(0, np.int32), np.zeros(0, np.int32),
-                    np.zeros(0, bool), materials)
-    return Soup(*(np.concatenate([p[k] for p in parts]) for k in range(6)), materials)
+        return Soup(empty, empty, np.zeros((0, 3, 2)), np.zeros((0, 3, 4)), np.zeros(0, np.int32),
+                    np.zeros(0, np.int32), np.zeros(0, bool), materials)
+    return Soup(*(np.concatenate([p[k] for p in parts]) for k in range(7)), materials)
 
 
 def _object_triangles(mesh, matrices: np.ndarray, camera_position: np.ndarray, group_material: list,
                       object_index: int, casts: bool):
-    """(corners, normals, uvs, material, object, casts) of every instance of one mesh."""
+    """(corners, normals, uvs, colors, material, object, casts) of every instance of one mesh."""
     positions = mesh.positions.astype(np.float64)[mesh.indices]   # (M, 3, 3) object space
     vertex_normals = mesh.normals.astype(np.float64)[mesh.indices]
     if mesh.uvs is not None:
         uvs = mesh.uvs.astype(np.float64)[mesh.indices]
     else:
         uvs = np.zeros((len(mesh.indices), 3, 2))
+    if mesh.colors is not None:
+        colors = mesh.colors.astype(np.float64)[mesh.indices]
+    else:
+        colors = np.ones((len(mesh.indices), 3, 4))
     per_triangle = np.zeros(len(mesh.indices), np.int32)
     for group, material in zip(mesh.groups, group_material):
         per_triangle[group.first:group.first + group.count] = material
@@ -85,6 +91,6 @@ def _object_triangles(mesh, matrices: np.ndarray, camera_position: np.ndarray, g
         normals.append(vertex_normals @ normal_matrix.T)
     count = len(matrices)
     return (np.concatenate(corners), np.concatenate(normals), np.tile(uvs, (count, 1, 1)),
-            np.tile(per_triangle, count),
+            np.tile(colors, (count, 1, 1)), np.tile(per_triangle, count),
             np.full(len(per_triangle) * count, object_index, np.int32),
             np.full(len(per_triangle) * count, casts, bool))

@@ -8,11 +8,20 @@ MSAA converges to), then scaled by the exposure, mapped through the tone curve
 output pass. The scene, camera and lights come from the same World and frame evaluator
 the GPU path uses.
 
-Diffuse and specular maps are sampled at the base level, bilinearly, for every sample
-(scenerender.raytrace.textures). What it leaves out (one warning line names what a scene
-has of it): normal and opacity maps, screen-space ambient occlusion, transparency (every
-surface is opaque), outlines, the skybox (the background colour shows), the wireframe
-overlay.
+Diffuse (base colour), specular, metallic-roughness, occlusion and emissive maps are
+sampled at the base level, bilinearly, for every sample (scenerender.raytrace.textures);
+vertex colours multiply the base colour. Each material is shaded with its own model
+(Phong, Blinn-Phong, pbr or unlit). What it leaves out (one warning line names what a
+scene has of it): normal and opacity maps, screen-space ambient occlusion, transparency
+and alpha masks (every surface is opaque), single-sided materials (both faces are
+drawn), outlines, the skybox (the background colour shows), the wireframe overlay.
+
+Ambient light is the GPU's formula by default. With ``ambient_samples`` it is integrated
+instead: the ambient lights are a uniform environment of that radiance, and each sample
+point gathers it from that many cosine-distributed directions (seeded per frame), each
+weighted by the material's BRDF and blocked by any surface in its way. That is the exact
+answer the GPU's formula approximates (for a white non-metal in a white environment,
+the white furnace, its own energy balance).
 """
 from __future__ import annotations
 
@@ -73,6 +82,10 @@ def unsupported_features(world) -> list[str]:
         found.append("ambient occlusion")
     if any(m.transparent for m in world.materials()):
         found.append("transparency")
+    if any(m.masked for m in world.materials()):
+        found.append("alpha masks")
+    if any(not m.double_sided for m in world.materials()):
+        found.append("single-sided materials")
     if any(obj.outline for obj in world.objects):
         found.append("outlines")
     if render.skybox is not None:
@@ -83,24 +96,28 @@ def unsupported_features(world) -> list[str]:
 
 
 def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None = None,
-                     warn=None) -> ReferenceFrame:
+                     warn=None, ambient_samples: int = 0) -> ReferenceFrame:
     """Frame ``index`` of ``world`` (a World or a scenerender.Scene), spp x spp rays a pixel.
 
     size: (width, height), default the scene's render.size. ``warn`` receives one line
-    naming what the reference leaves out, when the scene has any of it."""
+    naming what the reference leaves out, when the scene has any of it. ambient_samples:
+    0 for the GPU's ambient formula, else the directions per sample point over which
+    ambient light is integrated (see the module's docstring)."""
     world = getattr(world, "world", world)
     if world.render.mode != "shaded":
         raise single_error(f"the reference renders mode 'shaded' only, not '{world.render.mode}'",
                            ("render", "mode"), world.scene.source)
     if spp < 1:
         raise UserError(f"spp must be at least 1, got {spp}")
+    if ambient_samples < 0:
+        raise UserError(f"ambient samples must be 0 or more, got {ambient_samples}")
     missing = unsupported_features(world)
     if missing and warn is not None:
         warn(f"the reference renders without {', '.join(missing)}")
     width, height = size or tuple(int(v) for v in world.render.size)
     time = index / float(world.output.fps)
     frame = FrameEvaluator(world, (width, height), atlas=None).evaluate(index, time)
-    scene = _FrameScene(world, frame, warn)
+    scene = _FrameScene(world, frame, warn, ambient_samples, np.random.Generator(np.random.PCG64([index, 1])))
     rng = np.random.Generator(np.random.PCG64(index))
     rows_per_chunk = max(1, _CHUNK_SAMPLES // (width * spp * spp))
     chunks = [scene.render_rows(y0, min(height, y0 + rows_per_chunk), width, height, spp, rng)
@@ -114,18 +131,20 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
 class _FrameScene:
     """One frame's geometry, lights and materials, ready to shade samples."""
 
-    def __init__(self, world, frame, warn):
+    def __init__(self, world, frame, warn, ambient_samples: int = 0, ambient_rng=None):
         self.world = world
         self.frame = frame
+        self.ambient_samples = ambient_samples
+        self.ambient_rng = ambient_rng
         self.soup: Soup = frame_soup(world, frame)
         self.primary = TriangleCaster(self.soup.corners, warn)
+        self.primary_count = self.soup.count
         self.casters = TriangleCaster(self.soup.corners[self.soup.casts], warn)
         self.lights = list(frame.lights)
         self.shadowed = [i for i, light in enumerate(self.lights) if light.definition.shadow is not None]
         self.spots = [i for i, light in enumerate(self.lights) if light.kind == "spot"]
-        self.table = _material_table(self.soup.materials)
+        self.table = _material_table(self.soup.materials, world.render.shading)
         self.maps = _material_maps(self.soup.materials, world.images)
-        self.model = world.render.shading
         extent = frame.bounds[1] - frame.bounds[0] if frame.bounds is not None else np.ones(3)
         self.extent = max(float(np.linalg.norm(extent)), 1e-9)
         self.depth_range = _depth_range(world, frame.camera)
@@ -206,11 +225,20 @@ class _FrameScene:
         facing = np.where(back[:, None], -geometric, geometric)
         view = shading.safe_normalize(-p, n)
         m = soup.material[tri]
-        base, ka, ks, ke = table["diffuse"][m], table["ambient"][m], table["specular"][m], table["emissive"][m]
+        surface = {key: table[key][m] for key in ("diffuse", "ambient", "specular", "emissive", "shininess",
+                                                   "metallic", "roughness")}
+        surface["occlusion"] = np.ones(len(m))
+        colors = soup.colors[tri]
+        surface["diffuse"] = surface["diffuse"] * (colors[:, 0] * (1.0 - u - v)[:, None] + colors[:, 1] * u[:, None]
+                                                   + colors[:, 2] * v[:, None])[:, :3]
         if self.maps:
-            base, ks = self._apply_maps(m, soup.uvs[tri], u, v, base, ks)
-        shininess = table["shininess"][m]
-        color = shading.ambient_term(self.frame.ambient, ka, base) + ke
+            self._apply_maps(m, soup.uvs[tri], u, v, surface)
+        base, ke = surface["diffuse"], surface["emissive"]
+        model = table["model"][m]
+        pbr = model == MODELS.index("pbr")
+        ambient = self._ambient(p, n, facing, view, surface, model) if self.ambient_samples else self._ambient_formula(
+            n, view, surface, pbr)
+        color = ambient * surface["occlusion"][:, None] + ke
         shadow = np.zeros((len(p), len(self.shadowed)))
         cone = np.zeros((len(p), len(self.spots)))
         for light_index, light in enumerate(self.lights):
@@ -221,8 +249,8 @@ class _FrameScene:
                 blocked = self._blocked(light, p, l, facing, n)
                 shadow[:, self.shadowed.index(light_index)] = blocked
                 radiance = radiance * (~blocked)[:, None]
-            color += shading.direct_term(n, l, view, radiance, base, ks, shininess, self.model)
-        unlit = table["unlit"][m]
+            color += self._direct(n, l, view, radiance, surface, model)
+        unlit = model == MODELS.index("unlit")
         color = np.where(unlit[:, None], base + ke, color)
         fog = self.world.render.fog
         if fog is not None:
@@ -230,20 +258,86 @@ class _FrameScene:
                                       self.frame.fog_density, fog.start, fog.end)
         return color, shadow, cone, n
 
-    def _apply_maps(self, m: np.ndarray, corner_uvs: np.ndarray, u: np.ndarray, v: np.ndarray,
-                    base: np.ndarray, ks: np.ndarray):
-        """base and Ks (P, 3) times the diffuse and specular maps of each point's material."""
+    @staticmethod
+    def _direct(n, l, view, radiance, surface: dict, model: np.ndarray) -> np.ndarray:
+        """(P, 3): one light's term under each point's model (unlit points are replaced later)."""
+        out = np.zeros_like(n)
+        for code, name in enumerate(MODELS):
+            rows = np.flatnonzero(model == code)
+            if not len(rows) or name == "unlit":
+                continue
+            part = {key: value[rows] for key, value in surface.items()}
+            if name == "pbr":
+                out[rows] = shading.pbr_direct_term(n[rows], l[rows], view[rows], radiance[rows], part["diffuse"],
+                                                    part["metallic"], part["roughness"])
+            else:
+                out[rows] = shading.direct_term(n[rows], l[rows], view[rows], radiance[rows], part["diffuse"],
+                                                part["specular"], part["shininess"], name)
+        return out
+
+    def _ambient_formula(self, n, view, surface: dict, pbr: np.ndarray) -> np.ndarray:
+        """(P, 3) La Ka times what the surface reflects of it: base, or the pbr model's
+        hemisphere integral (shading.pbr_ambient)."""
+        reflected = surface["diffuse"]
+        if pbr.any():
+            reflected = reflected.copy()
+            reflected[pbr] = shading.pbr_ambient(n[pbr], view[pbr], surface["diffuse"][pbr], surface["metallic"][pbr],
+                                                 surface["roughness"][pbr])
+        return shading.ambient_term(self.frame.ambient, surface["ambient"], reflected)
+
+    def _ambient(self, p, n, facing, view, surface: dict, model: np.ndarray) -> np.ndarray:
+        """(P, 3) La Ka times the BRDF integrated over the hemisphere by Monte Carlo:
+        ``ambient_samples`` cosine-distributed directions a point (pdf cos / pi, so each
+        weighs pi f = the light term over N.L), each blocked by any surface in its way."""
+        ambient = np.asarray(self.frame.ambient, dtype=np.float64)
+        total = np.zeros_like(n)
+        if not np.any(ambient > 0.0):
+            return total
+        tangent = shading.safe_normalize(np.cross(n, np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]],
+                                                              [[0.0, 1.0, 0.0]])))
+        bitangent = np.cross(n, tangent)
+        epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p, axis=1)
+        for _ in range(self.ambient_samples):
+            r1, r2 = self.ambient_rng.random((2, len(p)))
+            radius, angle = np.sqrt(r1), 2.0 * np.pi * r2
+            cos = np.sqrt(np.maximum(1.0 - r1, 0.0))
+            l = (tangent * (radius * np.cos(angle))[:, None] + bitangent * (radius * np.sin(angle))[:, None]
+                 + n * cos[:, None])
+            radiance = np.broadcast_to(ambient, n.shape)
+            term = self._direct(n, l, view, radiance, surface, model) / np.maximum(cos, 1e-12)[:, None]
+            if self.primary_count:
+                hits = self.primary.first_hit(p + facing * epsilon[:, None], l)
+                term = np.where((hits >= 0)[:, None], 0.0, term)
+            total += term
+        return total / self.ambient_samples * surface["ambient"]
+
+    def _apply_maps(self, m: np.ndarray, corner_uvs: np.ndarray, u: np.ndarray, v: np.ndarray, surface: dict) -> None:
+        """The maps of each point's material applied to ``surface`` (arrays per point, in
+        place): base and Ks times the diffuse and specular maps, metallic and roughness
+        times theirs, emission times the emissive map, occlusion from its map."""
         uv = corner_uvs[:, 0] * (1.0 - u - v)[:, None] + corner_uvs[:, 1] * u[:, None] + corner_uvs[:, 2] * v[:, None]
-        base, ks = base.copy(), ks.copy()
-        for material_index, samplers in self.maps.items():
+        for key in ("diffuse", "specular", "emissive", "metallic", "roughness"):
+            surface[key] = surface[key].copy()
+        for material_index, (samplers, strength) in self.maps.items():
             rows = np.flatnonzero(m == material_index)
             if not len(rows):
                 continue
-            if "diffuse_map" in samplers:
-                base[rows] *= samplers["diffuse_map"].sample(uv[rows])[:, :3]
-            if "specular_map" in samplers:
-                ks[rows] *= samplers["specular_map"].sample(uv[rows])[:, :3]
-        return base, ks
+            sample = {key: sampler.sample(uv[rows]) for key, sampler in samplers.items()}
+            if "diffuse_map" in sample:
+                surface["diffuse"][rows] *= sample["diffuse_map"][:, :3]
+            if "specular_map" in sample:
+                surface["specular"][rows] *= sample["specular_map"][:, :3]
+            if "emissive_map" in sample:
+                surface["emissive"][rows] *= sample["emissive_map"][:, :3]
+            if "metallic_roughness_map" in sample:
+                surface["metallic"][rows] *= sample["metallic_roughness_map"][:, 2]
+                surface["roughness"][rows] *= sample["metallic_roughness_map"][:, 1]
+            if "roughness_map" in sample:
+                surface["roughness"][rows] *= sample["roughness_map"][:, 0]
+            if "metallic_map" in sample:
+                surface["metallic"][rows] *= sample["metallic_map"][:, 0]
+            if "occlusion_map" in sample:
+                surface["occlusion"][rows] = 1.0 + strength * (sample["occlusion_map"][:, 0] - 1.0)
 
     def _light_at(self, light, p: np.ndarray, n: np.ndarray):
         """(l (P, 3) unit towards the light, radiance (P, 3), cone factor (P,))."""
@@ -286,31 +380,43 @@ class _FrameScene:
         return blocked
 
 
-def _material_table(materials: list) -> dict:
-    """Per-material arrays gathered by triangle: (K, 3) colours, (K,) shininess and unlit."""
+MODELS = ("phong", "blinn_phong", "pbr", "unlit")
+# maps the reference samples (only the pbr model reads the metallic and roughness ones)
+SAMPLED_MAPS = ("diffuse_map", "specular_map", "emissive_map", "occlusion_map", "metallic_roughness_map",
+                "roughness_map", "metallic_map")
+
+
+def _material_table(materials: list, scene_shading: str = "blinn_phong") -> dict:
+    """Per-material arrays gathered by triangle: (K, 3) colours (emission times its
+    strength), (K,) shininess, metallic, roughness and the shading model (an index into
+    MODELS; ``scene_shading`` for materials that name none)."""
     if not materials:
         materials = [(None, {"ambient": np.ones(3), "diffuse": np.ones(4), "specular": np.zeros(3),
-                             "emissive": np.zeros(3), "shininess": 1.0})]
+                             "emissive": np.zeros(3), "shininess": 1.0, "metallic": 0.0, "roughness": 0.5})]
     values = [v for _, v in materials]
     return {
         "ambient": np.array([v["ambient"][:3] for v in values], dtype=np.float64),
         "diffuse": np.array([v["diffuse"][:3] for v in values], dtype=np.float64),
         "specular": np.array([v["specular"][:3] for v in values], dtype=np.float64),
-        "emissive": np.array([v["emissive"][:3] for v in values], dtype=np.float64),
+        "emissive": np.array([np.asarray(v["emissive"][:3]) * getattr(m, "emissive_strength", 1.0)
+                              for m, v in materials], dtype=np.float64),
         "shininess": np.array([v["shininess"] for v in values], dtype=np.float64),
-        "unlit": np.array([bool(getattr(m, "unlit", False)) for m, _ in materials]),
+        "metallic": np.array([v.get("metallic", 0.0) for v in values], dtype=np.float64),
+        "roughness": np.array([v.get("roughness", 0.5) for v in values], dtype=np.float64),
+        "model": np.array([MODELS.index(m.model(scene_shading) if m is not None else scene_shading)
+                           for m, _ in materials]),
     }
 
 
 def _material_maps(materials: list, images) -> dict:
-    """{material index: {"diffuse_map" / "specular_map": MapSampler}} for the materials that
-    have those maps."""
+    """{material index: ({map key: MapSampler}, occlusion strength)} for the materials that
+    have maps the reference samples."""
     maps = {}
     for index, (material, _) in enumerate(materials):
-        samplers = {key: MapSampler.for_source(material.maps[key], material, images)
-                    for key in ("diffuse_map", "specular_map") if key in material.maps}
+        samplers = {key: MapSampler.for_source(material.maps[key], material, images) for key in SAMPLED_MAPS
+                    if key in material.maps}
         if samplers:
-            maps[index] = samplers
+            maps[index] = (samplers, material.occlusion_strength)
     return maps
 
 

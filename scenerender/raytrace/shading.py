@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from scenerender.colorspace import srgb_encode
+from scenerender.raytrace import ambient_fit
 
 
 def safe_normalize(v: np.ndarray, fallback: np.ndarray | None = None) -> np.ndarray:
@@ -70,6 +71,93 @@ def direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.ndarra
     lobe = specular_lobe(n, l, v, shininess, model)
     term = radiance * (base * n_dot_l[:, None] + specular * lobe[:, None])
     return np.where(lit[:, None], term, 0.0)
+
+
+# -- the pbr model (shaders/lighting/pbr.glsl) ---------------------------------------------------
+
+PBR_MIN_ALPHA = 0.002  # alpha = roughness^2 is kept above this, as on the GPU
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.sum(a * b, axis=-1)
+
+
+def ggx_distribution(n_dot_h: np.ndarray, alpha: np.ndarray) -> np.ndarray:
+    """(P,) GGX / Trowbridge-Reitz D = alpha^2 / (pi ((N.H)^2 (alpha^2 - 1) + 1)^2)."""
+    a2 = alpha * alpha
+    d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0
+    return a2 / (np.pi * d * d)
+
+
+def smith_visibility(n_dot_v: np.ndarray, n_dot_l: np.ndarray, alpha: np.ndarray) -> np.ndarray:
+    """(P,) height-correlated Smith V = G / (4 N.L N.V):
+    0.5 / (N.L sqrt((N.V)^2 (1 - a^2) + a^2) + N.V sqrt((N.L)^2 (1 - a^2) + a^2))."""
+    a2 = alpha * alpha
+    from_view = n_dot_l * np.sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2)
+    from_light = n_dot_v * np.sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2)
+    total = from_view + from_light
+    return np.where(total > 0.0, 0.5 / np.where(total > 0.0, total, 1.0), 0.0)
+
+
+def fresnel_schlick(f0: np.ndarray, v_dot_h: np.ndarray) -> np.ndarray:
+    """(P, 3) F = F0 + (1 - F0) (1 - V.H)^5."""
+    return f0 + (1.0 - f0) * ((1.0 - v_dot_h) ** 5)[:, None]
+
+
+def pbr_alpha(roughness: np.ndarray) -> np.ndarray:
+    return np.maximum(np.asarray(roughness, dtype=np.float64) ** 2, PBR_MIN_ALPHA)
+
+
+def pbr_brdf(n: np.ndarray, l: np.ndarray, v: np.ndarray, base: np.ndarray, metallic: np.ndarray,
+             roughness: np.ndarray) -> np.ndarray:
+    """(P, 3) glTF 2.0's metallic-roughness BRDF f(l, v) (Appendix B):
+    f = (1 - F) (1 - metallic) base / pi + F D V, F0 = mix(0.04, base, metallic); zero
+    where N.L <= 0 or N.V <= 0 (it is symmetric in l and v: f(l, v) = f(v, l)).
+
+    n, l, v: (P, 3) unit vectors; base (P, 3); metallic, roughness (P,)."""
+    n_dot_l, n_dot_v = _dot(n, l), _dot(n, v)
+    h = safe_normalize(l + v, n)
+    alpha = pbr_alpha(roughness)
+    metallic = np.asarray(metallic, dtype=np.float64)[:, None]
+    f0 = 0.04 * (1.0 - metallic) + base * metallic
+    fresnel = fresnel_schlick(f0, np.clip(_dot(v, h), 0.0, 1.0))
+    specular = ggx_distribution(np.clip(_dot(n, h), 0.0, 1.0), alpha) * smith_visibility(
+        np.clip(n_dot_v, 0.0, 1.0), np.clip(n_dot_l, 0.0, 1.0), alpha)
+    f = (1.0 - fresnel) * (1.0 - metallic) * base / np.pi + fresnel * specular[:, None]
+    return np.where(((n_dot_l > 0.0) & (n_dot_v > 0.0))[:, None], f, 0.0)
+
+
+def pbr_direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.ndarray, base: np.ndarray,
+                    metallic: np.ndarray, roughness: np.ndarray) -> np.ndarray:
+    """One light's contribution under the pbr model, (P, 3): radiance * pi f(l, v) N.L, the
+    light units of the other models (Lambert's f = base / pi gives radiance base N.L); zero
+    where N.L <= 0. As on the GPU, N.V is clamped to 0 rather than cut (a normal that
+    turns from the eye still reflects)."""
+    n_dot_l = _dot(n, l)
+    n_dot_v = np.clip(_dot(n, v), 0.0, 1.0)
+    h = safe_normalize(l + v, n)
+    alpha = pbr_alpha(roughness)
+    metallic = np.asarray(metallic, dtype=np.float64)[:, None]
+    f0 = 0.04 * (1.0 - metallic) + base * metallic
+    fresnel = fresnel_schlick(f0, np.clip(_dot(v, h), 0.0, 1.0))
+    specular = np.pi * ggx_distribution(np.clip(_dot(n, h), 0.0, 1.0), alpha) * smith_visibility(
+        n_dot_v, np.clip(n_dot_l, 0.0, 1.0), alpha)
+    term = ((1.0 - fresnel) * (1.0 - metallic) * base + fresnel * specular[:, None]) * n_dot_l[:, None]
+    return np.where((n_dot_l > 0.0)[:, None], radiance * term, 0.0)
+
+
+def pbr_ambient(n: np.ndarray, v: np.ndarray, base: np.ndarray, metallic: np.ndarray,
+                roughness: np.ndarray) -> np.ndarray:
+    """(P, 3) what a uniform ambient light of radiance 1 gives under the pbr model, as the
+    GPU has it: the BRDF's hemisphere integrals from the committed fit
+    (scenerender.raytrace.ambient_fit): specular F0 A + B, diffuse
+    (1 - metallic) base (1 - F0) (1 - Cd)."""
+    n_dot_v = np.clip(_dot(n, v), 0.0, 1.0)
+    scale, bias, diffuse_fresnel = ambient_fit.evaluate(n_dot_v, roughness)
+    metallic = np.asarray(metallic, dtype=np.float64)[:, None]
+    f0 = 0.04 * (1.0 - metallic) + base * metallic
+    diffuse = base * (1.0 - metallic) * (1.0 - f0) * (1.0 - diffuse_fresnel)[:, None]
+    return diffuse + f0 * scale[:, None] + bias[:, None]
 
 
 def ambient_term(ambient: np.ndarray, ka: np.ndarray, base: np.ndarray) -> np.ndarray:

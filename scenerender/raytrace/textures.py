@@ -18,7 +18,8 @@ class MapSampler:
     wrap: "repeat" | "clamp" | "mirror"; nearest: True for ``filter: nearest`` and the
     placeholder (the GPU samples those with GL_NEAREST)."""
 
-    def __init__(self, pixels: np.ndarray, srgb: bool, wrap: str, nearest: bool, uv_scale, uv_offset):
+    def __init__(self, pixels: np.ndarray, srgb: bool, wrap: str, nearest: bool, uv_scale, uv_offset,
+                 uv_skew=(0.0, 0.0)):
         values = pixels.astype(np.float64) / 255.0
         if srgb:
             values[:, :, :3] = srgb_decode(values[:, :, :3])
@@ -27,18 +28,20 @@ class MapSampler:
         self.nearest = nearest
         self.scale = np.asarray(uv_scale, dtype=np.float64)
         self.offset = np.asarray(uv_offset, dtype=np.float64)
+        self.skew = np.asarray(uv_skew, dtype=np.float64)
 
     @classmethod
     def for_source(cls, source, material, images) -> "MapSampler":
         """The sampler of a TextureSource of ``material``; ``images`` the World's ImageStore."""
         if source.is_placeholder:
-            return cls(placeholder_pixels(), False, material.wrap, True, source.uv_scale, source.uv_offset)
+            return cls(placeholder_pixels(), False, material.wrap, True, source.uv_scale, source.uv_offset,
+                       source.uv_skew)
         return cls(images.pixels(source.path), source.srgb, material.wrap, material.filter == "nearest",
-                   source.uv_scale, source.uv_offset)
+                   source.uv_scale, source.uv_offset, source.uv_skew)
 
     def sample(self, uv: np.ndarray) -> np.ndarray:
         """(P, 2) float64 texture coordinates -> (P, 4) float64 RGBA, linear."""
-        t = uv * self.scale + self.offset
+        t = uv * self.scale + uv[:, ::-1] * self.skew + self.offset
         if self.wrap == "mirror":
             t = 1.0 - np.abs(1.0 - np.mod(t, 2.0))
         height, width = self.texels.shape[:2]

@@ -100,13 +100,17 @@ class PassContext:
         models[:, :3, 3] -= eye
         self.run.gpu.write_eye_relative(index, models, state.normals)
 
-    def draw_placed(self, program, objects: ObjectsInput, index: int) -> None:
-        """Draw every instance of object ``index`` as ``place_instances`` last placed them."""
+    def draw_placed(self, program, objects: ObjectsInput, index: int, group: int | None = None) -> None:
+        """Draw every instance of object ``index`` (one mesh ``group`` of it, or all) as
+        ``place_instances`` last placed them."""
         count = objects.frames[index].count
         if count:
+            mesh = objects.definitions[index].mesh
+            first, vertices = 0, mesh.triangle_count * 3
+            if group is not None:
+                first, vertices = mesh.groups[group].first * 3, mesh.groups[group].count * 3
             vao = self.run.gpu.vertex_array(program, index, eye_relative=True)
-            vao.render(moderngl.TRIANGLES, vertices=objects.definitions[index].mesh.triangle_count * 3,
-                       instances=count)
+            vao.render(moderngl.TRIANGLES, vertices=vertices, first=first, instances=count)
 
     def shared(self, key: str, make):
         """A GL object passes share for the whole run (noise textures, samplers), made once

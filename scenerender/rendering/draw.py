@@ -8,7 +8,7 @@ import moderngl
 import numpy as np
 
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.rendering.features import TEXTURE_UNITS
+from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
 from scenerender.rendering.inputs import LightsInput, MaterialsInput, ObjectsInput
 from scenerender.rendering.lights import LIGHT_BINDING, SHADOW_VIEW_BINDING
 from scenerender.world.shadows import atlas_page_name
@@ -56,6 +56,28 @@ def _items(objects: ObjectsInput):
                 yield DrawItem(index, group_index, material)
 
 
+def draw_cutting_masks(ctx, objects: ObjectsInput, index: int, program, fragment: str, defines: dict,
+                       materials: MaterialsInput | None, uniforms: dict) -> None:
+    """Draw object ``index`` from the camera with ``program`` in a pass that draws no
+    material colour (the geometry prepass, the shadow view), except that the groups of an
+    alpha-masked material (glTF MASK) use ``fragment`` with that material's alpha
+    (features.mask_defines, shaders/lighting/alpha_mask.glsl) and ``uniforms``, so that
+    their cut-away pixels are not drawn. ``materials``: the ``materials`` input's value,
+    None where the scene has no masked material."""
+    obj = objects.definitions[index]
+    if materials is None or not any(material.masked for material in obj.materials):
+        objects.draw(program, index)
+        return
+    for group, material in enumerate(obj.materials):
+        used = program
+        if material.masked:
+            used = ctx.programs.get(MESH_VERTEX, fragment, {**defines, **mask_defines(material)})
+            bind_texture_units(used)
+            set_uniforms(used, **uniforms)
+            bind_material(used, material, materials)
+        objects.draw(used, index, group=group)
+
+
 def draw_item(objects: ObjectsInput, program, item: DrawItem, mode=None) -> None:
     """Draw one group of one object (its instances in view) with ``program``."""
     objects.draw(program, item.object_index, mode=mode, group=item.group_index)
@@ -67,6 +89,20 @@ def cull_hidden_faces(gl, objects: ObjectsInput, index: int) -> None:
     skipped faces cost nothing (with MSAA, llvmpipe shades every rasterised fragment,
     hidden or not). Callers end with ``stop_culling``."""
     skip_faces(gl, objects.frames[index].hidden_faces)
+
+
+def single_sided_faces(objects: ObjectsInput, index: int) -> str | None:
+    """The faces a single-sided material (glTF ``doubleSided: false``) of object ``index``
+    does not show, as GL names them: "back" where every instance keeps the mesh's
+    counter-clockwise front faces, "front" where every instance mirrors them, None where
+    the instances differ (then both are drawn)."""
+    models = objects.frames[index].models
+    signs = np.sign(np.linalg.det(models[:, :3, :3]))
+    if np.all(signs > 0):
+        return "back"
+    if np.all(signs < 0):
+        return "front"
+    return None
 
 
 def skip_faces(gl, faces: str | None) -> None:
@@ -156,17 +192,23 @@ def bind_texture_units(program) -> None:
 
 
 def bind_material(program, material, materials: MaterialsInput) -> None:
-    """Material uniforms (this frame's values) and its texture maps."""
+    """Material uniforms (this frame's values) and its texture maps (those the program
+    samples: a map only the pbr model reads is not bound for the others)."""
     values = materials.values[id(material)]
+    emissive = values["emissive"] if material.emissive_strength == 1.0 else values["emissive"] * material.emissive_strength
     set_uniforms(program, u_ka=values["ambient"], u_kd=values["diffuse"], u_ks=values["specular"],
-                 u_ke=values["emissive"], u_shininess=values["shininess"], u_opacity=values["opacity"])
+                 u_ke=emissive, u_shininess=values["shininess"], u_opacity=values["opacity"],
+                 u_metallic=values["metallic"], u_roughness=values["roughness"],
+                 u_alpha_cutoff=material.alpha_cutoff, u_occlusion_strength=material.occlusion_strength)
     for key, source in material.maps.items():
+        if program.get(f"u_{key}", None) is None:
+            continue
         texture = materials.textures.texture_2d(source.path, source.srgb)
         _sampler_state(texture, material, source)
         texture.use(TEXTURE_UNITS[f"u_{key}"])
-        set_uniforms(program, **{f"u_{key}_st": (*source.uv_scale, *source.uv_offset)})
+        set_uniforms(program, **{f"u_{key}_st": (*source.uv_scale, *source.uv_offset), f"u_{key}_skew": source.uv_skew})
         if key == "normal_map":
-            set_uniforms(program, u_normal_strength=source.strength)
+            set_uniforms(program, u_normal_strength=source.strength * material.normal_scale)
 
 
 def _sampler_state(texture, material, source) -> None:

@@ -1,7 +1,8 @@
 """Which shader features a scene and its materials need -> GLSL defines.
 
 Features are decided once per run from the scene: light counts per type, shadows, fog
-mode, specular model, AO; and per material: texture maps, unlit, mirrored wrap.
+mode, AO; and per material: its shading model (the scene's ``render.shading`` unless the
+material names its own), texture maps, vertex colours, alpha mask, mirrored wrap.
 
 Which lights cast shadows, and where their views sit in the shadow-view array, never
 changes during a run, so those are compile-time constants too: an unshadowed light has no
@@ -22,8 +23,11 @@ SHADOW_VIEW_BYTES = 144  # one ShadowView (shaders/lighting/shadows.glsl)
 TEXTURE_UNITS = {
     "u_diffuse_map": 0, "u_specular_map": 1, "u_normal_map": 2, "u_opacity_map": 3,
     "u_shadow_atlas": 4, "u_ao": 5, "u_skybox": 6, "u_gbuffer": 7, "u_noise": 8, "u_color": 9, "u_atlas": 10,
-    "u_shadow_atlas_2": 11,
+    "u_shadow_atlas_2": 11, "u_metallic_roughness_map": 12, "u_occlusion_map": 13, "u_emissive_map": 14,
+    "u_roughness_map": 15, "u_metallic_map": 16,
 }
+# maps only the pbr model reads
+PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")
 
 
 @dataclass(frozen=True)
@@ -33,7 +37,7 @@ class SceneFeatures:
     n_spot: int
     shadows: bool
     fog_mode: str | None
-    specular: str
+    specular: str  # render.shading: the model of materials that name none
     unlit: bool
     ambient_occlusion: bool
     # per light type, in light order: index of the light's first shadow view, or -1
@@ -100,13 +104,19 @@ class SceneFeatures:
         if self.fog_mode is not None:
             defines["HAS_FOG"] = True
             defines[f"FOG_{self.fog_mode.upper()}"] = True
-        if self.unlit or material.unlit:
+        model = material.model(self.specular)
+        if model == "unlit":
             defines["UNLIT"] = True
         else:
             defines.update(self.lighting_defines())
+            defines.pop("SPECULAR_PHONG", None)
+            if model == "phong":
+                defines["SPECULAR_PHONG"] = True
+            elif model == "pbr":
+                defines["SHADING_PBR"] = True
             if with_ao:
                 defines["HAS_AO"] = True
-        defines.update(material_defines(material))
+        defines.update(material_defines(material, model))
         return defines
 
 
@@ -136,9 +146,23 @@ def _first_shadow_views(lights, atlas) -> dict:
     return {**{k: tuple(v) for k, v in firsts.items()}, "n_shadow_views": count, "shadow_pages": pages}
 
 
-def material_defines(material) -> dict:
+def mask_defines(material) -> dict:
+    """The defines of an alpha-masked material's program in the passes that draw no colour
+    (shaders/lighting/alpha_mask.glsl): what its alpha comes from."""
+    defines = {key: value for key, value in material_defines(material, "unlit").items()
+               if key in ("HAS_DIFFUSE_MAP", "HAS_OPACITY_MAP", "WRAP_MIRROR", "ALPHA_MASK", "HAS_VERTEX_COLOR")}
+    if any(tuple(material.maps[key].uv_skew) != (0.0, 0.0) for key in ("diffuse_map", "opacity_map")
+           if key in material.maps):
+        defines["UV_AFFINE"] = True
+    return defines
+
+
+def material_defines(material, model: str = "blinn_phong") -> dict:
+    """The defines of ``material`` drawn with shading ``model`` (maps only the pbr model
+    reads are left out of the others)."""
     defines = {}
-    for key in material.maps:
+    maps = [key for key in material.maps if model == "pbr" or key not in PBR_MAPS]
+    for key in maps:
         defines[f"HAS_{key.upper()}"] = True
     if "normal_map" in material.maps and not material.unlit:
         defines["HAS_TANGENTS"] = True
@@ -146,4 +170,10 @@ def material_defines(material) -> dict:
         defines["WRAP_MIRROR"] = True
     if material.transparent:
         defines["TRANSPARENT"] = True
+    if material.masked:
+        defines["ALPHA_MASK"] = True
+    if material.vertex_colors:
+        defines["HAS_VERTEX_COLOR"] = True
+    if any(tuple(material.maps[key].uv_skew) != (0.0, 0.0) for key in maps):
+        defines["UV_AFFINE"] = True
     return defines

@@ -55,7 +55,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
 
     gbuffer = ao = None
     if settings.ambient_occlusion is not None or settings.mode in ("depth", "normals", "ambient_occlusion"):
-        geometry = graph.add(GBufferPass(size, inputs.camera, inputs.objects))
+        geometry = graph.add(GBufferPass(size, inputs.camera, inputs.objects, _masked_materials(world, inputs)))
         gbuffer = geometry.color
     if settings.ambient_occlusion is not None or settings.mode == "ambient_occlusion":
         raw = graph.add(SSAOPass(gbuffer, geometry.depth, inputs.camera, size,
@@ -100,7 +100,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     linear = color if options.want_linear else None
     if settings.mode in DATA_MODES:
         view_format = "rgba32f" if options.want_linear else "rgba8"
-        final = _add_view(graph, settings.mode, inputs, gbuffer, ao, shadow_passes, size, view_format)
+        final = _add_view(graph, world, settings.mode, inputs, gbuffer, ao, shadow_passes, size, view_format)
         linear = final if options.want_linear else None  # the values themselves, not a colour
     ids = graph.add(ObjectIdPass(size, inputs.camera, inputs.objects)).color if options.object_ids else None
     graph.add(ReadbackPass(final, size, linear, ids))
@@ -138,6 +138,8 @@ def prepass_pays(world, atlas, size, samples: int) -> bool:
     so llvmpipe appears to shade hidden multisampled fragments anyway.
     """
     if samples > 1 or world.settings.shading == "unlit":
+        return False
+    if any(m.masked for m in world.materials()):  # cut-away pixels must not hold the prepass's depth
         return False
     return depth_complexity(world, atlas, size) >= PREPASS_DEPTH_COMPLEXITY
 
@@ -199,12 +201,21 @@ def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> tuple[list,
         page = atlas.page_of(light_index)
         map_size = atlas.tiles[light_index][0].size
         current[page] = graph.add(ShadowMapPass(light.name, light.kind, map_size, light.shadow.pcf, page,
-                                                atlas.pages[page], views, inputs.objects, current.get(page))).atlas
+                                                atlas.pages[page], views, inputs.objects, current.get(page),
+                                                _masked_materials(world, inputs, casters_only=True))).atlas
         handles.append((light_index, current[page]))
     return handles, tuple(current[page] for page in sorted(current))
 
 
-def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, size, view_format: str):
+def _masked_materials(world, inputs: InputHandles, casters_only: bool = False):
+    """The ``materials`` input where the passes that draw no colour must cut alpha-masked
+    materials (glTF MASK) too, else None: they then read no material, so an animated
+    material colour leaves them cached."""
+    objects = [obj for obj in world.objects if obj.cast_shadows or not casters_only]
+    return inputs.materials if any(m.masked for obj in objects for m in obj.materials) else None
+
+
+def _add_view(graph, world, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, size, view_format: str):
     if mode == "depth":
         return graph.add(DepthViewPass(gbuffer, size, inputs.camera, view_format)).image
     if mode == "normals":
@@ -215,5 +226,6 @@ def _add_view(graph, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, siz
     views = inputs.shadow_view(light_index)
     if mode == "shadow":
         return graph.add(ShadowFactorViewPass(handle, size, inputs.camera, inputs.objects, light_index,
-                                              inputs.per_light[light_index], views, inputs.lights, view_format)).color
+                                              inputs.per_light[light_index], views, inputs.lights, view_format,
+                                              _masked_materials(world, inputs))).color
     return graph.add(LightDepthViewPass(handle, size, views, view_format)).image

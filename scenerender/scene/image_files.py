@@ -17,6 +17,7 @@ The scene's file checks read sizes here (``image_size``); decoding pixels is the
 from __future__ import annotations
 
 import contextlib
+import io
 import threading
 import warnings as _pywarnings
 from pathlib import Path
@@ -66,7 +67,21 @@ def image_size(path: Path, max_pixels: int = DEFAULT_MAX_PIXELS) -> tuple[int, i
 def opened_image(path: Path, max_pixels: int):
     """The Pillow image for ``path``, header read and size checked, pixels not decoded;
     Pillow's own bomb check and warnings stay off until the block ends (decode inside it)."""
-    with open_regular_file(path, "image") as stream, _pillow_quiet():
+    with open_regular_file(path, "image") as stream, _opened(stream, path, max_pixels) as image:
+        yield image
+
+
+@contextlib.contextmanager
+def opened_image_bytes(data: bytes, label: Path, max_pixels: int):
+    """``opened_image`` for an image held in memory (one a mesh file holds); ``label``
+    names it in messages."""
+    with _opened(io.BytesIO(data), label, max_pixels) as image:
+        yield image
+
+
+@contextlib.contextmanager
+def _opened(stream, path: Path, max_pixels: int):
+    with _pillow_quiet():
         try:
             image = Image.open(stream, formats=IMAGE_FORMATS)
         except MemoryError:

@@ -6,10 +6,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from pathlib import Path
 
 import numpy as np
 
-from scenerender.errors import Warnings
+from scenerender.errors import SourceLocation, Warnings
 from scenerender.mesh import MeshData, apply_normals_mode, load_mesh, make_primitive, normalize_unit
 from scenerender.mesh.budget import TriangleBudget
 from scenerender.scene import LoadedScene
@@ -107,6 +108,9 @@ def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
     lights, ambient = split_ambient(light_defs(spec.lights, spec.render.shadows))
     _check_modes(scene, lights)
     images = ImageStore(max_pixels=_limit(scene, "texture_pixels", DEFAULT_MAX_PIXELS))
+    for mesh in loader.meshes.values():
+        for key, data in mesh.images.items():  # held by the mesh file itself (glTF)
+            images.add_encoded(Path(key), data)
     texture_files.check_material_textures(objects, scene, images, warnings)
     texture_files.check_skybox(scene, images)
     return World(scene=scene, objects=objects, lights=lights, ambient=ambient, warnings=warnings, images=images)
@@ -147,6 +151,8 @@ class _Loader:
         key, mesh = self.load(obj, path)
         name = obj.name or _default_name(obj, index)
         materials = self.object_materials(obj, mesh, path)
+        for material in materials:
+            material.vertex_colors = mesh.colors is not None
         if obj.instances is None:
             instances = single_instance()
         elif isinstance(obj.instances, list):
@@ -203,7 +209,8 @@ class _Loader:
                 self.warnings.warn(f"{mesh.source} uses material '{group.material}' that its MTL files do not "
                                    "define; drawn with the default material")
             where = path + ("material_overrides", group.material)
-            result.append(mats.resolve(group.material or "default", mtl, [overrides.get(group.material)], [where]))
+            result.append(mats.resolve(group.material or "default", mtl, [overrides.get(group.material)], [where],
+                                       location=SourceLocation(mesh.source)))
         return result
 
 

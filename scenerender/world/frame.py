@@ -217,4 +217,6 @@ def _material_values(material, t: float) -> dict:
         "emissive": np.asarray(material.emissive(t))[:3],
         "shininess": float(material.shininess(t)),
         "opacity": float(material.opacity(t)),
+        "metallic": float(material.metallic(t)),
+        "roughness": float(material.roughness(t)),
     }

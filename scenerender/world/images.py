@@ -11,18 +11,22 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, display_path
-from scenerender.scene.image_files import DEFAULT_MAX_PIXELS, ImageError, decoder_failure, image_size, opened_image
+from scenerender.scene.image_files import (
+    DEFAULT_MAX_PIXELS, ImageError, decoder_failure, image_size, opened_image, opened_image_bytes,
+)
 
 PLACEHOLDER_SIZE = 64
 
 
-def decode_image(path: Path, max_pixels: int = DEFAULT_MAX_PIXELS) -> np.ndarray:
-    """(H, W, 4) uint8 RGBA, rows top to bottom; the first frame of animated files.
+def decode_image(path: Path, max_pixels: int = DEFAULT_MAX_PIXELS, data: bytes | None = None) -> np.ndarray:
+    """(H, W, 4) uint8 RGBA, rows top to bottom; the first frame of animated files. With
+    ``data``, the image is those encoded bytes (one a mesh file holds), ``path`` its name.
 
     Raises ImageError (never anything else) for files that cannot be decoded, and
     UserError when the machine has not the memory to decode it.
     """
-    with opened_image(path, max_pixels) as image:
+    opened = opened_image(path, max_pixels) if data is None else opened_image_bytes(data, path, max_pixels)
+    with opened as image:
         try:
             image.load()
             pixels = _rgba(image)
@@ -74,12 +78,17 @@ class ImageStore:
     def __init__(self, max_pixels: int = DEFAULT_MAX_PIXELS):
         self.max_pixels = max_pixels
         self._pixels: dict[Path, np.ndarray] = {}
+        self._encoded: dict[Path, bytes] = {}
+
+    def add_encoded(self, key: Path, data: bytes) -> None:
+        """An image held by a mesh file (encoded bytes), known as ``key`` from now on."""
+        self._encoded[Path(key)] = data
 
     def size(self, path: Path) -> tuple[int, int]:
         """(height, width) of ``path``: of its decoded pixels, else from its header."""
         key = Path(path)
-        if key in self._pixels:
-            return self._pixels[key].shape[:2]
+        if key in self._pixels or key in self._encoded:
+            return self.pixels(key).shape[:2]
         width, height = image_size(key, self.max_pixels)
         return height, width
 
@@ -87,5 +96,5 @@ class ImageStore:
         """(H, W, 4) uint8 RGBA of ``path``; raises ImageError."""
         key = Path(path)
         if key not in self._pixels:
-            self._pixels[key] = decode_image(key, self.max_pixels)
+            self._pixels[key] = decode_image(key, self.max_pixels, self._encoded.get(key))
         return self._pixels[key]

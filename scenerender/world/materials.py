@@ -5,7 +5,11 @@ Precedence, lowest first: built-in defaults, the MTL file, the object's ``materi
 
 Shading (see shaders/lighting): with base = Kd * map_Kd,
   colour = La * Ka * base + sum over lights of (Ld * base * N.L + Ls * Ks * map_Ks * spec) + Ke
-so Ka scales how much ambient light the surface colour receives (1 = all of it).
+so Ka scales how much ambient light the surface colour receives (1 = all of it). The
+``pbr`` model reads the same base colour (Kd is glTF's baseColorFactor) with ``metallic``
+and ``roughness`` instead of Ks and Ns (docs/scene-notes.md, "The pbr model").
+
+A glTF file's material (mesh.gltf.GltfMaterial) takes the MTL's place in the precedence.
 """
 from __future__ import annotations
 
@@ -16,6 +20,7 @@ import numpy as np
 
 from scenerender.animation import Track, shared_constant
 from scenerender.errors import SourceLocation
+from scenerender.mesh.gltf import GltfMaterial
 
 DEFAULTS = {
     "ambient": (1.0, 1.0, 1.0, 1.0),
@@ -24,11 +29,23 @@ DEFAULTS = {
     "emissive": (0.0, 0.0, 0.0, 1.0),
     "shininess": 32.0,
     "opacity": 1.0,
+    "metallic": 0.0,
+    "roughness": 0.5,
 }
 COLOR_KEYS = ("ambient", "diffuse", "specular", "emissive")
-MAP_KEYS = ("diffuse_map", "specular_map", "normal_map", "opacity_map")
-# Colour maps hold sRGB-encoded colours; normal and opacity maps hold plain data.
-SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "opacity_map": False}
+SCALAR_KEYS = ("shininess", "opacity", "metallic", "roughness")
+# the maps a material may have; diffuse_map is also the pbr model's base colour map. The
+# roughness and metallic maps (MTL map_Pr, map_Pm) are single-channel (red); the
+# metallic_roughness map is glTF's (blue = metallic, green = roughness).
+MAP_KEYS = ("diffuse_map", "specular_map", "normal_map", "opacity_map", "metallic_roughness_map", "occlusion_map",
+            "emissive_map", "roughness_map", "metallic_map")
+# Colour maps hold sRGB-encoded colours; the others hold plain data.
+SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "opacity_map": False,
+             "metallic_roughness_map": False, "occlusion_map": False, "emissive_map": True, "roughness_map": False,
+             "metallic_map": False}
+# a scene's key for a map, where it is not the map's own name
+SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
+SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 
 
 @dataclass(frozen=True)
@@ -38,7 +55,12 @@ class TextureSource:
     path:      the image file, or None for the placeholder (a texture that could not be read).
     srgb:      decode as sRGB (colour maps) or read values as they are (data maps).
     uv_scale, uv_offset: (2,) float, from MTL ``-s`` / ``-o``.
+    uv_skew:   (2,) float, the off-diagonal terms of a rotated texture transform (glTF's
+               ``KHR_texture_transform``): coordinates become
+               ``(s.x u + k.x v + o.x, k.y u + s.y v + o.y)``.
     strength:  bump multiplier (MTL ``-bm``), normal maps only.
+    embedded:  the image is held by the mesh file (a glTF), keyed by ``path``, which names no
+               file; it was decoded with the mesh.
     mtl_location: the MTL file and line that named it (None when the scene named it). An
                unreadable texture an MTL names becomes the placeholder with a warning.
     scene_key: the scene's key path that named it, e.g. ("materials", "stone", "diffuse_map");
@@ -52,6 +74,8 @@ class TextureSource:
     strength: float = 1.0
     mtl_location: SourceLocation | None = None
     scene_key: tuple | None = None
+    uv_skew: tuple = (0.0, 0.0)
+    embedded: bool = False
 
     @property
     def is_placeholder(self) -> bool:
@@ -60,7 +84,20 @@ class TextureSource:
 
 @dataclass
 class Material:
-    """One resolved material; colours are RGBA Tracks in linear [0, 1]."""
+    """One resolved material; colours are RGBA Tracks in linear [0, 1].
+
+    shading:     "phong" | "blinn_phong" | "pbr" | "unlit", or None for ``render.shading``
+                 (see ``model``); a glTF material is "pbr".
+    metallic, roughness: the pbr model's factors (Tracks of floats in [0, 1]).
+    emissive_strength: multiplies ``emissive`` (glTF's KHR_materials_emissive_strength).
+    normal_scale: multiplies the normal map's tangent-plane part (glTF normalTexture.scale).
+    occlusion_strength: how much the occlusion map darkens ambient light (0 none, 1 all).
+    alpha_mode:  "auto" (transparent when anything makes alpha below 1), or glTF's
+                 "opaque" (alpha ignored), "mask" (pixels below ``alpha_cutoff`` cut
+                 away, the rest opaque) or "blend" (the transparent pass).
+    double_sided: both faces drawn and lit; False: back faces are not drawn (glTF).
+    vertex_colors: the mesh's vertex colours multiply the base colour.
+    """
 
     name: str
     ambient: Track
@@ -73,22 +110,40 @@ class Material:
     wrap: str = "repeat"
     filter: str = "linear"
     unlit: bool = False
+    shading: str | None = None
+    metallic: Track = field(default_factory=lambda: shared_constant(DEFAULTS["metallic"]))
+    roughness: Track = field(default_factory=lambda: shared_constant(DEFAULTS["roughness"]))
+    emissive_strength: float = 1.0
+    normal_scale: float = 1.0
+    occlusion_strength: float = 1.0
+    alpha_mode: str = "auto"
+    alpha_cutoff: float = 0.5
+    double_sided: bool = True
+    vertex_colors: bool = False
 
-    def features(self) -> frozenset:
-        """Shader features this material needs, e.g. {"diffuse_map", "normal_map"}."""
-        names = set(self.maps)
+    def model(self, scene_shading: str) -> str:
+        """The shading model this material is drawn with: "unlit" when ``unlit``, else its
+        own ``shading``, else the scene's ``render.shading``."""
         if self.unlit:
-            names.add("unlit")
-        return frozenset(names)
+            return "unlit"
+        return self.shading or scene_shading
 
     @property
     def transparent(self) -> bool:
-        """Drawn in the transparent pass: opacity below 1 at any time, or an opacity map."""
+        """Drawn in the transparent pass: alpha mode "blend"; or, with "auto", opacity below
+        1 at any time, an opacity map, or a base colour alpha below 1."""
+        if self.alpha_mode != "auto":
+            return self.alpha_mode == "blend"
         if "opacity_map" in self.maps:
             return True
         if float(np.min(self.opacity.values)) < 1.0:
             return True
         return float(np.min(self.diffuse.values[:, 3])) < 1.0
+
+    @property
+    def masked(self) -> bool:
+        """Pixels whose alpha is below ``alpha_cutoff`` are cut away (glTF MASK)."""
+        return self.alpha_mode == "mask"
 
 
 def _color_track(rgb_or_rgba) -> Track:
@@ -111,7 +166,9 @@ def default_material(name: str = "default") -> Material:
 
 
 def apply_mtl(material: Material, mtl) -> Material:
-    """Material with the values an ``MtlMaterial`` sets (None fields keep the default)."""
+    """Material with the values an ``MtlMaterial`` sets (None fields keep the default).
+    An MTL material with any of the PBR statements (Pr, Pm, map_Pr, map_Pm) is a ``pbr``
+    material."""
     for key in COLOR_KEYS:
         value = getattr(mtl, key, None)
         if value is not None:
@@ -122,6 +179,12 @@ def apply_mtl(material: Material, mtl) -> Material:
         material.opacity = Track.constant(float(min(max(mtl.opacity, 0.0), 1.0)))
     if mtl.illum == 0:
         material.unlit = True
+    pbr_values = (mtl.roughness, mtl.metallic, mtl.roughness_map, mtl.metallic_map)
+    for key in ("roughness", "metallic"):
+        if getattr(mtl, key) is not None:
+            setattr(material, key, Track.constant(float(getattr(mtl, key))))
+    if any(value is not None for value in pbr_values):
+        material.shading = "pbr"
     for key in MAP_KEYS:
         ref = getattr(mtl, key, None)
         if ref is not None:
@@ -132,32 +195,72 @@ def apply_mtl(material: Material, mtl) -> Material:
     return material
 
 
-def apply_spec(material: Material, spec, where: tuple | None = None) -> Material:
-    """Material with the keys a scene ``MaterialSpec`` sets; unset keys stay as they are.
-    ``where`` is the key path where the spec is in the scene (for messages about its texture files)."""
-    for key in COLOR_KEYS + ("shininess", "opacity"):
-        value = getattr(spec, key)
-        if value is not None:
-            setattr(material, key, value)  # colours validate to RGBA tracks already
-    for map_key in MAP_KEYS:
-        path = getattr(spec, map_key)
-        if path is not None:
-            material.maps[map_key] = TextureSource(path=Path(path), srgb=SRGB_MAPS[map_key],
-                                                   scene_key=None if where is None else where + (map_key,))
-    if spec.wrap is not None:
-        material.wrap = spec.wrap
-    if spec.filter is not None:
-        material.filter = spec.filter
-    if spec.unlit is not None:
-        material.unlit = spec.unlit
+def apply_gltf(material: Material, gltf, location: SourceLocation | None = None) -> Material:
+    """Material with the values of a glTF material (``mesh.gltf.GltfMaterial``), all of them
+    (glTF's defaults stand for what the file leaves out): a ``pbr`` material, or ``unlit``
+    with KHR_materials_unlit. Its textures are images the file holds (``embedded``); one
+    that cannot be decoded becomes the placeholder with a warning at ``location``. The
+    wrap and filter of the base colour texture's sampler (else of the first texture's)
+    apply to all its maps."""
+    material.diffuse = _color_track(gltf.base_color)
+    material.metallic = Track.constant(float(gltf.metallic))
+    material.roughness = Track.constant(float(gltf.roughness))
+    material.emissive = _color_track(gltf.emissive)
+    material.emissive_strength = float(gltf.emissive_strength)
+    material.alpha_mode = gltf.alpha_mode
+    material.alpha_cutoff = float(gltf.alpha_cutoff)
+    material.double_sided = bool(gltf.double_sided)
+    material.shading = "unlit" if gltf.unlit else "pbr"
+    textures = gltf.textures()
+    keys = {"base_color_map": "diffuse_map"}
+    for name, texture in textures.items():
+        key = keys.get(name, name)
+        material.maps[key] = TextureSource(
+            path=None if texture.image is None else Path(texture.image), srgb=SRGB_MAPS[key],
+            uv_scale=tuple(texture.uv_scale), uv_offset=tuple(texture.uv_offset), uv_skew=tuple(texture.uv_skew),
+            mtl_location=location, embedded=True)
+    if "normal_map" in textures:
+        material.normal_scale = float(textures["normal_map"].scale)
+    if "occlusion_map" in textures:
+        material.occlusion_strength = float(textures["occlusion_map"].scale)
+    sampled = textures.get("base_color_map") or next(iter(textures.values()), None)
+    if sampled is not None:
+        material.wrap = sampled.wrap
+        material.filter = "nearest" if sampled.nearest else "linear"
     return material
 
 
-def resolve(name: str, mtl=None, layers=(), layer_keys=()) -> Material:
-    """Defaults, then ``mtl`` (an MtlMaterial or None), then each MaterialSpec in ``layers``;
-    ``layer_keys`` gives, in the same order, each layer's key path in the scene."""
+def apply_spec(material: Material, spec, where: tuple | None = None) -> Material:
+    """Material with the keys a scene ``MaterialSpec`` sets; unset keys stay as they are.
+    ``where`` is the key path where the spec is in the scene (for messages about its texture files)."""
+    for key in COLOR_KEYS + SCALAR_KEYS:
+        value = getattr(spec, key)
+        if value is not None:
+            setattr(material, key, value)  # colours validate to RGBA tracks already
+    if spec.base_color is not None:  # the pbr name of `diffuse` (the model refuses both)
+        material.diffuse = spec.base_color
+    for spec_key in MAP_KEYS + tuple(SPEC_MAP_ALIASES):
+        path = getattr(spec, spec_key, None)
+        if path is not None:
+            map_key = SPEC_MAP_ALIASES.get(spec_key, spec_key)
+            material.maps[map_key] = TextureSource(path=Path(path), srgb=SRGB_MAPS[map_key],
+                                                   scene_key=None if where is None else where + (spec_key,))
+    for key in ("wrap", "filter", "unlit", "shading", "emissive_strength", "normal_scale", "occlusion_strength",
+                "alpha_mode", "alpha_cutoff", "double_sided"):
+        value = getattr(spec, key)
+        if value is not None:
+            setattr(material, key, value)
+    return material
+
+
+def resolve(name: str, mtl=None, layers=(), layer_keys=(), location: SourceLocation | None = None) -> Material:
+    """Defaults, then ``mtl`` (the file's material: an MtlMaterial, a GltfMaterial, or
+    None), then each MaterialSpec in ``layers``; ``layer_keys`` gives, in the same order,
+    each layer's key path in the scene; ``location`` is the mesh file (for a glTF's images)."""
     material = default_material(name)
-    if mtl is not None:
+    if isinstance(mtl, GltfMaterial):
+        apply_gltf(material, mtl, location)
+    elif mtl is not None:
         apply_mtl(material, mtl)
     keys = list(layer_keys) + [None] * (len(layers) - len(layer_keys))
     for spec, where in zip(layers, keys):

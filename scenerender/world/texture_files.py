@@ -31,7 +31,7 @@ def check_material_textures(objects: list, scene, images: ImageStore, warnings: 
             for key, source in list(material.maps.items()):
                 if source.path is None:
                     continue
-                error = failed.get(source.path) or _decode(source.path, scene, images)
+                error = failed.get(source.path) or _decode(source.path, scene, images, source.embedded)
                 if error is None:
                     continue
                 if source.mtl_location is None:
@@ -61,10 +61,11 @@ def check_skybox(scene, images: ImageStore) -> None:
             raise single_error(f"{face} face {display_path(path)}: {error.reason}", key, scene.source)
 
 
-def _decode(path: Path, scene, images: ImageStore) -> ImageError | None:
+def _decode(path: Path, scene, images: ImageStore, embedded: bool = False) -> ImageError | None:
     """Decode ``path`` into ``images``; the ImageError instead of raising it. The file
-    counts as read either way."""
-    scene.assets.record(Path(path))
+    counts as read either way (an ``embedded`` image is part of its mesh file, read already)."""
+    if not embedded:
+        scene.assets.record(Path(path))
     try:
         images.pixels(path)
     except ImageError as exc:

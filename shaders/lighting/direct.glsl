@@ -1,6 +1,10 @@
 // Sum of direct light from every light of the scene at one surface point.
 #include "lighting/lights.glsl"
+#ifdef SHADING_PBR
+#include "lighting/pbr.glsl"
+#else
 #include "lighting/specular.glsl"
+#endif
 #ifdef HAS_SHADOWS
 #include "lighting/shadows.glsl"
 // First shadow view of each light, or -1, its filter's taps per side and its atlas page
@@ -22,6 +26,17 @@ const int spot_shadow_page[N_SPOT_LIGHTS] = int[](SPOT_SHADOW_PAGES);
 #endif
 #endif
 
+#ifdef SHADING_PBR
+vec3 shade_one(vec3 l, vec3 radiance, vec3 n, vec3 v, PbrView p) {
+    float n_dot_l = dot(n, l);
+    if (n_dot_l <= 0.0) {
+        return vec3(0.0);
+    }
+    return radiance * pbr_direct(n, l, v, n_dot_l, p);
+}
+// each light's term from what the point's view gives once (pbr_view)
+#define SHADE_ONE(l, radiance) shade_one(l, radiance, n, v, pbr)
+#else
 vec3 shade_one(vec3 l, vec3 radiance, vec3 n, vec3 v, Surface s) {
     float n_dot_l = dot(n, l);
     if (n_dot_l <= 0.0) {
@@ -29,12 +44,17 @@ vec3 shade_one(vec3 l, vec3 radiance, vec3 n, vec3 v, Surface s) {
     }
     return radiance * (s.base * n_dot_l + s.specular * specular_lobe(n, l, v, u_shininess));
 }
+#define SHADE_ONE(l, radiance) shade_one(l, radiance, n, v, s)
+#endif
 
 vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
     vec3 total = vec3(0.0);
     // derivatives here, in uniform control flow, for the shadow and cone filters
     vec3 dpdx = dFdx(p);
     vec3 dpdy = dFdy(p);
+#ifdef SHADING_PBR
+    PbrView pbr = pbr_view(n, v, s);
+#endif
 #if N_DIR_LIGHTS > 0
     for (int i = 0; i < N_DIR_LIGHTS; ++i) {
         DirLight light = dir_lights[i];
@@ -45,7 +65,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
             radiance *= shadow_lookup(dir_shadow_view[i], dir_shadow_page[i], dir_shadow_taps[i], p, n, dot(n, l), false, false, dpdx, dpdy);
         }
 #endif
-        total += shade_one(l, radiance, n, v, s);
+        total += SHADE_ONE(l, radiance);
     }
 #endif
 #if N_POINT_LIGHTS > 0
@@ -60,7 +80,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
             radiance *= shadow_lookup(point_shadow_view[i] + cube_face(-to_light), point_shadow_page[i], point_shadow_taps[i], p, n, dot(n, l), true, true, dpdx, dpdy);
         }
 #endif
-        total += shade_one(l, radiance, n, v, s);
+        total += SHADE_ONE(l, radiance);
     }
 #endif
 #if N_SPOT_LIGHTS > 0
@@ -78,7 +98,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
             radiance *= shadow_lookup(spot_shadow_view[i], spot_shadow_page[i], spot_shadow_taps[i], p, n, dot(n, l), true, false, dpdx, dpdy);
         }
 #endif
-        total += shade_one(l, radiance, n, v, s);
+        total += SHADE_ONE(l, radiance);
     }
 #endif
     return total;

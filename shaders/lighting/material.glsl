@@ -1,12 +1,20 @@
 // Material inputs of the forward pass. Each texture map exists only when the material
-// has it (HAS_*_MAP), so untextured materials sample nothing.
+// has it (HAS_*_MAP), so untextured materials sample nothing; the pbr model's inputs
+// exist only in its programs (SHADING_PBR).
 
 uniform vec3 u_ka;          // ambient reflectance (scales the surface colour under ambient light)
-uniform vec4 u_kd;          // diffuse colour, alpha
+uniform vec4 u_kd;          // diffuse colour (the pbr model's base colour), alpha
 uniform vec3 u_ks;          // specular colour
-uniform vec3 u_ke;          // emission
+uniform vec3 u_ke;          // emission (times its strength)
 uniform float u_shininess;  // Ns
 uniform float u_opacity;    // d
+#ifdef SHADING_PBR
+uniform float u_metallic;
+uniform float u_roughness;
+#endif
+#ifdef ALPHA_MASK
+uniform float u_alpha_cutoff;  // glTF MASK: pixels with less alpha are cut away
+#endif
 
 #ifdef HAS_DIFFUSE_MAP
 uniform sampler2D u_diffuse_map;
@@ -25,6 +33,27 @@ uniform float u_normal_strength;
 uniform sampler2D u_opacity_map;
 uniform vec4 u_opacity_map_st;
 #endif
+#ifdef HAS_METALLIC_ROUGHNESS_MAP
+uniform sampler2D u_metallic_roughness_map;  // glTF: blue = metallic, green = roughness
+uniform vec4 u_metallic_roughness_map_st;
+#endif
+#ifdef HAS_ROUGHNESS_MAP
+uniform sampler2D u_roughness_map;  // MTL map_Pr: one channel
+uniform vec4 u_roughness_map_st;
+#endif
+#ifdef HAS_METALLIC_MAP
+uniform sampler2D u_metallic_map;   // MTL map_Pm: one channel
+uniform vec4 u_metallic_map_st;
+#endif
+#ifdef HAS_OCCLUSION_MAP
+uniform sampler2D u_occlusion_map;  // red: how much ambient light reaches the point
+uniform vec4 u_occlusion_map_st;
+uniform float u_occlusion_strength;
+#endif
+#ifdef HAS_EMISSIVE_MAP
+uniform sampler2D u_emissive_map;
+uniform vec4 u_emissive_map_st;
+#endif
 
 // Texture coordinates for a map: MTL -s/-o scale and offset, then the wrap mode. Mirrored
 // wrap folds coordinates here (a triangle wave, so derivatives stay continuous).
@@ -36,28 +65,109 @@ vec2 map_uv(vec2 uv, vec4 st) {
     return t;
 }
 
+#ifdef UV_AFFINE
+// A rotated texture transform (glTF KHR_texture_transform): the off-diagonal terms of
+// each map's 2 x 2 matrix, whose diagonal is st.xy.
+#ifdef HAS_DIFFUSE_MAP
+uniform vec2 u_diffuse_map_skew;
+#endif
+#ifdef HAS_SPECULAR_MAP
+uniform vec2 u_specular_map_skew;
+#endif
+#ifdef HAS_NORMAL_MAP
+uniform vec2 u_normal_map_skew;
+#endif
+#ifdef HAS_OPACITY_MAP
+uniform vec2 u_opacity_map_skew;
+#endif
+#ifdef HAS_METALLIC_ROUGHNESS_MAP
+uniform vec2 u_metallic_roughness_map_skew;
+#endif
+#ifdef HAS_ROUGHNESS_MAP
+uniform vec2 u_roughness_map_skew;
+#endif
+#ifdef HAS_METALLIC_MAP
+uniform vec2 u_metallic_map_skew;
+#endif
+#ifdef HAS_OCCLUSION_MAP
+uniform vec2 u_occlusion_map_skew;
+#endif
+#ifdef HAS_EMISSIVE_MAP
+uniform vec2 u_emissive_map_skew;
+#endif
+
+vec2 map_uv(vec2 uv, vec4 st, vec2 skew) {
+    vec2 t = vec2(uv.x * st.x + uv.y * skew.x, uv.x * skew.y + uv.y * st.y) + st.zw;
+#ifdef WRAP_MIRROR
+    t = 1.0 - abs(1.0 - mod(t, 2.0));
+#endif
+    return t;
+}
+#define MAP_UV(map, uv) map_uv(uv, map##_st, map##_skew)
+#else
+#define MAP_UV(map, uv) map_uv(uv, map##_st)
+#endif
+
 struct Surface {
     vec3 base;      // Kd times the diffuse map, linear
     vec3 specular;  // Ks times the specular map
     float alpha;
+#ifdef SHADING_PBR
+    float metallic;
+    float roughness;
+#endif
 };
 
 Surface sample_surface(vec2 uv) {
     Surface s;
     vec4 base = u_kd;
 #ifdef HAS_DIFFUSE_MAP
-    base *= texture(u_diffuse_map, map_uv(uv, u_diffuse_map_st));
+    base *= texture(u_diffuse_map, MAP_UV(u_diffuse_map, uv));
 #endif
     s.base = base.rgb;
     s.specular = u_ks;
 #ifdef HAS_SPECULAR_MAP
-    s.specular *= texture(u_specular_map, map_uv(uv, u_specular_map_st)).rgb;
+    s.specular *= texture(u_specular_map, MAP_UV(u_specular_map, uv)).rgb;
 #endif
     s.alpha = base.a * u_opacity;
 #ifdef HAS_OPACITY_MAP
-    s.alpha *= texture(u_opacity_map, map_uv(uv, u_opacity_map_st)).r;
+    s.alpha *= texture(u_opacity_map, MAP_UV(u_opacity_map, uv)).r;
+#endif
+#ifdef SHADING_PBR
+    s.metallic = u_metallic;
+    s.roughness = u_roughness;
+#ifdef HAS_METALLIC_ROUGHNESS_MAP
+    vec4 metallic_roughness = texture(u_metallic_roughness_map, MAP_UV(u_metallic_roughness_map, uv));
+    s.metallic *= metallic_roughness.b;
+    s.roughness *= metallic_roughness.g;
+#endif
+#ifdef HAS_ROUGHNESS_MAP
+    s.roughness *= texture(u_roughness_map, MAP_UV(u_roughness_map, uv)).r;
+#endif
+#ifdef HAS_METALLIC_MAP
+    s.metallic *= texture(u_metallic_map, MAP_UV(u_metallic_map, uv)).r;
+#endif
 #endif
     return s;
+}
+
+// The light the surface gives off by itself.
+vec3 surface_emission(vec2 uv) {
+#ifdef HAS_EMISSIVE_MAP
+    return u_ke * texture(u_emissive_map, MAP_UV(u_emissive_map, uv)).rgb;
+#else
+    return u_ke;
+#endif
+}
+
+// How much ambient light reaches the point: 1, or the occlusion map's red channel
+// weighted by its strength (glTF occlusionTexture).
+float surface_occlusion(vec2 uv) {
+#ifdef HAS_OCCLUSION_MAP
+    return 1.0 + u_occlusion_strength * (texture(u_occlusion_map, MAP_UV(u_occlusion_map, uv)).r - 1.0);
+#else
+    return 1.0;
+#endif
 }
 
 #ifdef HAS_NORMAL_MAP
@@ -65,7 +175,7 @@ Surface sample_surface(vec2 uv) {
 vec3 mapped_normal(vec3 n, vec4 tangent, vec2 uv) {
     vec3 t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3(1.0, 0.0, 0.0));
     vec3 b = cross(n, t) * tangent.w;
-    vec3 m = texture(u_normal_map, map_uv(uv, u_normal_map_st)).xyz * 2.0 - 1.0;
+    vec3 m = texture(u_normal_map, MAP_UV(u_normal_map, uv)).xyz * 2.0 - 1.0;
     m.xy *= u_normal_strength;
     return safe_normalize(mat3(t, b, n) * m, n);
 }

@@ -1,5 +1,6 @@
 // Forward shading of scene meshes: ambient (times screen-space AO when on), every light
-// with its shadows, emission, fog. Which of these exist is decided per scene.
+// with its shadows, emission, fog. Which of these exist is decided per scene, and the
+// shading model (Phong, Blinn-Phong, pbr, unlit) per material.
 #include "common/math.glsl"
 #include "lighting/material.glsl"
 #ifndef UNLIT
@@ -15,6 +16,9 @@ in vec2 v_uv;
 #ifdef HAS_TANGENTS
 in vec4 v_tangent;
 #endif
+#ifdef HAS_VERTEX_COLOR
+in vec4 v_color;  // multiplies the base colour (glTF COLOR_0)
+#endif
 
 uniform vec3 u_ambient;  // summed ambient light
 #ifdef HAS_AO
@@ -25,8 +29,12 @@ out vec4 frag_color;
 
 void main() {
     Surface s = sample_surface(v_uv);
+#ifdef HAS_VERTEX_COLOR
+    s.base *= v_color.rgb;
+    s.alpha *= v_color.a;
+#endif
 #ifdef UNLIT
-    vec3 color = s.base + u_ke;
+    vec3 color = s.base + surface_emission(v_uv);
 #else
     // two-sided: a face seen from behind is lit as if its normal pointed at the viewer
     vec3 n = safe_normalize(gl_FrontFacing ? v_normal : -v_normal);
@@ -38,7 +46,15 @@ void main() {
 #ifdef HAS_AO
     ambient_visibility = texelFetch(u_ao, ivec2(gl_FragCoord.xy), 0).r;
 #endif
-    vec3 color = u_ambient * u_ka * s.base * ambient_visibility + direct_light(v_position, n, v, s) + u_ke;
+#ifdef HAS_OCCLUSION_MAP
+    ambient_visibility *= surface_occlusion(v_uv);
+#endif
+#ifdef SHADING_PBR
+    vec3 color = u_ambient * u_ka * pbr_ambient(n, v, s) * ambient_visibility + direct_light(v_position, n, v, s)
+               + surface_emission(v_uv);
+#else
+    vec3 color = u_ambient * u_ka * s.base * ambient_visibility + direct_light(v_position, n, v, s) + surface_emission(v_uv);
+#endif
 #endif
 #ifdef HAS_FOG
     color = apply_fog(color, length(v_position));
@@ -49,5 +65,11 @@ void main() {
     // alpha is coverage: an opaque surface hides the sky composited behind the samples
     // (post/sky_under.glsl), whatever alpha its maps hold
     frag_color = vec4(color, 1.0);
+#endif
+#ifdef ALPHA_MASK
+    // cut last: the derivatives the lighting takes need every pixel of the quad
+    if (s.alpha < u_alpha_cutoff) {
+        discard;
+    }
 #endif
 }

@@ -9,6 +9,9 @@ in vec2 in_uv;
 #ifdef HAS_TANGENTS
 in vec4 in_tangent;
 #endif
+#ifdef HAS_VERTEX_COLOR
+in vec4 in_color;
+#endif
 in mat4 in_model;          // per instance: camera-relative world matrix
 in mat3 in_normal_matrix;  // per instance: inverse transpose of the model's 3x3
 
@@ -27,6 +30,9 @@ out vec2 v_uv;
 #ifdef HAS_TANGENTS
 out vec4 v_tangent;
 #endif
+#ifdef HAS_VERTEX_COLOR
+out vec4 v_color;
+#endif
 
 void main() {
     vec4 world = in_model * vec4(in_position, 1.0);
@@ -38,6 +44,9 @@ void main() {
     v_position = world.xyz;
     v_normal = normal;
     v_uv = in_uv;
+#ifdef HAS_VERTEX_COLOR
+    v_color = in_color;
+#endif
 #ifdef HAS_TANGENTS
     v_tangent = vec4(safe_normalize(mat3(in_model) * in_tangent.xyz, vec3(1.0, 0.0, 0.0)), in_tangent.w);
 #endif

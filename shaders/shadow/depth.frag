@@ -7,8 +7,16 @@
 in vec3 v_light_position;
 uniform vec2 u_depth_range;  // near, far
 #endif
+#ifdef ALPHA_MASK
+#include "lighting/alpha_mask.glsl"
+#endif
 
 void main() {
+#ifdef ALPHA_MASK
+    if (cut_away()) {
+        discard;
+    }
+#endif
 #ifndef ORTHOGRAPHIC
 #ifdef RADIAL_DEPTH
     float distance = length(v_light_position);

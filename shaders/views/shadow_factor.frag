@@ -2,9 +2,13 @@
 // black in shadow.
 #include "common/math.glsl"
 #include "lighting/shadows.glsl"
+#ifdef ALPHA_MASK
+#include "lighting/alpha_mask.glsl"
+#else
+in vec2 v_uv;
+#endif
 in vec3 v_position;
 in vec3 v_normal;
-in vec2 v_uv;
 uniform int u_first_view;
 uniform int u_point_light;   // 1 when the light is a point light (six views)
 uniform vec3 u_light_vector; // directional/spot: travel direction; point: light position
@@ -24,4 +28,9 @@ void main() {
     }
     float visibility = shadow_visibility(view, v_position, n, max(dot(n, l), 0.0), dpdx, dpdy);
     frag_color = vec4(vec3(visibility), 1.0);
+#ifdef ALPHA_MASK
+    if (cut_away()) {
+        discard;
+    }
+#endif
 }

@@ -11,7 +11,7 @@ from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
     FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, begin_fullscreen_pass_where_drawn,
-    bind_texture_units, cull_hidden_faces, end_where_drawn, far_plane_defines, stop_culling,
+    bind_texture_units, cull_hidden_faces, draw_cutting_masks, end_where_drawn, far_plane_defines, stop_culling,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.passes.data import ImageData, TargetData
@@ -22,16 +22,19 @@ NOISE_SIZE = 4
 
 @dataclass(frozen=True)
 class GBufferPass(RenderPass):
-    """View-space normal (rgb) and linear view depth (a; 0 where empty), single-sampled."""
+    """View-space normal (rgb) and linear view depth (a; 0 where empty), single-sampled.
+    materials: the ``materials`` input, read only in a scene with alpha-masked materials
+    (glTF MASK): their cut-away pixels hold no depth."""
 
     size: tuple
     camera: Handle
     objects: Handle
+    materials: Handle | None = None
 
     name = "gbuffer"
 
     def setup(self, builder) -> TargetData:
-        builder.read(self.camera, self.objects)
+        builder.read(self.camera, self.objects, *((self.materials,) if self.materials is not None else ()))
         return TargetData(builder.create("gbuffer", ResourceDesc("color", self.size, "rgba16f")),
                            builder.create("gbuffer_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
@@ -41,9 +44,11 @@ class GBufferPass(RenderPass):
         camera = ctx.input(self.camera)
         set_uniforms(program, u_view_proj=camera.view_proj_relative(), u_view_rotation=camera.rotation)
         objects = ctx.input(self.objects)
+        materials = ctx.input(self.materials) if self.materials is not None else None
+        uniforms = {"u_view_proj": camera.view_proj_relative(), "u_view_rotation": camera.rotation}
         for index in objects.in_camera_view():
             cull_hidden_faces(ctx.gl, objects, index)
-            objects.draw(program, index)
+            draw_cutting_masks(ctx, objects, index, program, "mesh/gbuffer.frag", {}, materials, uniforms)
         stop_culling(ctx.gl)
 
 

@@ -10,7 +10,7 @@ from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
     MESH_VERTEX, begin_camera_pass, bind_lights, bind_material, bind_shadow_atlas, bind_texture_units,
-    cull_hidden_faces, draw_item, opaque_items, stop_culling, transparent_items,
+    cull_hidden_faces, draw_item, opaque_items, single_sided_faces, skip_faces, stop_culling, transparent_items,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.inputs import InputHandles
@@ -41,7 +41,8 @@ class Shading:
 
     def draw(self, ctx, items, mode=None, cull_hidden: bool = False) -> None:
         """Shade ``items`` with each material's program variant; ``cull_hidden``: skip the
-        faces the camera cannot see (opaque surfaces only)."""
+        faces the camera cannot see (opaque surfaces only), and the back faces of
+        single-sided materials."""
         camera = ctx.input(self.inputs.camera)
         objects = ctx.input(self.inputs.objects)
         materials = ctx.input(self.inputs.materials)
@@ -55,7 +56,7 @@ class Shading:
                 set_uniforms(program, u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
             bind_material(program, item.material, materials)
             if cull_hidden:
-                cull_hidden_faces(ctx.gl, objects, item.object_index)
+                cull_faces(ctx.gl, objects, item)
             draw_item(objects, program, item, mode)
 
     def _program(self, ctx, material):
@@ -68,6 +69,15 @@ class Shading:
             return program
 
         return ctx.programs.memo(("forward", id(material), with_ao), make)
+
+
+def cull_faces(gl, objects, item) -> None:
+    """Before drawing ``item`` opaque from the camera: skip the faces it does not show, the
+    back faces of a single-sided material, else those the camera cannot see."""
+    if item.material.double_sided:
+        cull_hidden_faces(gl, objects, item.object_index)
+    else:
+        skip_faces(gl, single_sided_faces(objects, item.object_index))
 
 
 @dataclass(frozen=True)
@@ -150,7 +160,7 @@ class OpaquePass(RenderPass):
         objects = ctx.input(self.shading.inputs.objects)
         fbo.color_mask = (False, False, False, False)
         for item in items:
-            cull_hidden_faces(ctx.gl, objects, item.object_index)
+            cull_faces(ctx.gl, objects, item)
             draw_item(objects, program, item)
         stop_culling(ctx.gl)
         fbo.color_mask = (True, True, True, True)
@@ -224,9 +234,12 @@ class TransparentPass(RenderPass):
         gl.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA
         self.shading.bind(ctx)
         items = transparent_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
+        objects = ctx.input(self.shading.inputs.objects)
         try:
             for item in items:
-                for side in ("front", "back"):  # cull front = draw back faces first
+                hidden = None if item.material.double_sided else single_sided_faces(objects, item.object_index)
+                # cull front = draw back faces first; a single-sided surface shows one side
+                for side in ("front", "back") if hidden is None else (hidden,):
                     gl.cull_face = side
                     self.shading.draw(ctx, [item])
         finally:

@@ -8,7 +8,8 @@ import numpy as np
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.rendering.draw import skip_faces, stop_culling
+from scenerender.rendering.draw import bind_material, bind_texture_units, skip_faces, stop_culling
+from scenerender.rendering.features import mask_defines
 from scenerender.world.shadows import atlas_page_name, hidden_from_light
 
 
@@ -27,7 +28,8 @@ class ShadowMapPass(RenderPass):
 
     light_name, kind, map_size, pcf: what the dump shows. page: which page;
     page_size: its (width, height). views: the light's ``shadow_views`` input, dynamic
-    wherever the views follow the camera.
+    wherever the views follow the camera. materials: the ``materials`` input, read only in
+    a scene with alpha-masked materials (glTF MASK), whose cut-away pixels cast no shadow.
     """
 
     keeps_unchanged = True  # casters are drawn relative to the light, never the camera
@@ -41,13 +43,14 @@ class ShadowMapPass(RenderPass):
     views: Handle
     objects: Handle
     atlas_in: Handle | None = None
+    materials: Handle | None = None
 
     @property
     def name(self) -> str:
         return f"shadow:{self.light_name}"
 
     def setup(self, builder) -> ShadowMapData:
-        builder.read(self.views, self.objects)
+        builder.read(self.views, self.objects, *((self.materials,) if self.materials is not None else ()))
         if self.atlas_in is None:
             return ShadowMapData(builder.create(atlas_page_name(self.page), ResourceDesc("depth", self.page_size, "depth24")))
         return ShadowMapData(builder.write(self.atlas_in, own_region=True))  # its own tiles
@@ -85,14 +88,38 @@ class ShadowMapPass(RenderPass):
             ctx.place_instances(objects, index, eye)
         from_eye = np.eye(4)
         from_eye[:3, 3] = eye
+        masked = self._masked_programs(ctx, defines, objects, casters)
         for view in views:
             tile = view.tile
             fbo.viewport = (tile.x, tile.y, tile.size, tile.size)
-            set_uniforms(program, u_light_view=view.view @ from_eye,
-                         u_light_projection=ctx.depth.clip_projection(view.projection), u_depth_range=(view.near, view.far))
+            for used in [program, *masked.values()]:
+                set_uniforms(used, u_light_view=view.view @ from_eye,
+                             u_light_projection=ctx.depth.clip_projection(view.projection),
+                             u_depth_range=(view.near, view.far))
             for index in casters:
                 frame = objects.frames[index]
                 # faces turned away from the light never hold the nearest depth
                 skip_faces(gl, hidden_from_light(view, frame.winding, frame.bounds))
-                ctx.draw_placed(program, objects, index)
+                materials = objects.definitions[index].materials
+                if any(id(material) in masked for material in materials):
+                    for group, material in enumerate(materials):
+                        if id(material) in masked:
+                            bind_material(masked[id(material)], material, ctx.input(self.materials))
+                        ctx.draw_placed(masked.get(id(material), program), objects, index, group)
+                else:
+                    ctx.draw_placed(program, objects, index)
         stop_culling(gl)
+
+    def _masked_programs(self, ctx, defines: dict, objects, casters) -> dict:
+        """{id(material): program} for the alpha-masked materials of the casters."""
+        if self.materials is None:
+            return {}
+        programs = {}
+        for index in casters:
+            for material in objects.definitions[index].materials:
+                if material.masked and id(material) not in programs:
+                    program = ctx.programs.get("shadow/depth.vert", "shadow/depth.frag",
+                                               {**defines, **mask_defines(material)})
+                    bind_texture_units(program)
+                    programs[id(material)] = program
+        return programs

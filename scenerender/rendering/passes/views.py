@@ -12,7 +12,7 @@ from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
     FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_lights, bind_shadow_atlas,
-    bind_texture_units,
+    bind_texture_units, draw_cutting_masks,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.passes.data import ImageData, TargetData
@@ -146,11 +146,13 @@ class ShadowFactorViewPass(RenderPass):
     views: Handle
     lights: Handle
     format: str = "rgba8"
+    materials: Handle | None = None
 
     name = "view:shadow"
 
     def setup(self, builder) -> TargetData:
-        builder.read(self.atlas, self.camera, self.objects, self.light, self.views, self.lights)
+        builder.read(self.atlas, self.camera, self.objects, self.light, self.views, self.lights,
+                     *((self.materials,) if self.materials is not None else ()))
         return TargetData(builder.create("view", ResourceDesc("color", self.size, self.format)),
                           builder.create("view_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
@@ -165,9 +167,10 @@ class ShadowFactorViewPass(RenderPass):
         camera = ctx.input(self.camera)
         point = light.kind == "point"
         vector = (light.position - camera.position) if point else light.direction
-        set_uniforms(program, u_view_proj=camera.view_proj_relative(),
-                     u_first_view=lights.first_view[self.light_index], u_point_light=int(point),
-                     u_light_vector=vector)
+        uniforms = {"u_view_proj": camera.view_proj_relative(), "u_first_view": lights.first_view[self.light_index],
+                    "u_point_light": int(point), "u_light_vector": vector}
+        set_uniforms(program, **uniforms)
         objects = ctx.input(self.objects)
+        materials = ctx.input(self.materials) if self.materials is not None else None
         for index in objects.in_camera_view():
-            objects.draw(program, index)
+            draw_cutting_masks(ctx, objects, index, program, "views/shadow_factor.frag", {}, materials, uniforms)

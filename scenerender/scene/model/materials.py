@@ -1,11 +1,18 @@
 """``materials:``, an object's inline ``material`` and its ``material_overrides``: colours,
-shininess, opacity and image maps."""
+shininess, opacity, the pbr model's metallic and roughness, and image maps."""
 from __future__ import annotations
+
+from pydantic import model_validator
+from pydantic_core import PydanticCustomError
 
 from scenerender.scene.model.paths import ImagePath
 from scenerender.scene.model.unions import mapping_or
 from scenerender.scene.strict import StrictModel
-from scenerender.scene.values import AnimatedColor, Bool, Text, animated_number, choice
+from scenerender.scene.values import AnimatedColor, Bool, Text, animated_number, choice, number
+
+MATERIAL_SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
+# the pbr names of keys the Phong models already have: one value, two names
+ALIASES = {"base_color": "diffuse", "base_color_map": "diffuse_map"}
 
 
 class MaterialSpec(StrictModel):
@@ -24,6 +31,28 @@ class MaterialSpec(StrictModel):
     wrap: choice("repeat", "clamp", "mirror") | None = None
     filter: choice("linear", "nearest") | None = None
     unlit: Bool | None = None
+    shading: choice(*MATERIAL_SHADINGS) | None = None
+    base_color: AnimatedColor | None = None
+    base_color_map: ImagePath | None = None
+    metallic: animated_number(0, 1) | None = None
+    roughness: animated_number(0, 1) | None = None
+    metallic_roughness_map: ImagePath | None = None
+    normal_scale: number(-100, 100) | None = None
+    occlusion_map: ImagePath | None = None
+    occlusion_strength: number(0, 1) | None = None
+    emissive_map: ImagePath | None = None
+    emissive_strength: number(0, 1e6) | None = None
+    alpha_mode: choice("opaque", "mask", "blend") | None = None
+    alpha_cutoff: number(0, 1) | None = None
+    double_sided: Bool | None = None
+
+    @model_validator(mode="after")
+    def _one_name_each(self):
+        for pbr_name, name in ALIASES.items():
+            if getattr(self, pbr_name) is not None and getattr(self, name) is not None:
+                raise PydanticCustomError("alias", "{a} and {b} are the same value; give one of them",
+                                          {"a": pbr_name, "b": name, "subpath": (pbr_name,)})
+        return self
 
 
 MaterialRef = mapping_or(MaterialSpec, Text)  # a name from `materials`, or inline

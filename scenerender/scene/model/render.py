@@ -104,7 +104,7 @@ RenderSize = Annotated[tuple, PlainValidator(_size),
                        WithJsonSchema({"type": "array", "items": {"type": "integer", "minimum": 1, "maximum": 16384},
                                        "minItems": 2, "maxItems": 2})]
 
-SHADINGS = ("phong", "blinn_phong", "unlit")
+SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 MODES = ("shaded", "depth", "normals", "wireframe", "points", "ambient_occlusion", "shadow", "light_depth")
 
 

@@ -1,0 +1,405 @@
+"""glTF 2.0 materials: what the renderer needs of a GLB or .gltf file's JSON beyond trimesh.
+
+trimesh reads the geometry (accessors, primitives, the node hierarchy) and keeps part of
+each material. What it drops is read here from the file's JSON: ``normalTexture.scale``,
+``occlusionTexture.strength``, ``KHR_texture_transform``, ``KHR_materials_emissive_strength``,
+``KHR_materials_unlit``, the samplers' wrap and filter modes, ``texCoord``, and which
+material each primitive uses (trimesh's geometries are matched to the primitives in file
+order, their vertex counts checked against the accessors). Images are taken as the file
+stores them (encoded bytes); the world decodes them like any texture.
+
+Nothing here trusts the JSON: a value of the wrong type or out of range is a
+``GltfProblem``, which the loader turns into one warning, and the file is drawn with the
+scene's (or the default) material instead.
+"""
+from __future__ import annotations
+
+import base64
+import json
+import math
+import struct
+from dataclasses import dataclass, field
+from urllib.parse import unquote
+
+import numpy as np
+
+GLB_MAGIC = 0x46546C67  # "glTF"
+_JSON_CHUNK = 0x4E4F534A
+_BIN_CHUNK = 0x004E4942
+
+# primitive modes trimesh turns into a geometry of the scene, in file order: POINTS,
+# LINES, TRIANGLES, TRIANGLE_STRIP (LINE_LOOP, LINE_STRIP and TRIANGLE_FAN it skips)
+_GEOMETRY_MODES = (0, 1, 4, 5)
+_TRIANGLE_MODES = (4, 5)
+_WRAP = {10497: "repeat", 33071: "clamp", 33648: "mirror"}
+_NEAREST_FILTERS = (9728, 9984, 9986)  # NEAREST, NEAREST_MIPMAP_NEAREST, NEAREST_MIPMAP_LINEAR
+# the denominators of normalized integer COLOR_0 components, by componentType
+_NORMALIZED = {5121: 255.0, 5123: 65535.0}
+
+
+class GltfProblem(Exception):
+    """The file's JSON says something about materials that cannot be used."""
+
+
+@dataclass(frozen=True)
+class GltfTexture:
+    """A texture a glTF material names.
+
+    image:     the key of its encoded image in ``MeshData.images``, or None where the file
+               names an image it does not hold (drawn as the placeholder).
+    uv_scale, uv_offset, uv_skew: the affine map from the mesh's texture coordinates (GL
+               convention, v up) to the image's: ``(s.x u + k.x v + o.x, k.y u + s.y v + o.y)``,
+               ``KHR_texture_transform`` carried over from glTF's v-down coordinates.
+    scale:     ``normalTexture.scale`` or ``occlusionTexture.strength`` (1 elsewhere).
+    wrap:      "repeat" | "clamp" | "mirror", from the sampler's ``wrapS``.
+    nearest:   the sampler's ``magFilter`` is NEAREST.
+    tex_coord: the ``texCoord`` set it asks for (only set 0 is read).
+    """
+
+    image: str | None
+    uv_scale: tuple = (1.0, 1.0)
+    uv_offset: tuple = (0.0, 0.0)
+    uv_skew: tuple = (0.0, 0.0)
+    scale: float = 1.0
+    wrap: str = "repeat"
+    nearest: bool = False
+    tex_coord: int = 0
+
+
+@dataclass(frozen=True)
+class GltfMaterial:
+    """One glTF material, with glTF's defaults for what the file leaves out. Colours are
+    linear; ``emissive`` already times ``KHR_materials_emissive_strength``."""
+
+    name: str
+    base_color: tuple = (1.0, 1.0, 1.0, 1.0)
+    metallic: float = 1.0
+    roughness: float = 1.0
+    emissive: tuple = (0.0, 0.0, 0.0)
+    emissive_strength: float = 1.0
+    alpha_mode: str = "opaque"
+    alpha_cutoff: float = 0.5
+    double_sided: bool = False
+    unlit: bool = False
+    base_color_map: GltfTexture | None = None
+    metallic_roughness_map: GltfTexture | None = None
+    normal_map: GltfTexture | None = None
+    occlusion_map: GltfTexture | None = None
+    emissive_map: GltfTexture | None = None
+
+    def textures(self) -> dict:
+        """{map name: GltfTexture} of the maps it has."""
+        names = ("base_color_map", "metallic_roughness_map", "normal_map", "occlusion_map", "emissive_map")
+        return {name: getattr(self, name) for name in names if getattr(self, name) is not None}
+
+
+@dataclass
+class GltfFile:
+    """What the renderer reads of a glTF file itself.
+
+    materials:  GltfMaterial per material of the file, in file order, their names unique.
+    slots:      per geometry trimesh makes, in its order: (material index or None, vertex
+                count of POSITION, COLOR_0's componentType or None).
+    images:     {key: encoded bytes} of the images the materials use.
+    unsupported: notes for one warning (texture sets other than 0...).
+    """
+
+    materials: list = field(default_factory=list)
+    slots: list = field(default_factory=list)
+    images: dict = field(default_factory=dict)
+    unsupported: list = field(default_factory=list)
+
+
+def split_glb(raw: bytes) -> tuple[dict, bytes | None]:
+    """(JSON header, BIN chunk or None) of a GLB container, or of a .gltf file's text."""
+    if len(raw) >= 12 and struct.unpack_from("<I", raw, 0)[0] == GLB_MAGIC:
+        offset, binary, header = 12, None, None
+        while offset + 8 <= len(raw):
+            length, kind = struct.unpack_from("<II", raw, offset)
+            chunk = raw[offset + 8: offset + 8 + length]
+            if kind == _JSON_CHUNK and header is None:
+                header = _json(chunk)
+            elif kind == _BIN_CHUNK and binary is None:
+                binary = chunk
+            offset += 8 + length + (-length % 4)
+        if header is None:
+            raise GltfProblem("no JSON chunk")
+        return header, binary
+    return _json(raw), None
+
+
+def _json(data: bytes) -> dict:
+    try:
+        header = json.loads(data.decode("utf-8-sig"))
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise GltfProblem(f"JSON not readable ({type(exc).__name__})") from None
+    if not isinstance(header, dict):
+        raise GltfProblem("the JSON is not an object")
+    return header
+
+
+def read_gltf(raw: bytes, label: str, read_file) -> GltfFile:
+    """The materials, primitive slots and images of the glTF file ``raw`` (GLB or text).
+
+    label: the file's name, prefixed to image keys. read_file(uri) -> bytes reads a file
+    the glTF names (an external buffer or image), through the scene's asset policy.
+    Raises GltfProblem for anything unusable."""
+    header, binary = split_glb(raw)
+    result = GltfFile()
+    names: dict[str, int] = {}
+    materials = _list(header, "materials")
+    for index, material in enumerate(materials):
+        name = _unique(_text(material.get("name")) or f"material{index}", names)
+        result.materials.append(_material(name, _object(material, f"materials[{index}]"), header, result, label))
+    for mesh_index, mesh in enumerate(_list(header, "meshes")):
+        for primitive in _list(_object(mesh, f"meshes[{mesh_index}]"), "primitives"):
+            primitive = _object(primitive, "a primitive")
+            mode = primitive.get("mode", 4)
+            if mode not in _GEOMETRY_MODES:
+                continue
+            attributes = _object(primitive.get("attributes", {}), "a primitive's attributes")
+            count = _accessor_count(header, attributes.get("POSITION"))
+            material = primitive.get("material") if mode in _TRIANGLE_MODES else None
+            if material is not None and not (_is_index(material) and material < len(materials)):
+                raise GltfProblem(f"a primitive names material {material!r}, the file has {len(materials)}")
+            color = attributes.get("COLOR_0")
+            color_type = _accessor(header, color).get("componentType") if color is not None else None
+            result.slots.append((material, count, color_type))
+    _load_images(header, binary, result, label, read_file)
+    return result
+
+
+def vertex_colors(visual, component_type, vertex_count: int):
+    """(N, 4) float linear RGBA of a primitive's COLOR_0 as trimesh kept it, or None.
+
+    trimesh keeps the accessor's raw values where the primitive has a material
+    (``visual.vertex_attributes['color']``) and 8-bit colours where it has none."""
+    attributes = getattr(visual, "vertex_attributes", None)
+    raw = attributes["color"] if attributes is not None and "color" in attributes else None
+    scale = _NORMALIZED.get(component_type, 1.0)
+    if raw is None and getattr(visual, "kind", None) == "vertex":
+        raw, scale = visual.vertex_colors, 255.0
+    if raw is None:
+        return None
+    colors = np.asarray(raw, dtype=np.float64)
+    if colors.ndim != 2 or colors.shape[1] not in (3, 4) or len(colors) != vertex_count:
+        return None
+    colors = colors / scale
+    if colors.shape[1] == 3:
+        colors = np.hstack([colors, np.ones((len(colors), 1))])
+    if not np.isfinite(colors).all():
+        return None
+    return np.clip(colors, 0.0, 1.0)
+
+
+# -- materials ------------------------------------------------------------------------------
+
+def _material(name: str, material: dict, header: dict, result: GltfFile, label: str) -> GltfMaterial:
+    pbr = _object(material.get("pbrMetallicRoughness", {}), f"material {name!r}: pbrMetallicRoughness")
+    extensions = _object(material.get("extensions", {}), f"material {name!r}: extensions")
+    strength = _object(extensions.get("KHR_materials_emissive_strength", {}), "KHR_materials_emissive_strength")
+    alpha_mode = material.get("alphaMode", "OPAQUE")
+    if alpha_mode not in ("OPAQUE", "MASK", "BLEND"):
+        raise GltfProblem(f"material {name!r}: alphaMode {alpha_mode!r} is not OPAQUE, MASK or BLEND")
+    textures = {
+        "base_color_map": _texture(pbr.get("baseColorTexture"), header, result, label, "baseColorTexture"),
+        "metallic_roughness_map": _texture(pbr.get("metallicRoughnessTexture"), header, result, label,
+                                           "metallicRoughnessTexture"),
+        "normal_map": _texture(material.get("normalTexture"), header, result, label, "normalTexture", "scale"),
+        "occlusion_map": _texture(material.get("occlusionTexture"), header, result, label, "occlusionTexture",
+                                  "strength"),
+        "emissive_map": _texture(material.get("emissiveTexture"), header, result, label, "emissiveTexture"),
+    }
+    return GltfMaterial(
+        name=name,
+        base_color=_numbers(pbr.get("baseColorFactor", (1.0, 1.0, 1.0, 1.0)), 4, "baseColorFactor", 0.0, 1.0),
+        metallic=_numbers([pbr.get("metallicFactor", 1.0)], 1, "metallicFactor", 0.0, 1.0)[0],
+        roughness=_numbers([pbr.get("roughnessFactor", 1.0)], 1, "roughnessFactor", 0.0, 1.0)[0],
+        emissive=_numbers(material.get("emissiveFactor", (0.0, 0.0, 0.0)), 3, "emissiveFactor", 0.0, 1.0),
+        emissive_strength=_numbers([strength.get("emissiveStrength", 1.0)], 1, "emissiveStrength", 0.0, 1e6)[0],
+        alpha_mode=alpha_mode.lower(),
+        alpha_cutoff=_numbers([material.get("alphaCutoff", 0.5)], 1, "alphaCutoff", 0.0, 1e6)[0],
+        double_sided=_bool(material.get("doubleSided", False), "doubleSided"),
+        unlit="KHR_materials_unlit" in extensions,
+        **textures,
+    )
+
+
+def _texture(info, header: dict, result: GltfFile, label: str, what: str, scale_key: str | None = None):
+    if info is None:
+        return None
+    info = _object(info, what)
+    index = info.get("index")
+    textures = _list(header, "textures")
+    if not (_is_index(index) and index < len(textures)):
+        raise GltfProblem(f"{what} names texture {index!r}, the file has {len(textures)}")
+    texture = _object(textures[index], f"textures[{index}]")
+    source = texture.get("source")
+    image = None
+    if source is not None:
+        if not (_is_index(source) and source < len(_list(header, "images"))):
+            raise GltfProblem(f"textures[{index}] names image {source!r}")
+        image = f"{label}#image{source}"
+    sampler = {}
+    if texture.get("sampler") is not None:
+        samplers = _list(header, "samplers")
+        if not (_is_index(texture["sampler"]) and texture["sampler"] < len(samplers)):
+            raise GltfProblem(f"textures[{index}] names sampler {texture['sampler']!r}")
+        sampler = _object(samplers[texture["sampler"]], "a sampler")
+    tex_coord = info.get("texCoord", 0)
+    transform = _object(_object(info.get("extensions", {}), f"{what}: extensions").get("KHR_texture_transform", {}),
+                        "KHR_texture_transform")
+    tex_coord = transform.get("texCoord", tex_coord)
+    if not _is_index(tex_coord):
+        raise GltfProblem(f"{what}: texCoord {tex_coord!r}")
+    if tex_coord != 0:
+        note = f"texture coordinate set {tex_coord} (only set 0 is read)"
+        if note not in result.unsupported:
+            result.unsupported.append(note)
+    scale, offset, skew = _uv_affine(transform)
+    return GltfTexture(
+        image=image, uv_scale=scale, uv_offset=offset, uv_skew=skew,
+        scale=_numbers([info.get(scale_key, 1.0)], 1, f"{what}.{scale_key}", -1e6, 1e6)[0] if scale_key else 1.0,
+        wrap=_WRAP.get(sampler.get("wrapS", 10497), "repeat"),
+        nearest=sampler.get("magFilter") in _NEAREST_FILTERS, tex_coord=tex_coord)
+
+
+def _uv_affine(transform: dict) -> tuple:
+    """KHR_texture_transform (uv' = T R S uv in glTF's v-down coordinates) as the affine map
+    of GL coordinates (v_gl = 1 - v): (scale (diagonal), offset, skew (off-diagonal))."""
+    sx, sy = _numbers(transform.get("scale", (1.0, 1.0)), 2, "KHR_texture_transform.scale", -1e6, 1e6)
+    ox, oy = _numbers(transform.get("offset", (0.0, 0.0)), 2, "KHR_texture_transform.offset", -1e6, 1e6)
+    rotation = _numbers([transform.get("rotation", 0.0)], 1, "KHR_texture_transform.rotation", -1e6, 1e6)[0]
+    c, s = math.cos(rotation), math.sin(rotation)
+    a00, a01, a10, a11 = c * sx, s * sy, -s * sx, c * sy
+    # flip v on both sides: A_gl = F A F with F = diag(1, -1); o_gl = F o + e - A_gl e, e = (0, 1)
+    g00, g01, g10, g11 = a00, -a01, -a10, a11
+    return (g00, g11), (ox - g01, 1.0 - oy - g11), (g01, g10)
+
+
+# -- images ---------------------------------------------------------------------------------
+
+def _load_images(header: dict, binary: bytes | None, result: GltfFile, label: str, read_file) -> None:
+    """The encoded bytes of each image a material uses, into ``result.images``; an image
+    that cannot be had is left out (its textures draw the placeholder)."""
+    used = {texture.image for material in result.materials for texture in material.textures().values()
+            if texture.image is not None}
+    images = _list(header, "images")
+    buffers: dict = {}
+    for key in sorted(used):
+        index = int(key.rsplit("#image", 1)[1])
+        image = _object(images[index], f"images[{index}]")
+        try:
+            if image.get("bufferView") is not None:
+                data = _buffer_view(header, image["bufferView"], binary, buffers, read_file)
+            elif isinstance(image.get("uri"), str):
+                data = _uri_bytes(image["uri"], read_file)
+            else:
+                continue
+        except FileNotFoundError:
+            continue
+        result.images[key] = data
+
+
+def _buffer_view(header: dict, index, binary, buffers: dict, read_file) -> bytes:
+    views = _list(header, "bufferViews")
+    if not (_is_index(index) and index < len(views)):
+        raise GltfProblem(f"an image names bufferView {index!r}")
+    view = _object(views[index], f"bufferViews[{index}]")
+    buffer_index = view.get("buffer")
+    all_buffers = _list(header, "buffers")
+    if not (_is_index(buffer_index) and buffer_index < len(all_buffers)):
+        raise GltfProblem(f"bufferViews[{index}] names buffer {buffer_index!r}")
+    if buffer_index not in buffers:
+        uri = _object(all_buffers[buffer_index], "a buffer").get("uri")
+        if uri is None:
+            if binary is None:
+                raise GltfProblem(f"buffers[{buffer_index}] has no uri and the file no BIN chunk")
+            buffers[buffer_index] = binary
+        else:
+            buffers[buffer_index] = _uri_bytes(_text(uri) or "", read_file)
+    start, length = view.get("byteOffset", 0), view.get("byteLength")
+    data = buffers[buffer_index]
+    if not (_is_index(start) and _is_index(length) and start + length <= len(data)):
+        raise GltfProblem(f"bufferViews[{index}] reaches past its buffer")
+    return data[start: start + length]
+
+
+def _uri_bytes(uri: str, read_file) -> bytes:
+    if uri.startswith("data:"):
+        head, _, payload = uri.partition(",")
+        try:
+            return base64.b64decode(payload, validate=False) if head.endswith(";base64") else payload.encode()
+        except ValueError:
+            raise GltfProblem("a data URI is not base64") from None
+    return read_file(unquote(uri))
+
+
+# -- checked JSON values ----------------------------------------------------------------------
+
+def _accessor(header: dict, index) -> dict:
+    accessors = _list(header, "accessors")
+    if not (_is_index(index) and index < len(accessors)):
+        raise GltfProblem(f"a primitive names accessor {index!r}, the file has {len(accessors)}")
+    return _object(accessors[index], f"accessors[{index}]")
+
+
+def _accessor_count(header: dict, index) -> int:
+    count = _accessor(header, index).get("count")
+    if not _is_index(count):
+        raise GltfProblem(f"accessors[{index}] has count {count!r}")
+    return count
+
+
+def _list(container: dict, key: str) -> list:
+    value = container.get(key, [])
+    if not isinstance(value, list):
+        raise GltfProblem(f"'{key}' is not a list")
+    return value
+
+
+def _object(value, what: str) -> dict:
+    if not isinstance(value, dict):
+        raise GltfProblem(f"{what} is not an object")
+    return value
+
+
+def _is_index(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def _text(value) -> str | None:
+    return value if isinstance(value, str) and value.strip() else None
+
+
+def _bool(value, what: str) -> bool:
+    if not isinstance(value, bool):
+        raise GltfProblem(f"{what} is not true or false")
+    return value
+
+
+def _numbers(values, count: int, what: str, lo: float, hi: float) -> tuple:
+    """``count`` finite numbers, clamped to [lo, hi] (glTF's ranges are [0, 1] for colours)."""
+    if not isinstance(values, (list, tuple)) or len(values) != count:
+        raise GltfProblem(f"{what} is not {count} number(s)")
+    out = []
+    for value in values:
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise GltfProblem(f"{what} holds {value!r}, not a finite number")
+        out.append(min(max(float(value), lo), hi))
+    return tuple(out)
+
+
+def _unique(name: str, seen: dict) -> str:
+    """``name``, or ``name.2``, ``name.3``... where the file used it already."""
+    if name not in seen:
+        seen[name] = 1
+        return name
+    seen[name] += 1
+    candidate = f"{name}.{seen[name]}"
+    while candidate in seen:
+        seen[name] += 1
+        candidate = f"{name}.{seen[name]}"
+    seen[candidate] = 1
+    return candidate
+
