@@ -27,7 +27,7 @@ from scenerender.compare import perturbation  # noqa: E402
 from scenerender.compare.objects import measure_objects  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
 from scenerender.run.session import Renderer, load  # noqa: E402
-from scenerender.sinks.object_ids import encode_ids_png  # noqa: E402
+from scenerender.sinks.images import encode_grey16_png  # noqa: E402
 
 WARM_UP = 3
 
@@ -58,7 +58,7 @@ def main() -> None:
         encode = []
         for _ in range(20):
             started = time.perf_counter()
-            encode_ids_png(last.object_ids)
+            encode_grey16_png(last.object_ids)
             encode.append(time.perf_counter() - started)
         jitter = _jittered_pair(args.scene, width, height, gl)
     gl.release()

@@ -18,7 +18,8 @@ from PIL import Image
 from scenerender.cli import main
 from scenerender.compare import DEFAULT_RULE, compare_images, compare_paths
 from scenerender.compare.objects import CHANGED_LEVELS, IdMap, measure_objects
-from scenerender.sinks.object_ids import encode_ids_png, ids_path, names_path, read_ids, read_names
+from scenerender.sinks.images import encode_grey16_png as encode_ids_png
+from scenerender.sinks.object_ids import ids_path, names_path, read_ids, read_names
 
 SUPERSAMPLE = 4
 SIZE = (96, 72)

@@ -11,7 +11,7 @@ from PIL import Image
 
 from scenerender.sinks.base import FrameSink, atomic_path, write_file
 from scenerender.sinks.names import name_template_problem
-from scenerender.sinks.object_ids import encode_ids_png, ids_path, write_names
+from scenerender.sinks.object_ids import ids_path, write_names
 
 SUFFIXES = {"png": ".png", "jpg": ".jpg", "tga": ".tga", "exr": ".exr"}
 # the suffixes an `-o` file name may end in, and the format each means
@@ -109,7 +109,7 @@ class ImageSequenceSink(FrameSink):
             if self.written == 0:
                 write_names(path.parent, self.scene, self.object_names)
             with atomic_path(ids_path(path)) as temp:
-                write_file(temp, encode_ids_png(frame.object_ids))
+                write_file(temp, encode_grey16_png(frame.object_ids))
         else:
             ids_path(path).unlink(missing_ok=True)  # another render's ids would misname this frame
         with atomic_path(path) as temp:
@@ -166,15 +166,28 @@ def encode_png(pixels: np.ndarray) -> bytes:
     """(H, W, C) uint8, C = 3 (RGB) or 4 (RGBA) -> the bytes of an 8-bit PNG file: one
     IDAT chunk of "Sub"-filtered rows (see PNG_STRATEGY)."""
     height, width, channels = pixels.shape
-    rows = pixels.reshape(height, width * channels)
-    filtered = np.empty((height, width * channels + 1), dtype=np.uint8)
-    filtered[:, 0] = 1  # filter type Sub
-    filtered[:, 1:channels + 1] = rows[:, :channels]
-    np.subtract(rows[:, channels:], rows[:, :-channels], out=filtered[:, channels + 1:])
     deflate = zlib.compressobj(PNG_COMPRESS_LEVEL, zlib.DEFLATED, 15, 9, PNG_STRATEGY)
+    return _png_file(pixels.reshape(height, width * channels), width, channels, 8, {3: 2, 4: 6}[channels], deflate)
+
+
+def encode_grey16_png(values: np.ndarray) -> bytes:
+    """(H, W) uint16 -> the bytes of a 16-bit greyscale PNG (object ids: large flat areas,
+    so deflate level 1 suffices)."""
+    height, width = values.shape
+    rows = np.ascontiguousarray(values, dtype=">u2").view(np.uint8).reshape(height, width * 2)
+    return _png_file(rows, width, 2, 16, 0, zlib.compressobj(1))
+
+
+def _png_file(rows: np.ndarray, width: int, pixel_bytes: int, bit_depth: int, color_type: int, deflate) -> bytes:
+    """A PNG of one IDAT chunk from ``rows`` ((H, W * pixel_bytes) uint8, big-endian
+    samples), each row "Sub"-filtered: every byte less the one a pixel to its left."""
+    height = rows.shape[0]
+    filtered = np.empty((height, rows.shape[1] + 1), dtype=np.uint8)
+    filtered[:, 0] = 1  # filter type Sub
+    filtered[:, 1:pixel_bytes + 1] = rows[:, :pixel_bytes]
+    np.subtract(rows[:, pixel_bytes:], rows[:, :-pixel_bytes], out=filtered[:, pixel_bytes + 1:])
     data = deflate.compress(filtered) + deflate.flush()
-    color_type = {3: 2, 4: 6}[channels]
-    header = struct.pack(">IIBBBBB", width, height, 8, color_type, 0, 0, 0)
+    header = struct.pack(">IIBBBBB", width, height, bit_depth, color_type, 0, 0, 0)
     return b"".join((b"\x89PNG\r\n\x1a\n", _png_chunk(b"IHDR", header), _png_chunk(b"IDAT", data),
                      _png_chunk(b"IEND", b"")))
 

@@ -11,8 +11,6 @@ keeps its ids the same way, in ``.object_ids/`` beside it.
 from __future__ import annotations
 
 import json
-import struct
-import zlib
 from pathlib import Path
 
 import numpy as np
@@ -34,24 +32,6 @@ def ids_path(frame: Path) -> Path:
 def names_path(folder: Path) -> Path:
     """The objects.json of the frames in ``folder``."""
     return Path(folder) / FOLDER / NAMES_FILE
-
-
-def encode_ids_png(ids: np.ndarray) -> bytes:
-    """(H, W) uint16 -> the bytes of a 16-bit grayscale PNG (rows "Sub"-filtered byte by
-    byte, deflated at level 1: ids are large flat areas)."""
-    height, width = ids.shape
-    rows = np.ascontiguousarray(ids, dtype=">u2").view(np.uint8).reshape(height, width * 2)
-    filtered = np.empty((height, width * 2 + 1), dtype=np.uint8)
-    filtered[:, 0] = 1  # filter type Sub, two bytes a pixel
-    filtered[:, 1:3] = rows[:, :2]
-    np.subtract(rows[:, 2:], rows[:, :-2], out=filtered[:, 3:])
-    data = zlib.compress(filtered.tobytes(), 1)
-    header = struct.pack(">IIBBBBB", width, height, 16, 0, 0, 0, 0)
-    return b"".join((b"\x89PNG\r\n\x1a\n", _chunk(b"IHDR", header), _chunk(b"IDAT", data), _chunk(b"IEND", b"")))
-
-
-def _chunk(kind: bytes, data: bytes) -> bytes:
-    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(data, zlib.crc32(kind)))
 
 
 def read_ids(path: Path) -> np.ndarray | None:

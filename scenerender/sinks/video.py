@@ -18,7 +18,13 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import EnvironmentProblem, display_path
-from scenerender.sinks.base import FrameSink, create_temp, make_folders, output_errors, write_failure
+from scenerender.sinks.base import (
+    FrameSink,
+    create_temp,
+    make_folders,
+    output_errors,
+    write_failure,
+)
 
 # GIF: a palette per frame (ffmpeg palettegen + paletteuse) looks far better than the
 # fixed web palette, and works on a stream because each frame needs only itself.
