@@ -12,8 +12,10 @@ median ms per pass.
 A variant is NAME=KEY=VALUE[;KEY=VALUE...] (scene overrides, as --set), NAME@FOLDER
 (the GLSL files from another folder, such as a copy of shaders/ taken before an edit), or
 one of:
-  no-footprint     shadow visibility taken once per pixel, not averaged over its MSAA samples
-  no-face-culling  every face of closed surfaces drawn, also those the camera cannot see
+  no-footprint        shadow visibility taken once per pixel, not averaged over its MSAA samples
+  no-face-culling     every face of closed surfaces drawn, also those the camera cannot see
+  no-visible-samples  no depth prepass for shadows over the visible samples only
+A NAME@FOLDER variant may add "+no-visible-samples".
 
     cp -r shaders /tmp/shaders-before   # then edit shaders/
     python benchmarks/variants.py scenes/showcase.yaml --variant before@/tmp/shaders-before
@@ -76,10 +78,17 @@ def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tu
             return variant, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if variant == "no-face-culling":
         return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
+    if variant == "no-visible-samples":
+        return variant, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True,
+                                 tuning={"visible_samples": False})
     if "@" in variant and "=" not in variant:
         name, _, folder = variant.partition("@")
+        folder, plus, flag = folder.partition("+")
+        if plus and flag != "no-visible-samples":
+            raise SystemExit(f"unknown variant flag: {flag}")
+        tuning = {"visible_samples": False} if plus else None
         with shaders_from(folder):
-            return name, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
+            return name, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True, tuning=tuning)
     name, _, overrides = variant.partition("=")
     extra = [o for o in overrides.split(";") if o] if overrides else []
     return name, Renderer(scenerender.load(scene_path, base_overrides + extra).world, gl, profile=True)

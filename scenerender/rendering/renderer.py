@@ -149,6 +149,7 @@ class Renderer:
         # the finite check reads the linear (float) colour back, whether the caller wants it or not
         self.check_finite = check_finite_enabled()
         self.want_linear = want_linear
+        tuning = {"post_depth_coverage": "GL_ARB_post_depth_coverage" in gl.extensions, **(tuning or {})}
         self.plan = plan(world, self.size, self.samples, max_size, want_linear or self.check_finite, warn, tuning)
         self.features = SceneFeatures.of(world, self.samples, self.plan.atlas)
         # encode linear -> sRGB on writes to (only) sRGB-format targets, decode for blending

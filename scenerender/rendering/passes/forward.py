@@ -28,6 +28,7 @@ class Shading:
     inputs: InputHandles
     atlas_pages: tuple = ()
     ao: Handle | None = None
+    visible_samples: bool = False  # shadows averaged over the samples that pass the depth test
 
     def declare(self, builder) -> None:
         builder.read(*self.inputs.shading(), *self.atlas_pages, *((self.ao,) if self.ao is not None else ()))
@@ -63,11 +64,14 @@ class Shading:
         with_ao = self.ao is not None
 
         def make():
-            program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, ctx.features.forward_defines(material, with_ao))
+            defines = ctx.features.forward_defines(material, with_ao)
+            if self.visible_samples and "HAS_SHADOWS" in defines:
+                defines["SHADOW_VISIBLE_SAMPLES"] = True
+            program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, defines)
             bind_texture_units(program)
             return program
 
-        return ctx.programs.memo(("forward", id(material), with_ao), make)
+        return ctx.programs.memo(("forward", id(material), with_ao, self.visible_samples), make)
 
 
 @dataclass(frozen=True)
@@ -111,7 +115,7 @@ class OpaquePass(RenderPass):
         elif self.prepass:
             extras.append("depth prepass")
         if self.shading.atlas_pages:
-            extras.append("shadows")
+            extras.append("shadows over the visible samples" if self.shading.visible_samples else "shadows")
         if self.shading.ao is not None:
             extras.append("AO")
         return ", ".join(extras)
