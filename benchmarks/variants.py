@@ -3,7 +3,7 @@
 Each variant is a renderer of its own on one GL context; frames are rendered by the
 variants in turn (A B C A B C ...), so a busy machine slows them alike, and each pass is
 timed GPU-synchronised (the --profile timings). Prints one Markdown row per variant: the
-median ms per pass.
+median ms per pass, and their sum ("frame").
 
     python benchmarks/variants.py scenes/foggy_road.yaml --set "render.size=[640,360]" \\
         --variant no-msaa=render.samples=1 --variant unlit=render.shading=unlit --variant no-footprint
@@ -111,12 +111,12 @@ def main() -> None:
         for _, renderer in renderers:
             renderer.render(index)
     passes = list(dict.fromkeys(name for _, r in renderers for name in r.timings))
-    print("| variant | " + " | ".join(passes) + " |")
-    print("|---" * (len(passes) + 1) + "|")
+    print("| variant | " + " | ".join(passes) + " | frame |")
+    print("|---" * (len(passes) + 2) + "|")
     for name, renderer in renderers:
-        cells = [f"{statistics.median(renderer.timings[p]) * 1000:.1f}" if p in renderer.timings else "-"
-                 for p in passes]
-        print(f"| {name} | " + " | ".join(cells) + " |")
+        medians = {p: statistics.median(renderer.timings[p]) * 1000 for p in passes if p in renderer.timings}
+        cells = [f"{medians[p]:.1f}" if p in medians else "-" for p in passes]
+        print(f"| {name} | " + " | ".join(cells) + f" | {sum(medians.values()):.1f} |")
 
 
 if __name__ == "__main__":

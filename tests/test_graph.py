@@ -351,7 +351,8 @@ def test_shadows_over_the_visible_samples_take_a_prepass_with_msaa_only():
     opaque = _opaque(_compiled(overdraw))
     assert opaque.prepass and opaque.shading.visible_samples
     assert "shadows over the visible samples" in opaque.describe()
-    for overrides in (["render.samples=1"], ["lights[0].shadows=false", "lights[1].shadows=false"]):
+    unshadowed = ["lights[0].shadows=false", "lights[1].shadows=false"]
+    for overrides in (["render.samples=1"], ["render.samples=2"], unshadowed):
         assert not _opaque(_compiled(overdraw, overrides)).shading.visible_samples
     world = _world(overdraw)
     without = plan(world, world.settings.size, 4, tuning={"post_depth_coverage": False}).compiled

@@ -195,7 +195,8 @@ class _FrameScene:
     # -- shading --------------------------------------------------------------------------
     def _shade(self, tri: np.ndarray, p: np.ndarray, ray: np.ndarray, u: np.ndarray, v: np.ndarray):
         """Colour (P, 3), shadow flags (P, S), cone factors (P, C), shading normals (P, 3)
-        and the radiance each shadow takes away (P, S) at hit points ``p`` (camera-relative (P, 3)) on triangles ``tri`` (P,),
+        and the radiance each shadow takes away (P, S) at hit points ``p``
+        (camera-relative (P, 3)) on triangles ``tri`` (P,),
         barycentric (u, v)."""
         soup, table = self.soup, self.table
         corners = soup.corners[tri]
