@@ -53,12 +53,12 @@ uniform sampler2DShadow u_shadow_atlas_2;
 //
 // Pixel footprint: dpdx, dpdy are p's change across one pixel (dFdx, dFdy taken where
 // control flow is uniform). Where the pixel covers more than a shadow texel, visibility is
-// averaged over points of the pixel on the surface's tangent plane (footprint_points,
-// SHADOW_FOOTPRINT_SAMPLES the MSAA samples): a shadow edge then gets the fraction of the
-// pixel it covers, as MSAA gives a geometric edge (visibility is otherwise evaluated once
-// per pixel, MSAA or not). With SHADOW_VISIBLE_SAMPLES only the points of the samples
-// where this surface passed the depth test count: at a silhouette the others lie on the
-// surface hidden behind the nearer object, in its shadow where it stands on the surface.
+// averaged over points of the pixel on the surface's tangent plane (footprint_offsets or
+// footprint_grid; SHADOW_FOOTPRINT_SAMPLES the MSAA samples): a shadow edge then gets the
+// fraction of the pixel it covers, as MSAA gives a geometric edge (visibility is otherwise
+// evaluated once per pixel, MSAA or not). With SHADOW_VISIBLE_SAMPLES only the points of
+// the samples where this surface passed the depth test count: at a silhouette the others
+// lie on the surface hidden behind the nearer object, in its shadow where it stands on it.
 #ifndef SHADOW_FOOTPRINT_SAMPLES
 #define SHADOW_FOOTPRINT_SAMPLES 1
 #endif
