@@ -14,6 +14,7 @@ from gltf_files import GlbBuilder, quad, sphere
 from scenerender.errors import Warnings
 from scenerender.mesh import load_mesh
 from scenerender.mesh.gltf import GltfMaterial, read_gltf
+from scenerender.rendering.renderer import Renderer as GraphRenderer
 
 SIZE = 64
 FRONT = "[{type: directional, direction: [0, 0, -1]}]"  # light travelling with the view
@@ -276,6 +277,35 @@ objects:
     assert shadow[free].min() > 250 and shadow[through_cut].max() < 5
     depth = render(gl, tmp_path, text.replace("samples: 1", "samples: 1, mode: depth"))
     assert abs(depth[free].mean() - depth[through_cut].mean()) < 3  # the backdrop on both sides
+
+
+@pytest.mark.parametrize("samples", [1, 4])
+def test_alpha_mask_cuts_the_depth_prepass(gl, tmp_path, samples):
+    # with a depth prepass (forced here; chosen for deep or shadowed MSAA scenes) a cut-away
+    # pixel must hold no depth, or the shading draw's discard leaves the clear colour there
+    # instead of the lit backdrop behind the hole
+    texture = {"pixels": alpha_halves(50, 200), "sampler": CLAMPED}
+    quad_file(tmp_path, baseColorTexture=texture, alphaMode="MASK", metallicFactor=0, doubleSided=True)
+    text = f"""
+render: {{size: [{SIZE}, {SIZE}], samples: {samples}, background: [0, 0, 0]}}
+camera: {{position: [0, 0, 5], target: [0, 0, 0], projection: orthographic, height: 2.5}}
+lights: [{{type: directional, direction: [0, 0, -1], shadows: true}}]
+objects:
+  - mesh: model.glb
+    position: [0, 0, 1]
+  - mesh: {{primitive: plane, size: 8}}
+    rotation: [90, 0, 0]
+"""
+    world = scenerender.Scene.from_yaml(text, tmp_path).world
+    renderer = GraphRenderer(world, gl, tuning={"depth_prepass": True})
+    try:
+        assert "depth prepass" in renderer.compiled.dump()
+        image = renderer.render(0).pixels.astype(float)
+    finally:
+        renderer.release()
+    through_cut, kept = (slice(20, 44), slice(12, 28)), (slice(20, 44), slice(36, 52))
+    assert image[through_cut].min() > 100  # the lit backdrop, not the black clear colour
+    assert image[kept].min() > 100
 
 
 def test_alpha_blend_is_transparent_and_opaque_ignores_alpha(gl, tmp_path):

@@ -337,9 +337,26 @@ def _opaque(compiled):
 def test_depth_prepass_only_where_surfaces_overlap_many_times():
     overdraw = Path(__file__).resolve().parent.parent / "benchmarks" / "scenes" / "overdraw.yaml"
     assert _opaque(_compiled(overdraw, ["render.samples=1"])).prepass
-    assert not _opaque(_compiled(overdraw)).prepass  # MSAA: hidden fragments are shaded anyway
+    # MSAA: hidden fragments are shaded anyway; the prepass stays only for shadows
+    unshadowed = ["lights[0].shadows=false", "lights[1].shadows=false"]
+    assert not _opaque(_compiled(overdraw, unshadowed)).prepass
     assert not _opaque(_compiled(SCENES / "showcase.yaml", ["render.samples=1"])).prepass
     assert "depth prepass" in _compiled(overdraw, ["render.samples=1"]).dump()
+
+
+def test_shadows_over_the_visible_samples_take_a_prepass_with_msaa_only():
+    """With MSAA and shadows, the depth prepass lets the shading pass know which samples
+    it shades (GL_ARB_post_depth_coverage), so shadows average over those alone."""
+    overdraw = Path(__file__).resolve().parent.parent / "benchmarks" / "scenes" / "overdraw.yaml"
+    opaque = _opaque(_compiled(overdraw))
+    assert opaque.prepass and opaque.shading.visible_samples
+    assert "shadows over the visible samples" in opaque.describe()
+    unshadowed = ["lights[0].shadows=false", "lights[1].shadows=false"]
+    for overrides in (["render.samples=1"], ["render.samples=2"], unshadowed):
+        assert not _opaque(_compiled(overdraw, overrides)).shading.visible_samples
+    world = _world(overdraw)
+    without = plan(world, world.settings.size, 4, tuning={"post_depth_coverage": False}).compiled
+    assert not _opaque(without).prepass and not _opaque(without).shading.visible_samples
 
 
 def test_shadow_views_are_compile_time_constants(tmp_path):

@@ -114,9 +114,11 @@ objects:
     wx, wz = pixel_world(xs.astype(float), ys.astype(float))
     assert wx.min() == pytest.approx(-0.5, abs=pixel) and wx.max() == pytest.approx(1.5, abs=pixel)
     assert wz.min() == pytest.approx(-0.5, abs=pixel) and wz.max() == pytest.approx(0.5, abs=pixel)
-    # in the shadow only the ambient term is left: 0.2 * Kd
+    # in the shadow only the ambient term is left: 0.2 * Kd; the shadow took Kd cos 45
     inside = shadow == 1.0
     np.testing.assert_allclose(ref.linear[inside], 0.2, rtol=1e-6)
+    np.testing.assert_allclose(ref.blocked[:, :, 0][inside], math.sqrt(0.5), rtol=1e-6)
+    assert not ref.blocked[:, :, 0][shadow == 0.0].any()
 
 
 def test_scene_far_from_the_origin_renders_like_at_it():

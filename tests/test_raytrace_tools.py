@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 from scenerender.cli import main
 from scenerender.raytrace import bench, rays
-from scenerender.raytrace.quality import region_masks
+from scenerender.raytrace.quality import frame_errors, region_masks
 from scenerender.raytrace.render import ReferenceFrame
 
 SCENE = """
@@ -64,6 +64,35 @@ def test_shadow_edge_region_follows_the_shadow_boundary():
     assert columns.tolist() == list(range(7, 13))
     assert not (masks["interior"] & masks["shadow_edge"]).any()
     assert masks["interior"][:, :7].all() and masks["interior"][:, 13:].all()
+
+
+def test_silhouette_pixels_count_as_geometry_edge_not_shadow_or_cone_edge():
+    shadow = np.zeros((20, 20))
+    shadow[:, 10:] = 1.0
+    hard = np.zeros((20, 20))
+    hard[10:, :] = 1.0
+    mixed = np.zeros((20, 20), bool)
+    mixed[:, 9] = True            # an object's silhouette along the shadow's edge
+    masks = region_masks(_frame(shadow, hard, mixed), radius=2)
+    assert masks["shadow_edge"].any() and masks["cone_edge"].any()
+    assert not (masks["shadow_edge"] & mixed).any() and not (masks["cone_edge"] & mixed).any()
+    assert masks["geometry_edge"][:, 8:11].all()
+
+
+def test_umbra_leak_is_the_share_of_the_blocked_light_let_through():
+    shadow = np.zeros((10, 10))
+    shadow[:, 5:] = 1.0
+    shadow[:, 5] = 0.5            # partly in shadow: left out
+    frame = _frame(shadow)
+    frame.linear[:] = 0.1
+    frame.blocked = np.where(shadow == 1.0, 0.4, 0.0)[:, :, None].astype(np.float32)
+    gpu = frame.linear.copy()
+    gpu[:, 6:] += 0.1             # a quarter of the 0.4 the shadow takes away
+    errors = frame_errors(frame, frame.pixels, gpu, with_flip=False)
+    assert errors["umbra_leak"] == pytest.approx(25.0)
+    assert errors["shadow_edge_rel"] == pytest.approx(100.0 * errors["shadow_edge_rmse"] / 100.0 / 0.1, rel=1e-6)
+    frame.blocked = None
+    assert frame_errors(frame, frame.pixels, gpu, with_flip=False)["umbra_leak"] is None
 
 
 def test_a_smooth_cone_falloff_is_not_an_edge_but_a_hard_one_is():

@@ -112,7 +112,7 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
     return variants
 
 
-def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int = 2, spp: int = 4,
+def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int = 2, spp: int = 16,
               echo=lambda text: None, asset_roots=()) -> list[BenchRow]:
     """Sweep ``path`` (a scene file) and return one BenchRow per variant, Pareto flags set
     on (ms_per_frame, rmse_linear)."""
@@ -185,7 +185,9 @@ COLUMNS = (("ms/frame", "ms_per_frame", "{:.1f}"), ("ms IQR", "ms_iqr", "{:.1f}"
            ("RMSE lin %", "rmse_linear", "{:.2f}"),
            ("RMSE sRGB %", "rmse_srgb", "{:.2f}"), ("PSNR dB", "psnr", "{:.1f}"), ("FLIP", "flip", "{:.4f}"),
            ("shadow-edge RMSE %", "shadow_edge_rmse", "{:.2f}"), ("cone-edge RMSE %", "cone_edge_rmse", "{:.2f}"),
-           ("interior RMSE %", "interior_rmse", "{:.3f}"))
+           ("interior RMSE %", "interior_rmse", "{:.3f}"), ("geometry-edge RMSE %", "geometry_edge_rmse", "{:.2f}"),
+           ("shadow-edge % of mean", "shadow_edge_rel", "{:.2f}"), ("cone-edge % of mean", "cone_edge_rel", "{:.2f}"),
+           ("umbra leak %", "umbra_leak", "{:.1f}"))
 
 
 def markdown_table(title: str, rows: list[BenchRow]) -> str:

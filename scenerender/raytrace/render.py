@@ -53,6 +53,9 @@ class ReferenceFrame:
               of the pixel's samples blocked from it; samples facing away from the light or
               missing the scene count as not blocked.
     cone:     (H, W, C) float32 per spot light, the mean spot-cone factor of the samples.
+    blocked:  (H, W, S) float32 per shadowed light, the linear radiance (mean of the three
+              channels, over the pixel's samples) its shadow takes away: what the pixel
+              would gain were that light unshadowed.
     object:   (H, W) int32 scene-object index seen by the pixel's middle sample, -1 for none.
     mixed:    (H, W) bool: the pixel's samples see more than one object (or background), or
               surfaces facing more than ~25 degrees apart (an edge of one object).
@@ -68,6 +71,7 @@ class ReferenceFrame:
     object: np.ndarray
     mixed: np.ndarray
     spp: int
+    blocked: np.ndarray | None = None
 
 
 def unsupported_features(world) -> list[str]:
@@ -122,10 +126,11 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
     rows_per_chunk = max(1, _CHUNK_SAMPLES // (width * spp * spp))
     chunks = [scene.render_rows(y0, min(height, y0 + rows_per_chunk), width, height, spp, rng)
               for y0 in range(0, height, rows_per_chunk)]
-    linear, shadow, cone, objects, mixed = (np.concatenate(parts) for parts in zip(*chunks))
+    linear, shadow, cone, objects, mixed, blocked = (np.concatenate(parts) for parts in zip(*chunks))
     toned = tone_map(linear, world.render.tone_map, frame.exposure)
     pixels = shading.encode_output(toned, world.render.output_transform, world.render.gamma)
-    return ReferenceFrame(index, time, linear.astype(np.float32), pixels, shadow, cone, objects, mixed, spp)
+    return ReferenceFrame(index, time, linear.astype(np.float32), pixels, shadow, cone, objects, mixed, spp,
+                          blocked)
 
 
 class _FrameScene:
@@ -152,22 +157,24 @@ class _FrameScene:
     # -- rays -----------------------------------------------------------------------------
     def render_rows(self, y0: int, y1: int, width: int, height: int, spp: int, rng):
         """Rows y0..y1-1: (linear (h, W, 3), shadow (h, W, S), cone (h, W, C), object (h, W),
-        mixed (h, W))."""
+        mixed (h, W), blocked (h, W, S))."""
         rows = y1 - y0
         sx, sy = _sample_positions(rows, width, spp, rng)          # (rows, W, n) pixel coords
         sy = sy + y0
         ndc_x = 2.0 * sx / width - 1.0
         ndc_y = 1.0 - 2.0 * sy / height
         origins, directions = self._camera_rays(ndc_x.reshape(-1), ndc_y.reshape(-1))
-        color, shadow, cone, objects, normals = self._trace(origins, directions)
+        color, shadow, cone, objects, normals, blocked = self._trace(origins, directions)
         n = spp * spp
         shape = (rows, width, n)
         color = color.reshape(shape + (3,)).mean(axis=2)
         shadow = shadow.reshape(shape + (-1,)).mean(axis=2)
+        blocked = blocked.reshape(shape + (-1,)).mean(axis=2)
         cone = cone.reshape(shape + (-1,)).mean(axis=2)
         objects = objects.reshape(shape)
         mixed = np.any(objects != objects[:, :, :1], axis=2) | _creased(normals.reshape(shape + (3,)))
-        return color, shadow.astype(np.float32), cone.astype(np.float32), objects[:, :, n // 2], mixed
+        return (color, shadow.astype(np.float32), cone.astype(np.float32), objects[:, :, n // 2], mixed,
+                blocked.astype(np.float32))
 
     def _camera_rays(self, ndc_x: np.ndarray, ndc_y: np.ndarray):
         """Camera-relative (origins (R, 3), directions (R, 3)); a perspective direction has
@@ -196,6 +203,7 @@ class _FrameScene:
         background = self.frame.background[:3]
         color = np.broadcast_to(background, origins.shape).copy()
         shadow = np.zeros((len(origins), len(self.shadowed)))
+        blocked = np.zeros((len(origins), len(self.shadowed)))
         cone = np.zeros((len(origins), len(self.spots)))
         objects = np.full(len(origins), -1, np.int32)
         normals = np.zeros_like(origins)
@@ -203,15 +211,16 @@ class _FrameScene:
         rows = np.flatnonzero(in_range)
         if len(rows):
             tri = triangles[rows]
-            color[rows], shadow[rows], cone[rows], normals[rows] = self._shade(
+            color[rows], shadow[rows], cone[rows], normals[rows], blocked[rows] = self._shade(
                 tri, origins[rows] + directions[rows] * t[rows, None], directions[rows], u[keep], v[keep])
             objects[rows] = self.soup.object[tri]
-        return color, shadow, cone, objects, normals
+        return color, shadow, cone, objects, normals, blocked
 
     # -- shading --------------------------------------------------------------------------
     def _shade(self, tri: np.ndarray, p: np.ndarray, ray: np.ndarray, u: np.ndarray, v: np.ndarray):
-        """Colour (P, 3), shadow flags (P, S), cone factors (P, C) and shading normals
-        (P, 3) at hit points ``p`` (camera-relative (P, 3)) on triangles ``tri`` (P,),
+        """Colour (P, 3), shadow flags (P, S), cone factors (P, C), shading normals (P, 3)
+        and the radiance each shadow takes away (P, S) at hit points ``p``
+        (camera-relative (P, 3)) on triangles ``tri`` (P,),
         barycentric (u, v)."""
         soup, table = self.soup, self.table
         corners = soup.corners[tri]
@@ -240,23 +249,30 @@ class _FrameScene:
             n, view, surface, pbr)
         color = ambient * surface["occlusion"][:, None] + ke
         shadow = np.zeros((len(p), len(self.shadowed)))
+        taken = np.zeros((len(p), len(self.shadowed)))
         cone = np.zeros((len(p), len(self.spots)))
         for light_index, light in enumerate(self.lights):
             l, radiance, in_cone = self._light_at(light, p, n)
             if light.kind == "spot":
                 cone[:, self.spots.index(light_index)] = in_cone
+            term = self._direct(n, l, view, radiance, surface, model)
             if light_index in self.shadowed:
                 blocked = self._blocked(light, p, l, facing, n)
                 shadow[:, self.shadowed.index(light_index)] = blocked
-                radiance = radiance * (~blocked)[:, None]
-            color += self._direct(n, l, view, radiance, surface, model)
+                taken[:, self.shadowed.index(light_index)] = np.where(blocked, term.mean(axis=1), 0.0)
+                term = term * (~blocked)[:, None]
+            color += term
         unlit = model == MODELS.index("unlit")
         color = np.where(unlit[:, None], base + ke, color)
+        taken = np.where(unlit[:, None], 0.0, taken)
         fog = self.world.render.fog
         if fog is not None:
-            color = shading.apply_fog(color, np.linalg.norm(p, axis=1), self.frame.fog_color, fog.mode,
+            distance = np.linalg.norm(p, axis=1)
+            color = shading.apply_fog(color, distance, self.frame.fog_color, fog.mode,
                                       self.frame.fog_density, fog.start, fog.end)
-        return color, shadow, cone, n
+            taken = taken * shading.fog_visibility(distance, fog.mode, self.frame.fog_density, fog.start,
+                                                   fog.end)[:, None]
+        return color, shadow, cone, n, taken
 
     @staticmethod
     def _direct(n, l, view, radiance, surface: dict, model: np.ndarray) -> np.ndarray:

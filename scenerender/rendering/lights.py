@@ -117,8 +117,9 @@ BASE_BIAS_TEXELS = 0.5
 def shadow_bias_texels(settings) -> tuple[float, float]:
     """(constant, slope) depth bias in shadow texels at the receiver (see
     shaders/lighting/shadows.glsl): the built-in amounts plus the light's ``bias`` and
-    ``slope_bias``. The slope term covers the filter's reach, pcf / 2 texels."""
-    return BASE_BIAS_TEXELS + settings.bias, 0.5 * settings.pcf + settings.slope_bias
+    ``slope_bias``. The slope term covers the filter's reach, pcf / 2 texels, and at least
+    the one texel a single bilinear tap reaches (pcf 1 takes one tap, as pcf 2 does)."""
+    return BASE_BIAS_TEXELS + settings.bias, 0.5 * max(settings.pcf, 2) + settings.slope_bias
 
 
 def _texel_world_size(view) -> list:

@@ -161,6 +161,7 @@ class Renderer:
         self.check_finite = check_finite_enabled()
         self.want_linear = want_linear
         self.object_ids = object_ids
+        tuning = {"post_depth_coverage": "GL_ARB_post_depth_coverage" in gl.extensions, **(tuning or {})}
         self.plan = plan(world, self.size, self.samples, max_size, want_linear or self.check_finite, warn, tuning,
                          object_ids)
         self.features = SceneFeatures.of(world, self.samples, self.plan.atlas)

@@ -51,26 +51,43 @@ float attenuation(vec4 coefficients, float distance) {
     return 1.0 / max(denominator, 1e-6);
 }
 
+// Fraction of a pixel square where f >= 0, for f linear across it: t its value at the
+// centre, g its change across the whole pixel along x and along y (absolute values). That
+// is the distribution function of a sum of two uniform variables: a ramp |g.x| + |g.y|
+// wide, with quadratic ends as wide as the smaller of the two (a box filter, what the
+// pixel's samples converge to; a straight ramp is up to 0.125 off near an edge at 45
+// degrees). A point exactly on the edge of a pixel-less edge (g = 0) counts as inside.
+float edge_coverage(float t, vec2 g) {
+    float hi = max(g.x, g.y);
+    float lo = max(min(g.x, g.y), 1e-3 * hi);
+    if (hi < 1e-20) {
+        return t >= 0.0 ? 1.0 : 0.0;
+    }
+    float w = clamp(t + 0.5 * (hi + lo), 0.0, hi + lo);  // from where the pixel starts to cover
+    float v = hi + lo - w;                                // to where it is fully covered
+    float middle = (w - 0.5 * lo) / hi;
+    return w < lo ? w * w / (2.0 * hi * lo) : (v < lo ? 1.0 - v * v / (2.0 * hi * lo) : middle);
+}
+
 // 1 inside the inner cone, 0 outside the outer, smooth between; inner == outer is a hard edge.
 // An edge sharper than the pixel is anti-aliased: the factor is the fraction of the pixel
-// inside the cone, a ramp ``pixel`` wide (cos_angle's change across the pixel, spot_pixel)
-// centred on the edge.
-float spot_cone(vec4 cone, float cos_angle, float pixel) {
+// square inside the cone (edge_coverage), from cos_angle's change across the pixel along
+// x and y (spot_pixel), for an edge at the middle of inner and outer.
+float spot_cone(vec4 cone, float cos_angle, vec2 pixel) {
     float width = cone.x - cone.y;
-    if (width <= pixel) {
-        float edge = cone.y + 0.5 * max(width, 0.0);
-        return clamp((cos_angle - edge) / max(pixel, 1e-20) + 0.5, 0.0, 1.0);
+    if (width <= pixel.x + pixel.y) {
+        return edge_coverage(cos_angle - (cone.y + 0.5 * max(width, 0.0)), pixel);
     }
     return smoothstep(0.0, 1.0, clamp((cos_angle - cone.y) / width, 0.0, 1.0));
 }
 
-// How much cos_angle = dot(-l, direction) changes across one pixel, |d/dx| + |d/dy| (the
-// width of a pixel square seen across a straight edge), from the position's derivatives
-// dpdx, dpdy: analytic rather than fwidth(cos_angle), whose value some drivers get wrong
-// for data read from storage buffers at triangle edges.
-float spot_pixel(vec3 to_light, float cos_angle, vec3 direction, vec3 dpdx, vec3 dpdy) {
+// How much cos_angle = dot(-l, direction) changes across one pixel along x and along y,
+// (|d/dx|, |d/dy|), from the position's derivatives dpdx, dpdy: analytic rather than
+// fwidth(cos_angle), whose value some drivers get wrong for data read from storage buffers
+// at triangle edges.
+vec2 spot_pixel(vec3 to_light, float cos_angle, vec3 direction, vec3 dpdx, vec3 dpdy) {
     float distance = max(length(to_light), 1e-20);
     // gradient of dot(normalize(p - light), direction) with respect to p
     vec3 gradient = (direction + cos_angle * to_light / distance) / distance;
-    return abs(dot(gradient, dpdx)) + abs(dot(gradient, dpdy));
+    return vec2(abs(dot(gradient, dpdx)), abs(dot(gradient, dpdy)));
 }

@@ -1,6 +1,9 @@
 // Forward shading of scene meshes: ambient (times screen-space AO when on), every light
 // with its shadows, emission, fog. Which of these exist is decided per scene, and the
 // shading model (Phong, Blinn-Phong, pbr, unlit) per material.
+#ifdef SHADOW_VISIBLE_SAMPLES
+#extension GL_ARB_post_depth_coverage : require
+#endif
 #include "common/math.glsl"
 #include "lighting/material.glsl"
 #ifndef UNLIT
@@ -8,6 +11,12 @@
 #endif
 #ifdef HAS_FOG
 #include "lighting/fog.glsl"
+#endif
+
+#ifdef SHADOW_VISIBLE_SAMPLES
+// gl_SampleMaskIn after the depth test (the depth prepass has laid down the final depth)
+layout(early_fragment_tests) in;
+layout(post_depth_coverage) in;
 #endif
 
 in vec3 v_position;

@@ -12,11 +12,12 @@ from scenerender.rendering.draw import (
     MESH_VERTEX, begin_camera_pass, bind_lights, bind_material, bind_shadow_atlas, bind_texture_units,
     cull_hidden_faces, draw_item, opaque_items, single_sided_faces, skip_faces, stop_culling, transparent_items,
 )
-from scenerender.rendering.features import TEXTURE_UNITS
+from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
 from scenerender.rendering.inputs import InputHandles
 from scenerender.rendering.passes.data import ImageData, TargetData
 
 FORWARD_FRAGMENT = "mesh/forward.frag"
+DEPTH_ONLY_FRAGMENT = "mesh/depth_only.frag"
 
 
 @dataclass(frozen=True)
@@ -28,6 +29,7 @@ class Shading:
     inputs: InputHandles
     atlas_pages: tuple = ()
     ao: Handle | None = None
+    visible_samples: bool = False  # shadows averaged over the samples that pass the depth test
 
     def declare(self, builder) -> None:
         builder.read(*self.inputs.shading(), *self.atlas_pages, *((self.ao,) if self.ao is not None else ()))
@@ -64,11 +66,14 @@ class Shading:
         with_ao = self.ao is not None
 
         def make():
-            program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, ctx.features.forward_defines(material, with_ao))
+            defines = ctx.features.forward_defines(material, with_ao)
+            if self.visible_samples and "HAS_SHADOWS" in defines:
+                defines["SHADOW_VISIBLE_SAMPLES"] = True
+            program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, defines)
             bind_texture_units(program)
             return program
 
-        return ctx.programs.memo(("forward", id(material), with_ao), make)
+        return ctx.programs.memo(("forward", id(material), with_ao, self.visible_samples), make)
 
 
 def cull_faces(gl, objects, item) -> None:
@@ -121,7 +126,7 @@ class OpaquePass(RenderPass):
         elif self.prepass:
             extras.append("depth prepass")
         if self.shading.atlas_pages:
-            extras.append("shadows")
+            extras.append("shadows over the visible samples" if self.shading.visible_samples else "shadows")
         if self.shading.ao is not None:
             extras.append("AO")
         return ", ".join(extras)
@@ -155,17 +160,32 @@ class OpaquePass(RenderPass):
         """Lay down depth for every opaque item without shading, then leave the depth test
         at 'equal or nearer' with depth writes off: the shading draw that follows runs the
         expensive fragment shader only for the surface each pixel finally shows."""
-        program = ctx.programs.get(MESH_VERTEX, "mesh/depth_only.frag")
-        set_uniforms(program, u_view_proj=ctx.input(self.shading.inputs.camera).view_proj_relative())
+        view_proj = ctx.input(self.shading.inputs.camera).view_proj_relative()
+        program = ctx.programs.get(MESH_VERTEX, DEPTH_ONLY_FRAGMENT)
+        set_uniforms(program, u_view_proj=view_proj)
         objects = ctx.input(self.shading.inputs.objects)
+        materials = ctx.input(self.shading.inputs.materials)
         fbo.color_mask = (False, False, False, False)
         for item in items:
             cull_faces(ctx.gl, objects, item)
-            draw_item(objects, program, item)
+            draw_item(objects, self._depth_program(ctx, program, item.material, materials, view_proj), item)
         stop_culling(ctx.gl)
         fbo.color_mask = (True, True, True, True)
         fbo.depth_mask = False
         ctx.gl.depth_func = ctx.depth.nearer_or_equal
+
+    @staticmethod
+    def _depth_program(ctx, program, material, materials, view_proj):
+        """``program``, or for an alpha-masked material (glTF MASK) its variant that cuts
+        the same pixels away as the shading draw does: a hole must hold no depth, or the
+        shading draw's discard leaves the target's clear colour there."""
+        if not material.masked:
+            return program
+        masked = ctx.programs.get(MESH_VERTEX, DEPTH_ONLY_FRAGMENT, mask_defines(material))
+        bind_texture_units(masked)
+        set_uniforms(masked, u_view_proj=view_proj)
+        bind_material(masked, material, materials)
+        return masked
 
 
 @dataclass(frozen=True)
