@@ -3,7 +3,9 @@ in-process and measured against the CPU reference.
 
 One knob changes at a time from the scene's own settings (the "default" row): MSAA
 samples, shadow map size, PCF size, shadow bias, ambient occlusion on/off, image size;
-then a few shadow map size and PCF pairs together ("combined").
+then a few shadow map size and PCF pairs together ("combined"); with an environment light,
+its prefilter size, spherical-harmonic order and prefilter samples. What is made once a run
+(the prefiltered environment) is timed apart, in ``once_ms``.
 Timing: every variant keeps its renderer open and the variants take turns frame by frame
 (so a slow spell of a shared machine spreads over all of them), frames 1..F of the scene
 after frame 0 which warms up (when the shadowed lights move, shadow maps are rendered again
@@ -31,7 +33,12 @@ BIASES = (0.0005, 0.001, 0.002, 0.005)
 DEFAULT_AO = "{radius: 0.5, samples: 16, strength: 1.0}"
 # shadow map size and PCF together: the pairs the one-knob sweep suggests are worth a look
 COMBINATIONS = ((512, 5), (1024, 5), (1024, 7))
-KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined")
+PREFILTER_SIZES = (64, 128, 256, 512)
+SH_ORDERS = (1, 2, 3, 4)
+PREFILTER_SAMPLES = (16, 32, 64, 128)
+KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size", "sh_order",
+         "env_samples")
+ONCE_PASSES = ("environment_prefilter",)  # passes a run makes once, whose cost is not per frame
 
 
 @dataclass(frozen=True)
@@ -50,6 +57,7 @@ class BenchRow:
     ms_samples: list = field(default_factory=list)
     errors: dict = field(default_factory=dict)
     pareto: bool = False
+    once_ms: float | None = None  # the passes of ONCE_PASSES, on the first frame
     samples_used: int | None = None  # MSAA samples the device gave (it may round a request up)
 
     @property
@@ -73,7 +81,7 @@ class BenchRow:
                 "samples_used": self.samples_used,
                 "ms_per_frame": _round(self.ms_per_frame, 3), "ms_iqr": _round(self.ms_iqr, 3),
                 "ms_samples": [round(v, 3) for v in self.ms_samples],
-                "pareto": self.pareto, **{k: _round(v, 4) for k, v in self.errors.items()}}
+                "once_ms": _round(self.once_ms, 3), "pareto": self.pareto, **{k: _round(v, 4) for k, v in self.errors.items()}}
 
 
 def _round(value, digits):
@@ -109,6 +117,15 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
     else:
         add("ao", "ao off", "render.ambient_occlusion=null", True, False)
     add("size", f"size {width // 2}x{height // 2}", f"render.size=[{width // 2}, {height // 2}]", 0, 1)
+    environment = scene.world.environment
+    if environment is not None:
+        key = "lights[{}].".format(environment.path[1])
+        for size in PREFILTER_SIZES:
+            add("prefilter_size", f"prefilter {size}", f"{key}prefilter_size={size}", environment.prefilter_size, size)
+        for order in SH_ORDERS:
+            add("sh_order", f"SH order {order}", f"{key}sh_order={order}", environment.sh_order, order)
+        for count in PREFILTER_SAMPLES:
+            add("env_samples", f"prefilter samples {count}", f"{key}samples={count}", environment.samples, count)
     return variants
 
 
@@ -129,9 +146,11 @@ def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int =
                 references[scene.size] = render_reference(scene, 0, spp=spp, warn=echo)
                 echo(f"reference {scene.size[0]}x{scene.size[1]}, {spp}x{spp} samples a pixel: "
                      f"{time.perf_counter() - started:.1f} s")
-            with Renderer(scene, gl=gl, want_linear=True) as renderer:
+            with Renderer(scene, gl=gl, want_linear=True, profile=True) as renderer:
                 frame = renderer.render(0)
                 row.samples_used = renderer.samples
+                once = [sum(renderer.timings[name]) for name in ONCE_PASSES if name in renderer.timings]
+                row.once_ms = 1000.0 * sum(once) if once else None
             row.errors = frame_errors(references[scene.size], frame.pixels, frame.linear)
         _time_interleaved(path, overrides, rows, frames, rounds, gl, asset_roots, echo)
     finally:
@@ -181,7 +200,7 @@ def mark_pareto(rows: list[BenchRow], error_key: str = "rmse_linear") -> None:
 
 # -- outputs ----------------------------------------------------------------------------------
 
-COLUMNS = (("ms/frame", "ms_per_frame", "{:.1f}"), ("ms IQR", "ms_iqr", "{:.1f}"),
+COLUMNS = (("ms/frame", "ms_per_frame", "{:.1f}"), ("ms IQR", "ms_iqr", "{:.1f}"), ("once ms", "once_ms", "{:.0f}"),
            ("RMSE lin %", "rmse_linear", "{:.2f}"),
            ("RMSE sRGB %", "rmse_srgb", "{:.2f}"), ("PSNR dB", "psnr", "{:.1f}"), ("FLIP", "flip", "{:.4f}"),
            ("shadow-edge RMSE %", "shadow_edge_rmse", "{:.2f}"), ("cone-edge RMSE %", "cone_edge_rmse", "{:.2f}"),
@@ -195,7 +214,7 @@ def markdown_table(title: str, rows: list[BenchRow]) -> str:
     head = "| variant | " + " | ".join(label for label, _, _ in COLUMNS) + " | Pareto |"
     lines = [f"### {title}", "", head, "|" + "---|" * (len(COLUMNS) + 2)]
     for row in rows:
-        values = {"ms_per_frame": row.ms_per_frame, "ms_iqr": row.ms_iqr, **row.errors}
+        values = {"ms_per_frame": row.ms_per_frame, "ms_iqr": row.ms_iqr, "once_ms": row.once_ms, **row.errors}
         cells = [_cell(values.get(key), fmt) for _, key, fmt in COLUMNS]
         lines.append(f"| {row.label} | " + " | ".join(cells) + f" | {'*' if row.pareto else ''} |")
     return "\n".join(lines) + "\n"
