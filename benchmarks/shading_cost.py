@@ -26,7 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import scenerender  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
-from scenerender.rendering.renderer import Renderer  # noqa: E402
+from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
 
 
 def quartiles(values: list) -> tuple[float, float]:
@@ -56,7 +56,7 @@ def main() -> None:
     renderers = []
     for _, sets in variants:
         scene = scenerender.load(args.scene, args.sets + sets)
-        renderer = Renderer(scene.world, gl, profile=True)
+        renderer = GraphRenderer(scene.world, gl, profile=True)
         renderer.render(0)  # programs compiled, static passes drawn
         renderer.timings.clear()
         renderers.append(renderer)

@@ -34,11 +34,11 @@ import scenerender  # noqa: E402
 from scenerender.gpu import shaders  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
 from scenerender.rendering import features  # noqa: E402
-from scenerender.rendering.renderer import Renderer  # noqa: E402
+from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
 from scenerender.world import frame  # noqa: E402
 
 
-class NoFaceCulling(Renderer):
+class NoFaceCulling(GraphRenderer):
     """Draws the faces the camera cannot see too."""
 
     def render(self, index: int):
@@ -72,19 +72,19 @@ def footprint_off():
         features._footprint_samples = original
 
 
-def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tuple[str, Renderer]:
+def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tuple[str, GraphRenderer]:
     if variant == "no-footprint":
         with footprint_off():
-            return variant, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
+            return variant, GraphRenderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if variant == "no-face-culling":
         return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if "@" in variant and "=" not in variant:
         name, _, folder = variant.partition("@")
         with shaders_from(folder):
-            return name, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
+            return name, GraphRenderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     name, _, overrides = variant.partition("=")
     extra = [o for o in overrides.split(";") if o] if overrides else []
-    return name, Renderer(scenerender.load(scene_path, base_overrides + extra).world, gl, profile=True)
+    return name, GraphRenderer(scenerender.load(scene_path, base_overrides + extra).world, gl, profile=True)
 
 
 def main() -> None:

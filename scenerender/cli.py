@@ -343,40 +343,16 @@ def graph(scene, dot, overrides, asset_roots, limit_texts):
     culled, and the images between them. Works without a GL device; where one is at hand,
     the MSAA samples are what it offers."""
     from scenerender.api import load
-    from scenerender.rendering.renderer import device_samples, plan
+    from scenerender.run.graph_report import graph_report
 
     loaded_scene = load(scene, overrides, asset_roots=asset_roots, limits=_limits(limit_texts),
                         on_warning=lambda t: click.echo(t, err=True))
-    world = loaded_scene.world
-    settings = world.settings
-    max_samples = _device_max_samples()
-    used = device_samples(settings.samples, max_samples if max_samples is not None else settings.samples)
-    compiled = plan(world, settings.size, used).compiled
+    report = graph_report(loaded_scene)
     if dot:
-        click.echo(compiled.dot())
+        click.echo(report.compiled.dot())
         return
-    msaa = f"{used}x MSAA" if used > 1 else "no MSAA"
-    if used < settings.samples:
-        msaa += f" ({settings.samples} asked; this device offers {max_samples})"
-    elif max_samples is None and settings.samples > 1:
-        msaa += " (no GL device to ask: a device may offer fewer)"
-    click.echo(f"render graph of {scene}: mode {settings.mode}, {settings.size[0]}x{settings.size[1]}, {msaa}, "
-               f"{loaded_scene.frame_count} frame(s)")
-    click.echo(compiled.dump())
-
-
-def _device_max_samples() -> int | None:
-    """The MSAA samples the default GL device offers; None when there is no device."""
-    from scenerender.gpu.context import create_context
-
-    try:
-        gl = create_context()
-    except EnvironmentProblem:
-        return None
-    try:
-        return gl.max_samples
-    finally:
-        gl.release()
+    click.echo(report.header(str(scene)))
+    click.echo(report.compiled.dump())
 
 
 @main.command()

@@ -2,7 +2,7 @@
 
 ``import_inputs`` imports every input of ``world.inputs.world_inputs`` into the graph and
 returns their handles; passes declare the ones they read. Each frame,
-``input_values`` turns the evaluated FrameState, and what Renderer.import_frame uploaded
+``input_values`` turns the evaluated FrameState, and what GraphRenderer.import_frame uploaded
 from it, into the value each handle resolves to in ``PassContext.input``. Values are
 read-only: nothing here writes GPU state.
 """

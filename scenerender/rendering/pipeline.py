@@ -35,7 +35,7 @@ DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
 @dataclass(frozen=True)
 class GraphOptions:
     size: tuple
-    samples: int  # what the device gives (Renderer clamps the scene's request to it)
+    samples: int  # what the device gives (GraphRenderer clamps the scene's request to it)
     want_linear: bool = False  # also read back linear HDR (EXR output)
     object_ids: bool = False   # also read back which object each pixel shows (passes/object_ids.py)
     # Choices the builder normally makes per scene; set only to measure the alternatives.
@@ -44,7 +44,7 @@ class GraphOptions:
     hdr_target: bool | None = None
     sky_behind_samples: bool = True  # with MSAA, the resolve adds the sky (passes/sky.py)
     # the device reports which samples passed the depth test (GL_ARB_post_depth_coverage);
-    # Renderer sets what its context offers
+    # GraphRenderer sets what its context offers
     post_depth_coverage: bool = True
     visible_samples: bool | None = None
 

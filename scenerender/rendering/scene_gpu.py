@@ -72,7 +72,7 @@ class GpuScene:
     def upload(self, frame: FrameState, lights: PackedLights) -> LightsInput:
         """Write ``frame``'s instance transforms and the packed ``lights`` into the run's
         buffers; returns the value of the graph's ``lights`` input over them. Called by
-        Renderer.import_frame before the frame's passes run, and nowhere else."""
+        GraphRenderer.import_frame before the frame's passes run, and nowhere else."""
         for buffer, state in zip(self.instance_buffers, frame.objects):
             if state.visible:
                 buffer.write(instance_bytes(state.models_rel, state.normals))
