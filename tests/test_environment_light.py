@@ -270,3 +270,22 @@ def test_user_error_is_what_reading_raises(tmp_path):
     (tmp_path / "e.hdr").write_bytes(b"#?RADIANCE\n\n-Y 1 +X 1\n")
     with pytest.raises(UserError):
         read_hdr(tmp_path / "e.hdr", 10**6)
+
+
+def test_an_exr_environment_is_read_as_linear_light(tmp_path):
+    from scenerender.sinks.images import write_exr
+
+    image = sky(16, 32, lambda d: np.stack([d[..., 0] + 2, d[..., 1] + 2, np.full(d.shape[:-1], 40.0)], axis=-1))
+    write_exr(tmp_path / "e.exr", image)
+    loaded = scenerender.Scene.from_yaml("lights: [{type: environment, image: e.exr}]\nobjects: []", tmp_path)
+    assert loaded.world.environment.image == pytest.approx(image, rel=1e-6)  # floats above 1 kept
+
+
+def test_image_sky_is_the_skybox_resampled_into_linear_light():
+    loaded = scenerender.Scene.from_yaml("render: {skybox: assets/skybox/day}\nlights: [{type: environment}]\n"
+                                         "objects: []", "scenes")
+    image = loaded.world.environment.image
+    assert image.shape == (512, 1024, 3) and image.max() <= 1.0
+    # the day sky is blue above and grey-green below
+    up, down = image[:64].mean(axis=(0, 1)), image[-64:].mean(axis=(0, 1))
+    assert up[2] > up[0] and down[2] < up[2]
