@@ -22,7 +22,7 @@ import numpy as np
 from scenerender.compare.metrics import PIXEL_THRESHOLD, FrameMetrics
 from scenerender.compare.objects import PICTURE_COLOURS
 from scenerender.compare.result import CompareResult, FrameComparison
-from scenerender.compare.rule import TILE, DiffRule
+from scenerender.compare.rule import SHIFT_WINDOW, TILE, DiffRule
 from scenerender.compare.sources import Side
 from scenerender.sinks.base import OUTPUT_OPTION, atomic_path
 
@@ -129,7 +129,7 @@ def metrics_rows(metrics: FrameMetrics, rule: DiffRule, objects=None) -> list[tu
          f"<= {rule.max_tile:g}", metrics.worst_tile_aa <= rule.max_tile),
         ("mean outside the 3x3 ranges (levels)", _fmt(metrics.unexplained_mean, 5), f"<= {rule.max_unexplained_mean:g}",
          metrics.unexplained_mean <= rule.max_unexplained_mean),
-        (f"worst {TILE}x{TILE} window after the best shift (levels, signed mean)", _fmt(metrics.shift_tile),
+        (f"worst {SHIFT_WINDOW}x{SHIFT_WINDOW} window after the best shift (levels, signed mean)", _fmt(metrics.shift_tile),
          f"<= {rule.max_shift_tile:g}", metrics.shift_tile <= rule.max_shift_tile),
         ("worst pixel after the best shift (levels)", _fmt(metrics.shift_pixel, 1), "", None),
         ("pixels excused (edge shifts and rounding)", str(metrics.excused_pixels), "", None),

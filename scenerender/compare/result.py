@@ -9,7 +9,7 @@ import numpy as np
 
 from scenerender.compare.metrics import FrameMetrics
 from scenerender.compare.objects import ObjectMetrics
-from scenerender.compare.rule import TILE, DiffRule
+from scenerender.compare.rule import SHIFT_WINDOW, DiffRule
 from scenerender.compare.sources import Side
 from scenerender.version import __version__
 
@@ -144,7 +144,7 @@ class CompareResult:
             shift = max(m.largest_shift for m in measured)
             worst = max(m.shift_tile for m in measured)
             return (f"PASS: {c['compared']} frame(s) match; {excused} px excused as sub-pixel edge shifts and "
-                    f"rounding (tiles shifted <= {shift:g} px; worst {TILE}x{TILE} window after the shift "
+                    f"rounding (tiles shifted <= {shift:g} px; worst {SHIFT_WINDOW}x{SHIFT_WINDOW} window after the shift "
                     f"{worst:.2f} levels)")
         return (f"FAIL: {c['changed']} of {c['compared']} frame(s) changed, {c['missing']} missing, "
                 f"{c['extra']} extra")
