@@ -28,6 +28,8 @@ class FrameImages:
     heatmap: np.ndarray | None
     shifts: np.ndarray | None
     objects: np.ndarray | None = None   # the objects a limit failed, each in a colour of its own
+    focus: tuple[int, int, int, int] | None = None  # (x, y, w, h): the window the report shows close up
+    focus_note: str = ""                # what that window holds, in words
 
 
 @dataclass
