@@ -31,6 +31,7 @@ from scenerender.compare.objects import IdMap, ObjectMetrics, measure_objects
 from scenerender.compare.rule import DEFAULT_RULE, DiffRule
 from scenerender.gpu.context import create_context
 from scenerender.run.session import Renderer, load
+from scenerender.world.id_names import id_names
 
 ROOT = Path(__file__).resolve().parents[2]
 NOISE = ("re-render", "jitter 1/8 px", "jitter 1/4 px", "dither +-1 level", "offset +1 level")
@@ -408,8 +409,7 @@ def api_render_fn(gl) -> RenderFn:
     def render(path: Path, overrides: list, frame: int) -> Shot:
         with Renderer(load(path, overrides), gl=gl, object_ids=True) as renderer:
             result = renderer.render(frame)
-            names = {index + 1: obj.name for index, obj in enumerate(renderer.scene.world.objects)}
-            return Shot(result.pixels, IdMap(result.object_ids, names))
+            return Shot(result.pixels, IdMap(result.object_ids, id_names(renderer.scene.world)))
     return render
 
 
