@@ -24,7 +24,8 @@ image statistic separates from a sub-pixel camera move: a 3-px bead moved 1 px, 
 moved 5 cm, a shininess halved, a thin pole dropped at 160x120. No noise case makes an
 object appear or vanish (the thin pole covers 6 px, three times the limit); the shift limit
 sits 2.2 times above the worst noise (0.20 px, a 4-px glow under a quarter-pixel jitter) and
-2.1 times under the closest change (the sphere, 0.95 px); the interior limit 4.8 times above
+2.2 times under the closest change (the bead, 0.98 px; the unnamed sphere, named by its
+position, is gone and new when moved); the interior limit 4.8 times above
 its worst noise (0.21 levels) and 2.6 times under the closest change (2.59 levels).
 """
 from __future__ import annotations
