@@ -389,8 +389,8 @@ LEVELS = FiniteFloatRange(min=0)  # a limit on differences of 8-bit levels: fini
                    "(levels): catches faint changes spread wide, such as a colour or the field of view.")
 @click.option("--max-shift-tile", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_shift_tile,
               show_default=True,
-              help="Largest allowed signed mean (levels) of any 8x8 window of what is left after each tile's "
-                   "best shift of up to 1/4 pixel: catches small and thin changes the ranges excuse.")
+              help="Largest allowed signed mean (levels) of any 12x12 window of what is left after each 8x8 "
+                   "tile's best shift of up to 1/4 pixel: catches small and thin changes the ranges excuse.")
 @click.option("--aa-tolerance", type=click.IntRange(0, 255), metavar="LEVELS", default=_DIFF_DEFAULTS.aa_tolerance,
               show_default=True,
               help="Levels of rounding forgiven on every channel, before both tests.")
