@@ -22,6 +22,15 @@ point gathers it from that many cosine-distributed directions (seeded per frame)
 weighted by the material's BRDF and blocked by any surface in its way. That is the exact
 answer the GPU's formula approximates (for a white non-metal in a white environment,
 the white furnace, its own energy balance).
+
+An environment light (``lights: - type: environment``) is integrated by Monte Carlo, always:
+``environment_samples`` directions a sample point (seeded per frame), drawn by multiple
+importance sampling between the cosine and the GGX lobe (scenerender.raytrace.environment),
+each weighted by the material's BRDF and the image's radiance in that direction and blocked
+by any surface in its way. Like the ambient term it is times Ka and the occlusion map. pbr
+materials take the whole BRDF; Phong and Blinn-Phong ones only the diffuse part, and only
+where the light has ``classic: true``; unlit ones nothing. Rays that miss the scene still
+show the background colour, not the environment (as they do not show the skybox).
 """
 from __future__ import annotations
 
@@ -31,7 +40,7 @@ import numpy as np
 
 from scenerender.colorspace import tone_map
 from scenerender.errors import UserError
-from scenerender.raytrace import shading
+from scenerender.raytrace import environment, shading
 from scenerender.raytrace.geometry import Soup, frame_soup
 from scenerender.raytrace.rays import TriangleCaster
 from scenerender.raytrace.textures import MapSampler
@@ -40,6 +49,8 @@ from scenerender.world.frame import FrameEvaluator
 
 # Samples shaded at once; bounds the memory of one chunk to a few hundred MB.
 _CHUNK_SAMPLES = 400_000
+# Directions a sample point gathers an environment light from, by default.
+ENVIRONMENT_SAMPLES = 4
 
 
 @dataclass
@@ -100,13 +111,15 @@ def unsupported_features(world) -> list[str]:
 
 
 def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None = None,
-                     warn=None, ambient_samples: int = 0) -> ReferenceFrame:
+                     warn=None, ambient_samples: int = 0,
+                     environment_samples: int = ENVIRONMENT_SAMPLES) -> ReferenceFrame:
     """Frame ``index`` of ``world`` (a World or a scenerender.Scene), spp x spp rays a pixel.
 
     size: (width, height), default the scene's render.size. ``warn`` receives one line
     naming what the reference leaves out, when the scene has any of it. ambient_samples:
     0 for the GPU's ambient formula, else the directions per sample point over which
-    ambient light is integrated (see the module's docstring)."""
+    ambient light is integrated (see the module's docstring). environment_samples: the
+    directions per sample point over which an environment light is integrated (at least 1)."""
     world = getattr(world, "world", world)
     if world.render.mode != "shaded":
         raise single_error(f"the reference renders mode 'shaded' only, not '{world.render.mode}'",
@@ -115,13 +128,16 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
         raise UserError(f"spp must be at least 1, got {spp}")
     if ambient_samples < 0:
         raise UserError(f"ambient samples must be 0 or more, got {ambient_samples}")
+    if environment_samples < 1:
+        raise UserError(f"environment samples must be at least 1, got {environment_samples}")
     missing = unsupported_features(world)
     if missing and warn is not None:
         warn(f"the reference renders without {', '.join(missing)}")
     width, height = size or tuple(int(v) for v in world.render.size)
     time = index / float(world.output.fps)
     frame = FrameEvaluator(world, (width, height), atlas=None).evaluate(index, time)
-    scene = _FrameScene(world, frame, warn, ambient_samples, np.random.Generator(np.random.PCG64([index, 1])))
+    scene = _FrameScene(world, frame, warn, ambient_samples, np.random.Generator(np.random.PCG64([index, 1])),
+                        environment_samples, np.random.Generator(np.random.PCG64([index, 2])))
     rng = np.random.Generator(np.random.PCG64(index))
     rows_per_chunk = max(1, _CHUNK_SAMPLES // (width * spp * spp))
     chunks = [scene.render_rows(y0, min(height, y0 + rows_per_chunk), width, height, spp, rng)
@@ -136,11 +152,14 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
 class _FrameScene:
     """One frame's geometry, lights and materials, ready to shade samples."""
 
-    def __init__(self, world, frame, warn, ambient_samples: int = 0, ambient_rng=None):
+    def __init__(self, world, frame, warn, ambient_samples: int = 0, ambient_rng=None,
+                 environment_samples: int = ENVIRONMENT_SAMPLES, environment_rng=None):
         self.world = world
         self.frame = frame
         self.ambient_samples = ambient_samples
         self.ambient_rng = ambient_rng
+        self.environment_samples = environment_samples
+        self.environment_rng = environment_rng
         self.soup: Soup = frame_soup(world, frame)
         self.primary = TriangleCaster(self.soup.corners, warn)
         self.primary_count = self.soup.count
@@ -247,6 +266,7 @@ class _FrameScene:
         pbr = model == MODELS.index("pbr")
         ambient = self._ambient(p, n, facing, view, surface, model) if self.ambient_samples else self._ambient_formula(
             n, view, surface, pbr)
+        ambient = ambient + self._environment(p, n, facing, view, surface, model)
         color = ambient * surface["occlusion"][:, None] + ke
         shadow = np.zeros((len(p), len(self.shadowed)))
         taken = np.zeros((len(p), len(self.shadowed)))
@@ -326,6 +346,44 @@ class _FrameScene:
                 term = np.where((hits >= 0)[:, None], 0.0, term)
             total += term
         return total / self.ambient_samples * surface["ambient"]
+
+    def _environment(self, p, n, facing, view, surface: dict, model: np.ndarray) -> np.ndarray:
+        """(P, 3) Ka times the environment light's radiance reflected towards the eye, by
+        Monte Carlo (scenerender.raytrace.environment); zero without one."""
+        state = self.frame.environment
+        out = np.zeros_like(n)
+        if state is None or not np.any(state.scale > 0.0):
+            return out
+        pbr = model == MODELS.index("pbr")
+        lambert = np.isin(model, [MODELS.index("phong"), MODELS.index("blinn_phong")]) & self.world.environment.classic
+        rows = np.flatnonzero(pbr | lambert)
+        if not len(rows):
+            return out
+        part = {key: value[rows] for key, value in surface.items()}
+        n, view, p, facing, pbr = n[rows], view[rows], p[rows], facing[rows], pbr[rows]
+        choice = np.where(pbr, environment.ggx_choice(np.sum(n * view, axis=1), part["diffuse"],
+                                                      part["metallic"]), 0.0)
+        image = self.world.environment.image
+        epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p, axis=1)
+
+        def reflected(at, l):
+            radiance = state.radiance(image, l)
+            term = part["diffuse"][at] * radiance * np.maximum(np.sum(n[at] * l, axis=1), 0.0)[:, None]
+            glossy = np.flatnonzero(pbr[at])
+            term[glossy] = shading.pbr_direct_term(n[at][glossy], l[glossy], view[at][glossy], radiance[glossy],
+                                                   part["diffuse"][at][glossy], part["metallic"][at][glossy],
+                                                   part["roughness"][at][glossy])
+            return term / np.pi
+
+        def visible(at, l):
+            if not self.primary_count:
+                return np.ones(len(at), bool)
+            return self.primary.first_hit(p[at] + facing[at] * epsilon[at, None], l) < 0
+
+        gathered = environment.gather(n, view, shading.pbr_alpha(part["roughness"]), choice,
+                                      self.environment_samples, self.environment_rng, reflected, visible)
+        out[rows] = gathered * part["ambient"]
+        return out
 
     def _apply_maps(self, m: np.ndarray, corner_uvs: np.ndarray, u: np.ndarray, v: np.ndarray, surface: dict) -> None:
         """The maps of each point's material applied to ``surface`` (arrays per point, in

@@ -1,0 +1,144 @@
+"""Light from an environment image in the reference renderer, by Monte Carlo.
+
+A surface point reflects towards the eye
+
+    Ka * integral over the hemisphere of f(l, v) L_env(l) (N.l) dl
+
+with L_env the environment's radiance (scenerender.world.environment) and f the material's
+BRDF: the pbr model's whole BRDF, or for Phong and Blinn-Phong materials (only where the
+light has ``classic: true``) a Lambert surface, base / pi, with no specular part.
+
+Each sample point draws ``samples`` directions, each by one of two strategies picked at
+random: cosine-weighted over the hemisphere (pdf N.l / pi) or the GGX distribution of
+visible normals (Heitz 2018, "Sampling the GGX Distribution of Visible Normals") reflected
+about the sampled half vector (pdf G1(v) D(h) / (4 N.v), the half vector's pdf
+G1(v) max(v.h, 0) D(h) / N.v times the reflection's Jacobian 1 / (4 v.h)). A direction is
+weighted by its pdf under the mixture of both (the balance heuristic of multiple importance
+sampling in its one-sample form), so either strategy may find any direction; Lambert
+surfaces use the cosine alone. The GGX strategy is picked with the share of the Fresnel
+reflectance at N.v in what the surface reflects, kept within [0.25, 0.9].
+
+Vectors are float64 (P, 3), one row per sample point, as in scenerender.raytrace.shading.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from scenerender.raytrace import shading
+
+MIN_GGX_CHOICE, MAX_GGX_CHOICE = 0.25, 0.9  # the probability of the GGX strategy, for pbr surfaces
+MIN_SAMPLING_COS = 1e-3  # a view at or below the horizon is sampled as if just above it
+
+
+def tangent_frame(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(tangent, bitangent), each (P, 3): with unit normals ``n`` an orthonormal frame."""
+    helper = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    tangent = shading.safe_normalize(np.cross(n, helper))
+    return tangent, np.cross(n, tangent)
+
+
+def cosine_directions(r1: np.ndarray, r2: np.ndarray) -> np.ndarray:
+    """(P, 3) cosine-distributed directions about +Z from uniform numbers (P,) each."""
+    radius, angle = np.sqrt(r1), 2.0 * np.pi * r2
+    return np.stack([radius * np.cos(angle), radius * np.sin(angle), np.sqrt(np.maximum(1.0 - r1, 0.0))], axis=1)
+
+
+def ggx_visible_normals(view: np.ndarray, alpha: np.ndarray, r1: np.ndarray, r2: np.ndarray) -> np.ndarray:
+    """(P, 3) half vectors about +Z drawn from GGX's distribution of normals visible from
+    ``view`` (P, 3), unit with z > 0 (Heitz 2018, listing 1)."""
+    a = alpha[:, None]
+    stretched = shading.safe_normalize(np.concatenate([view[:, :2] * a, view[:, 2:]], axis=1))
+    lensq = stretched[:, 0] ** 2 + stretched[:, 1] ** 2
+    t1 = np.where((lensq > 1e-20)[:, None],
+                  np.stack([-stretched[:, 1], stretched[:, 0], np.zeros_like(lensq)], axis=1)
+                  / np.sqrt(np.maximum(lensq, 1e-20))[:, None], [[1.0, 0.0, 0.0]])
+    t2 = np.cross(stretched, t1)
+    radius, angle = np.sqrt(r1), 2.0 * np.pi * r2
+    p1, p2 = radius * np.cos(angle), radius * np.sin(angle)
+    s = 0.5 * (1.0 + stretched[:, 2])
+    p2 = (1.0 - s) * np.sqrt(np.maximum(1.0 - p1 * p1, 0.0)) + s * p2
+    p3 = np.sqrt(np.maximum(1.0 - p1 * p1 - p2 * p2, 0.0))
+    normal = t1 * p1[:, None] + t2 * p2[:, None] + stretched * p3[:, None]
+    return shading.safe_normalize(np.stack([normal[:, 0] * alpha, normal[:, 1] * alpha,
+                                            np.maximum(normal[:, 2], 0.0)], axis=1), np.array([0.0, 0.0, 1.0]))
+
+
+def smith_g1(n_dot_v: np.ndarray, alpha: np.ndarray) -> np.ndarray:
+    """(P,) GGX's Smith masking G1 = 2 N.v / (N.v + sqrt(alpha^2 + (1 - alpha^2) (N.v)^2))."""
+    a2 = alpha * alpha
+    return 2.0 * n_dot_v / (n_dot_v + np.sqrt(a2 + (1.0 - a2) * n_dot_v * n_dot_v))
+
+
+def ggx_reflection_pdf(light: np.ndarray, view: np.ndarray, alpha: np.ndarray) -> np.ndarray:
+    """(P,) solid-angle density of ``light`` (P, 3, about +Z) under the GGX strategy from
+    ``view`` (P, 3, z > 0): G1(v) D(h) / (4 N.v); zero below the horizon."""
+    h = shading.safe_normalize(light + view, np.array([0.0, 0.0, 1.0]))
+    density = smith_g1(view[:, 2], alpha) * shading.ggx_distribution(h[:, 2], alpha) / (4.0 * view[:, 2])
+    return np.where((light[:, 2] > 0.0) & (h[:, 2] > 0.0), density, 0.0)
+
+
+def mixture_pdf(light: np.ndarray, view: np.ndarray, alpha: np.ndarray, ggx_choice: np.ndarray) -> np.ndarray:
+    """(P,) density of ``light`` under the two strategies mixed, the GGX one picked with
+    probability ``ggx_choice`` (P,)."""
+    cosine = np.maximum(light[:, 2], 0.0) / np.pi
+    ggx = np.zeros_like(cosine)
+    rows = ggx_choice > 0.0
+    if rows.any():
+        ggx[rows] = ggx_reflection_pdf(light[rows], view[rows], alpha[rows])
+    return (1.0 - ggx_choice) * cosine + ggx_choice * ggx
+
+
+def draw_directions(rng, view: np.ndarray, alpha: np.ndarray, ggx_choice: np.ndarray):
+    """(light (P, 3), pdf (P,)): one direction a point about +Z, by the GGX strategy with
+    probability ``ggx_choice``, else cosine-weighted, and its mixture density."""
+    pick, r1, r2 = rng.random((3, len(view)))
+    light = cosine_directions(r1, r2)
+    ggx = pick < ggx_choice
+    if ggx.any():
+        h = ggx_visible_normals(view[ggx], alpha[ggx], r1[ggx], r2[ggx])
+        light[ggx] = 2.0 * np.sum(view[ggx] * h, axis=1, keepdims=True) * h - view[ggx]
+    return light, mixture_pdf(light, view, alpha, ggx_choice)
+
+
+def sampling_view(n: np.ndarray, tangent: np.ndarray, bitangent: np.ndarray, view: np.ndarray) -> np.ndarray:
+    """(P, 3) the view in the (tangent, bitangent, n) frame, lifted to at least
+    MIN_SAMPLING_COS above the horizon: the GGX strategy needs N.v > 0 (any proposal
+    serves, as long as its density is the one the weights use)."""
+    local = np.stack([np.sum(view * tangent, axis=1), np.sum(view * bitangent, axis=1),
+                      np.maximum(np.sum(view * n, axis=1), MIN_SAMPLING_COS)], axis=1)
+    return shading.safe_normalize(local, np.array([0.0, 0.0, 1.0]))
+
+
+def ggx_choice(n_dot_v: np.ndarray, base: np.ndarray, metallic: np.ndarray) -> np.ndarray:
+    """(P,) probability of the GGX strategy for pbr surfaces: Schlick's F(N.v) over F plus
+    the diffuse part (1 - F) (1 - metallic) base, channel means, within the bounds."""
+    m = metallic[:, None]
+    f0 = 0.04 * (1.0 - m) + base * m
+    fresnel = shading.fresnel_schlick(f0, np.clip(n_dot_v, 0.0, 1.0)).mean(axis=1)
+    diffuse = ((1.0 - fresnel[:, None]) * (1.0 - m) * base).mean(axis=1)
+    share = fresnel / np.maximum(fresnel + diffuse, 1e-12)
+    return np.clip(share, MIN_GGX_CHOICE, MAX_GGX_CHOICE)
+
+
+def gather(n: np.ndarray, view: np.ndarray, alpha: np.ndarray, choice: np.ndarray, samples: int, rng,
+           reflected, visible) -> np.ndarray:
+    """(P, 3) the estimate of the integral of f L_env (N.l) over the hemisphere about ``n``:
+    the mean over ``samples`` drawn directions of reflected(l) / pdf(l), where
+    ``reflected(rows, l)`` (R, 3) is f L_env(l) (N.l) at those rows (R,) for their world
+    directions l (R, 3), and ``visible(rows, l)`` (R,) bool says which of them see the
+    environment along l.
+
+    alpha: (P,) GGX alpha; choice: (P,) probability of the GGX strategy (0: cosine only)."""
+    tangent, bitangent = tangent_frame(n)
+    local_view = sampling_view(n, tangent, bitangent, view)
+    total = np.zeros_like(n)
+    for _ in range(samples):
+        local, pdf = draw_directions(rng, local_view, alpha, choice)
+        l = tangent * local[:, :1] + bitangent * local[:, 1:2] + n * local[:, 2:]
+        value = np.zeros_like(n)
+        rows = np.flatnonzero((local[:, 2] > 0.0) & (pdf > 0.0))
+        value[rows] = reflected(rows, l[rows]) / pdf[rows, None]
+        lit = rows[np.any(value[rows] > 0.0, axis=1)]
+        value[lit[~visible(lit, l[lit])]] = 0.0
+        total += value
+    return total / samples
