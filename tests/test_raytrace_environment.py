@@ -6,10 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 
 import scenerender
+from scenerender import cli
 from scenerender.errors import UserError
 from scenerender.raytrace import environment, render_reference, shading
+from scenerender.raytrace.render import ENVIRONMENT_SAMPLES
 from scenerender.world.environment import equirect_directions
 from scenerender.world.environment_files import write_hdr
 
@@ -185,3 +188,21 @@ def test_environment_samples_must_be_positive(tmp_path):
     scene = sphere_scene(tmp_path, "{type: environment, image: white.hdr}", "{base_color: [1, 1, 1]}")
     with pytest.raises(UserError):
         render_reference(scene, 0, spp=1, environment_samples=0)
+
+
+def test_the_reference_command_takes_environment_samples(tmp_path):
+    write_hdr(tmp_path / "patch.hdr", patch_image(0.5))
+    scene = tmp_path / "s.yaml"
+    scene.write_text(SPHERE.format(size=24, background="[0, 0, 0]", light="{type: environment, image: patch.hdr}",
+                                   material="{base_color: [1, 1, 1], metallic: 0, roughness: 0.6}"))
+    written = {}
+    for samples in ("1", "16"):
+        folder = tmp_path / samples
+        result = CliRunner().invoke(cli.main, ["reference", str(scene), "-o", str(folder), "--spp", "1",
+                                               "--environment-samples", samples])
+        assert result.exit_code == 0, result.output
+        written[samples] = (folder / "frame_0000.png").read_bytes()
+    assert written["1"] != written["16"]
+    refused = CliRunner().invoke(cli.main, ["reference", str(scene), "--environment-samples", "0"])
+    assert refused.exit_code == 2
+    assert cli.ENVIRONMENT_SAMPLES == ENVIRONMENT_SAMPLES  # the option's default is the renderer's
