@@ -8,15 +8,19 @@ with L_env the environment's radiance (scenerender.world.environment) and f the 
 BRDF: the pbr model's whole BRDF, or for Phong and Blinn-Phong materials (only where the
 light has ``classic: true``) a Lambert surface, base / pi, with no specular part.
 
-Each sample point draws ``samples`` directions, each by one of two strategies picked at
-random: cosine-weighted over the hemisphere (pdf N.l / pi) or the GGX distribution of
-visible normals (Heitz 2018, "Sampling the GGX Distribution of Visible Normals") reflected
-about the sampled half vector (pdf G1(v) D(h) / (4 N.v), the half vector's pdf
-G1(v) max(v.h, 0) D(h) / N.v times the reflection's Jacobian 1 / (4 v.h)). A direction is
-weighted by its pdf under the mixture of both (the balance heuristic of multiple importance
-sampling in its one-sample form), so either strategy may find any direction; Lambert
-surfaces use the cosine alone. The GGX strategy is picked with the share of the Fresnel
-reflectance at N.v in what the surface reflects, kept within [0.25, 0.9].
+Each sample point draws ``samples`` directions, each by one of three strategies picked at
+random: the image (``ImageSampler``: a texel in proportion to its brightness times its
+solid angle, then uniformly in the texel's (u, v), so a small bright sun is found; picked
+with probability IMAGE_CHOICE times how concentrated the image's light is, nothing for a
+uniform image), cosine-weighted over the hemisphere (pdf N.l / pi) or
+the GGX distribution of visible normals (Heitz 2018, "Sampling the GGX Distribution of
+Visible Normals") reflected about the sampled half vector (pdf G1(v) D(h) / (4 N.v), the
+half vector's pdf G1(v) max(v.h, 0) D(h) / N.v times the reflection's Jacobian
+1 / (4 v.h)). A direction is weighted by its pdf under the mixture of all three (the
+balance heuristic of multiple importance sampling in its one-sample form), so any strategy
+may find any direction; Lambert surfaces leave GGX out. Of the rest, GGX is picked with the
+share of the Fresnel reflectance at N.v in what the surface reflects, kept within
+[0.25, 0.9].
 
 Vectors are float64 (P, 3), one row per sample point, as in scenerender.raytrace.shading.
 """
@@ -25,9 +29,63 @@ from __future__ import annotations
 import numpy as np
 
 from scenerender.raytrace import shading
+from scenerender.world.environment import equirect_uv, texel_solid_angles
 
 MIN_GGX_CHOICE, MAX_GGX_CHOICE = 0.25, 0.9  # the probability of the GGX strategy, for pbr surfaces
 MIN_SAMPLING_COS = 1e-3  # a view at or below the horizon is sampled as if just above it
+IMAGE_CHOICE = 0.5  # the most probability of drawing from the image (see ImageSampler.choice)
+MIN_IMAGE_CHOICE = 0.02  # below this, a nearly uniform image is not drawn from at all
+
+
+class ImageSampler:
+    """Directions drawn from an equirectangular image (H, W, 3) in proportion to its
+    brightness (the channel mean of image x ``scale``) times each texel's solid angle,
+    uniformly in (u, v) inside the texel; ``to_image`` (3, 3) turns world directions into
+    the image's frame (scenerender.world.environment.EnvironmentState)."""
+
+    def __init__(self, image: np.ndarray, scale: np.ndarray, to_image: np.ndarray):
+        height, width = image.shape[:2]
+        brightness = np.maximum(np.asarray(image, dtype=np.float64) @ np.asarray(scale, dtype=np.float64) / 3.0, 0.0)
+        weights = brightness * texel_solid_angles(height, width)
+        self.shape = (height, width)
+        self.to_image = np.asarray(to_image, dtype=np.float64)
+        self.cdf = np.cumsum(weights.ravel())
+        self.total = float(self.cdf[-1])
+        self.probability = weights / max(self.total, 1e-300)
+        choice = IMAGE_CHOICE * (1.0 - _uniformity(brightness, texel_solid_angles(height, width)))
+        self.choice = choice if choice >= MIN_IMAGE_CHOICE else 0.0
+
+    def draw(self, r1: np.ndarray, r2: np.ndarray, r3: np.ndarray) -> np.ndarray:
+        """(N, 3) unit world directions from uniform numbers (N,) each."""
+        height, width = self.shape
+        texel = np.minimum(np.searchsorted(self.cdf, r1 * self.total, side="right"), height * width - 1)
+        row, column = np.divmod(texel, width)
+        theta = (row + r3) / height * np.pi
+        phi = ((column + r2) / width - 0.5) * 2.0 * np.pi
+        sin_t = np.sin(theta)
+        in_image = np.stack([sin_t * np.sin(phi), np.cos(theta), -sin_t * np.cos(phi)], axis=1)
+        return in_image @ self.to_image
+
+    def pdf(self, directions: np.ndarray) -> np.ndarray:
+        """(N,) solid-angle density of unit world ``directions`` (N, 3): the texel's
+        probability over its (u, v) area, times 1 / (2 pi^2 sin theta) from (u, v) to solid angle."""
+        height, width = self.shape
+        in_image = directions @ self.to_image.T
+        u, v = equirect_uv(in_image)
+        row = np.clip(np.floor(v * height).astype(np.int64), 0, height - 1)
+        column = np.floor(u * width).astype(np.int64) % width
+        sin_t = np.sqrt(np.maximum(1.0 - np.clip(in_image[:, 1], -1.0, 1.0) ** 2, 0.0))
+        return self.probability[row, column] * height * width / (2.0 * np.pi * np.pi * np.maximum(sin_t, 1e-12))
+
+
+def _uniformity(brightness: np.ndarray, solid_angles: np.ndarray) -> float:
+    """(mean b)^2 / mean(b^2) over the sphere, b the brightness (H, W) and the means
+    weighted by solid angle (H, 1): 1 for a uniform image, near 0 where a small part of it
+    holds the light; 1 for a black one."""
+    area = float(np.sum(solid_angles)) * brightness.shape[1]
+    mean = float(np.sum(brightness * solid_angles)) / area
+    square = float(np.sum(brightness * brightness * solid_angles)) / area
+    return mean * mean / square if square > 0.0 else 1.0
 
 
 def tangent_frame(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -88,16 +146,16 @@ def mixture_pdf(light: np.ndarray, view: np.ndarray, alpha: np.ndarray, ggx_choi
     return (1.0 - ggx_choice) * cosine + ggx_choice * ggx
 
 
-def draw_directions(rng, view: np.ndarray, alpha: np.ndarray, ggx_choice: np.ndarray):
-    """(light (P, 3), pdf (P,)): one direction a point about +Z, by the GGX strategy with
-    probability ``ggx_choice``, else cosine-weighted, and its mixture density."""
+def draw_directions(rng, view: np.ndarray, alpha: np.ndarray, ggx_choice: np.ndarray) -> np.ndarray:
+    """(P, 3) one direction a point about +Z: by the GGX strategy with probability
+    ``ggx_choice`` (P,), else cosine-weighted."""
     pick, r1, r2 = rng.random((3, len(view)))
     light = cosine_directions(r1, r2)
     ggx = pick < ggx_choice
     if ggx.any():
         h = ggx_visible_normals(view[ggx], alpha[ggx], r1[ggx], r2[ggx])
         light[ggx] = 2.0 * np.sum(view[ggx] * h, axis=1, keepdims=True) * h - view[ggx]
-    return light, mixture_pdf(light, view, alpha, ggx_choice)
+    return light
 
 
 def sampling_view(n: np.ndarray, tangent: np.ndarray, bitangent: np.ndarray, view: np.ndarray) -> np.ndarray:
@@ -120,21 +178,56 @@ def ggx_choice(n_dot_v: np.ndarray, base: np.ndarray, metallic: np.ndarray) -> n
     return np.clip(share, MIN_GGX_CHOICE, MAX_GGX_CHOICE)
 
 
+class TangentFrame:
+    """An orthonormal frame (tangent, bitangent, normal) a point, each (P, 3)."""
+
+    def __init__(self, n: np.ndarray):
+        self.normal = n
+        self.tangent, self.bitangent = tangent_frame(n)
+
+    def to_world(self, local: np.ndarray) -> np.ndarray:
+        return self.tangent * local[:, :1] + self.bitangent * local[:, 1:2] + self.normal * local[:, 2:]
+
+    def to_local(self, world: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """(R, 3) world directions (R, 3) of points ``rows`` (R,) in their frames."""
+        return np.stack([np.sum(world * axis[rows], axis=1) for axis in (self.tangent, self.bitangent, self.normal)],
+                        axis=1)
+
+
+def draw_mixed(rng, frame: TangentFrame, view: np.ndarray, alpha: np.ndarray, choice: np.ndarray,
+               image: ImageSampler | None):
+    """(l world (P, 3), l local (P, 3), pdf (P,)): one direction a point from the image with
+    probability ``image.choice`` (none without an image), else from the cosine and GGX
+    strategies (``view`` local, ``choice`` their GGX share); the pdf is the mixture's."""
+    local = draw_directions(rng, view, alpha, choice)
+    image_choice = image.choice if image is not None else 0.0
+    world = frame.to_world(local)
+    if image_choice:
+        pick, r1, r2, r3 = rng.random((4, len(view)))
+        rows = np.flatnonzero(pick < image_choice)
+        world[rows] = image.draw(r1[rows], r2[rows], r3[rows])
+        local[rows] = frame.to_local(world[rows], rows)
+    pdf = (1.0 - image_choice) * mixture_pdf(local, view, alpha, choice)
+    if image_choice:
+        pdf = pdf + image_choice * image.pdf(world)
+    return world, local, pdf
+
+
 def gather(n: np.ndarray, view: np.ndarray, alpha: np.ndarray, choice: np.ndarray, samples: int, rng,
-           reflected, visible) -> np.ndarray:
+           reflected, visible, image: ImageSampler | None = None) -> np.ndarray:
     """(P, 3) the estimate of the integral of f L_env (N.l) over the hemisphere about ``n``:
     the mean over ``samples`` drawn directions of reflected(l) / pdf(l), where
     ``reflected(rows, l)`` (R, 3) is f L_env(l) (N.l) at those rows (R,) for their world
     directions l (R, 3), and ``visible(rows, l)`` (R,) bool says which of them see the
     environment along l.
 
-    alpha: (P,) GGX alpha; choice: (P,) probability of the GGX strategy (0: cosine only)."""
-    tangent, bitangent = tangent_frame(n)
-    local_view = sampling_view(n, tangent, bitangent, view)
+    alpha: (P,) GGX alpha; choice: (P,) probability of the GGX strategy (0: cosine only);
+    image: draws directions from the environment's image too (see the module's docstring)."""
+    frame = TangentFrame(n)
+    local_view = sampling_view(n, frame.tangent, frame.bitangent, view)
     total = np.zeros_like(n)
     for _ in range(samples):
-        local, pdf = draw_directions(rng, local_view, alpha, choice)
-        l = tangent * local[:, :1] + bitangent * local[:, 1:2] + n * local[:, 2:]
+        l, local, pdf = draw_mixed(rng, frame, local_view, alpha, choice, image)
         value = np.zeros_like(n)
         rows = np.flatnonzero((local[:, 2] > 0.0) & (pdf > 0.0))
         value[rows] = reflected(rows, l[rows]) / pdf[rows, None]

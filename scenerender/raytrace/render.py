@@ -25,9 +25,9 @@ the white furnace, its own energy balance).
 
 An environment light (``lights: - type: environment``) is integrated by Monte Carlo, always:
 ``environment_samples`` directions a sample point (seeded per frame), drawn by multiple
-importance sampling between the cosine and the GGX lobe (scenerender.raytrace.environment),
-each weighted by the material's BRDF and the image's radiance in that direction and blocked
-by any surface in its way. Like the ambient term it is times Ka and the occlusion map. pbr
+importance sampling between the image's brightness, the cosine and the GGX lobe
+(scenerender.raytrace.environment), each weighted by the material's BRDF and the image's
+radiance in that direction and blocked by any surface in its way. Like the ambient term it is times Ka and the occlusion map. pbr
 materials take the whole BRDF; Phong and Blinn-Phong ones only the diffuse part, and only
 where the light has ``classic: true``; unlit ones nothing. Rays that miss the scene still
 show the background colour, not the environment (as they do not show the skybox).
@@ -160,6 +160,7 @@ class _FrameScene:
         self.ambient_rng = ambient_rng
         self.environment_samples = environment_samples
         self.environment_rng = environment_rng
+        self.environment_image = _image_sampler(world, frame)
         self.soup: Soup = frame_soup(world, frame)
         self.primary = TriangleCaster(self.soup.corners, warn)
         self.primary_count = self.soup.count
@@ -381,7 +382,8 @@ class _FrameScene:
             return self.primary.first_hit(p[at] + facing[at] * epsilon[at, None], l) < 0
 
         gathered = environment.gather(n, view, shading.pbr_alpha(part["roughness"]), choice,
-                                      self.environment_samples, self.environment_rng, reflected, visible)
+                                      self.environment_samples, self.environment_rng, reflected, visible,
+                                      self.environment_image)
         out[rows] = gathered * part["ambient"]
         return out
 
@@ -492,6 +494,14 @@ def _material_maps(materials: list, images) -> dict:
         if samplers:
             maps[index] = (samplers, material.occlusion_strength)
     return maps
+
+
+def _image_sampler(world, frame) -> environment.ImageSampler | None:
+    """Draws directions from the frame's environment image, where it has a lit one."""
+    state = frame.environment
+    if state is None or not np.any(state.scale > 0.0):
+        return None
+    return environment.ImageSampler(world.environment.image, state.scale, state.to_image)
 
 
 def _depth_range(world, camera) -> tuple[float, float]:
