@@ -9,8 +9,8 @@ BRDF: the pbr model's whole BRDF, or for Phong and Blinn-Phong materials (only w
 light has ``classic: true``) a Lambert surface, base / pi, with no specular part.
 
 Each sample point draws ``samples`` directions, each by one of three strategies picked at
-random: the image (``ImageSampler``: a texel in proportion to its brightness times its
-solid angle, then uniformly in the texel's (u, v), so a small bright sun is found; picked
+random: the image (``ImageSampler``: a texel in proportion to the brightness around it
+times its solid angle, then uniformly in the texel's (u, v), so a small bright sun is found; picked
 with probability IMAGE_CHOICE times how concentrated the image's light is, nothing for a
 uniform image), cosine-weighted over the hemisphere (pdf N.l / pi) or
 the GGX distribution of visible normals (Heitz 2018, "Sampling the GGX Distribution of
@@ -22,9 +22,19 @@ may find any direction; Lambert surfaces leave GGX out. Of the rest, GGX is pick
 share of the Fresnel reflectance at N.v in what the surface reflects, kept within
 [0.25, 0.9].
 
+One uniform number, the pick, chooses the strategy and, rescaled to [0, 1), is the chosen
+strategy's first random number (the image's position along its texels' cumulative
+distribution; the cosine's and GGX's squared radius). Picks are stratified: each of a
+pixel's sample points x directions gets its own stratum of [0, 1), in random order
+(``strata``), so every pixel draws close to its expected number of directions towards a
+sun, instead of a binomial number of them. Each direction on its own still follows the
+mixture (its stratum is uniformly random), so the estimate stays unbiased.
+
 Vectors are float64 (P, 3), one row per sample point, as in scenerender.raytrace.shading.
 """
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -38,15 +48,18 @@ MIN_IMAGE_CHOICE = 0.02  # below this, a nearly uniform image is not drawn from 
 
 
 class ImageSampler:
-    """Directions drawn from an equirectangular image (H, W, 3) in proportion to its
-    brightness (the channel mean of image x ``scale``) times each texel's solid angle,
-    uniformly in (u, v) inside the texel; ``to_image`` (3, 3) turns world directions into
-    the image's frame (scenerender.world.environment.EnvironmentState)."""
+    """Directions drawn from an equirectangular image (H, W, 3): a texel in proportion to
+    its solid angle times the brightest (channel mean of image x ``scale``) of it and its
+    eight neighbours, then uniformly in (u, v) inside it. The image is read bilinearly, so
+    the radiance inside a texel comes from its neighbours too: weighing by their brightest
+    keeps radiance over density bounded (a texel beside the sun, dim itself, is drawn as
+    often as the sun's own texels and not 100 times less). ``to_image`` (3, 3) turns world
+    directions into the image's frame (scenerender.world.environment.EnvironmentState)."""
 
     def __init__(self, image: np.ndarray, scale: np.ndarray, to_image: np.ndarray):
         height, width = image.shape[:2]
         brightness = np.maximum(np.asarray(image, dtype=np.float64) @ np.asarray(scale, dtype=np.float64) / 3.0, 0.0)
-        weights = brightness * texel_solid_angles(height, width)
+        weights = _neighbourhood_max(brightness) * texel_solid_angles(height, width)
         self.shape = (height, width)
         self.to_image = np.asarray(to_image, dtype=np.float64)
         self.cdf = np.cumsum(weights.ravel())
@@ -76,6 +89,13 @@ class ImageSampler:
         column = np.floor(u * width).astype(np.int64) % width
         sin_t = np.sqrt(np.maximum(1.0 - np.clip(in_image[:, 1], -1.0, 1.0) ** 2, 0.0))
         return self.probability[row, column] * height * width / (2.0 * np.pi * np.pi * np.maximum(sin_t, 1e-12))
+
+
+def _neighbourhood_max(values: np.ndarray) -> np.ndarray:
+    """(H, W) the largest of each texel and its eight neighbours (columns wrap around, rows
+    are clamped: the equirectangular image's own neighbourhood)."""
+    rows = np.maximum(values, np.maximum(np.vstack([values[:1], values[:-1]]), np.vstack([values[1:], values[-1:]])))
+    return np.maximum(rows, np.maximum(np.roll(rows, 1, axis=1), np.roll(rows, -1, axis=1)))
 
 
 def _uniformity(brightness: np.ndarray, solid_angles: np.ndarray) -> float:
@@ -146,12 +166,16 @@ def mixture_pdf(light: np.ndarray, view: np.ndarray, alpha: np.ndarray, ggx_choi
     return (1.0 - ggx_choice) * cosine + ggx_choice * ggx
 
 
-def draw_directions(rng, view: np.ndarray, alpha: np.ndarray, ggx_choice: np.ndarray) -> np.ndarray:
-    """(P, 3) one direction a point about +Z: by the GGX strategy with probability
-    ``ggx_choice`` (P,), else cosine-weighted."""
-    pick, r1, r2 = rng.random((3, len(view)))
-    light = cosine_directions(r1, r2)
+def draw_directions(rng, view: np.ndarray, alpha: np.ndarray, ggx_choice: np.ndarray,
+                    pick: np.ndarray) -> np.ndarray:
+    """(P, 3) one direction a point about +Z: by the GGX strategy where ``pick`` (P,) in
+    [0, 1) falls below ``ggx_choice`` (P,), else cosine-weighted; the pick, rescaled, is
+    the strategy's first random number."""
     ggx = pick < ggx_choice
+    r1 = np.where(ggx, pick / np.maximum(ggx_choice, 1e-300), (pick - ggx_choice) / (1.0 - ggx_choice))
+    r1 = np.clip(r1, 0.0, 1.0)
+    r2 = rng.random(len(view))
+    light = cosine_directions(r1, r2)
     if ggx.any():
         h = ggx_visible_normals(view[ggx], alpha[ggx], r1[ggx], r2[ggx])
         light[ggx] = 2.0 * np.sum(view[ggx] * h, axis=1, keepdims=True) * h - view[ggx]
@@ -195,17 +219,20 @@ class TangentFrame:
 
 
 def draw_mixed(rng, frame: TangentFrame, view: np.ndarray, alpha: np.ndarray, choice: np.ndarray,
-               image: ImageSampler | None):
-    """(l world (P, 3), l local (P, 3), pdf (P,)): one direction a point from the image with
-    probability ``image.choice`` (none without an image), else from the cosine and GGX
-    strategies (``view`` local, ``choice`` their GGX share); the pdf is the mixture's."""
-    local = draw_directions(rng, view, alpha, choice)
+               image: ImageSampler | None, pick: np.ndarray):
+    """(l world (P, 3), l local (P, 3), pdf (P,)): one direction a point, from the image
+    where ``pick`` (P,) falls below ``image.choice`` (never without an image), else from
+    the cosine and GGX strategies (``view`` local, ``choice`` their GGX share); the pdf is
+    the mixture's."""
     image_choice = image.choice if image is not None else 0.0
+    from_image = pick < image_choice
+    rest = np.clip((pick - image_choice) / (1.0 - image_choice), 0.0, 1.0 - 1e-16)
+    local = draw_directions(rng, view, alpha, choice, rest)
     world = frame.to_world(local)
-    if image_choice:
-        pick, r1, r2, r3 = rng.random((4, len(view)))
-        rows = np.flatnonzero(pick < image_choice)
-        world[rows] = image.draw(r1[rows], r2[rows], r3[rows])
+    rows = np.flatnonzero(from_image)
+    if len(rows):
+        r2, r3 = rng.random((2, len(rows)))
+        world[rows] = image.draw(pick[rows] / image_choice, r2, r3)
         local[rows] = frame.to_local(world[rows], rows)
     pdf = (1.0 - image_choice) * mixture_pdf(local, view, alpha, choice)
     if image_choice:
@@ -213,8 +240,28 @@ def draw_mixed(rng, frame: TangentFrame, view: np.ndarray, alpha: np.ndarray, ch
     return world, local, pdf
 
 
+@dataclass(frozen=True)
+class Strata:
+    """Each direction's stratum of [0, 1) for its pick: ``index`` (P, samples) int, of
+    ``count`` equal strata."""
+
+    index: np.ndarray
+    count: int
+
+    def __getitem__(self, rows) -> "Strata":
+        return Strata(self.index[rows], self.count)
+
+
+def pixel_strata(rng, pixels: int, points: int, samples: int) -> Strata:
+    """Strata for pixels x points sample points (a pixel's points consecutive), samples
+    directions each: a pixel's points x samples strata in random order."""
+    count = points * samples
+    order = rng.permuted(np.tile(np.arange(count), (pixels, 1)), axis=1)
+    return Strata(order.reshape(pixels * points, samples), count)
+
+
 def gather(n: np.ndarray, view: np.ndarray, alpha: np.ndarray, choice: np.ndarray, samples: int, rng,
-           reflected, visible, image: ImageSampler | None = None) -> np.ndarray:
+           reflected, visible, image: ImageSampler | None = None, strata: Strata | None = None) -> np.ndarray:
     """(P, 3) the estimate of the integral of f L_env (N.l) over the hemisphere about ``n``:
     the mean over ``samples`` drawn directions of reflected(l) / pdf(l), where
     ``reflected(rows, l)`` (R, 3) is f L_env(l) (N.l) at those rows (R,) for their world
@@ -222,12 +269,17 @@ def gather(n: np.ndarray, view: np.ndarray, alpha: np.ndarray, choice: np.ndarra
     environment along l.
 
     alpha: (P,) GGX alpha; choice: (P,) probability of the GGX strategy (0: cosine only);
-    image: draws directions from the environment's image too (see the module's docstring)."""
+    image: draws directions from the environment's image too (see the module's docstring);
+    strata: each direction's stratum (``pixel_strata``); default each point's samples in
+    strata of its own, in order."""
+    if strata is None:
+        strata = Strata(np.broadcast_to(np.arange(samples), (len(n), samples)), samples)
     frame = TangentFrame(n)
     local_view = sampling_view(n, frame.tangent, frame.bitangent, view)
     total = np.zeros_like(n)
-    for _ in range(samples):
-        l, local, pdf = draw_mixed(rng, frame, local_view, alpha, choice, image)
+    for k in range(samples):
+        pick = (strata.index[:, k] + rng.random(len(n))) / strata.count
+        l, local, pdf = draw_mixed(rng, frame, local_view, alpha, choice, image, pick)
         value = np.zeros_like(n)
         rows = np.flatnonzero((local[:, 2] > 0.0) & (pdf > 0.0))
         value[rows] = reflected(rows, l[rows]) / pdf[rows, None]

@@ -184,7 +184,11 @@ class _FrameScene:
         ndc_x = 2.0 * sx / width - 1.0
         ndc_y = 1.0 - 2.0 * sy / height
         origins, directions = self._camera_rays(ndc_x.reshape(-1), ndc_y.reshape(-1))
-        color, shadow, cone, objects, normals, blocked = self._trace(origins, directions)
+        strata = None
+        if self.frame.environment is not None:
+            strata = environment.pixel_strata(self.environment_rng, rows * width, spp * spp,
+                                              self.environment_samples)
+        color, shadow, cone, objects, normals, blocked = self._trace(origins, directions, strata)
         n = spp * spp
         shape = (rows, width, n)
         color = color.reshape(shape + (3,)).mean(axis=2)
@@ -209,7 +213,7 @@ class _FrameScene:
         local = np.stack([ndc_x / p[0, 0], ndc_y / p[1, 1], -np.ones_like(ndc_x)], axis=1)
         return np.zeros_like(local), local @ to_world.T
 
-    def _trace(self, origins: np.ndarray, directions: np.ndarray):
+    def _trace(self, origins: np.ndarray, directions: np.ndarray, strata: environment.Strata | None = None):
         near, far = self.depth_range
         start = origins + directions * near
         triangles = self.primary.first_hit(start, directions)
@@ -232,16 +236,19 @@ class _FrameScene:
         if len(rows):
             tri = triangles[rows]
             color[rows], shadow[rows], cone[rows], normals[rows], blocked[rows] = self._shade(
-                tri, origins[rows] + directions[rows] * t[rows, None], directions[rows], u[keep], v[keep])
+                tri, origins[rows] + directions[rows] * t[rows, None], directions[rows], u[keep], v[keep],
+                strata[rows] if strata is not None else None)
             objects[rows] = self.soup.object[tri]
         return color, shadow, cone, objects, normals, blocked
 
     # -- shading --------------------------------------------------------------------------
-    def _shade(self, tri: np.ndarray, p: np.ndarray, ray: np.ndarray, u: np.ndarray, v: np.ndarray):
+    def _shade(self, tri: np.ndarray, p: np.ndarray, ray: np.ndarray, u: np.ndarray, v: np.ndarray,
+               strata: environment.Strata | None = None):
         """Colour (P, 3), shadow flags (P, S), cone factors (P, C), shading normals (P, 3)
         and the radiance each shadow takes away (P, S) at hit points ``p``
         (camera-relative (P, 3)) on triangles ``tri`` (P,),
-        barycentric (u, v)."""
+        barycentric (u, v); ``strata``: the environment's directions' strata
+        (environment.pixel_strata)."""
         soup, table = self.soup, self.table
         corners = soup.corners[tri]
         geometric = shading.safe_normalize(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
@@ -267,7 +274,7 @@ class _FrameScene:
         pbr = model == MODELS.index("pbr")
         ambient = self._ambient(p, n, facing, view, surface, model) if self.ambient_samples else self._ambient_formula(
             n, view, surface, pbr)
-        ambient = ambient + self._environment(p, n, facing, view, surface, model)
+        ambient = ambient + self._environment(p, n, facing, view, surface, model, strata)
         color = ambient * surface["occlusion"][:, None] + ke
         shadow = np.zeros((len(p), len(self.shadowed)))
         taken = np.zeros((len(p), len(self.shadowed)))
@@ -348,7 +355,7 @@ class _FrameScene:
             total += term
         return total / self.ambient_samples * surface["ambient"]
 
-    def _environment(self, p, n, facing, view, surface: dict, model: np.ndarray) -> np.ndarray:
+    def _environment(self, p, n, facing, view, surface: dict, model: np.ndarray, strata=None) -> np.ndarray:
         """(P, 3) Ka times the environment light's radiance reflected towards the eye, by
         Monte Carlo (scenerender.raytrace.environment); zero without one."""
         state = self.frame.environment
@@ -362,6 +369,7 @@ class _FrameScene:
             return out
         part = {key: value[rows] for key, value in surface.items()}
         n, view, p, facing, pbr = n[rows], view[rows], p[rows], facing[rows], pbr[rows]
+        strata = strata[rows] if strata is not None else None
         choice = np.where(pbr, environment.ggx_choice(np.sum(n * view, axis=1), part["diffuse"],
                                                       part["metallic"]), 0.0)
         image = self.world.environment.image
@@ -383,7 +391,7 @@ class _FrameScene:
 
         gathered = environment.gather(n, view, shading.pbr_alpha(part["roughness"]), choice,
                                       self.environment_samples, self.environment_rng, reflected, visible,
-                                      self.environment_image)
+                                      self.environment_image, strata)
         out[rows] = gathered * part["ambient"]
         return out
 
