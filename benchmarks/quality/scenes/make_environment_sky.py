@@ -14,8 +14,9 @@ Linear radiance, by direction d (y up; the image's centre column looks down -Z):
   40 degrees to the right of the camera's back (azimuth measured from +Z towards +X), plus
   an aureole (1.0, 0.85, 0.6) x 2.5 exp(-angle / 4 degrees).
 
-Each texel is the mean of 4 x 4 points over it, so the disc's edge is area-weighted. The
-sun gives about 1.9 times the irradiance of the sky and ground on a surface facing it.
+Each texel is the mean of 4 x 4 points over it, so the disc's edge is area-weighted. On a
+surface facing it the sun (within 3 degrees) gives 1.6 times the irradiance, in luminance,
+of all the rest.
 """
 from __future__ import annotations
 
