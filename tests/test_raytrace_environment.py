@@ -13,7 +13,12 @@ from scenerender import cli
 from scenerender.errors import UserError
 from scenerender.raytrace import environment, render_reference, shading
 from scenerender.raytrace.render import ENVIRONMENT_SAMPLES
-from scenerender.world.environment import EnvironmentState, equirect_directions, texel_solid_angles, world_to_image
+from scenerender.world.environment import (
+    EnvironmentState,
+    equirect_directions,
+    texel_solid_angles,
+    world_to_image,
+)
 from scenerender.world.environment_files import write_hdr
 
 SIZE = 48

@@ -248,7 +248,7 @@ class Strata:
     index: np.ndarray
     count: int
 
-    def __getitem__(self, rows) -> "Strata":
+    def __getitem__(self, rows) -> Strata:
         return Strata(self.index[rows], self.count)
 
 

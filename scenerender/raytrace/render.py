@@ -27,9 +27,10 @@ An environment light (``lights: - type: environment``) is integrated by Monte Ca
 ``environment_samples`` directions a sample point (seeded per frame), drawn by multiple
 importance sampling between the image's brightness, the cosine and the GGX lobe
 (scenerender.raytrace.environment), each weighted by the material's BRDF and the image's
-radiance in that direction and blocked by any surface in its way. Like the ambient term it is times Ka and the occlusion map. pbr
-materials take the whole BRDF; Phong and Blinn-Phong ones only the diffuse part, and only
-where the light has ``classic: true``; unlit ones nothing. Rays that miss the scene still
+radiance in that direction and blocked by any surface in its way. Like the ambient term it
+is times Ka and the occlusion map. pbr materials take the whole BRDF; Phong and
+Blinn-Phong ones only the diffuse part, and only where the light has ``classic: true``;
+unlit ones nothing. Rays that miss the scene still
 show the background colour, not the environment (as they do not show the skybox).
 """
 from __future__ import annotations
@@ -362,38 +363,38 @@ class _FrameScene:
         out = np.zeros_like(n)
         if state is None or not np.any(state.scale > 0.0):
             return out
-        pbr = model == MODELS.index("pbr")
-        lambert = np.isin(model, [MODELS.index("phong"), MODELS.index("blinn_phong")]) & self.world.environment.classic
-        rows = np.flatnonzero(pbr | lambert)
+        rows = self._environment_rows(model)
         if not len(rows):
             return out
         part = {key: value[rows] for key, value in surface.items()}
-        n, view, p, facing, pbr = n[rows], view[rows], p[rows], facing[rows], pbr[rows]
-        strata = strata[rows] if strata is not None else None
-        choice = np.where(pbr, environment.ggx_choice(np.sum(n * view, axis=1), part["diffuse"],
-                                                      part["metallic"]), 0.0)
-        image = self.world.environment.image
-        epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p, axis=1)
-
-        def reflected(at, l):
-            radiance = state.radiance(image, l)
-            term = part["diffuse"][at] * radiance * np.maximum(np.sum(n[at] * l, axis=1), 0.0)[:, None]
-            glossy = np.flatnonzero(pbr[at])
-            term[glossy] = shading.pbr_direct_term(n[at][glossy], l[glossy], view[at][glossy], radiance[glossy],
-                                                   part["diffuse"][at][glossy], part["metallic"][at][glossy],
-                                                   part["roughness"][at][glossy])
-            return term / np.pi
-
-        def visible(at, l):
-            if not self.primary_count:
-                return np.ones(len(at), bool)
-            return self.primary.first_hit(p[at] + facing[at] * epsilon[at, None], l) < 0
-
-        gathered = environment.gather(n, view, shading.pbr_alpha(part["roughness"]), choice,
-                                      self.environment_samples, self.environment_rng, reflected, visible,
-                                      self.environment_image, strata)
+        n, view, pbr = n[rows], view[rows], model[rows] == MODELS.index("pbr")
+        choice = np.where(pbr, environment.ggx_choice(np.sum(n * view, axis=1), part["diffuse"], part["metallic"]),
+                          0.0)
+        reflected = _environment_reflection(state, self.world.environment.image, n, view, part, pbr)
+        gathered = environment.gather(n, view, shading.pbr_alpha(part["roughness"]), choice, self.environment_samples,
+                                      self.environment_rng, reflected, self._open_sky(p[rows], facing[rows]),
+                                      self.environment_image, strata[rows] if strata is not None else None)
         out[rows] = gathered * part["ambient"]
         return out
+
+    def _environment_rows(self, model: np.ndarray) -> np.ndarray:
+        """(R,) the points an environment light reaches: pbr ones, and Phong and
+        Blinn-Phong ones where the light is ``classic``."""
+        lit = model == MODELS.index("pbr")
+        if self.world.environment.classic:
+            lit |= np.isin(model, [MODELS.index("phong"), MODELS.index("blinn_phong")])
+        return np.flatnonzero(lit)
+
+    def _open_sky(self, p: np.ndarray, facing: np.ndarray):
+        """visible(rows, l) for environment.gather: no surface lies along l from points
+        ``p`` (P, 3) of those rows, leaving on the ``facing`` side (the epsilon of _ambient)."""
+        epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p, axis=1)
+
+        def visible(rows: np.ndarray, l: np.ndarray) -> np.ndarray:
+            if not self.primary_count:
+                return np.ones(len(rows), bool)
+            return self.primary.first_hit(p[rows] + facing[rows] * epsilon[rows, None], l) < 0
+        return visible
 
     def _apply_maps(self, m: np.ndarray, corner_uvs: np.ndarray, u: np.ndarray, v: np.ndarray, surface: dict) -> None:
         """The maps of each point's material applied to ``surface`` (arrays per point, in
@@ -502,6 +503,22 @@ def _material_maps(materials: list, images) -> dict:
         if samplers:
             maps[index] = (samplers, material.occlusion_strength)
     return maps
+
+
+def _environment_reflection(state, image: np.ndarray, n: np.ndarray, view: np.ndarray, surface: dict,
+                            pbr: np.ndarray):
+    """reflected(rows, l) for environment.gather: f L_env(l) (N.l) at those points, f the
+    pbr model's BRDF where ``pbr`` (P,), else Lambert's base / pi (light terms over pi)."""
+    def reflected(rows: np.ndarray, l: np.ndarray) -> np.ndarray:
+        radiance = state.radiance(image, l)
+        base = surface["diffuse"][rows]
+        term = base * radiance * np.maximum(np.sum(n[rows] * l, axis=1), 0.0)[:, None]
+        glossy = np.flatnonzero(pbr[rows])
+        at = rows[glossy]
+        term[glossy] = shading.pbr_direct_term(n[at], l[glossy], view[at], radiance[glossy], base[glossy],
+                                               surface["metallic"][at], surface["roughness"][at])
+        return term / np.pi
+    return reflected
 
 
 def _image_sampler(world, frame) -> environment.ImageSampler | None:
