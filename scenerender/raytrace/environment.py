@@ -25,15 +25,17 @@ share of the Fresnel reflectance at N.v in what the surface reflects, kept withi
 One uniform number, the pick, chooses the strategy and, rescaled to [0, 1), is the chosen
 strategy's first random number (the image's position along its texels' cumulative
 distribution; the cosine's and GGX's squared radius). Picks are stratified: each of a
-pixel's sample points x directions gets its own stratum of [0, 1), in random order
-(``strata``), so every pixel draws close to its expected number of directions towards a
-sun, instead of a binomial number of them. Each direction on its own still follows the
-mixture (its stratum is uniformly random), so the estimate stays unbiased.
+pixel's sample points x directions gets its own stratum of [0, 1) (``pixel_strata``: a
+golden-ratio step through them from a random start), so every pixel draws close to its
+expected number of directions towards a sun, instead of a binomial number of them. Each
+direction on its own still follows the mixture (its stratum is uniformly random), so the
+estimate stays unbiased.
 
 Vectors are float64 (P, 3), one row per sample point, as in scenerender.raytrace.shading.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,6 +47,7 @@ MIN_GGX_CHOICE, MAX_GGX_CHOICE = 0.25, 0.9  # the probability of the GGX strateg
 MIN_SAMPLING_COS = 1e-3  # a view at or below the horizon is sampled as if just above it
 IMAGE_CHOICE = 0.5  # the most probability of drawing from the image (see ImageSampler.choice)
 MIN_IMAGE_CHOICE = 0.02  # below this, a nearly uniform image is not drawn from at all
+GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0  # the step through a pixel's strata, as a fraction of their count
 
 
 class ImageSampler:
@@ -242,22 +245,35 @@ def draw_mixed(rng, frame: TangentFrame, view: np.ndarray, alpha: np.ndarray, ch
 
 @dataclass(frozen=True)
 class Strata:
-    """Each direction's stratum of [0, 1) for its pick: ``index`` (P, samples) int, of
-    ``count`` equal strata."""
+    """Each direction's stratum of [0, 1) for its pick, one of ``count`` equal ones:
+    direction k of a point takes stratum (step (first + k) + offset) mod count, ``first``
+    (P,) the point's first index among its pixel's directions, ``offset`` (P,) its pixel's
+    shift; ``step`` is coprime with count, so a pixel's directions take every stratum once."""
 
-    index: np.ndarray
+    first: np.ndarray
+    offset: np.ndarray
     count: int
+    step: int = 1
+
+    def stratum(self, k: int) -> np.ndarray:
+        return (self.step * (self.first + k) + self.offset) % self.count
 
     def __getitem__(self, rows) -> Strata:
-        return Strata(self.index[rows], self.count)
+        return Strata(self.first[rows], self.offset[rows], self.count, self.step)
 
 
 def pixel_strata(rng, pixels: int, points: int, samples: int) -> Strata:
     """Strata for pixels x points sample points (a pixel's points consecutive), samples
-    directions each: a pixel's points x samples strata in random order."""
+    directions each: a pixel's points x samples directions take the strata in the order of
+    a golden-ratio step, shifted by a random amount for each pixel (so that each direction's
+    stratum, on its own, is uniformly random)."""
     count = points * samples
-    order = rng.permuted(np.tile(np.arange(count), (pixels, 1)), axis=1)
-    return Strata(order.reshape(pixels * points, samples), count)
+    step = round(count * GOLDEN)
+    while math.gcd(step, count) != 1:
+        step += 1
+    first = np.tile(np.arange(points) * samples, pixels)
+    offset = np.repeat(rng.integers(0, count, pixels), points)
+    return Strata(first, offset, count, step)
 
 
 def gather(n: np.ndarray, view: np.ndarray, alpha: np.ndarray, choice: np.ndarray, samples: int, rng,
@@ -273,12 +289,12 @@ def gather(n: np.ndarray, view: np.ndarray, alpha: np.ndarray, choice: np.ndarra
     strata: each direction's stratum (``pixel_strata``); default each point's samples in
     strata of its own, in order."""
     if strata is None:
-        strata = Strata(np.broadcast_to(np.arange(samples), (len(n), samples)), samples)
+        strata = Strata(np.zeros(len(n), np.int64), np.zeros(len(n), np.int64), samples)
     frame = TangentFrame(n)
     local_view = sampling_view(n, frame.tangent, frame.bitangent, view)
     total = np.zeros_like(n)
     for k in range(samples):
-        pick = (strata.index[:, k] + rng.random(len(n))) / strata.count
+        pick = (strata.stratum(k) + rng.random(len(n))) / strata.count
         l, local, pdf = draw_mixed(rng, frame, local_view, alpha, choice, image, pick)
         value = np.zeros_like(n)
         rows = np.flatnonzero((local[:, 2] > 0.0) & (pdf > 0.0))
