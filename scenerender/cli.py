@@ -371,6 +371,8 @@ def info():
 from scenerender.compare.rule import DEFAULT_RULE as _DIFF_DEFAULTS  # noqa: E402
 
 LEVELS = FiniteFloatRange(min=0)  # a limit on differences of 8-bit levels: finite and not negative
+# scenerender.raytrace.render.ENVIRONMENT_SAMPLES, written out: importing it would load numpy
+ENVIRONMENT_SAMPLES = 4
 
 
 @main.command()
@@ -454,14 +456,18 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
 @click.option("--ambient-samples", type=click.IntRange(0, 65536), default=0, show_default=True,
               help="0: ambient light by the GPU's formula. N: integrated over N directions a sample "
                    "(Monte Carlo, seeded), each weighted by the BRDF and blocked by surfaces in its way.")
+@click.option("--environment-samples", type=click.IntRange(1, 65536), default=ENVIRONMENT_SAMPLES, show_default=True,
+              help="Directions a sample an environment light is gathered from (Monte Carlo, seeded, "
+                   "importance-sampled between the cosine and the GGX lobe), each blocked by surfaces in its way.")
 @_scene_overrides(with_samples=False)
 @_asset_root_option
-def reference(scene, output, frames, spp, ambient_samples, overrides, asset_roots):
+def reference(scene, output, frames, spp, ambient_samples, environment_samples, overrides, asset_roots):
     """Render SCENE (render.mode: shaded) with the CPU reference: ray-cast visibility, exact
     hard shadows, the GPU's shading equations, spp x spp samples a pixel. It is the truth
     error is measured against (`scenerender bench`), not a second renderer: normal and
     opacity maps, ambient occlusion, transparency, alpha masks, outlines and the skybox are
-    left out (one warning names what the scene has of them)."""
+    left out (one warning names what the scene has of them); rays that miss the scene show
+    the background colour, also where an environment light lights it."""
     import time
 
     from scenerender.api import load
@@ -474,7 +480,8 @@ def reference(scene, output, frames, spp, ambient_samples, overrides, asset_root
         warn("embreex is not installed (pip install 'scenerender[reference]'): ray casting is slow")
     for index in parse_frame_range(frames, loaded.frame_count):
         started = time.perf_counter()
-        frame = render_reference(loaded, index, spp=spp, warn=warn, ambient_samples=ambient_samples)
+        frame = render_reference(loaded, index, spp=spp, warn=warn, ambient_samples=ambient_samples,
+                                 environment_samples=environment_samples)
         paths = write_reference(frame, output)
         warn = None  # the left-out features are the same on every frame
         click.echo(f"frame {index}: {', '.join(str(p) for p in paths)} ({time.perf_counter() - started:.1f} s)")
@@ -495,10 +502,13 @@ def reference(scene, output, frames, spp, ambient_samples, overrides, asset_root
 @click.option("--spp", type=click.IntRange(1, 32), default=16, show_default=True,
               help="Reference samples a pixel along each axis (at 4, the reference's own noise at "
                    "shadow and cone edges is larger than a good GPU frame's error there).")
+@click.option("--environment-samples", type=click.IntRange(1, 65536), default=ENVIRONMENT_SAMPLES, show_default=True,
+              help="Directions a sample an environment light is gathered from (Monte Carlo, seeded, "
+                   "importance-sampled between the cosine and the GGX lobe), each blocked by surfaces in its way.")
 @_scene_overrides(with_samples=False)
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON on stdout.")
 @_asset_root_option
-def bench(scene, output, knobs, frames, rounds, spp, overrides, as_json, asset_roots):
+def bench(scene, output, knobs, frames, rounds, spp, environment_samples, overrides, as_json, asset_roots):
     """Sweep SCENE's quality knobs (MSAA, shadow map size, PCF, bias, AO, image size, and an
     environment light's prefilter size, SH order and prefilter samples) on
     the GPU path and measure each variant's ms/frame and its error against the CPU
@@ -511,8 +521,10 @@ def bench(scene, output, knobs, frames, rounds, spp, overrides, as_json, asset_r
 
     echo = (lambda text: click.echo(text, err=True))
     rows = sweep.run_bench(scene, overrides, knobs=knobs or sweep.KNOBS, frames=frames,
-                           rounds=rounds, spp=spp, echo=echo, asset_roots=asset_roots)
-    meta = {"frames": frames, "rounds": rounds, "spp": spp, "overrides": overrides}
+                           rounds=rounds, spp=spp, echo=echo, asset_roots=asset_roots,
+                           environment_samples=environment_samples)
+    meta = {"frames": frames, "rounds": rounds, "spp": spp, "environment_samples": environment_samples,
+            "overrides": overrides}
     paths = sweep.write_outputs(scene.stem, rows, output, meta)
     if as_json:
         click.echo(json.dumps([row.to_json() for row in rows], indent=2))

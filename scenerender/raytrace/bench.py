@@ -22,7 +22,7 @@ from pathlib import Path
 
 from scenerender.gpu.context import create_context
 from scenerender.raytrace.quality import frame_errors
-from scenerender.raytrace.render import render_reference
+from scenerender.raytrace.render import ENVIRONMENT_SAMPLES, render_reference
 from scenerender.run.session import Renderer, load
 from scenerender.sinks.base import atomic_path
 
@@ -130,9 +130,11 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
 
 
 def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int = 2, spp: int = 16,
-              echo=lambda text: None, asset_roots=()) -> list[BenchRow]:
+              echo=lambda text: None, asset_roots=(),
+              environment_samples: int = ENVIRONMENT_SAMPLES) -> list[BenchRow]:
     """Sweep ``path`` (a scene file) and return one BenchRow per variant, Pareto flags set
-    on (ms_per_frame, rmse_linear)."""
+    on (ms_per_frame, rmse_linear); the reference gathers an environment light from
+    ``environment_samples`` directions a sample."""
 
     base = load(path, list(overrides), asset_roots=asset_roots)
     rows = [BenchRow(v) for v in sweep_variants(base, knobs)]
@@ -143,7 +145,8 @@ def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int =
             scene = load(path, list(overrides) + list(row.variant.overrides), asset_roots=asset_roots)
             if scene.size not in references:
                 started = time.perf_counter()
-                references[scene.size] = render_reference(scene, 0, spp=spp, warn=echo)
+                references[scene.size] = render_reference(scene, 0, spp=spp, warn=echo,
+                                                          environment_samples=environment_samples)
                 echo(f"reference {scene.size[0]}x{scene.size[1]}, {spp}x{spp} samples a pixel: "
                      f"{time.perf_counter() - started:.1f} s")
             with Renderer(scene, gl=gl, want_linear=True, profile=True) as renderer:
