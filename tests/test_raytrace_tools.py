@@ -154,8 +154,11 @@ def test_bench_offers_every_knob_of_the_sweep_and_the_environment_ones_where_it_
     write_hdr(tmp_path / "e.hdr", np.ones((8, 16, 3)))
     text = "lights: [{type: point}, {type: environment, image: e.hdr}]\nobjects: [{mesh: {primitive: box}}]\n"
     variants = bench.sweep_variants(scenerender.Scene.from_yaml(text, tmp_path))
-    overrides = [o for v in variants if v.knob in ("prefilter_size", "sh_order", "env_samples") for o in v.overrides]
-    assert "lights[1].prefilter_size=64" in overrides and "lights[1].sh_order=4" in overrides
-    assert "lights[1].samples=16" in overrides and "lights[1].samples=64" not in overrides  # 64: the default
+    overrides = [o for v in variants if v.knob in ("prefilter_size", "sh_order", "env_samples", "env_footprint")
+                 for o in v.overrides]
+    assert "lights[1].prefilter_size=64" in overrides and "lights[1].sh_order=1" in overrides
+    assert "lights[1].prefilter_size=128" not in overrides  # the default
+    assert "lights[1].samples=32" in overrides and "lights[1].samples=512" not in overrides  # 512: the default
+    assert "lights[1].footprint=true" in overrides
     without = bench.sweep_variants(scenerender.Scene.from_yaml("objects: [{mesh: {primitive: box}}]\n", tmp_path))
     assert not [v for v in without if v.knob in ("prefilter_size", "sh_order", "env_samples")]

@@ -4,7 +4,7 @@ in-process and measured against the CPU reference.
 One knob changes at a time from the scene's own settings (the "default" row): MSAA
 samples, shadow map size, PCF size, shadow bias, ambient occlusion on/off, image size;
 then a few shadow map size and PCF pairs together ("combined"); with an environment light,
-its prefilter size, spherical-harmonic order and prefilter samples. What is made once a run
+its prefilter size, spherical-harmonic order, prefilter samples and footprint filter. What is made once a run
 (the prefiltered environment) is timed apart, in ``once_ms``.
 Timing: every variant keeps its renderer open and the variants take turns frame by frame
 (so a slow spell of a shared machine spreads over all of them), frames 1..F of the scene
@@ -35,9 +35,9 @@ DEFAULT_AO = "{radius: 0.5, samples: 16, strength: 1.0}"
 COMBINATIONS = ((512, 5), (1024, 5), (1024, 7))
 PREFILTER_SIZES = (64, 128, 256, 512)
 SH_ORDERS = (1, 2, 3, 4)
-PREFILTER_SAMPLES = (16, 32, 64, 128)
+PREFILTER_SAMPLES = (32, 128, 256, 512, 1024)
 KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size", "sh_order",
-         "env_samples")
+         "env_samples", "env_footprint")
 ONCE_PASSES = ("environment_prefilter",)  # passes a run makes once, whose cost is not per frame
 
 
@@ -126,6 +126,8 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
             add("sh_order", f"SH order {order}", f"{key}sh_order={order}", environment.sh_order, order)
         for count in PREFILTER_SAMPLES:
             add("env_samples", f"prefilter samples {count}", f"{key}samples={count}", environment.samples, count)
+        add("env_footprint", "footprint " + ("off" if environment.footprint else "on"),
+            f"{key}footprint={'false' if environment.footprint else 'true'}", False, True)
     return variants
 
 

@@ -60,6 +60,7 @@ class SceneFeatures:
     # None; ``environment_classic``: Phong and Blinn-Phong materials get its diffuse term
     environment: tuple | None = None
     environment_classic: bool = False
+    environment_footprint: bool = False
 
     @classmethod
     def of(cls, world, samples: int = 1, atlas=None) -> "SceneFeatures":
@@ -129,14 +130,18 @@ class SceneFeatures:
     def environment_defines(self) -> dict:
         """The prefiltered image's layout (shaders/lighting/environment_map.glsl)."""
         levels, width, height = self.environment
-        return {"HAS_ENVIRONMENT": True, "ENV_LEVELS": f"{levels}.0", "ENV_STRIP_WIDTH": f"{width}.0",
-                "ENV_STRIP_HEIGHT": f"{height}.0"}
+        defines = {"HAS_ENVIRONMENT": True, "ENV_LEVELS": f"{levels}.0", "ENV_STRIP_WIDTH": f"{width}.0",
+                   "ENV_STRIP_HEIGHT": f"{height}.0"}
+        if self.environment_footprint:
+            defines["ENV_FOOTPRINT"] = True
+        return defines
 
 
 def _environment_features(environment) -> dict:
     if environment is None:
         return {}
-    return {"environment": specular_layout(environment), "environment_classic": environment.classic}
+    return {"environment": specular_layout(environment), "environment_classic": environment.classic,
+            "environment_footprint": environment.footprint}
 
 
 def environment_shades(classic: bool, model: str) -> bool:

@@ -111,6 +111,7 @@ KEYS: dict[str, Key] = {
     "lights[environment].prefilter_size": Key("Width in pixels of each of the 6 prefiltered roughness levels of its specular term (height half that).", "128"),
     "lights[environment].sh_order": Key("Spherical-harmonic bands of its diffuse term, 0-4.", "3"),
     "lights[environment].samples": Key("GGX samples a texel of each rough prefiltered level.", "32"),
+    "lights[environment].footprint": Key("Average a reflection over the pixel's spread of directions (a sun in a smooth metal no longer sparkles); off, the exact BRDF. Measured against the reference in docs/scene-notes.md.", "true"),
     # -- materials ------------------------------------------------------------------------
     "materials.<name>.ambient": Key("Ka: how much of the ambient light the surface colour reflects. Not set: the MTL value, else `[1, 1, 1]`.", "[0.5, 0.5, 0.5]"),
     "materials.<name>.diffuse": Key("Kd: the surface colour (alpha included). Not set: the MTL value, else `[0.8, 0.8, 0.8]`.", "[0.6, 0.4, 0.2]"),

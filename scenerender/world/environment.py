@@ -49,6 +49,7 @@ class EnvironmentDef:
     prefilter_size: width in pixels of each prefiltered specular level (height half that).
     sh_order: the highest spherical-harmonic band of the diffuse term (0..4).
     samples: GGX samples a texel of each rough prefiltered level.
+    footprint: the specular lookup widened to the pixel's spread of reflection directions.
     """
 
     name: str
@@ -59,9 +60,10 @@ class EnvironmentDef:
     enabled: Track
     rotation: Track
     classic: bool = False
-    prefilter_size: int = 256
-    sh_order: int = 2
-    samples: int = 64
+    prefilter_size: int = 128
+    sh_order: int = 4
+    samples: int = 512
+    footprint: bool = False
 
     @cached_property
     def sh(self) -> np.ndarray:
@@ -124,7 +126,7 @@ def environment_def(scene, images, sky_faces) -> EnvironmentDef | None:
                                scene.source) from None
     return EnvironmentDef(light.name or f"environment{index}", path, image, light.color, light.intensity,
                           light.enabled, light.rotation, light.classic, light.prefilter_size, light.sh_order,
-                          light.samples)
+                          light.samples, light.footprint)
 
 
 def skybox_image(faces, images) -> np.ndarray:

@@ -23,6 +23,13 @@ vec3 env_specular_level(vec2 uv, float level) {
 }
 
 vec3 env_specular(vec3 r, float roughness) {
+#ifdef ENV_FOOTPRINT
+    // the option `footprint`: a reflection narrower than the pixel's spread of directions
+    // (a sun in a smooth metal) is averaged over that spread, as the pixel's area would,
+    // rather than taken at its centre: GGX alpha at least half the spread in radians
+    float spread = max(length(dFdx(r)), length(dFdy(r)));
+    roughness = sqrt(max(roughness * roughness, 0.5 * spread));
+#endif
     vec2 uv = env_uv(u_env_to_image * r);
     float level = clamp(roughness, 0.0, 1.0) * (ENV_LEVELS - 1.0);
     float below = floor(level);

@@ -96,9 +96,10 @@ class EnvironmentLight(_LightBase):
     image: EnvironmentImage = SKY
     rotation: animated_number() = 0.0
     classic: Bool = False  # Phong and Blinn-Phong materials get its diffuse term too, as an ambient
-    prefilter_size: number(8, 2048, integer=True) = 256
-    sh_order: number(0, 4, integer=True) = 2
-    samples: number(1, 1024, integer=True) = 64
+    prefilter_size: number(8, 2048, integer=True) = 128
+    sh_order: number(0, 4, integer=True) = 4
+    samples: number(1, 4096, integer=True) = 512
+    footprint: Bool = False  # reflections averaged over the pixel's spread of directions (an option)
 
 
 LightSpec = tagged_union("type", "light", {"directional": DirectionalLight, "point": PointLight,
