@@ -36,7 +36,7 @@ def quartiles(values: list) -> tuple[float, float]:
 
 def variant(text: str) -> tuple[str, list[str]]:
     """(name, overrides) of a --model value: SHADING, or NAME=SHADING:OVERRIDE;OVERRIDE..."""
-    name, _, rest = text.partition("=") if ":" in text.partition("=")[2] else (text, "", text)
+    name, _, rest = text.partition("=") if "=" in text else (text, "", text)
     shading, _, extra = rest.partition(":")
     return name, [f"render.shading={shading}"] + [item for item in extra.split(";") if item]
 

@@ -15,6 +15,8 @@ A variant is NAME=KEY=VALUE[;KEY=VALUE...] (scene overrides, as --set), NAME@FOL
 one of:
   no-footprint     shadow visibility taken once per pixel, not averaged over its MSAA samples
   no-face-culling  every face of closed surfaces drawn, also those the camera cannot see
+  no-visible-samples  shadows over all of a pixel's MSAA samples, with no depth prepass to
+                   tell which ones the surface shows in (pipeline.visible_samples_pay)
 
     cp -r shaders /tmp/shaders-before   # then edit shaders/
     python benchmarks/variants.py scenes/showcase.yaml --variant before@/tmp/shaders-before
@@ -76,6 +78,9 @@ def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tu
     if variant == "no-footprint":
         with footprint_off():
             return variant, GraphRenderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
+    if variant == "no-visible-samples":
+        world = scenerender.load(scene_path, base_overrides).world
+        return variant, GraphRenderer(world, gl, profile=True, tuning={"visible_samples": False})
     if variant == "no-face-culling":
         return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if "@" in variant and "=" not in variant:
