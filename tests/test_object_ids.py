@@ -386,3 +386,26 @@ def test_the_api_renders_ids_on_request():
     first, = scenerender.render(scene, frames=[0], object_ids=True)
     plain, = scenerender.render(scene, frames=[0])
     assert first.object_ids.shape == (48, 64) and plain.object_ids is None
+
+
+def test_the_numpy_filters_of_the_object_diff_equal_scipy_ndimage():
+    # compare/objects.py does without SciPy, so that a render does not import it (0.15 s)
+    from scipy import ndimage
+
+    from scenerender.compare.objects import bounding_boxes, square_filter
+
+    rng = np.random.default_rng(0)
+    for _ in range(10):
+        labels = rng.integers(0, 6, (37, 53))
+        labels[rng.random(labels.shape) < 0.6] = 0
+        boxes = bounding_boxes(labels)
+        for index, box in enumerate(ndimage.find_objects(labels)):
+            assert boxes.get(index + 1) == box
+        mask = labels > 3
+        assert np.array_equal(square_filter(mask, 3, np.max, "constant"),
+                              ndimage.binary_dilation(mask, structure=np.ones((3, 3), bool)))
+        for side in (3, 7, 11):
+            assert np.array_equal(square_filter(labels, side, np.min, "edge"),
+                                  ndimage.minimum_filter(labels, side, mode="nearest"))
+            assert np.array_equal(square_filter(labels, side, np.max, "edge"),
+                                  ndimage.maximum_filter(labels, side, mode="nearest"))
