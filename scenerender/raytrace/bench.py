@@ -99,15 +99,16 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
         if knob in knobs and value != current:
             variants.append(Variant(name, knob, (override,)))
 
-    for n in SAMPLES:
-        add("samples", f"msaa {n}", f"render.samples={n}", spec.samples, n)
+    def each(knob, label, key, values, current):
+        """One variant per value of ``values`` other than ``current``, labelled ``label``."""
+        for value in values:
+            add(knob, label.format(value), f"{key}={value}", current, value)
+
+    each("samples", "msaa {}", "render.samples", SAMPLES, spec.samples)
     if scene.world.shadowed_lights:
-        for size in SHADOW_SIZES:
-            add("shadow_size", f"map {size}", f"render.shadows.size={size}", shadows.size, size)
-        for pcf in PCF_SIZES:
-            add("pcf", f"pcf {pcf}", f"render.shadows.pcf={pcf}", shadows.pcf, pcf)
-        for bias in BIASES:
-            add("bias", f"bias {bias:g}", f"render.shadows.bias={bias}", shadows.bias, bias)
+        each("shadow_size", "map {}", "render.shadows.size", SHADOW_SIZES, shadows.size)
+        each("pcf", "pcf {}", "render.shadows.pcf", PCF_SIZES, shadows.pcf)
+        each("bias", "bias {:g}", "render.shadows.bias", BIASES, shadows.bias)
         for size, pcf in COMBINATIONS:
             if "combined" in knobs and (size, pcf) != (shadows.size, shadows.pcf):
                 variants.append(Variant(f"map {size} pcf {pcf}", "combined",
@@ -119,15 +120,12 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
     add("size", f"size {width // 2}x{height // 2}", f"render.size=[{width // 2}, {height // 2}]", 0, 1)
     environment = scene.world.environment
     if environment is not None:
-        key = "lights[{}].".format(environment.path[1])
-        for size in PREFILTER_SIZES:
-            add("prefilter_size", f"prefilter {size}", f"{key}prefilter_size={size}", environment.prefilter_size, size)
-        for order in SH_ORDERS:
-            add("sh_order", f"SH order {order}", f"{key}sh_order={order}", environment.sh_order, order)
-        for count in PREFILTER_SAMPLES:
-            add("env_samples", f"prefilter samples {count}", f"{key}samples={count}", environment.samples, count)
+        key = f"lights[{environment.path[1]}]"
+        each("prefilter_size", "prefilter {}", f"{key}.prefilter_size", PREFILTER_SIZES, environment.prefilter_size)
+        each("sh_order", "SH order {}", f"{key}.sh_order", SH_ORDERS, environment.sh_order)
+        each("env_samples", "prefilter samples {}", f"{key}.samples", PREFILTER_SAMPLES, environment.samples)
         add("env_footprint", "footprint " + ("off" if environment.footprint else "on"),
-            f"{key}footprint={'false' if environment.footprint else 'true'}", False, True)
+            f"{key}.footprint={'false' if environment.footprint else 'true'}", False, True)
     return variants
 
 
