@@ -7,7 +7,12 @@ frame: evaluation, upload, passes, readback) and of the opaque pass (GPU-synchro
     python benchmarks/shading_cost.py scenes/showcase.yaml --set "render.size=[640,480]"
     python benchmarks/shading_cost.py benchmarks/quality/scenes/pbr_point.yaml --frames 40 --rounds 3
 
-Materials that name their own ``shading`` keep it whatever the variant says.
+Materials that name their own ``shading`` keep it whatever the variant says. A variant
+may carry more overrides than the model, as NAME=SHADING:OVERRIDE;OVERRIDE... (the first
+variant is the one the others are compared with):
+
+    python benchmarks/shading_cost.py scenes/showcase.yaml --set "render.size=[640,480]" \
+        --model blinn_phong --model "pbr+environment=pbr:lights[2]={type: environment}"
 """
 from __future__ import annotations
 
@@ -21,12 +26,19 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import scenerender  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
-from scenerender.rendering.renderer import Renderer  # noqa: E402
+from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
 
 
 def quartiles(values: list) -> tuple[float, float]:
     q = statistics.quantiles(values, n=4)
     return q[0], q[2]
+
+
+def variant(text: str) -> tuple[str, list[str]]:
+    """(name, overrides) of a --model value: SHADING, or NAME=SHADING:OVERRIDE;OVERRIDE..."""
+    name, _, rest = text.partition("=") if "=" in text else (text, "", text)
+    shading, _, extra = rest.partition(":")
+    return name, [f"render.shading={shading}"] + [item for item in extra.split(";") if item]
 
 
 def main() -> None:
@@ -38,12 +50,13 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=20, help="timed frames per model and round (default 20)")
     parser.add_argument("--rounds", type=int, default=3, help="rounds, each in a rotated order (default 3)")
     args = parser.parse_args()
-    models = args.models or ["blinn_phong", "pbr"]
+    variants = [variant(text) for text in args.models or ["blinn_phong", "pbr"]]
+    models = [name for name, _ in variants]
     gl = create_context()
     renderers = []
-    for model in models:
-        scene = scenerender.load(args.scene, args.sets + [f"render.shading={model}"])
-        renderer = Renderer(scene.world, gl, profile=True)
+    for _, sets in variants:
+        scene = scenerender.load(args.scene, args.sets + sets)
+        renderer = GraphRenderer(scene.world, gl, profile=True)
         renderer.render(0)  # programs compiled, static passes drawn
         renderer.timings.clear()
         renderers.append(renderer)

@@ -15,6 +15,8 @@ A variant is NAME=KEY=VALUE[;KEY=VALUE...] (scene overrides, as --set), NAME@FOL
 one of:
   no-footprint     shadow visibility taken once per pixel, not averaged over its MSAA samples
   no-face-culling  every face of closed surfaces drawn, also those the camera cannot see
+  no-visible-samples  shadows over all of a pixel's MSAA samples, with no depth prepass to
+                   tell which ones the surface shows in (pipeline.visible_samples_pay)
 
     cp -r shaders /tmp/shaders-before   # then edit shaders/
     python benchmarks/variants.py scenes/showcase.yaml --variant before@/tmp/shaders-before
@@ -34,11 +36,11 @@ import scenerender  # noqa: E402
 from scenerender.gpu import shaders  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
 from scenerender.rendering import features  # noqa: E402
-from scenerender.rendering.renderer import Renderer  # noqa: E402
+from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
 from scenerender.world import frame  # noqa: E402
 
 
-class NoFaceCulling(Renderer):
+class NoFaceCulling(GraphRenderer):
     """Draws the faces the camera cannot see too."""
 
     def render(self, index: int):
@@ -72,19 +74,22 @@ def footprint_off():
         features._footprint_samples = original
 
 
-def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tuple[str, Renderer]:
+def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tuple[str, GraphRenderer]:
     if variant == "no-footprint":
         with footprint_off():
-            return variant, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
+            return variant, GraphRenderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
+    if variant == "no-visible-samples":
+        world = scenerender.load(scene_path, base_overrides).world
+        return variant, GraphRenderer(world, gl, profile=True, tuning={"visible_samples": False})
     if variant == "no-face-culling":
         return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if "@" in variant and "=" not in variant:
         name, _, folder = variant.partition("@")
         with shaders_from(folder):
-            return name, Renderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
+            return name, GraphRenderer(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     name, _, overrides = variant.partition("=")
     extra = [o for o in overrides.split(";") if o] if overrides else []
-    return name, Renderer(scenerender.load(scene_path, base_overrides + extra).world, gl, profile=True)
+    return name, GraphRenderer(scenerender.load(scene_path, base_overrides + extra).world, gl, profile=True)
 
 
 def main() -> None:

@@ -5,8 +5,8 @@ on Mesa llvmpipe; look at every image you commit.
 
 Tolerance: the default rule of `scenerender diff` (scenerender.compare.DEFAULT_RULE): no
 8x8 block averaging more than 1 level of difference outside the other image's 3x3 colour
-ranges, at most 0.001 levels of it over the frame, and no 8x8 window averaging more than 5
-levels in one direction of what the best quarter-pixel shift per tile leaves. Measured
+ranges, at most 0.0007 levels of it over the frame, and no 12x12 window averaging more than
+0.7 levels in one direction of what the best quarter-pixel shift per 8x8 tile leaves. Measured
 margins between driver-like noise and real changes are in docs/diff-margins.md;
 tests/test_golden.py shows each plausible regression failing.
 """

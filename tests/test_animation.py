@@ -135,11 +135,11 @@ def test_an_existing_video_is_kept_unless_overwrite(tmp_path):
 
 def test_gpu_resources_stay_the_same_over_many_frames(gl):
     """One context, one set of resources: nothing is created per frame after the first."""
-    from scenerender.rendering.renderer import Renderer
+    from scenerender.rendering.renderer import GraphRenderer
     from scenerender.world.build import build_world
 
     world = build_world(load(SCENES / "showcase.yaml", SMALL), Warnings())
-    renderer = Renderer(world, gl)
+    renderer = GraphRenderer(world, gl)
     try:
         renderer.render(0)
         before = (len(renderer.scene._vaos), renderer.programs.count, renderer.scene.textures.count,

@@ -189,9 +189,9 @@ def test_graph_size_and_samples_options(scenes):
 
 def test_graph_shows_the_samples_the_device_gives(scenes):
     """64 samples are allowed in a scene, but a device offers fewer: the graph says what runs."""
-    from scenerender.cli import _device_max_samples
+    from scenerender.run.graph_report import device_max_samples
 
-    offered = _device_max_samples()
+    offered = device_max_samples()
     result = cli("graph", "good.yaml", "--samples", "64")
     assert result.exit_code == 0, result.output
     if offered is not None:

@@ -119,8 +119,9 @@ def test_a_looser_rule_passes_what_the_default_fails():
 
 def test_the_tile_limit_catches_a_local_change_the_frame_mean_misses():
     """At 640x480 a 5x5-pixel patch 12 levels off (a lost highlight, say) adds too little to
-    the frame's mean to cross its limit; the 8x8 tile holding it crosses the tile limit, and
-    only that fails the frame (a rule with the tile limit lifted passes it)."""
+    the frame's mean to cross its limit; the 8x8 tile holding it crosses the tile limit, which
+    names it first, and so does the 12x12 window of what the best shift leaves (no shift
+    explains it). A rule with those two limits lifted passes it."""
     reference = drawn(size=(640, 480))
     patched = reference.copy()
     patched[296:301, 400:405] += 12
@@ -128,7 +129,9 @@ def test_the_tile_limit_catches_a_local_change_the_frame_mean_misses():
     assert result.metrics.unexplained_mean < DEFAULT_RULE.max_unexplained_mean
     assert result.metrics.worst_tile_aa > DEFAULT_RULE.max_tile
     assert not result.passed and result.reason.startswith("worst 8x8 tile")
-    assert verdict(reference, patched, DiffRule(max_tile=1000))
+    assert result.metrics.shift_tile > DEFAULT_RULE.max_shift_tile
+    assert not verdict(reference, patched, DiffRule(max_tile=1000))
+    assert verdict(reference, patched, DiffRule(max_tile=1000, max_shift_tile=1000))
 
 
 def _smooth_pattern(height=48, width=64, dx=0.0, dy=0.0) -> np.ndarray:
@@ -455,12 +458,40 @@ def test_report_is_self_contained(tmp_path):
     report = tmp_path / "report.html"
     write_html_report(compare_paths(ref, out), report)
     html = report.read_text()
-    assert html.count("data:image/png;base64,") == 6  # reference, output, heatmap, shift map, slider pair
+    # the close-up's three crops; reference, output, heatmap, shift map; the slider's pair
+    assert html.count("data:image/png;base64,") == 9
     assert "src=\"http" not in html and "<link" not in html  # nothing fetched from elsewhere
     assert "b&lt;1&gt;.png" in html and "b<1>.png" not in html
     assert 'class="box"' in html and "llvmpipe" in html and "unknown" in html
     assert "missing in the output (1)" in html and "extra in the output (1)" in html
     assert "1 frame(s) pass" in html
+
+
+def test_the_report_shows_close_up_where_a_thin_line_was_added(tmp_path):
+    """A 1-px line fails by the window after the shift; the frame's close-up is centred on
+    that window, which holds the line, and the report shows it magnified and says why."""
+    reference = drawn()
+    output = reference.copy()
+    output[6:42, 60] = (250, 250, 250)
+    frame = compare_images("frame", reference, output)
+    assert not frame.passed and frame.reason.startswith("a 12x12 window")
+    x, y, w, h = frame.images.focus
+    assert x <= 60 < x + w and y < 42 and y + h > 6, frame.images.focus
+    assert frame.images.focus_note.startswith("the worst 12x12 window after the best shift")
+    ref = make_folder(tmp_path / "ref", {"f.png": reference})
+    out = make_folder(tmp_path / "out", {"f.png": output})
+    write_html_report(compare_paths(ref, out), tmp_path / "r.html")
+    html = (tmp_path / "r.html").read_text()
+    assert "Close up, 8x:" in html and html.count('class="focus"') == 3 + 4  # 3 crops, 4 whole pictures
+    assert 'alt="output, close up"' in html
+
+
+def test_a_passing_frame_shows_close_up_what_it_excused():
+    frame = compare_images("frame", drawn(), drawn(shift=(0.25, 0.25)))
+    assert frame.passed
+    x, y, w, h = frame.images.focus
+    assert frame.images.focus_note.startswith("the most excused pixels")
+    assert frame.metrics.excused_pixels > 0 and (w, h) == (12, 12)
 
 
 def test_report_keeps_pictures_of_a_limited_number_of_frames(tmp_path, monkeypatch):

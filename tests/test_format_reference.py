@@ -12,6 +12,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 from PIL import Image
@@ -24,6 +25,7 @@ from scenerender.scene.reference import (
 )
 from scenerender.scene.reference_keys import KEYS
 from scenerender.scene.yaml_source import parse_yaml_text
+from scenerender.world.environment_files import write_hdr
 
 ROOT = Path(__file__).resolve().parent.parent
 REFERENCE = ROOT / "docs" / "scene-format.md"
@@ -49,6 +51,8 @@ def scene_dir(tmp_path_factory) -> Path:
     Image.new("RGB", (2, 2), (90, 140, 60)).save(root / "textures" / "ground.png")
     for face in SKY_FACES:
         Image.new("RGB", (2, 2), (120, 160, 220)).save(root / "textures" / "sky" / f"{face}.png")
+    (root / "assets" / "environments").mkdir(parents=True)
+    write_hdr(root / "assets" / "environments" / "studio.hdr", np.ones((4, 8, 3)))
     return root
 
 
@@ -176,6 +180,8 @@ def _scene_holding(tables: list[Table], path: str, value) -> dict:
 def test_example_of_each_key_validates(row, tables, scene_dir):
     example = _yaml_value(KEYS[entry_for(row.path, KEYS)].example)
     data = _scene_holding(tables, row.path, example)
+    if row.path.startswith("lights[environment]"):  # image: sky, the default, needs a skybox
+        data["lights"][0].setdefault("image", "assets/environments/studio.hdr")
     load_scene_data(data, scene_dir, name="example.yaml")
 
 

@@ -14,7 +14,7 @@ from gltf_files import GlbBuilder, quad, sphere
 from scenerender.errors import Warnings
 from scenerender.mesh import load_mesh
 from scenerender.mesh.gltf import GltfMaterial, read_gltf
-from scenerender.rendering.renderer import Renderer as GraphRenderer
+from scenerender.rendering.renderer import GraphRenderer
 
 SIZE = 64
 FRONT = "[{type: directional, direction: [0, 0, -1]}]"  # light travelling with the view

@@ -70,7 +70,7 @@ def test_running_out_of_memory_is_one_line_and_exit_2(tmp_path, monkeypatch, ste
 
     scene = _big_texture_scene(tmp_path, 64)
     target = {"decode": (images, "_rgba"), "upload": (textures.TextureCache, "_upload_2d"),
-              "elsewhere": (renderer.Renderer, "render")}[step]
+              "elsewhere": (renderer.GraphRenderer, "render")}[step]
     monkeypatch.setattr(*target, _out_of_memory)
     result = _render_in_process(scene, tmp_path / "out")
     assert result.exit_code == 2, result.output

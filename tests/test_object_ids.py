@@ -285,7 +285,8 @@ def test_render_with_ids_then_diff_names_the_object(project):
     ids_folder = project / "ref" / ".object_ids"
     assert sorted(p.name for p in ids_folder.iterdir()) == ["frame_0000.png", "frame_0001.png", "objects.json"]
     names = json.loads((ids_folder / "objects.json").read_text())
-    assert names["objects"] == {"1": "wall", "2": "ball", "3": "box2"} and names["scene"] == "scene.yaml"
+    assert names["objects"] == {"1": "wall", "2": "ball", "3": "box inline at (0.8, 0, 0)"}
+    assert names["scene"] == "scene.yaml"
     assert read_ids(ids_folder / "frame_0000.png").max() == 3
     moved = SCENE.replace("position: [-0.6, 0, 0]", "position: [-0.51, 0, 0]")  # about a pixel
     (project / "moved.yaml").write_text(moved)
@@ -300,6 +301,31 @@ def test_render_with_ids_then_diff_names_the_object(project):
     assert "by object: ball: " in lines
     # the colours alone pass the move: --max-object-shift lifts the object limit
     assert cli("diff", "ref", "out", "--max-object-shift", "5").exit_code == 0
+
+
+INSERTED = """\
+objects:
+  - mesh: {primitive: sphere, radius: 0.25}
+    position: [0.1, 0.75, 0.5]
+    material: {diffuse: [0.9, 0.9, 0.2]}
+"""
+
+
+@pytest.mark.gl
+def test_an_object_inserted_first_is_the_only_new_one(project):
+    """An unnamed object inserted before the others renames none of them (the box keeps
+    its name made from its mesh, material and position), so the diff blames the new one
+    alone; by index the box would have been called gone and new."""
+    (project / "inserted.yaml").write_text(SCENE.replace("objects:\n", INSERTED, 1))
+    assert cli("render", "scene.yaml", "-o", "ref", "--object-ids", "-q").exit_code == 0
+    assert cli("render", "inserted.yaml", "-o", "out", "--object-ids", "-q").exit_code == 0
+    assert read_names(project / "out")[1] == "sphere inline at (0.1, 0.75, 0.5)"
+    result = cli("diff", "ref", "out", "--json")
+    assert result.exit_code == 1
+    objects = json.loads(result.output)["frames"][0]["objects"]["objects"]
+    assert {o["name"]: o["status"] for o in objects if o["status"] != "both"} == \
+        {"sphere inline at (0.1, 0.75, 0.5)": "new"}
+    assert {o["name"] for o in objects if o["status"] == "both"} == {"wall", "ball", "box inline at (0.8, 0, 0)"}
 
 
 @pytest.mark.gl
@@ -343,7 +369,7 @@ def test_update_references_keeps_the_ids_and_check_names_the_object(project):
 def test_a_single_image_keeps_its_ids_beside_it(project):
     assert cli("render", "scene.yaml", "-o", "still.png", "--frames", "1", "--object-ids", "-q").exit_code == 0
     assert read_ids(project / ".object_ids" / "still.png").shape == (48, 64)
-    assert read_names(project) == {1: "wall", 2: "ball", 3: "box2"}
+    assert read_names(project) == {1: "wall", 2: "ball", 3: "box inline at (0.8, 0, 0)"}
     (project / "moved.yaml").write_text(SCENE.replace("position: [-0.6, 0, 0]", "position: [-0.51, 0, 0]"))
     assert cli("render", "moved.yaml", "-o", "other/still.png", "--frames", "1", "--object-ids", "-q").exit_code == 0
     result = cli("diff", "still.png", "other/still.png")
@@ -360,3 +386,26 @@ def test_the_api_renders_ids_on_request():
     first, = scenerender.render(scene, frames=[0], object_ids=True)
     plain, = scenerender.render(scene, frames=[0])
     assert first.object_ids.shape == (48, 64) and plain.object_ids is None
+
+
+def test_the_numpy_filters_of_the_object_diff_equal_scipy_ndimage():
+    # compare/objects.py does without SciPy, so that a render does not import it (0.15 s)
+    from scipy import ndimage
+
+    from scenerender.compare.objects import bounding_boxes, square_filter
+
+    rng = np.random.default_rng(0)
+    for _ in range(10):
+        labels = rng.integers(0, 6, (37, 53))
+        labels[rng.random(labels.shape) < 0.6] = 0
+        boxes = bounding_boxes(labels)
+        for index, box in enumerate(ndimage.find_objects(labels)):
+            assert boxes.get(index + 1) == box
+        mask = labels > 3
+        assert np.array_equal(square_filter(mask, 3, np.max, "constant"),
+                              ndimage.binary_dilation(mask, structure=np.ones((3, 3), bool)))
+        for side in (3, 7, 11):
+            assert np.array_equal(square_filter(labels, side, np.min, "edge"),
+                                  ndimage.minimum_filter(labels, side, mode="nearest"))
+            assert np.array_equal(square_filter(labels, side, np.max, "edge"),
+                                  ndimage.maximum_filter(labels, side, mode="nearest"))

@@ -31,6 +31,7 @@ from scenerender.rendering.passes import ambient_occlusion, forward, output, sha
 from scenerender.rendering.passes.data import ImageData, TargetData
 from scenerender.rendering.renderer import GLBackend, plan
 from scenerender.scene.reference import scene_tables
+from scenerender.world.environment_files import write_hdr
 from scenerender.world.frame import FrameEvaluator
 
 BASE = {
@@ -85,6 +86,9 @@ VALUES = {
     "scale": (1.0, 1.5),
     "visible": (True, False),
 }
+# keys whose values differ from another key's of the same last name
+PATH_VALUES = {"lights[environment].rotation": (0.0, 90.0)}
+ENVIRONMENT = {"type": "environment", "name": "studio", "image": "studio.hdr", "classic": True}
 
 
 def animatable_keys() -> list[str]:
@@ -118,8 +122,10 @@ def animated_scene(path: str) -> dict:
         scene["camera"] = {"position": [0, 2, 6], "yaw": -90, "pitch": -15}
     if path == "camera.height":
         scene["camera"]["projection"] = "orthographic"
+    if path.startswith("lights[environment]"):
+        scene["lights"].append(dict(ENVIRONMENT))
     node, leaf = _locate(scene, path)
-    first, second = VALUES[leaf]
+    first, second = PATH_VALUES.get(path, VALUES.get(leaf))
     node[leaf] = {"keys": [[0, first], [1, second]]}
     if leaf == "base_color":  # the pbr name of diffuse: one of the two
         node.pop("diffuse", None)
@@ -162,7 +168,7 @@ def changed_inputs(world, graph_plan) -> set[str]:
     """Names of the inputs whose value differs between t = 0 and t = 1. The ``lights``
     input is compared by the bytes packed for its buffers."""
     evaluator = FrameEvaluator(world, world.settings.size, graph_plan.atlas)
-    stub_gpu = SimpleNamespace(textures=None, skybox=None)
+    stub_gpu = SimpleNamespace(textures=None, skybox=None, environment=None)
     names = {h.resource: h.name for h in graph_plan.inputs.all()}
     values = []
     for index, time in ((0, 0.0), (2, 1.0)):
@@ -178,13 +184,14 @@ def _plan(scene: scenerender.Scene):
 
 
 def test_every_animatable_key_has_test_values():
-    missing = [path for path in animatable_keys() if path.split(".")[-1] not in VALUES]
+    missing = [path for path in animatable_keys() if path.split(".")[-1] not in VALUES and path not in PATH_VALUES]
     assert not missing, f"give these keys two values in VALUES: {missing}"
     assert len(animatable_keys()) >= 40
 
 
 @pytest.mark.parametrize("path", animatable_keys())
 def test_animating_a_key_makes_every_pass_reading_it_dynamic(tmp_path, path):
+    write_hdr(tmp_path / "studio.hdr", np.ones((8, 16, 3)))
     world, graph_plan = _plan(scenerender.Scene.from_dict(animated_scene(path), base_dir=tmp_path))
     compiled = graph_plan.compiled
     read = {name for _, name, _desc in compiled.inputs()}  # inputs some kept pass reads
@@ -215,10 +222,12 @@ def test_a_colour_animation_leaves_shadow_maps_and_geometry_cached(tmp_path):
 @pytest.mark.parametrize("path", ["camera.fov", "objects[].visible", "lights[spot].outer_angle",
                                   "materials.<name>.opacity", "render.fog.density", "render.exposure",
                                   "objects[].outline.color",
-                                  "lights[directional].direction", "objects[].instances[].position"])
+                                  "lights[directional].direction", "objects[].instances[].position",
+                                  "lights[environment].rotation"])
 def test_cached_frames_equal_uncached_frames(gl, tmp_path, path):
     """The behaviour the marks stand for: a frame drawn with static passes kept from
     earlier frames is the frame drawn from scratch."""
+    write_hdr(tmp_path / "studio.hdr", np.random.default_rng(1).uniform(0, 2, (8, 16, 3)))
     scene = scenerender.Scene.from_dict(animated_scene(path), base_dir=tmp_path)
     frames = {}
     for cache in (True, False):

@@ -14,6 +14,7 @@ import pytest
 from conftest import ROOT
 from scenerender.compare import DEFAULT_RULE, compare_paths
 from scenerender.compare import perturbation as suite
+from scenerender.compare.metrics import measure, shift_residual, worst_window_bias
 
 
 @pytest.fixture(scope="module")
@@ -38,7 +39,8 @@ def test_default_rule_judges(scores, scene, case):
 # the false passes of the rule before the shift test: thin, tiny and small-shape changes
 FORMERLY_PASSED = [("detail", "1-px pole added"), ("detail", "1-px pole removed"),
                    ("showcase", "small lantern glow dropped"), ("primitives 320", "cylinder 10% smaller"),
-                   ("primitives 320", "box turned 5 degrees"), ("primitives 320", "cone 9% shorter")]
+                   ("primitives 320", "box turned 5 degrees"), ("primitives 320", "cone 9% shorter"),
+                   ("primitives 320", "cylinder 5% smaller")]
 
 
 @pytest.mark.parametrize("scene,case", FORMERLY_PASSED, ids=[f"{s}:{c}" for s, c in FORMERLY_PASSED])
@@ -64,13 +66,45 @@ def test_the_colours_alone_pass_what_the_object_ids_catch(scores, scene, case):
     assert max(ratios) >= 2, (scene, case, score.objects)
 
 
-def test_every_limit_sits_above_the_worst_noise(scores):
+def test_every_limit_sits_twice_above_the_worst_noise(scores):
     noise = [s for s in scores.values() if s.noise]
     for metric, limit in suite.RULE_METRICS.items():
         worst = max(s.value(metric) for s in noise)
-        # the object limits sit at least twice above their worst noise
-        margin = 2 if metric in suite.OBJECT_METRICS else 1.25
-        assert worst * margin <= getattr(DEFAULT_RULE, limit), (metric, worst)
+        assert worst * 2 <= getattr(DEFAULT_RULE, limit), (metric, worst)
+
+
+COLOUR_LIMITS = {metric: limit for metric, limit in suite.RULE_METRICS.items() if metric not in suite.OBJECT_METRICS}
+
+
+def test_the_colours_alone_fail_each_change_at_twice_a_limit(scores):
+    """Without object ids, every change but the five only the ids catch fails a colour limit
+    by twice that limit or more: with the limits twice above the worst noise, each such
+    change lies four times or more from the noise on the metric that fails it."""
+    for (scene, case), score in scores.items():
+        if score.noise or (scene, case) in suite.CAUGHT_BY_OBJECT_IDS:
+            continue
+        ratios = [score.value(metric) / getattr(DEFAULT_RULE, limit) for metric, limit in COLOUR_LIMITS.items()]
+        assert max(ratios) >= 2, (scene, case, score.metrics)
+
+
+# the shift statistic of the rule before 12x12 windows: a quarter of the local contrast and a
+# quarter of the second difference forgiven, 8x8 windows, at most 5 levels
+PREVIOUS_SHIFT = {"shares": (0.25, 0.25), "window": 8, "limit": 5.0}
+
+
+def test_the_previous_shift_statistic_passed_the_weakest_change_the_new_one_catches(gl):
+    """A cylinder 5% smaller (its silhouette 1-2 px in) is the weakest change the shift limit
+    alone catches; the previous statistic scored it under its limit, and under the worst
+    noise too (3.3 levels against 3.7 for the detail scene jittered a quarter pixel)."""
+    case = next(c for c in suite.CASES if c.name == "primitives 320")
+    render = suite.api_render_fn(gl)
+    base = render(case.path, case.base(), case.frame).pixels
+    smaller = render(case.path, case.base() + case.changes()["cylinder 5% smaller"], case.frame).pixels
+    metrics, _ = measure(base, smaller, DEFAULT_RULE.aa_tolerance, with_flip=False, with_ssim=False)
+    assert metrics.shift_tile >= 2 * DEFAULT_RULE.max_shift_tile and DEFAULT_RULE.failures(metrics)
+    assert not suite.RANGE_ONLY.failures(metrics), "the neighbourhood ranges catch it already"
+    residual, _ = shift_residual(base, smaller, DEFAULT_RULE.aa_tolerance, shares=PREVIOUS_SHIFT["shares"])
+    assert worst_window_bias(residual, PREVIOUS_SHIFT["window"]) <= PREVIOUS_SHIFT["limit"]
 
 
 def test_no_change_is_a_known_miss_any_more():

@@ -1,5 +1,5 @@
 """The per-pass profile (`scenerender render --profile`): its table, and the timings a
-profiling Renderer records (static passes once, every other pass every frame)."""
+profiling GraphRenderer records (static passes once, every other pass every frame)."""
 from __future__ import annotations
 
 from scenerender.rendering.profile import CPU_SETUP, format_table, summarise
@@ -37,12 +37,12 @@ def test_a_map_kept_in_some_frames_counts_its_mean_per_frame():
 def test_profiling_renderer_times_each_pass(gl, tmp_path):
     from scenerender.errors import Warnings
     from scenerender.rendering.profile import profile_report
-    from scenerender.rendering.renderer import Renderer
+    from scenerender.rendering.renderer import GraphRenderer
     from scenerender.scene.loading import load_scene_text
     from scenerender.world.build import build_world
 
     world = build_world(load_scene_text(SCENE, tmp_path, []), Warnings())
-    renderer = Renderer(world, gl, profile=True)
+    renderer = GraphRenderer(world, gl, profile=True)
     try:
         for index in range(3):
             renderer.render(index)

@@ -59,7 +59,8 @@ def test_a_change_fails_naming_frame_numbers_and_report(suite):
 
 def test_object_ids_are_kept_with_the_references_and_name_a_change(suite):
     two = SCENE + """\
-  - mesh: {primitive: box, size: [0.5, 0.5, 0.5]}
+  - name: box1  # a named object keeps its name when it moves (an unnamed one is named by its place)
+    mesh: {primitive: box, size: [0.5, 0.5, 0.5]}
     position: [1.2, 0, 0]
     material: {diffuse: [0.2, 0.8, 0.2]}
 """

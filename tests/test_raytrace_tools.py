@@ -9,10 +9,12 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+import scenerender
 from scenerender.cli import main
 from scenerender.raytrace import bench, rays
 from scenerender.raytrace.quality import frame_errors, region_masks
 from scenerender.raytrace.render import ReferenceFrame
+from scenerender.world.environment_files import write_hdr
 
 SCENE = """
 render: {size: [40, 30], samples: 4}
@@ -143,3 +145,20 @@ def test_bench_command_writes_table_json_and_plot(gl, tmp_path):
     written = sorted(p.name for p in (tmp_path / "q").iterdir())
     assert written == ["tiny.json", "tiny.md", "tiny.png"]
     assert (tmp_path / "q" / "tiny.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_bench_offers_every_knob_of_the_sweep_and_the_environment_ones_where_it_has_one(tmp_path):
+    command = next(c for name, c in main.commands.items() if name == "bench")
+    knob_option = next(p for p in command.params if p.name == "knobs")
+    assert tuple(knob_option.type.choices) == bench.KNOBS
+    write_hdr(tmp_path / "e.hdr", np.ones((8, 16, 3)))
+    text = "lights: [{type: point}, {type: environment, image: e.hdr}]\nobjects: [{mesh: {primitive: box}}]\n"
+    variants = bench.sweep_variants(scenerender.Scene.from_yaml(text, tmp_path))
+    overrides = [o for v in variants if v.knob in ("prefilter_size", "sh_order", "env_samples", "env_footprint")
+                 for o in v.overrides]
+    assert "lights[1].prefilter_size=64" in overrides and "lights[1].sh_order=1" in overrides
+    assert "lights[1].prefilter_size=128" not in overrides  # the default
+    assert "lights[1].samples=32" in overrides and "lights[1].samples=512" not in overrides  # 512: the default
+    assert "lights[1].footprint=true" in overrides
+    without = bench.sweep_variants(scenerender.Scene.from_yaml("objects: [{mesh: {primitive: box}}]\n", tmp_path))
+    assert not [v for v in without if v.knob in ("prefilter_size", "sh_order", "env_samples")]

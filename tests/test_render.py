@@ -349,11 +349,11 @@ def test_missing_mtl_texture_is_a_warning_and_a_magenta_placeholder(gl, tmp_path
 
 def test_a_texture_used_twice_is_loaded_once(gl):
     from conftest import SCENES, load
-    from scenerender.rendering.renderer import Renderer
+    from scenerender.rendering.renderer import GraphRenderer
     from scenerender.world.build import build_world
 
     world = build_world(load(SCENES / "foggy_road.yaml", ["render.size=[64, 36]"]), Warnings())
-    renderer = Renderer(world, gl)
+    renderer = GraphRenderer(world, gl)
     try:
         renderer.render(0)
         # road.png and dirt.png (sRGB) and the streetlight/pine MTL textures: each file once

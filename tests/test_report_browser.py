@@ -1,7 +1,7 @@
 """The HTML report in a real browser: headless Chromium (Debian's `chromium` package; CI
 installs it) opens a report of a changed frame, runs its script and takes a screenshot,
-which must show the layout: the red verdict banner, the heatmap's red and the yellow
-outlines of the changed region."""
+which must show the layout: the red verdict banner, the heatmap's red, the yellow
+outlines of the changed region and the dashed cyan outline of the close-up's window."""
 from __future__ import annotations
 
 import shutil
@@ -56,6 +56,7 @@ def test_screenshot_shows_the_report(report, tmp_path):
     assert colour_share(body, (0xff, 0xd4, 0x00), 40) > 0.0005, "no yellow outline of the changed region"
     red = (body[..., 0] > 150) & (body[..., 1] < 40) & (body[..., 2] < 40)
     assert red.mean() > 0.0005, "no red in the heatmap"
+    assert colour_share(body, (0x00, 0xe5, 0xff), 40) > 0.0005, "no dashed outline of the close-up's window"
 
 
 def test_the_script_runs(report, tmp_path):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import scenerender
-from scenerender.rendering.renderer import Renderer
+from scenerender.rendering.renderer import GraphRenderer
 
 ORBIT = {"keys": [[0, [0, 2.5, 6]], [1, [6, 2.5, 0]], [2, [0, 2.5, -6]]]}
 CASTERS = [
@@ -25,7 +25,7 @@ def _scene(lights, objects=CASTERS) -> dict:
 def _frames(gl, tmp_path, scene: dict, cache: bool):
     """(pixels of frames 0-5, how many times each shadow pass ran)."""
     world = scenerender.Scene.from_dict(scene, base_dir=tmp_path).world
-    renderer = Renderer(world, gl, profile=True, cache_static_passes=cache)
+    renderer = GraphRenderer(world, gl, profile=True, cache_static_passes=cache)
     try:
         pixels = [renderer.render(i).pixels for i in range(6)]
         runs = {name: len(times) for name, times in renderer.timings.items() if name.startswith("shadow:")}

@@ -8,8 +8,8 @@ agree (base colour, highlight place and size).
 
 filly is not a dependency of scenerender: it runs in the interpreter given, as its own
 process. Both render the same GLB with its own materials at 640x480, 4x MSAA, sRGB output,
-one directional light and nothing else (no ambient, no environment, no shadows, no tone
-mapping), the camera looking at the model's bounds from +Z (or --camera). Light units: a
+one directional light and nothing else (no ambient, no environment, no tone mapping; with
+--ground a grey rough ground under the model and the light's 2048 px shadow map), the camera looking at the model's bounds from +Z (or --camera). Light units: a
 scenerender light of intensity I gives pi f I N.L; Filament gives f E N.L times the camera's
 exposure, so filly's light is pi I lux with the exposure set to 1 (EV100 = log2(1 / 1.2)).
 
@@ -54,7 +54,17 @@ FILLY_SCRIPT = textwrap.dedent("""
         camera.set_perspective(fov_y_deg=setup["fov"], aspect=setup["size"][0] / setup["size"][1])
         camera.exposure = math.log2(1.0 / 1.2)   # EV100: exposure factor 1
         scene.camera = camera
-        scene.add_directional_light(direction=setup["light"], intensity=math.pi * setup["intensity"])
+        light = scene.add_directional_light(direction=setup["light"], intensity=math.pi * setup["intensity"])
+        if setup["ground"] is not None:
+            import numpy as np
+            y, half = setup["ground"]
+            corners = np.array([[-half, y, -half], [half, y, -half], [half, y, half], [-half, y, half]], np.float32)
+            scene.create_mesh(corners, np.array([[0, 2, 1], [0, 3, 2]], np.uint32),
+                              normals=np.tile(np.array([[0, 1, 0]], np.float32), (4, 1)),
+                              base_color=[0.5, 0.5, 0.5, 1.0], metallic=0.0, roughness=1.0)
+            scene.shadows = True
+            light.casts_shadows = True
+            light.shadow_map_size = 2048
         target = renderer.create_render_target(width=setup["size"][0], height=setup["size"][1])
         for index, position in enumerate(setup["positions"]):
             camera.position = position
@@ -72,10 +82,20 @@ def scene_yaml(glb: Path, setup: dict) -> str:
         output: {{fps: 24, frames: {len(setup['positions'])}}}
         camera: {{position: {position}, target: {list(setup['target'])}, fov: {setup['fov']}}}
         lights:
-          - {{type: directional, direction: {list(setup['light'])}, intensity: {setup['intensity']}}}
+          - {{type: directional, direction: {list(setup['light'])}, intensity: {setup['intensity']},
+              shadows: {'{size: 2048}' if setup['ground'] is not None else 'false'}}}
         objects:
           - mesh: {glb.resolve()}
-        """)
+        """) + (ground_yaml(*setup["ground"]) if setup["ground"] is not None else "")
+
+
+def ground_yaml(y: float, half: float) -> str:
+    """A grey rough dielectric square under the model (the --ground option)."""
+    return textwrap.indent(textwrap.dedent(f"""
+        - mesh: {{primitive: plane, size: {2 * half}}}
+          position: [0, {y}, 0]
+          material: {{base_color: [0.5, 0.5, 0.5], metallic: 0, roughness: 1}}
+        """), "  ")
 
 
 def camera_for(glb: Path, frames: int) -> tuple[list, list, float]:
@@ -93,6 +113,14 @@ def camera_for(glb: Path, frames: int) -> tuple[list, list, float]:
         positions.append([round(float(centre[0] + distance * math.sin(angle)), 6), round(float(centre[1]), 6),
                           round(float(centre[2] + distance * math.cos(angle)), 6)])
     return positions, [round(float(x), 6) for x in centre], 45.0
+
+
+def ground_for(glb: Path) -> tuple[float, float]:
+    """(height, half size) of a ground just under the model's bounds, ten times its size."""
+    scene = scenerender.Scene.from_yaml(f"objects: [{{mesh: {glb.resolve()}}}]\n", glb.parent,
+                                        asset_roots=[glb.resolve().parent])
+    low, high = scene.world.objects[0].mesh.bounds()
+    return round(float(low[1]), 6), round(float(np.max(high - low)) * 5.0, 6)
 
 
 def run(command: list[str]) -> float:
@@ -128,6 +156,8 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--frames", type=int, default=1, help="frames a process renders (a turning camera)")
     parser.add_argument("--image", type=Path, help="where the side-by-side PNG goes")
+    parser.add_argument("--ground", action="store_true",
+                        help="a ground under the model, and the light's shadow on it (2048 px map)")
     args = parser.parse_args()
     glb = args.glb
     if glb is None:
@@ -138,7 +168,8 @@ def main() -> None:
         folder = Path(folder)
         positions, target, fov = camera_for(glb, args.frames)
         setup = {"glb": str(glb.resolve()), "size": SIZE, "fov": fov, "light": LIGHT, "intensity": args.intensity,
-                 "positions": positions, "target": target, "output": str(folder / "filly_{index:04d}.png")}
+                 "positions": positions, "target": target, "output": str(folder / "filly_{index:04d}.png"),
+                 "ground": ground_for(glb) if args.ground else None}
         (folder / "scene.yaml").write_text(scene_yaml(glb, setup), encoding="utf-8")
         (folder / "filly_run.py").write_text(FILLY_SCRIPT, encoding="utf-8")
         commands = {

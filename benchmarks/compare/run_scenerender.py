@@ -16,13 +16,13 @@ def main() -> None:
     args = parse_args(__doc__)
     from scenerender.errors import Warnings
     from scenerender.gpu.context import create_context
-    from scenerender.rendering.renderer import Renderer
+    from scenerender.rendering.renderer import GraphRenderer
     from scenerender.scene import load_scene
     from scenerender.world.build import build_world
 
     overrides = [f"render.size=[{args.width}, {args.height}]", f"render.samples={args.samples}"]
     world = build_world(load_scene(S.SCENE_YAML, overrides), Warnings())
-    renderer = Renderer(world, create_context())
+    renderer = GraphRenderer(world, create_context())
     run_frames(args, lambda i: renderer.render(i).pixels)
 
 

@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from scenerender.compare.metrics import DiffMaps, flip_error, measure, ssim, tile_means
+from scenerender.compare.metrics import DiffMaps, FrameMetrics, flip_error, measure, ssim, tile_means, window_sums
 from scenerender.compare.objects import IdMap, measure_objects, picture
 from scenerender.compare.result import Box, CompareResult, FrameComparison, FrameImages
-from scenerender.compare.rule import DEFAULT_RULE, TILE, DiffRule
+from scenerender.compare.rule import DEFAULT_RULE, SHIFT_WINDOW, TILE, DiffRule
 from scenerender.compare.sources import Side, is_video_name, open_side, video_frames
 from scenerender.errors import SourceLocation, UserError, display_path
 
@@ -55,7 +55,8 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
     offenders = [] if objects is None else list(dict.fromkeys(s.name for kind in rule.offenders(objects) for s in kind))
     if keep_images and (metrics.max_abs > 0 or offenders):
         shown = picture(reference, *object_ids, offenders) if offenders else None
-        images = FrameImages(reference, output, heatmap(reference, maps), shift_map(maps), shown)
+        images = FrameImages(reference, output, heatmap(reference, maps), shift_map(maps), shown,
+                             *focus_window(maps, metrics, rule, passed))
     if not passed:
         flip = flip_error(reference, output) if images is not None else None
         metrics = dataclasses.replace(metrics, ssim=ssim(reference, output), flip=flip)
@@ -75,6 +76,36 @@ def heatmap(reference: np.ndarray, maps: DiffMaps) -> np.ndarray:
     out[changed, 0] = strength[changed]
     out[changed, 1:] = 0
     return out
+
+
+def focus_window(maps: DiffMaps, metrics: FrameMetrics, rule: DiffRule, passed: bool
+                 ) -> tuple[tuple[int, int, int, int], str]:
+    """The window a report shows close up, (x, y, w, h) in pixels, and what it holds in
+    words: for a failing frame the worst window of the colour limit that failed (the shift
+    window first: the thinnest changes fail only it), for a passing one the window holding
+    the most excused pixels (where none is, the largest differences, all within the rounding)."""
+    if passed and not maps.excused.any():
+        box = _worst_window(maps.magnitude.astype(np.float32), SHIFT_WINDOW)
+        return box, f"the largest differences, all within the {rule.aa_tolerance} level(s) of rounding forgiven"
+    if passed:
+        x, y, w, h = _worst_window(maps.excused.astype(np.float32), SHIFT_WINDOW)
+        count = int(maps.excused[y:y + h, x:x + w].sum())
+        return (x, y, w, h), f"the most excused pixels: {count} of this {w}x{h} window, blue in the heatmap"
+    if metrics.shift_tile > rule.max_shift_tile or not (metrics.worst_tile_aa > rule.max_tile):
+        box = _worst_window(maps.residual, SHIFT_WINDOW)
+        return box, (f"the worst {SHIFT_WINDOW}x{SHIFT_WINDOW} window after the best shift: "
+                     f"{metrics.shift_tile:.2f} levels (limit {rule.max_shift_tile:g})")
+    box = _worst_window(maps.unexplained, TILE)
+    return box, (f"the worst {TILE}x{TILE} tile outside the 3x3 ranges: {metrics.worst_tile_aa:.2f} levels "
+                 f"(limit {rule.max_tile:g})")
+
+
+def _worst_window(per_pixel: np.ndarray, side: int) -> tuple[int, int, int, int]:
+    """(x, y, w, h) of the side x side window whose sum of ``per_pixel`` (H, W) lies farthest
+    from 0 (clipped to the image; the first of equals)."""
+    sums = np.abs(window_sums(per_pixel, side))
+    row, col = np.unravel_index(int(np.argmax(sums)), sums.shape)
+    return int(col), int(row), min(side, per_pixel.shape[1]), min(side, per_pixel.shape[0])
 
 
 def shift_map(maps: DiffMaps) -> np.ndarray:

@@ -19,12 +19,17 @@ that leaves the least; in both directions (the output against the shifted refere
 reference against the shifted output), a pixel being charged the larger, so a feature only
 one image has is charged whichever image has it. What is left is forgiven, per channel, up
 to the rounding tolerance plus two allowances a rasterised image needs under a sub-pixel
-shift: a quarter of the local contrast (4x MSAA moves coverage in quarter steps, so an
-edge's pixels cannot follow a shift smoothly) and half the local second difference (detail
-finer than a pixel, a texture at a grazing angle, aliases rather than shifts). Both take the
-smaller of the two images' values, so a feature only one image has gets neither. The
-residual is signed (output minus reference) and judged by the worst signed mean of any 8x8
-window (one coherent displacement cannot make a bias); its worst pixel is reported too.
+shift: half the local contrast (4x MSAA moves coverage in quarter steps, and a bilinear
+resample of a step edge is not the edge rasterised a fraction of a pixel over) and the whole
+local second difference (detail finer than a pixel, a texture at a grazing angle, aliases
+rather than shifts). Both take the smaller of the two images' values, so a feature only one
+image has gets neither. The residual is signed (output minus reference) and judged by the
+worst signed mean of any SHIFT_WINDOW x SHIFT_WINDOW window (12 px: one coherent displacement
+cannot make a bias, and the residual of aliasing detail, of either sign, cancels over a
+window larger than a tile); its worst pixel is reported too. The shares and the window were
+chosen on the perturbation corpus (docs/diff-margins.md, "The shift limit"): they put the
+weakest change the shift limit alone catches 4.6 times above the worst noise, against 1.65
+times for the previous shares (a quarter of each) and 8x8 windows.
 """
 from __future__ import annotations
 
@@ -33,13 +38,13 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from scenerender.compare.rule import TILE
+from scenerender.compare.rule import SHIFT_WINDOW, TILE
 
 
 PIXEL_THRESHOLD = 24  # levels: a "bad" pixel in the plain (not shift-compensated) count
 SHIFTS = tuple((dy, dx) for dy in (0.0, -0.25, 0.25) for dx in (0.0, -0.25, 0.25))  # pixels; no shift first
-EDGE_SHARE = 0.25   # of the local contrast: 4x MSAA coverage steps
-ALIAS_SHARE = 0.5   # of the local second difference: detail finer than a pixel
+EDGE_SHARE = 0.5    # of the local contrast: 4x MSAA coverage steps, bilinear against rasterised edges
+ALIAS_SHARE = 1.0   # of the local second difference: detail finer than a pixel
 
 
 @dataclass(frozen=True)
@@ -55,7 +60,7 @@ class FrameMetrics:
     psnr: float              # dB; inf for identical images
     unexplained_mean: float  # mean difference outside the neighbourhood ranges per pixel, levels
     worst_tile_aa: float     # largest mean of it over any TILE x TILE block, levels
-    shift_tile: float        # largest |signed mean| of the difference left after a shift, any TILE x TILE window
+    shift_tile: float        # largest |signed mean| of the difference left after a shift, any SHIFT_WINDOW-square window
     shift_pixel: float       # largest |difference left after a shift| of any pixel, levels
     changed_percent: float   # % of pixels with a difference either view leaves unexplained
     excused_pixels: int      # pixels that differ by more than the tolerance, all of it explained
@@ -133,22 +138,25 @@ def unexplained_difference(reference: np.ndarray, output: np.ndarray, tolerance:
 
 
 def second_difference(image: np.ndarray) -> np.ndarray:
-    """Per-channel half |second difference|, the larger of the two axes (edges repeated):
-    large where the image holds detail at the pixel scale. (H, W, C) float32 -> same."""
+    """Per-channel |second difference| (|2 c - left - right|), the larger of the two axes
+    (edges repeated): large where the image holds detail at the pixel scale.
+    (H, W, C) float32 -> same."""
     padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
     centre = padded[1:-1, 1:-1]
     across = np.abs(2 * centre - padded[1:-1, :-2] - padded[1:-1, 2:])
     down = np.abs(2 * centre - padded[:-2, 1:-1] - padded[2:, 1:-1])
-    return np.maximum(across, down) * 0.5
+    return np.maximum(across, down)
 
 
-def allowance(reference: np.ndarray, output: np.ndarray, tolerance: int, ranges: tuple) -> np.ndarray:
+def allowance(reference: np.ndarray, output: np.ndarray, tolerance: int, ranges: tuple,
+              shares: tuple[float, float] = (EDGE_SHARE, ALIAS_SHARE)) -> np.ndarray:
     """(H, W, 3) float32: per channel, the levels forgiven after the best shift (see the
-    module notes). Inputs (H, W, 3) float32; ``ranges`` as for ``unexplained_difference``."""
+    module notes): ``shares`` of the local contrast and of the local second difference.
+    Inputs (H, W, 3) float32; ``ranges`` as for ``unexplained_difference``."""
     (ref_low, ref_high), (out_low, out_high) = ranges
     edges = np.minimum(ref_high - ref_low, out_high - out_low).astype(np.float32)
     detail = np.minimum(second_difference(reference), second_difference(output))
-    return tolerance + EDGE_SHARE * edges + ALIAS_SHARE * detail
+    return tolerance + shares[0] * edges + shares[1] * detail
 
 
 def _tiles(image: np.ndarray, margin: int) -> np.ndarray:
@@ -194,16 +202,16 @@ def _best_shift(source: np.ndarray, target: np.ndarray, forgiven: np.ndarray, si
     return best_residual, best_shift
 
 
-def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int,
-                   ranges: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
+def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int, ranges: tuple | None = None,
+                   shares: tuple[float, float] = (EDGE_SHARE, ALIAS_SHARE)) -> tuple[np.ndarray, np.ndarray]:
     """The signed difference (output - reference) no small shift explains, per pixel the
     channel with the largest magnitude -> ((H, W) float32 levels, (rows, cols, 2) float32
     per-tile shift (dy, dx) in pixels). Only tiles that differ beyond the allowances
     unshifted are searched, so identical and nearly identical frames cost little. ``ranges``
-    as for ``unexplained_difference``."""
+    as for ``unexplained_difference``, ``shares`` as for ``allowance``."""
     h, w, _ = reference.shape
     ref, out = reference.astype(np.float32), output.astype(np.float32)
-    forgiven = allowance(ref, out, tolerance, ranges or _ranges(reference, output))
+    forgiven = allowance(ref, out, tolerance, ranges or _ranges(reference, output), shares)
     rows, cols = -(-h // TILE), -(-w // TILE)
     shifts = np.zeros((rows, cols, 2), np.float32)
     charged = np.zeros((rows, cols, TILE, TILE, 3), np.float32)
@@ -236,12 +244,13 @@ def window_sums(per_pixel: np.ndarray, side: int = TILE) -> np.ndarray:
     return table[sy:, sx:] - table[:-sy, sx:] - table[sy:, :-sx] + table[:-sy, :-sx]
 
 
-def worst_window_bias(unexplained: np.ndarray) -> float:
-    """Largest |mean| of the signed unexplained difference over any TILE x TILE window."""
-    if not unexplained.size:
+def worst_window_bias(residual: np.ndarray, side: int = SHIFT_WINDOW) -> float:
+    """Largest |mean| of the signed ``residual`` (H, W) over any side x side window (the
+    whole image where it is smaller)."""
+    if not residual.size:
         return 0.0
-    sums = window_sums(unexplained)
-    area = min(TILE, unexplained.shape[0]) * min(TILE, unexplained.shape[1])
+    sums = window_sums(residual, side)
+    area = min(side, residual.shape[0]) * min(side, residual.shape[1])
     return float(np.abs(sums).max() / area)
 
 

@@ -37,7 +37,7 @@ from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
+from numpy.lib.stride_tricks import sliding_window_view
 
 CHANGED_LEVELS = 5       # a pixel off by this many levels on some channel counts as changed
 INTERIOR_RADIUS = 2      # interior pixels: the object's own within this many pixels, both sides
@@ -270,10 +270,9 @@ def _displacements(images: _Images, ref_map, out_map, labels, start=None) -> dic
     centroids' shift."""
     height, width = ref_map.shape
     found = {}
-    ref_boxes = ndimage.find_objects(ref_map)
-    out_boxes = ndimage.find_objects(out_map)
+    ref_boxes, out_boxes = bounding_boxes(ref_map), bounding_boxes(out_map)
     for label in labels:
-        a, b = ref_boxes[label - 1], out_boxes[label - 1]
+        a, b = ref_boxes[label], out_boxes[label]
         y0 = max(min(a[0].start, b[0].start) - 3, 0)
         y1 = min(max(a[0].stop, b[0].stop) + 3, height)
         x0 = max(min(a[1].start, b[1].start) - 3, 0)
@@ -283,6 +282,37 @@ def _displacements(images: _Images, ref_map, out_map, labels, start=None) -> dic
         others = ((ref_labels != label) & (ref_labels > 0)) | ((out_labels != label) & (out_labels > 0))
         found[label] = _register(images, (y0, x0), ref_labels == label, out_labels == label, others, start)
     return found
+
+
+def bounding_boxes(label_map: np.ndarray) -> dict:
+    """label -> (rows, columns) slices of the smallest box holding its pixels, for every
+    label > 0 of ``label_map`` (H, W) ints."""
+    ys, xs = np.nonzero(label_map > 0)
+    labels = label_map[ys, xs]
+    boxes = {}
+    if not len(labels):
+        return boxes
+    count = int(labels.max()) + 1
+    low_y, low_x = np.full(count, label_map.shape[0]), np.full(count, label_map.shape[1])
+    high_y, high_x = np.full(count, -1), np.full(count, -1)
+    np.minimum.at(low_y, labels, ys)
+    np.minimum.at(low_x, labels, xs)
+    np.maximum.at(high_y, labels, ys)
+    np.maximum.at(high_x, labels, xs)
+    for label in np.unique(labels):
+        boxes[int(label)] = (slice(int(low_y[label]), int(high_y[label]) + 1),
+                             slice(int(low_x[label]), int(high_x[label]) + 1))
+    return boxes
+
+
+def square_filter(image: np.ndarray, side: int, reduce, pad: str) -> np.ndarray:
+    """``reduce`` (np.min or np.max) over the side x side square around each pixel of
+    ``image`` (H, W), in two passes (a square's extremum is that of its rows' extrema);
+    outside the image is ``pad``: "edge" (the nearest pixel) or "constant" (zero, False)."""
+    half = side // 2
+    padded = np.pad(image, half, mode=pad)
+    rows = reduce(sliding_window_view(padded, side, axis=0), axis=-1)
+    return reduce(sliding_window_view(rows, side, axis=1), axis=-1)
 
 
 def _register(images: _Images, origin: tuple, in_ref: np.ndarray, in_out: np.ndarray, others: np.ndarray,
@@ -298,8 +328,7 @@ def _register(images: _Images, origin: tuple, in_ref: np.ndarray, in_out: np.nda
     better (CONTESTED_RATIO) than by it, theirs is taken: the wall's own silhouette did not
     move. Only with MIN_OWN_PIXELS such pixels, and an improvement of CONTESTED_LEVELS rms
     or more: a few pixels fit anything about as well."""
-    square = np.ones((3, 3), bool)
-    region = ndimage.binary_dilation(in_ref | in_out, structure=square)
+    region = square_filter(in_ref | in_out, 3, np.max, "constant")
     points, target = _points(images, region, origin)
     if np.array_equal(target, images.ref[points[0].astype(np.int64), points[1].astype(np.int64)]):
         return np.zeros(2)
@@ -309,7 +338,7 @@ def _register(images: _Images, origin: tuple, in_ref: np.ndarray, in_out: np.nda
     if np.abs(moved).max() > 0.5:
         starts.append(moved)
     found = _best(images, points, target, starts)
-    clean = region & ~ndimage.binary_dilation(others, structure=square)
+    clean = region & ~square_filter(others, 3, np.max, "constant")
     if np.count_nonzero(clean) >= MIN_OWN_PIXELS and not np.array_equal(clean, region):
         own_points, own_target = _points(images, clean, origin)
         own = _best(images, own_points, own_target, [found, *extra])
@@ -429,8 +458,7 @@ def _interior_changes(images: _Images, ref_map, out_map, displacement: dict, tol
     side = 2 * INTERIOR_RADIUS + 1
 
     def uniform(labels):
-        return (ndimage.minimum_filter(labels, side, mode="nearest")
-                == ndimage.maximum_filter(labels, side, mode="nearest"))
+        return square_filter(labels, side, np.min, "edge") == square_filter(labels, side, np.max, "edge")
 
     inside = uniform(ref_map) & uniform(out_map) & (ref_map == out_map) & (ref_map > 0)
     labels = ref_map[inside]

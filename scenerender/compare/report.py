@@ -5,7 +5,10 @@ as a CI artifact.
 Top: the verdict, counts, the rule, and what made each side (scenerender version, GL
 renderer). Then per changed frame: reference, output, heatmap with the changed regions
 outlined and the map of each tile's best shift, a slider and a blink toggle between
-reference and output, and the metrics against the rule's limits. Every passing frame that
+reference and output, and the metrics against the rule's limits. Above those, a close-up:
+reference, output and heatmap cropped around the window that decided (the worst window of
+the limit that failed; for a pass, the window holding the most excused pixels), magnified
+and outlined, that window also outlined on the whole frames. Every passing frame that
 differs at all gets the same pictures and what it excused, so a pass can be audited; passing
 frames are also one table row each.
 """
@@ -22,12 +25,15 @@ import numpy as np
 from scenerender.compare.metrics import PIXEL_THRESHOLD, FrameMetrics
 from scenerender.compare.objects import PICTURE_COLOURS
 from scenerender.compare.result import CompareResult, FrameComparison
-from scenerender.compare.rule import TILE, DiffRule
+from scenerender.compare.rule import SHIFT_WINDOW, TILE, DiffRule
 from scenerender.compare.sources import Side
 from scenerender.sinks.base import OUTPUT_OPTION, atomic_path
 
 # Small frames are scaled up (pixelated) to at least this width on the page.
 MIN_SHOWN_WIDTH = 320
+# The close-up: this many pixels around the window that decided, each shown ZOOM times larger.
+CLOSE_UP = 40
+ZOOM = 8
 
 STYLE = """
 body { font: 14px/1.4 system-ui, sans-serif; margin: 0; background: #f4f4f6; color: #1d1d22; }
@@ -46,6 +52,8 @@ figure { margin: 0; } figcaption { font-size: 12px; color: #555; }
 .frame { position: relative; display: inline-block; line-height: 0; }
 .frame img { image-rendering: pixelated; display: block; }
 .box { position: absolute; border: 2px solid #ffd400; box-shadow: 0 0 0 1px #000; box-sizing: border-box; }
+.focus { position: absolute; border: 2px dashed #00e5ff; box-shadow: 0 0 0 1px #000; box-sizing: border-box; }
+.closeup { border-left: 4px solid #00b8d4; padding-left: 10px; }
 .stack { position: relative; display: inline-block; line-height: 0; }
 .stack img { image-rendering: pixelated; display: block; }
 .stack img.top { position: absolute; left: 0; top: 0; }
@@ -87,13 +95,46 @@ def shown_width(width: int) -> int:
 
 
 def _boxes(frame: FrameComparison) -> str:
+    """The changed regions (yellow) and the close-up's window (dashed cyan) over a full frame."""
     if not frame.size:
         return ""
-    width, height = frame.size
+    focus = [frame.images.focus] if frame.images is not None and frame.images.focus else []
+    return _outlines(frame.regions, frame.size, "box") + _outlines(focus, frame.size, "focus")
+
+
+def _outlines(boxes, size: tuple[int, int], css: str) -> str:
+    """Divs outlining ``boxes`` (x, y, w, h in pixels) over a picture of ``size`` (w, h)."""
+    width, height = size
     return "".join(
-        f'<div class="box" style="left:{100 * x / width:.3f}%;top:{100 * y / height:.3f}%;'
+        f'<div class="{css}" style="left:{100 * x / width:.3f}%;top:{100 * y / height:.3f}%;'
         f'width:{100 * w / width:.3f}%;height:{100 * h / height:.3f}%"></div>'
-        for x, y, w, h in frame.regions)
+        for x, y, w, h in boxes)
+
+
+def close_up_box(focus: tuple[int, int, int, int], size: tuple[int, int]) -> tuple[int, int, int, int]:
+    """(x, y, w, h): CLOSE_UP pixels a side (less in a smaller frame) centred on ``focus``
+    (x, y, w, h), moved inside the frame of ``size`` (w, h)."""
+    fx, fy, fw, fh = focus
+    w, h = min(CLOSE_UP, size[0]), min(CLOSE_UP, size[1])
+    x = min(max(fx + fw // 2 - w // 2, 0), size[0] - w)
+    y = min(max(fy + fh // 2 - h // 2, 0), size[1] - h)
+    return x, y, w, h
+
+
+def _close_up(images) -> str:
+    """The row that points at the decisive window: reference, output and heatmap cropped
+    around it, magnified, the window outlined, and what it holds in words."""
+    height, width = images.reference.shape[:2]
+    x, y, w, h = close_up_box(images.focus, (width, height))
+    fx, fy, fw, fh = images.focus
+    inner = _outlines([(fx - x, fy - y, fw, fh)], (w, h), "focus")
+    crops = [("reference", images.reference), ("output", images.output), ("heatmap", images.heatmap)]
+    figures = "".join(
+        f'<figure><div class="frame"><img src="{png_data_uri(image[y:y + h, x:x + w])}" width="{w * ZOOM}" '
+        f'alt="{name}, close up">{inner}</div><figcaption>{name}</figcaption></figure>' for name, image in crops)
+    return (f'<div class="closeup"><p>Close up, {ZOOM}x: x {x}..{x + w - 1}, y {y}..{y + h - 1} around '
+            f'{escape(images.focus_note)} (dashed, also on the whole frames below)</p>'
+            f'<div class="row">{figures}</div></div>')
 
 
 def _figure(caption: str, image: np.ndarray, boxes: str = "") -> str:
@@ -129,7 +170,7 @@ def metrics_rows(metrics: FrameMetrics, rule: DiffRule, objects=None) -> list[tu
          f"<= {rule.max_tile:g}", metrics.worst_tile_aa <= rule.max_tile),
         ("mean outside the 3x3 ranges (levels)", _fmt(metrics.unexplained_mean, 5), f"<= {rule.max_unexplained_mean:g}",
          metrics.unexplained_mean <= rule.max_unexplained_mean),
-        (f"worst {TILE}x{TILE} window after the best shift (levels, signed mean)", _fmt(metrics.shift_tile),
+        (f"worst {SHIFT_WINDOW}x{SHIFT_WINDOW} window after the best shift (levels, signed mean)", _fmt(metrics.shift_tile),
          f"<= {rule.max_shift_tile:g}", metrics.shift_tile <= rule.max_shift_tile),
         ("worst pixel after the best shift (levels)", _fmt(metrics.shift_pixel, 1), "", None),
         ("pixels excused (edge shifts and rounding)", str(metrics.excused_pixels), "", None),
@@ -211,6 +252,8 @@ def _frame_section(frame: FrameComparison, rule: DiffRule) -> str:
     if images is None:
         parts.append("<p>(pictures not kept: too many frames differ)</p>")
     else:
+        if images.focus is not None and images.heatmap is not None:
+            parts.append(_close_up(images))
         boxes = _boxes(frame)
         figures = [_figure("reference", images.reference, boxes), _figure("output", images.output, boxes)]
         if images.heatmap is not None:

@@ -9,7 +9,7 @@ import numpy as np
 
 from scenerender.compare.metrics import FrameMetrics
 from scenerender.compare.objects import ObjectMetrics
-from scenerender.compare.rule import TILE, DiffRule
+from scenerender.compare.rule import SHIFT_WINDOW, DiffRule
 from scenerender.compare.sources import Side
 from scenerender.version import __version__
 
@@ -28,6 +28,8 @@ class FrameImages:
     heatmap: np.ndarray | None
     shifts: np.ndarray | None
     objects: np.ndarray | None = None   # the objects a limit failed, each in a colour of its own
+    focus: tuple[int, int, int, int] | None = None  # (x, y, w, h): the window the report shows close up
+    focus_note: str = ""                # what that window holds, in words
 
 
 @dataclass
@@ -144,7 +146,7 @@ class CompareResult:
             shift = max(m.largest_shift for m in measured)
             worst = max(m.shift_tile for m in measured)
             return (f"PASS: {c['compared']} frame(s) match; {excused} px excused as sub-pixel edge shifts and "
-                    f"rounding (tiles shifted <= {shift:g} px; worst {TILE}x{TILE} window after the shift "
+                    f"rounding (tiles shifted <= {shift:g} px; worst {SHIFT_WINDOW}x{SHIFT_WINDOW} window after the shift "
                     f"{worst:.2f} levels)")
         return (f"FAIL: {c['changed']} of {c['compared']} frame(s) changed, {c['missing']} missing, "
                 f"{c['extra']} extra")

@@ -18,7 +18,9 @@ import numpy as np
 from scenerender.colorspace import srgb_encode
 from scenerender.compare.objects import IdMap
 from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
 from scenerender.sinks.object_ids import ids_path, read_ids, read_names
+from scenerender.world.environment_files import read_exr
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr")
 VIDEO_SUFFIXES = (".mp4", ".gif")
@@ -82,17 +84,7 @@ def srgb_bytes(linear: np.ndarray) -> np.ndarray:
 
 
 def _read_exr(path: Path) -> np.ndarray:
-    import OpenEXR
-
-    with OpenEXR.File(str(path)) as exr:
-        channels = exr.channels()
-        if "RGB" in channels:
-            linear = np.asarray(channels["RGB"].pixels, dtype=np.float32)
-        elif all(c in channels for c in "RGB"):
-            linear = np.stack([np.asarray(channels[c].pixels, dtype=np.float32) for c in "RGB"], axis=2)
-        else:
-            raise _bad(path, f"EXR without R, G, B channels (has {', '.join(sorted(channels))})")
-    return srgb_bytes(linear[..., :3])
+    return srgb_bytes(read_exr(path, DEFAULT_MAX_PIXELS))
 
 
 def read_image(path: Path) -> np.ndarray:

@@ -215,3 +215,25 @@ def _size_text(path: Path, images: ImageStore) -> str:
     except Exception:  # noqa: BLE001 - only for the message
         return "its size unknown"
     return f"{width}x{height}, {width * height * 4 / 2**20:,.0f} MiB as RGBA"
+
+
+# half floats end at 65504; a brighter texel (a sun in an HDR image) is kept at that
+HALF_FLOAT_MAX = 65504.0
+
+
+def environment_texture(ctx, linear: np.ndarray, mipmaps: bool = False):
+    """An RGBA16F texture of an equirectangular image (H, W, 3) of linear radiance, its
+    first row (+Y) at t = 0, filtered linearly, wrapping around in u; with ``mipmaps``,
+    every level below it too (the GPU's box filter: the prefilter pass reads coarse levels
+    for wide samples)."""
+    height, width = linear.shape[:2]
+    rgba = np.ones((height, width, 4), dtype=np.float16)
+    rgba[..., :3] = np.clip(linear, 0.0, HALF_FLOAT_MAX)
+    texture = ctx.texture((width, height), 4, rgba.tobytes(), dtype="f2")
+    texture.repeat_x, texture.repeat_y = True, False
+    if mipmaps:
+        texture.build_mipmaps()
+        texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    else:
+        texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+    return texture

@@ -291,7 +291,7 @@ def _load_images(header: dict, binary: bytes | None, result: GltfFile, label: st
         image = _object(images[index], f"images[{index}]")
         try:
             if image.get("bufferView") is not None:
-                data = _buffer_view(header, image["bufferView"], binary, buffers, read_file)
+                data = bytes(buffer_view_bytes(header, image["bufferView"], binary, buffers, read_file)[0])
             elif isinstance(image.get("uri"), str):
                 data = _uri_bytes(image["uri"], read_file)
             else:
@@ -301,10 +301,12 @@ def _load_images(header: dict, binary: bytes | None, result: GltfFile, label: st
         result.images[key] = data
 
 
-def _buffer_view(header: dict, index, binary, buffers: dict, read_file) -> bytes:
+def buffer_view_bytes(header: dict, index, binary, buffers: dict, read_file) -> tuple[memoryview, int | None]:
+    """(the bytes of bufferView ``index``, its byteStride or None); ``buffers`` caches the
+    buffers read, by index."""
     views = _list(header, "bufferViews")
     if not (_is_index(index) and index < len(views)):
-        raise GltfProblem(f"an image names bufferView {index!r}")
+        raise GltfProblem(f"a reference to bufferView {index!r}, the file has {len(views)}")
     view = _object(views[index], f"bufferViews[{index}]")
     buffer_index = view.get("buffer")
     all_buffers = _list(header, "buffers")
@@ -322,7 +324,10 @@ def _buffer_view(header: dict, index, binary, buffers: dict, read_file) -> bytes
     data = buffers[buffer_index]
     if not (_is_index(start) and _is_index(length) and start + length <= len(data)):
         raise GltfProblem(f"bufferViews[{index}] reaches past its buffer")
-    return data[start: start + length]
+    stride = view.get("byteStride")
+    if stride is not None and not (_is_index(stride) and 4 <= stride <= 252):
+        raise GltfProblem(f"bufferViews[{index}] has byteStride {stride!r}")
+    return memoryview(data)[start: start + length], stride
 
 
 def _uri_bytes(uri: str, read_file) -> bytes:

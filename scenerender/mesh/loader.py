@@ -1,7 +1,8 @@
-"""Load a mesh file into MeshData: OBJ with the built-in reader, other formats via trimesh.
+"""Load a mesh file into MeshData: OBJ with the built-in reader, glTF's common case with
+mesh.gltf_geometry, other formats via trimesh.
 
-trimesh takes over a second to import, so it is imported only when a non-OBJ file is
-actually loaded.
+trimesh (with SciPy) takes about half a second to import, so it is imported only when a
+file needs it.
 """
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ from scenerender.mesh.data import MeshData
 from scenerender.mesh.data import MeshGroup
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
 from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, vertex_colors
+from scenerender.mesh.gltf_geometry import read_parts
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
 from scenerender.mesh.obj import parse_obj
 from scenerender.scene.assets import AssetPolicy, policy_for
@@ -59,7 +61,7 @@ def load_mesh(
         return load_obj_cached(path, parse, normals=normals, normalize=normalize, warnings=warnings,
                                assets=assets, budget=budget)
     if suffix in TRIMESH_FORMATS:
-        mesh = _load_with_trimesh(path, assets, budget, warnings)
+        mesh = _load_other_format(path, assets, budget, warnings)
         budget.charge(mesh.triangle_count, SourceLocation(shown))
     else:
         raise UserError(
@@ -89,50 +91,52 @@ def _finished(mesh: MeshData, normals: str, normalize: bool, shown: str) -> Mesh
     return mesh
 
 
-def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget, warnings: Warnings) -> MeshData:
-    """Read ``path`` with trimesh and flatten the scene it describes into one mesh.
+def _load_other_format(path: Path, assets: AssetPolicy, budget: TriangleBudget, warnings: Warnings) -> MeshData:
+    """Read ``path`` (not an OBJ) and flatten the scene it describes into one mesh.
 
     Node transforms are applied; UVs are kept when any part has them (parts without get
     (0, 0)); normals are kept only when the file stored them, else left None for the
     normals mode to compute. Files the mesh refers to (glTF buffers and images, a PLY's
     texture) are read through ``assets``. Where the header declares the face count (PLY,
-    binary STL, OFF), ``budget`` is checked before trimesh allocates anything.
+    binary STL, OFF), ``budget`` is checked before anything is allocated.
 
     A glTF file also gives its materials (mesh.gltf: one group per run of triangles with
     one material, the images they use, ``COLOR_0``). Materials that cannot be read are one
-    warning, and the file is drawn with the scene's material.
+    warning, and the file is drawn with the scene's material. Its geometry is read by
+    mesh.gltf_geometry where that can (no trimesh import), else, as every other format,
+    by trimesh.
     """
-    import trimesh  # deliberately lazy: see the module docstring
-
     shown = display_path(path)
     raw = read_regular_file(path, "mesh file")
     declared = declared_faces(raw, path.suffix.lower())
     if declared is not None:
         budget.check(declared, SourceLocation(shown))
-    data = io.BytesIO(raw)
-    resolver = _policy_resolver(trimesh, path, assets)
-    gltf = _read_gltf(raw, path, resolver, warnings) if path.suffix.lower() in (".glb", ".gltf") else None
-    try:
-        with _pywarnings.catch_warnings(), np.errstate(all="ignore"):
-            # Pillow's decompression-bomb (a RuntimeWarning), NumPy's overflow and the readers'
-            # complaints (UserWarning) on hostile files would otherwise print multi-line text;
-            # the outcome is judged below instead. A DeprecationWarning still shows.
-            _pywarnings.simplefilter("ignore", RuntimeWarning)
-            _pywarnings.simplefilter("ignore", UserWarning)
-            if hasattr(trimesh, "load_scene"):
-                scene = trimesh.load_scene(data, file_type=path.suffix.lower()[1:], resolver=resolver, process=False)
-            else:  # trimesh < 4.5
-                scene = trimesh.load(data, file_type=path.suffix.lower()[1:], resolver=resolver,
-                                     force="scene", process=False)
-            raw_parts = _raw_parts(scene, trimesh, _gltf_slots(scene, gltf, warnings, shown))
-    except UserError:
-        raise  # a referenced file outside the allowed folders, already explained
-    except MemoryError:
-        raise UserError("cannot read mesh: its header claims more data than fits in memory",
-                        SourceLocation(shown)) from None
-    except Exception as exc:  # trimesh raises many types for malformed files
-        raise UserError(f"cannot read mesh: {_short(exc)}", SourceLocation(shown)) from None
+    read_file = _policy_reader(path, assets)
+    gltf = None
+    if path.suffix.lower() in (".glb", ".gltf"):
+        gltf = _read_gltf(raw, path, read_file, warnings)
+        parts = _gltf_parts_here(raw, read_file, gltf)
+        if parts is not None:
+            return _joined(parts, gltf, shown)
+    return _joined(_trimesh_parts(path, raw, assets, gltf, warnings), gltf, shown)
 
+
+def _gltf_parts_here(raw: bytes, read_file, gltf: GltfFile | None) -> list[dict] | None:
+    """The glTF file's parts read without trimesh, or None where trimesh must read it
+    (what mesh.gltf_geometry leaves to it, or a file it finds malformed: trimesh then
+    gives the reason the user sees, as for every other format)."""
+    names = [material.name for material in gltf.materials] if gltf is not None else []
+    try:
+        with np.errstate(all="ignore"):
+            return read_parts(raw, read_file, names)
+    except UserError:
+        raise  # a file it names outside the allowed folders
+    except Exception:  # noqa: BLE001 - NotReadHere, GltfProblem, or malformed JSON values
+        return None
+
+
+def _joined(raw_parts: list[dict], gltf: GltfFile | None, shown: str) -> MeshData:
+    """The parts checked, joined into one mesh, with the glTF materials they use."""
     parts = [_part_arrays(raw, shown) for raw in raw_parts]
     if not parts:
         raise UserError("the file contains no triangles", SourceLocation(shown))
@@ -145,12 +149,42 @@ def _load_with_trimesh(path: Path, assets: AssetPolicy, budget: TriangleBudget, 
     return mesh
 
 
-def _read_gltf(raw: bytes, path: Path, resolver, warnings: Warnings) -> GltfFile | None:
+def _trimesh_parts(path: Path, raw: bytes, assets: AssetPolicy, gltf: GltfFile | None,
+                   warnings: Warnings) -> list[dict]:
+    """The parts of the file as trimesh reads it (see _raw_parts)."""
+    import trimesh  # deliberately lazy: see the module docstring
+
+    shown = display_path(path)
+    data = io.BytesIO(raw)
+    resolver = _policy_resolver(trimesh, path, assets)
+    try:
+        with _pywarnings.catch_warnings(), np.errstate(all="ignore"):
+            # Pillow's decompression-bomb (a RuntimeWarning), NumPy's overflow and the readers'
+            # complaints (UserWarning) on hostile files would otherwise print multi-line text;
+            # the outcome is judged below instead. A DeprecationWarning still shows.
+            _pywarnings.simplefilter("ignore", RuntimeWarning)
+            _pywarnings.simplefilter("ignore", UserWarning)
+            if hasattr(trimesh, "load_scene"):
+                scene = trimesh.load_scene(data, file_type=path.suffix.lower()[1:], resolver=resolver, process=False)
+            else:  # trimesh < 4.5
+                scene = trimesh.load(data, file_type=path.suffix.lower()[1:], resolver=resolver,
+                                     force="scene", process=False)
+            return _raw_parts(scene, trimesh, _gltf_slots(scene, gltf, warnings, shown))
+    except UserError:
+        raise  # a referenced file outside the allowed folders, already explained
+    except MemoryError:
+        raise UserError("cannot read mesh: its header claims more data than fits in memory",
+                        SourceLocation(shown)) from None
+    except Exception as exc:  # trimesh raises many types for malformed files
+        raise UserError(f"cannot read mesh: {_short(exc)}", SourceLocation(shown)) from None
+
+
+def _read_gltf(raw: bytes, path: Path, read_file, warnings: Warnings) -> GltfFile | None:
     """The file's own glTF materials (mesh.gltf), or None with a warning where they cannot
     be read (the geometry may still be fine: trimesh judges it)."""
     shown = display_path(path)
     try:
-        gltf = read_gltf(raw, str(path), resolver.get)
+        gltf = read_gltf(raw, str(path), read_file)
     except GltfProblem as exc:
         warnings.warn(f"materials not read ({exc}); drawn with the scene's material", SourceLocation(shown))
         return None
@@ -328,26 +362,37 @@ def _short(exc: BaseException) -> str:
     return text if len(text) <= 200 else text[:197] + "..."
 
 
-def _policy_resolver(trimesh, path: Path, assets: AssetPolicy):
-    """A trimesh resolver that reads the files a mesh refers to through ``assets``: inside
-    the allowed folders, regular files only, each recorded as read."""
+def _policy_reader(path: Path, assets: AssetPolicy):
+    """read(name) -> bytes of a file the mesh ``path`` refers to, through ``assets``:
+    inside the allowed folders, regular files only, each recorded as read. A name that is
+    not found is tried again as a bare file name beside the mesh."""
     folder = path.parent
+
+    def read(name: str) -> bytes:
+        lookup = assets.lookup(name, folder)
+        if lookup.problem == "missing":
+            bare = assets.lookup(Path(name.replace("\\", "/")).name, folder)
+            lookup = bare if bare.found else lookup
+        if lookup.problem == "missing":
+            raise FileNotFoundError(name)
+        if not lookup.found:
+            raise UserError(lookup.message, SourceLocation(display_path(path)))
+        assets.record(lookup.path)
+        return read_regular_file(lookup.path)
+
+    return read
+
+
+def _policy_resolver(trimesh, path: Path, assets: AssetPolicy):
+    """A trimesh resolver reading through ``assets`` (see _policy_reader)."""
+    read = _policy_reader(path, assets)
 
     class PolicyResolver(trimesh.resolvers.Resolver):
         def __init__(self):
             pass
 
         def get(self, name: str) -> bytes:
-            lookup = assets.lookup(name, folder)
-            if lookup.problem == "missing":
-                bare = assets.lookup(Path(name.replace("\\", "/")).name, folder)
-                lookup = bare if bare.found else lookup
-            if lookup.problem == "missing":
-                raise FileNotFoundError(name)
-            if not lookup.found:
-                raise UserError(lookup.message, SourceLocation(display_path(path)))
-            assets.record(lookup.path)
-            return read_regular_file(lookup.path)
+            return read(name)
 
         def keys(self):
             return iter(())
@@ -356,7 +401,7 @@ def _policy_resolver(trimesh, path: Path, assets: AssetPolicy):
             raise PermissionError("meshes are read-only here")
 
         def namespaced(self, namespace: str):
-            return _policy_resolver(trimesh, folder / namespace / path.name, assets)
+            return _policy_resolver(trimesh, path.parent / namespace / path.name, assets)
 
     return PolicyResolver()
 

@@ -3,7 +3,9 @@ in-process and measured against the CPU reference.
 
 One knob changes at a time from the scene's own settings (the "default" row): MSAA
 samples, shadow map size, PCF size, shadow bias, ambient occlusion on/off, image size;
-then a few shadow map size and PCF pairs together ("combined").
+then a few shadow map size and PCF pairs together ("combined"); with an environment light,
+its prefilter size, spherical-harmonic order, prefilter samples and footprint filter. What is made once a run
+(the prefiltered environment) is timed apart, in ``once_ms``.
 Timing: every variant keeps its renderer open and the variants take turns frame by frame
 (so a slow spell of a shared machine spreads over all of them), frames 1..F of the scene
 after frame 0 which warms up (when the shadowed lights move, shadow maps are rendered again
@@ -20,7 +22,7 @@ from pathlib import Path
 
 from scenerender.gpu.context import create_context
 from scenerender.raytrace.quality import frame_errors
-from scenerender.raytrace.render import render_reference
+from scenerender.raytrace.render import ENVIRONMENT_SAMPLES, render_reference
 from scenerender.run.session import Renderer, load
 from scenerender.sinks.base import atomic_path
 
@@ -31,7 +33,12 @@ BIASES = (0.0005, 0.001, 0.002, 0.005)
 DEFAULT_AO = "{radius: 0.5, samples: 16, strength: 1.0}"
 # shadow map size and PCF together: the pairs the one-knob sweep suggests are worth a look
 COMBINATIONS = ((512, 5), (1024, 5), (1024, 7))
-KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined")
+PREFILTER_SIZES = (64, 128, 256, 512)
+SH_ORDERS = (1, 2, 3, 4)
+PREFILTER_SAMPLES = (32, 128, 256, 512, 1024)
+KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size", "sh_order",
+         "env_samples", "env_footprint")
+ONCE_PASSES = ("environment_prefilter",)  # passes a run makes once, whose cost is not per frame
 
 
 @dataclass(frozen=True)
@@ -50,6 +57,7 @@ class BenchRow:
     ms_samples: list = field(default_factory=list)
     errors: dict = field(default_factory=dict)
     pareto: bool = False
+    once_ms: float | None = None  # the passes of ONCE_PASSES, on the first frame
     samples_used: int | None = None  # MSAA samples the device gave (it may round a request up)
 
     @property
@@ -73,7 +81,7 @@ class BenchRow:
                 "samples_used": self.samples_used,
                 "ms_per_frame": _round(self.ms_per_frame, 3), "ms_iqr": _round(self.ms_iqr, 3),
                 "ms_samples": [round(v, 3) for v in self.ms_samples],
-                "pareto": self.pareto, **{k: _round(v, 4) for k, v in self.errors.items()}}
+                "once_ms": _round(self.once_ms, 3), "pareto": self.pareto, **{k: _round(v, 4) for k, v in self.errors.items()}}
 
 
 def _round(value, digits):
@@ -91,15 +99,16 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
         if knob in knobs and value != current:
             variants.append(Variant(name, knob, (override,)))
 
-    for n in SAMPLES:
-        add("samples", f"msaa {n}", f"render.samples={n}", spec.samples, n)
+    def each(knob, label, key, values, current):
+        """One variant per value of ``values`` other than ``current``, labelled ``label``."""
+        for value in values:
+            add(knob, label.format(value), f"{key}={value}", current, value)
+
+    each("samples", "msaa {}", "render.samples", SAMPLES, spec.samples)
     if scene.world.shadowed_lights:
-        for size in SHADOW_SIZES:
-            add("shadow_size", f"map {size}", f"render.shadows.size={size}", shadows.size, size)
-        for pcf in PCF_SIZES:
-            add("pcf", f"pcf {pcf}", f"render.shadows.pcf={pcf}", shadows.pcf, pcf)
-        for bias in BIASES:
-            add("bias", f"bias {bias:g}", f"render.shadows.bias={bias}", shadows.bias, bias)
+        each("shadow_size", "map {}", "render.shadows.size", SHADOW_SIZES, shadows.size)
+        each("pcf", "pcf {}", "render.shadows.pcf", PCF_SIZES, shadows.pcf)
+        each("bias", "bias {:g}", "render.shadows.bias", BIASES, shadows.bias)
         for size, pcf in COMBINATIONS:
             if "combined" in knobs and (size, pcf) != (shadows.size, shadows.pcf):
                 variants.append(Variant(f"map {size} pcf {pcf}", "combined",
@@ -109,13 +118,23 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
     else:
         add("ao", "ao off", "render.ambient_occlusion=null", True, False)
     add("size", f"size {width // 2}x{height // 2}", f"render.size=[{width // 2}, {height // 2}]", 0, 1)
+    environment = scene.world.environment
+    if environment is not None:
+        key = f"lights[{environment.path[1]}]"
+        each("prefilter_size", "prefilter {}", f"{key}.prefilter_size", PREFILTER_SIZES, environment.prefilter_size)
+        each("sh_order", "SH order {}", f"{key}.sh_order", SH_ORDERS, environment.sh_order)
+        each("env_samples", "prefilter samples {}", f"{key}.samples", PREFILTER_SAMPLES, environment.samples)
+        add("env_footprint", "footprint " + ("off" if environment.footprint else "on"),
+            f"{key}.footprint={'false' if environment.footprint else 'true'}", False, True)
     return variants
 
 
 def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int = 2, spp: int = 16,
-              echo=lambda text: None, asset_roots=()) -> list[BenchRow]:
+              echo=lambda text: None, asset_roots=(),
+              environment_samples: int = ENVIRONMENT_SAMPLES) -> list[BenchRow]:
     """Sweep ``path`` (a scene file) and return one BenchRow per variant, Pareto flags set
-    on (ms_per_frame, rmse_linear)."""
+    on (ms_per_frame, rmse_linear); the reference gathers an environment light from
+    ``environment_samples`` directions a sample."""
 
     base = load(path, list(overrides), asset_roots=asset_roots)
     rows = [BenchRow(v) for v in sweep_variants(base, knobs)]
@@ -126,12 +145,15 @@ def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int =
             scene = load(path, list(overrides) + list(row.variant.overrides), asset_roots=asset_roots)
             if scene.size not in references:
                 started = time.perf_counter()
-                references[scene.size] = render_reference(scene, 0, spp=spp, warn=echo)
+                references[scene.size] = render_reference(scene, 0, spp=spp, warn=echo,
+                                                          environment_samples=environment_samples)
                 echo(f"reference {scene.size[0]}x{scene.size[1]}, {spp}x{spp} samples a pixel: "
                      f"{time.perf_counter() - started:.1f} s")
-            with Renderer(scene, gl=gl, want_linear=True) as renderer:
+            with Renderer(scene, gl=gl, want_linear=True, profile=True) as renderer:
                 frame = renderer.render(0)
                 row.samples_used = renderer.samples
+                once = [sum(renderer.timings[name]) for name in ONCE_PASSES if name in renderer.timings]
+                row.once_ms = 1000.0 * sum(once) if once else None
             row.errors = frame_errors(references[scene.size], frame.pixels, frame.linear)
         _time_interleaved(path, overrides, rows, frames, rounds, gl, asset_roots, echo)
     finally:
@@ -181,7 +203,7 @@ def mark_pareto(rows: list[BenchRow], error_key: str = "rmse_linear") -> None:
 
 # -- outputs ----------------------------------------------------------------------------------
 
-COLUMNS = (("ms/frame", "ms_per_frame", "{:.1f}"), ("ms IQR", "ms_iqr", "{:.1f}"),
+COLUMNS = (("ms/frame", "ms_per_frame", "{:.1f}"), ("ms IQR", "ms_iqr", "{:.1f}"), ("once ms", "once_ms", "{:.0f}"),
            ("RMSE lin %", "rmse_linear", "{:.2f}"),
            ("RMSE sRGB %", "rmse_srgb", "{:.2f}"), ("PSNR dB", "psnr", "{:.1f}"), ("FLIP", "flip", "{:.4f}"),
            ("shadow-edge RMSE %", "shadow_edge_rmse", "{:.2f}"), ("cone-edge RMSE %", "cone_edge_rmse", "{:.2f}"),
@@ -195,7 +217,7 @@ def markdown_table(title: str, rows: list[BenchRow]) -> str:
     head = "| variant | " + " | ".join(label for label, _, _ in COLUMNS) + " | Pareto |"
     lines = [f"### {title}", "", head, "|" + "---|" * (len(COLUMNS) + 2)]
     for row in rows:
-        values = {"ms_per_frame": row.ms_per_frame, "ms_iqr": row.ms_iqr, **row.errors}
+        values = {"ms_per_frame": row.ms_per_frame, "ms_iqr": row.ms_iqr, "once_ms": row.once_ms, **row.errors}
         cells = [_cell(values.get(key), fmt) for _, key, fmt in COLUMNS]
         lines.append(f"| {row.label} | " + " | ".join(cells) + f" | {'*' if row.pareto else ''} |")
     return "\n".join(lines) + "\n"

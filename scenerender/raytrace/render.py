@@ -22,6 +22,16 @@ point gathers it from that many cosine-distributed directions (seeded per frame)
 weighted by the material's BRDF and blocked by any surface in its way. That is the exact
 answer the GPU's formula approximates (for a white non-metal in a white environment,
 the white furnace, its own energy balance).
+
+An environment light (``lights: - type: environment``) is integrated by Monte Carlo, always:
+``environment_samples`` directions a sample point (seeded per frame), drawn by multiple
+importance sampling between the image's brightness, the cosine and the GGX lobe
+(scenerender.raytrace.environment), each weighted by the material's BRDF and the image's
+radiance in that direction and blocked by any surface in its way. Like the ambient term it
+is times Ka and the occlusion map. pbr materials take the whole BRDF; Phong and
+Blinn-Phong ones only the diffuse part, and only where the light has ``classic: true``;
+unlit ones nothing. Rays that miss the scene still
+show the background colour, not the environment (as they do not show the skybox).
 """
 from __future__ import annotations
 
@@ -31,7 +41,7 @@ import numpy as np
 
 from scenerender.colorspace import tone_map
 from scenerender.errors import UserError
-from scenerender.raytrace import shading
+from scenerender.raytrace import environment, shading
 from scenerender.raytrace.geometry import Soup, frame_soup
 from scenerender.raytrace.rays import TriangleCaster
 from scenerender.raytrace.textures import MapSampler
@@ -40,6 +50,8 @@ from scenerender.world.frame import FrameEvaluator
 
 # Samples shaded at once; bounds the memory of one chunk to a few hundred MB.
 _CHUNK_SAMPLES = 400_000
+# Directions a sample point gathers an environment light from, by default.
+ENVIRONMENT_SAMPLES = 4
 
 
 @dataclass
@@ -100,13 +112,15 @@ def unsupported_features(world) -> list[str]:
 
 
 def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None = None,
-                     warn=None, ambient_samples: int = 0) -> ReferenceFrame:
+                     warn=None, ambient_samples: int = 0,
+                     environment_samples: int = ENVIRONMENT_SAMPLES) -> ReferenceFrame:
     """Frame ``index`` of ``world`` (a World or a scenerender.Scene), spp x spp rays a pixel.
 
     size: (width, height), default the scene's render.size. ``warn`` receives one line
     naming what the reference leaves out, when the scene has any of it. ambient_samples:
     0 for the GPU's ambient formula, else the directions per sample point over which
-    ambient light is integrated (see the module's docstring)."""
+    ambient light is integrated (see the module's docstring). environment_samples: the
+    directions per sample point over which an environment light is integrated (at least 1)."""
     world = getattr(world, "world", world)
     if world.render.mode != "shaded":
         raise single_error(f"the reference renders mode 'shaded' only, not '{world.render.mode}'",
@@ -115,13 +129,16 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
         raise UserError(f"spp must be at least 1, got {spp}")
     if ambient_samples < 0:
         raise UserError(f"ambient samples must be 0 or more, got {ambient_samples}")
+    if environment_samples < 1:
+        raise UserError(f"environment samples must be at least 1, got {environment_samples}")
     missing = unsupported_features(world)
     if missing and warn is not None:
         warn(f"the reference renders without {', '.join(missing)}")
     width, height = size or tuple(int(v) for v in world.render.size)
     time = index / float(world.output.fps)
     frame = FrameEvaluator(world, (width, height), atlas=None).evaluate(index, time)
-    scene = _FrameScene(world, frame, warn, ambient_samples, np.random.Generator(np.random.PCG64([index, 1])))
+    scene = _FrameScene(world, frame, warn, ambient_samples, np.random.Generator(np.random.PCG64([index, 1])),
+                        environment_samples, np.random.Generator(np.random.PCG64([index, 2])))
     rng = np.random.Generator(np.random.PCG64(index))
     rows_per_chunk = max(1, _CHUNK_SAMPLES // (width * spp * spp))
     chunks = [scene.render_rows(y0, min(height, y0 + rows_per_chunk), width, height, spp, rng)
@@ -136,11 +153,15 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
 class _FrameScene:
     """One frame's geometry, lights and materials, ready to shade samples."""
 
-    def __init__(self, world, frame, warn, ambient_samples: int = 0, ambient_rng=None):
+    def __init__(self, world, frame, warn, ambient_samples: int = 0, ambient_rng=None,
+                 environment_samples: int = ENVIRONMENT_SAMPLES, environment_rng=None):
         self.world = world
         self.frame = frame
         self.ambient_samples = ambient_samples
         self.ambient_rng = ambient_rng
+        self.environment_samples = environment_samples
+        self.environment_rng = environment_rng
+        self.environment_image = _image_sampler(world, frame)
         self.soup: Soup = frame_soup(world, frame)
         self.primary = TriangleCaster(self.soup.corners, warn)
         self.primary_count = self.soup.count
@@ -164,7 +185,11 @@ class _FrameScene:
         ndc_x = 2.0 * sx / width - 1.0
         ndc_y = 1.0 - 2.0 * sy / height
         origins, directions = self._camera_rays(ndc_x.reshape(-1), ndc_y.reshape(-1))
-        color, shadow, cone, objects, normals, blocked = self._trace(origins, directions)
+        strata = None
+        if self.frame.environment is not None:
+            strata = environment.pixel_strata(self.environment_rng, rows * width, spp * spp,
+                                              self.environment_samples)
+        color, shadow, cone, objects, normals, blocked = self._trace(origins, directions, strata)
         n = spp * spp
         shape = (rows, width, n)
         color = color.reshape(shape + (3,)).mean(axis=2)
@@ -189,7 +214,7 @@ class _FrameScene:
         local = np.stack([ndc_x / p[0, 0], ndc_y / p[1, 1], -np.ones_like(ndc_x)], axis=1)
         return np.zeros_like(local), local @ to_world.T
 
-    def _trace(self, origins: np.ndarray, directions: np.ndarray):
+    def _trace(self, origins: np.ndarray, directions: np.ndarray, strata: environment.Strata | None = None):
         near, far = self.depth_range
         start = origins + directions * near
         triangles = self.primary.first_hit(start, directions)
@@ -212,16 +237,19 @@ class _FrameScene:
         if len(rows):
             tri = triangles[rows]
             color[rows], shadow[rows], cone[rows], normals[rows], blocked[rows] = self._shade(
-                tri, origins[rows] + directions[rows] * t[rows, None], directions[rows], u[keep], v[keep])
+                tri, origins[rows] + directions[rows] * t[rows, None], directions[rows], u[keep], v[keep],
+                strata[rows] if strata is not None else None)
             objects[rows] = self.soup.object[tri]
         return color, shadow, cone, objects, normals, blocked
 
     # -- shading --------------------------------------------------------------------------
-    def _shade(self, tri: np.ndarray, p: np.ndarray, ray: np.ndarray, u: np.ndarray, v: np.ndarray):
+    def _shade(self, tri: np.ndarray, p: np.ndarray, ray: np.ndarray, u: np.ndarray, v: np.ndarray,
+               strata: environment.Strata | None = None):
         """Colour (P, 3), shadow flags (P, S), cone factors (P, C), shading normals (P, 3)
         and the radiance each shadow takes away (P, S) at hit points ``p``
         (camera-relative (P, 3)) on triangles ``tri`` (P,),
-        barycentric (u, v)."""
+        barycentric (u, v); ``strata``: the environment's directions' strata
+        (environment.pixel_strata)."""
         soup, table = self.soup, self.table
         corners = soup.corners[tri]
         geometric = shading.safe_normalize(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
@@ -247,6 +275,7 @@ class _FrameScene:
         pbr = model == MODELS.index("pbr")
         ambient = self._ambient(p, n, facing, view, surface, model) if self.ambient_samples else self._ambient_formula(
             n, view, surface, pbr)
+        ambient = ambient + self._environment(p, n, facing, view, surface, model, strata)
         color = ambient * surface["occlusion"][:, None] + ke
         shadow = np.zeros((len(p), len(self.shadowed)))
         taken = np.zeros((len(p), len(self.shadowed)))
@@ -326,6 +355,46 @@ class _FrameScene:
                 term = np.where((hits >= 0)[:, None], 0.0, term)
             total += term
         return total / self.ambient_samples * surface["ambient"]
+
+    def _environment(self, p, n, facing, view, surface: dict, model: np.ndarray, strata=None) -> np.ndarray:
+        """(P, 3) Ka times the environment light's radiance reflected towards the eye, by
+        Monte Carlo (scenerender.raytrace.environment); zero without one."""
+        state = self.frame.environment
+        out = np.zeros_like(n)
+        if state is None or not np.any(state.scale > 0.0):
+            return out
+        rows = self._environment_rows(model)
+        if not len(rows):
+            return out
+        part = {key: value[rows] for key, value in surface.items()}
+        n, view, pbr = n[rows], view[rows], model[rows] == MODELS.index("pbr")
+        choice = np.where(pbr, environment.ggx_choice(np.sum(n * view, axis=1), part["diffuse"], part["metallic"]),
+                          0.0)
+        reflected = _environment_reflection(state, self.world.environment.image, n, view, part, pbr)
+        gathered = environment.gather(n, view, shading.pbr_alpha(part["roughness"]), choice, self.environment_samples,
+                                      self.environment_rng, reflected, self._open_sky(p[rows], facing[rows]),
+                                      self.environment_image, strata[rows] if strata is not None else None)
+        out[rows] = gathered * part["ambient"]
+        return out
+
+    def _environment_rows(self, model: np.ndarray) -> np.ndarray:
+        """(R,) the points an environment light reaches: pbr ones, and Phong and
+        Blinn-Phong ones where the light is ``classic``."""
+        lit = model == MODELS.index("pbr")
+        if self.world.environment.classic:
+            lit |= np.isin(model, [MODELS.index("phong"), MODELS.index("blinn_phong")])
+        return np.flatnonzero(lit)
+
+    def _open_sky(self, p: np.ndarray, facing: np.ndarray):
+        """visible(rows, l) for environment.gather: no surface lies along l from points
+        ``p`` (P, 3) of those rows, leaving on the ``facing`` side (the epsilon of _ambient)."""
+        epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p, axis=1)
+
+        def visible(rows: np.ndarray, l: np.ndarray) -> np.ndarray:
+            if not self.primary_count:
+                return np.ones(len(rows), bool)
+            return self.primary.first_hit(p[rows] + facing[rows] * epsilon[rows, None], l) < 0
+        return visible
 
     def _apply_maps(self, m: np.ndarray, corner_uvs: np.ndarray, u: np.ndarray, v: np.ndarray, surface: dict) -> None:
         """The maps of each point's material applied to ``surface`` (arrays per point, in
@@ -434,6 +503,30 @@ def _material_maps(materials: list, images) -> dict:
         if samplers:
             maps[index] = (samplers, material.occlusion_strength)
     return maps
+
+
+def _environment_reflection(state, image: np.ndarray, n: np.ndarray, view: np.ndarray, surface: dict,
+                            pbr: np.ndarray):
+    """reflected(rows, l) for environment.gather: f L_env(l) (N.l) at those points, f the
+    pbr model's BRDF where ``pbr`` (P,), else Lambert's base / pi (light terms over pi)."""
+    def reflected(rows: np.ndarray, l: np.ndarray) -> np.ndarray:
+        radiance = state.radiance(image, l)
+        base = surface["diffuse"][rows]
+        term = base * radiance * np.maximum(np.sum(n[rows] * l, axis=1), 0.0)[:, None]
+        glossy = np.flatnonzero(pbr[rows])
+        at = rows[glossy]
+        term[glossy] = shading.pbr_direct_term(n[at], l[glossy], view[at], radiance[glossy], base[glossy],
+                                               surface["metallic"][at], surface["roughness"][at])
+        return term / np.pi
+    return reflected
+
+
+def _image_sampler(world, frame) -> environment.ImageSampler | None:
+    """Draws directions from the frame's environment image, where it has a lit one."""
+    state = frame.environment
+    if state is None or not np.any(state.scale > 0.0):
+        return None
+    return environment.ImageSampler(world.environment.image, state.scale, state.to_image)
 
 
 def _depth_range(world, camera) -> tuple[float, float]:

@@ -24,7 +24,7 @@ TEXTURE_UNITS = {
     "u_diffuse_map": 0, "u_specular_map": 1, "u_normal_map": 2, "u_opacity_map": 3,
     "u_shadow_atlas": 4, "u_ao": 5, "u_skybox": 6, "u_gbuffer": 7, "u_noise": 8, "u_color": 9, "u_atlas": 10,
     "u_shadow_atlas_2": 11, "u_metallic_roughness_map": 12, "u_occlusion_map": 13, "u_emissive_map": 14,
-    "u_roughness_map": 15, "u_metallic_map": 16,
+    "u_roughness_map": 15, "u_metallic_map": 16, "u_env_diffuse": 17, "u_env_specular": 18, "u_env_source": 19,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")
@@ -56,6 +56,11 @@ class SceneFeatures:
     point_shadow_pages: tuple = ()
     spot_shadow_pages: tuple = ()
     shadow_pages: int = 1
+    # the environment light's prefiltered image, (levels, strip width, strip height), or
+    # None; ``environment_classic``: Phong and Blinn-Phong materials get its diffuse term
+    environment: tuple | None = None
+    environment_classic: bool = False
+    environment_footprint: bool = False
 
     @classmethod
     def of(cls, world, samples: int = 1, atlas=None) -> "SceneFeatures":
@@ -72,6 +77,7 @@ class SceneFeatures:
             ambient_occlusion=render.ambient_occlusion is not None,
             shadow_footprint_samples=_footprint_samples(samples),
             **first_views,
+            **_environment_features(world.environment),
         )
 
     def lighting_defines(self) -> dict:
@@ -116,8 +122,42 @@ class SceneFeatures:
                 defines["SHADING_PBR"] = True
             if with_ao:
                 defines["HAS_AO"] = True
+            if self.environment is not None and environment_shades(self.environment_classic, model):
+                defines.update(self.environment_defines())
         defines.update(material_defines(material, model))
         return defines
+
+    def environment_defines(self) -> dict:
+        """The prefiltered image's layout (shaders/lighting/environment_map.glsl)."""
+        levels, width, height = self.environment
+        defines = {"HAS_ENVIRONMENT": True, "ENV_LEVELS": f"{levels}.0", "ENV_STRIP_WIDTH": f"{width}.0",
+                   "ENV_STRIP_HEIGHT": f"{height}.0"}
+        if self.environment_footprint:
+            defines["ENV_FOOTPRINT"] = True
+        return defines
+
+
+def _environment_features(environment) -> dict:
+    if environment is None:
+        return {}
+    return {"environment": specular_layout(environment), "environment_classic": environment.classic,
+            "environment_footprint": environment.footprint}
+
+
+def environment_shades(classic: bool, model: str) -> bool:
+    """Whether the environment light shades a material of shading ``model``: pbr ones
+    always, Phong and Blinn-Phong ones (its diffuse term) when the light says ``classic``."""
+    return model == "pbr" or (classic and model in ("phong", "blinn_phong"))
+
+
+# roughness levels of the prefiltered environment: 0, 0.2 .. 1, linearly between them
+SPECULAR_LEVELS = 6
+
+
+def specular_layout(environment) -> tuple:
+    """(levels, strip width, strip height) of the environment's prefiltered image."""
+    width = environment.prefilter_size
+    return SPECULAR_LEVELS, width, max(width // 2, 1)
 
 
 def _footprint_samples(samples: int) -> int:

@@ -2,7 +2,7 @@
 
 ``import_inputs`` imports every input of ``world.inputs.world_inputs`` into the graph and
 returns their handles; passes declare the ones they read. Each frame,
-``input_values`` turns the evaluated FrameState, and what Renderer.import_frame uploaded
+``input_values`` turns the evaluated FrameState, and what GraphRenderer.import_frame uploaded
 from it, into the value each handle resolves to in ``PassContext.input``. Values are
 read-only: nothing here writes GPU state.
 """
@@ -43,6 +43,8 @@ class InputHandles:
     outlines: Handle | None
     skybox: Handle | None
     exposure: Handle | None
+    environment: Handle | None = None      # EnvironmentState: colour x intensity, rotation
+    environment_map: Handle | None = None  # scene_gpu.EnvironmentTextures: static
 
     def shading(self) -> tuple:
         """Everything lit shading reads: camera, objects, materials, the ambient light,
@@ -57,7 +59,7 @@ class InputHandles:
         """Every input handle, in import order."""
         found = [self.camera, self.objects, self.materials, self.background, self.ambient, *self.per_light,
                  *(handle for _, handle in self.shadow_views), self.lights, self.fog, self.outlines, self.skybox,
-                 self.exposure]
+                 self.exposure, self.environment, self.environment_map]
         return [handle for handle in found if handle is not None]
 
 
@@ -76,7 +78,8 @@ def import_inputs(graph: FrameGraph, world) -> InputHandles:
         shadow_views=tuple((index, imported(i)) for index, i in inputs.shadow_views.items()),
         lights=imported(inputs.lights),
         fog=imported(inputs.fog), outlines=imported(inputs.outlines), skybox=imported(inputs.skybox),
-        exposure=imported(inputs.exposure),
+        exposure=imported(inputs.exposure), environment=imported(inputs.environment),
+        environment_map=imported(inputs.environment_map),
     )
 
 
@@ -199,4 +202,7 @@ def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, 
         values[handles.skybox.resource] = gpu.skybox
     if handles.exposure is not None:
         values[handles.exposure.resource] = 2.0 ** frame.exposure
+    if handles.environment is not None:
+        values[handles.environment.resource] = frame.environment
+        values[handles.environment_map.resource] = gpu.environment
     return values

@@ -7,7 +7,7 @@ the views ``FrameState.shadow_views[i]``, which start at ``first_view[i]`` in th
 array: one index throughout. Positions and views are relative to the frame's camera.
 
 Packing is CPU work with no GL; the renderer uploads the result into the buffers of the
-graph's ``lights`` input before the passes run (Renderer.import_frame).
+graph's ``lights`` input before the passes run (GraphRenderer.import_frame).
 """
 from __future__ import annotations
 

@@ -12,8 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.graph import FrameGraph
+from scenerender.rendering.features import environment_shades, specular_layout
 from scenerender.rendering.inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
+from scenerender.rendering.passes.environment import EnvironmentLighting, EnvironmentPrefilterPass
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
 from scenerender.rendering.passes.object_ids import ObjectIdPass
 from scenerender.rendering.passes.output import (
@@ -33,7 +35,7 @@ DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
 @dataclass(frozen=True)
 class GraphOptions:
     size: tuple
-    samples: int  # what the device gives (Renderer clamps the scene's request to it)
+    samples: int  # what the device gives (GraphRenderer clamps the scene's request to it)
     want_linear: bool = False  # also read back linear HDR (EXR output)
     object_ids: bool = False   # also read back which object each pixel shows (passes/object_ids.py)
     # Choices the builder normally makes per scene; set only to measure the alternatives.
@@ -42,7 +44,7 @@ class GraphOptions:
     hdr_target: bool | None = None
     sky_behind_samples: bool = True  # with MSAA, the resolve adds the sky (passes/sky.py)
     # the device reports which samples passed the depth test (GL_ARB_post_depth_coverage);
-    # Renderer sets what its context offers
+    # GraphRenderer sets what its context offers
     post_depth_coverage: bool = True
     visible_samples: bool | None = None
 
@@ -68,7 +70,8 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     fill = settings.mode if settings.mode in ("wireframe", "points") else "solid"
     visible = fill == "solid" and (options.visible_samples if options.visible_samples is not None
                                    else visible_samples_pay(world, samples, options.post_depth_coverage))
-    shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None, visible)
+    shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None, visible,
+                      _environment_lighting(graph, world, inputs))
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else visible or prepass_pays(world, atlas, size, samples))
     tone = _tone_curve(world, inputs)
@@ -130,6 +133,19 @@ def _tone_curve(world, inputs: InputHandles) -> ToneCurve:
 # benchmarks/scenes/overdraw.yaml (estimate 5.9) renders 25% faster with it; the
 # benchmark scene and the showcase (1.1 and 1.3) are 10-15% slower with it.
 PREPASS_DEPTH_COMPLEXITY = 4.0
+
+
+def _environment_lighting(graph, world, inputs: InputHandles) -> EnvironmentLighting | None:
+    """The environment light's lookups, with the pass that prefilters its image, where a
+    material the scene draws lit takes light from it: a pbr material, or a Phong or
+    Blinn-Phong one when the light says ``classic: true``."""
+    environment = world.environment
+    if environment is None or not any(environment_shades(environment.classic, m.model(world.settings.shading))
+                                      for m in world.materials()):
+        return None
+    specular = graph.add(EnvironmentPrefilterPass(inputs.environment_map, specular_layout(environment),
+                                                  environment.samples)).image
+    return EnvironmentLighting(inputs.environment, inputs.environment_map, specular)
 
 
 def prepass_pays(world, atlas, size, samples: int) -> bool:

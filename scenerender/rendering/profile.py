@@ -1,6 +1,6 @@
 """The per-pass profile: where a run's time went, pass by pass.
 
-A Renderer made with ``profile=True`` waits for the GPU before and after each pass
+A GraphRenderer made with ``profile=True`` waits for the GPU before and after each pass
 (``glFinish``), so each pass's time is its own and not the queue's; that makes the run
 slower than a normal one, but the shares are right. Static passes run once per run and
 are listed as such, not averaged into the per-frame figures. A pass that keeps its result
@@ -27,7 +27,7 @@ class PassTiming:
 
 
 def summarise(timings: dict, frames: int, static_names: set) -> list[PassTiming]:
-    """``timings``: pass name -> list of seconds (Renderer.timings) -> rows in run order."""
+    """``timings``: pass name -> list of seconds (GraphRenderer.timings) -> rows in run order."""
     rows = []
     for name, seconds in timings.items():
         if not seconds:
@@ -56,6 +56,6 @@ def format_table(rows: list[PassTiming], frames: int) -> str:
 
 
 def profile_report(renderer, frames: int) -> str:
-    """The table for a Renderer made with ``profile=True`` after ``frames`` renders."""
+    """The table for a GraphRenderer made with ``profile=True`` after ``frames`` renders."""
     static = {node.render_pass.name for node in renderer.compiled.passes if node.index in renderer.compiled.static}
     return format_table(summarise(renderer.timings or {}, frames, static), frames)

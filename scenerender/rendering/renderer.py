@@ -131,7 +131,7 @@ def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: 
 def device_samples(wanted: int, max_samples: int) -> int:
     """The MSAA samples a run gets: the largest power of two (the only counts GL
     multisampled images come in) not above the request or what the device offers; 1 for
-    no multisampling. Scenes ask only for powers of two; callers of ``Renderer`` may not."""
+    no multisampling. Scenes ask only for powers of two; callers of ``GraphRenderer`` may not."""
     allowed = min(wanted, max_samples)
     return 1 << (allowed.bit_length() - 1) if allowed > 1 else 1
 
@@ -142,7 +142,7 @@ def lowered_samples_warning(wanted: int, used: int, max_samples: int) -> str:
     return f"MSAA samples {wanted} is not a power of two, the only counts GL offers; using {used}"
 
 
-class Renderer:
+class GraphRenderer:
     """Renders frames of one World at one size. Create once, call ``render`` per frame."""
 
     def __init__(self, world, gl, size=None, samples=None, warn=None, want_linear: bool = False,

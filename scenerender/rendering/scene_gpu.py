@@ -2,15 +2,36 @@
 the packed lights and shadow views (rendering.lights), refreshed from each FrameState."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from scenerender.gpu.meshes import INSTANCE_FLOATS, GpuMesh, instance_bytes
-from scenerender.gpu.textures import TextureCache
+from scenerender.gpu.textures import TextureCache, environment_texture
 from scenerender.rendering.inputs import LightsInput
 from scenerender.rendering.lights import PackedLights
 from scenerender.world.frame import FrameState
 
 _VEC4 = 16  # bytes
+
+
+@dataclass(frozen=True)
+class EnvironmentTextures:
+    """The environment light's images on the GPU, made once per run: ``source``, the
+    equirectangular radiance with mip levels (what the prefilter pass reads), and
+    ``diffuse``, its diffuse map (world.environment.EnvironmentDef.irradiance_map)."""
+
+    source: object
+    diffuse: object
+
+    @classmethod
+    def upload(cls, gl, environment) -> "EnvironmentTextures":
+        return cls(environment_texture(gl, environment.image, mipmaps=True),
+                   environment_texture(gl, environment.irradiance_map))
+
+    def release(self) -> None:
+        self.source.release()
+        self.diffuse.release()
 
 
 class GpuScene:
@@ -29,6 +50,8 @@ class GpuScene:
         self._vaos: dict = {}
         self._extras: dict = {}
         self.skybox = self._skybox()
+        self.environment = (EnvironmentTextures.upload(ctx, world.environment)
+                            if getattr(world, "environment", None) is not None else None)
 
     def _upload_meshes(self) -> dict:
         needs_tangents: dict = {}
@@ -49,7 +72,7 @@ class GpuScene:
     def upload(self, frame: FrameState, lights: PackedLights) -> LightsInput:
         """Write ``frame``'s instance transforms and the packed ``lights`` into the run's
         buffers; returns the value of the graph's ``lights`` input over them. Called by
-        Renderer.import_frame before the frame's passes run, and nowhere else."""
+        GraphRenderer.import_frame before the frame's passes run, and nowhere else."""
         for buffer, state in zip(self.instance_buffers, frame.objects):
             if state.visible:
                 buffer.write(instance_bytes(state.models_rel, state.normals))
@@ -73,6 +96,8 @@ class GpuScene:
             obj.release()
         self._vaos.clear()
         self._extras.clear()
+        if self.environment is not None:
+            self.environment.release()
         for mesh in self.meshes.values():
             mesh.release()
         for buffer in self.instance_buffers + list(self.eye_relative_buffers.values()) + [self.light_buffer,

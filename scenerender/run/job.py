@@ -18,6 +18,7 @@ from scenerender.run.progress import Progress
 from scenerender.run.references import check_output, require_apart_before_rendering
 from scenerender.run.session import Renderer, Scene, load
 from scenerender.run.workers import render_with_workers
+from scenerender.world.id_names import id_names
 
 
 @dataclass
@@ -79,8 +80,9 @@ def render_to(scene, output, **options) -> "RenderSummary":
 
 def object_names(world) -> dict:
     """id -> name of every object of ``world``: the object's index + 1 (its id in the
-    object-id pass) -> its name, or the one the world gave it (``sphere6``)."""
-    return {index + 1: obj.name for index, obj in enumerate(world.objects)}
+    object-id pass) -> its name, or for an unnamed object one made from its mesh, material
+    and position (world.id_names), which inserting another object does not change."""
+    return id_names(world)
 
 
 def _silent(text: str) -> None:

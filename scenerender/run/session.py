@@ -21,7 +21,7 @@ from scenerender.gpu.context import create_context
 from scenerender.mesh.data import MeshData
 from scenerender.rendering.profile import profile_report
 from scenerender.rendering.renderer import FrameResult
-from scenerender.rendering.renderer import Renderer as GraphRenderer
+from scenerender.rendering.renderer import GraphRenderer
 from scenerender.scene.loading import load_scene, load_scene_data, load_scene_text
 from scenerender.world.build import build_world
 

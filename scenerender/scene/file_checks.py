@@ -24,10 +24,11 @@ from scenerender.limits import Limits
 from scenerender.scene.assets import AssetPolicy
 from scenerender.scene.image_files import ImageError, image_size
 from scenerender.scene.messages import to_user_errors
+from scenerender.scene.model.lights import SKY
 from scenerender.scene.model.materials import MaterialSpec
 from scenerender.scene.model.meshes import MESH_FILE
 from scenerender.scene.model.objects import ObjectSpec
-from scenerender.scene.model.paths import IMAGE_FILE, IMAGE_SUFFIXES, FileKind, keys_holding
+from scenerender.scene.model.paths import ENVIRONMENT_FILE, IMAGE_FILE, IMAGE_SUFFIXES, FileKind, keys_holding
 from scenerender.scene.model.render import SKY_FACES, RenderSpec, SkyboxFaces
 from scenerender.scene.model.scene import SceneSpec
 from scenerender.scene.yaml_source import SourceMap
@@ -67,6 +68,9 @@ class _FileChecks:
         materials = {name: self.material(material, ("materials", name)) for name, material in spec.materials.items()}
         if _changed(materials, spec.materials):
             changes["materials"] = materials
+        lights = [self.light(light, ("lights", index)) for index, light in enumerate(spec.lights or ())]
+        if any(new is not old for new, old in zip(lights, spec.lights or ())):
+            changes["lights"] = lights
         objects = [self.object(obj, ("objects", index)) for index, obj in enumerate(spec.objects)]
         if any(new is not old for new, old in zip(objects, spec.objects)):
             changes["objects"] = objects
@@ -76,6 +80,17 @@ class _FileChecks:
         if render.skybox is None:
             return render
         return render.model_copy(update={"skybox": self.skybox(render.skybox, ("render", "skybox"))})
+
+    def light(self, light, where: tuple):
+        """An environment light's image file looked up (``image: sky`` names none)."""
+        if light.type != "environment" or light.image == SKY:
+            return light
+        written = light.image
+        if written.lower().endswith(IMAGE_SUFFIXES):  # 8-bit: its header is read and checked too
+            path = self.image(written, where + ("image",))
+        else:
+            path = self.file(written, where + ("image",), ENVIRONMENT_FILE)
+        return light.model_copy(update={"image": path}) if path is not None else light
 
     def object(self, obj: ObjectSpec, where: tuple) -> ObjectSpec:
         changes = {}

@@ -105,6 +105,13 @@ KEYS: dict[str, Key] = {
     "lights[spot].inner_angle": Key("Half-angle in degrees of the fully lit cone; not above `outer_angle`.", "10"),
     "lights[spot].outer_angle": Key("Half-angle in degrees beyond which there is no light; smooth between inner and outer; equal angles give a hard edge.", "25"),
     "lights[spot].attach": Key("`camera`: position and direction follow the camera, like a torch.", "camera"),
+    "lights[environment].image": Key("What lights the scene from every direction: `sky` (render.skybox), or an equirectangular `.hdr`/`.exr` (linear) or 8-bit image; its centre column looks down -Z.", "assets/environments/studio.hdr"),
+    "lights[environment].rotation": Key("Degrees the image is turned about +Y, counter-clockwise seen from above; the drawn skybox stays.", "{keys: [[0, 0], [4, 90]]}"),
+    "lights[environment].classic": Key("Also light Phong and Blinn-Phong materials (its diffuse term, as an ambient); pbr materials always take it.", "true"),
+    "lights[environment].prefilter_size": Key("Width in pixels of each of the 6 prefiltered roughness levels of its specular term (height half that).", "128"),
+    "lights[environment].sh_order": Key("Spherical-harmonic bands of its diffuse term, 0-4.", "3"),
+    "lights[environment].samples": Key("GGX samples a texel of each rough prefiltered level.", "32"),
+    "lights[environment].footprint": Key("Average a reflection over the pixel's spread of directions (a sun in a smooth metal no longer sparkles); off, the exact BRDF. Measured against the reference in docs/scene-notes.md.", "true"),
     # -- materials ------------------------------------------------------------------------
     "materials.<name>.ambient": Key("Ka: how much of the ambient light the surface colour reflects. Not set: the MTL value, else `[1, 1, 1]`.", "[0.5, 0.5, 0.5]"),
     "materials.<name>.diffuse": Key("Kd: the surface colour (alpha included). Not set: the MTL value, else `[0.8, 0.8, 0.8]`.", "[0.6, 0.4, 0.2]"),

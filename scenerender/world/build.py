@@ -19,6 +19,7 @@ from scenerender.scene.messages import single_error
 from scenerender.world import materials as mats
 from scenerender.world import texture_files
 from scenerender.world.directional_views import fixed_view_sizes
+from scenerender.world.environment import EnvironmentDef, environment_def
 from scenerender.world.images import ImageStore
 from scenerender.world.lights import LightDef, light_defs, split_ambient
 from scenerender.world.settings import OutlineSettings, RenderSettings
@@ -38,6 +39,7 @@ class World:
              one index of a light everywhere: its state in FrameState.lights, its shadow
              atlas tiles and views, its place in the packed light data.
     ambient: LightDefs of the ambient lights, in scene order; they light as their sum.
+    environment: the environment light (world.environment.EnvironmentDef), or None.
     images:  every texture and skybox face, decoded and checked (the GPU upload reuses them).
     """
 
@@ -45,6 +47,7 @@ class World:
     objects: list
     lights: list
     ambient: list = field(default_factory=list)
+    environment: EnvironmentDef | None = None
     warnings: Warnings = field(default_factory=Warnings)
     images: ImageStore = field(default_factory=ImageStore)
 
@@ -113,7 +116,10 @@ def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
             images.add_encoded(Path(key), data)
     texture_files.check_material_textures(objects, scene, images, warnings)
     texture_files.check_skybox(scene, images)
-    return World(scene=scene, objects=objects, lights=lights, ambient=ambient, warnings=warnings, images=images)
+    sky_faces = RenderSettings.of(spec.render).skybox
+    environment = environment_def(scene, images, sky_faces)
+    return World(scene=scene, objects=objects, lights=lights, ambient=ambient, environment=environment,
+                 warnings=warnings, images=images)
 
 
 def _limit(scene: LoadedScene, name: str, default: int) -> int:

@@ -14,6 +14,7 @@ from scenerender.animation import animated_keys
 from scenerender.world.build import World, scene_bounds
 from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
+from scenerender.world.environment import EnvironmentState
 from scenerender.world.lights import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
@@ -71,6 +72,7 @@ class FrameState:
     bounds: np.ndarray | None
     shadow_views: dict      # light index -> list[ShadowView], for each shadowed light
     materials: dict         # id(Material) -> evaluated uniforms
+    environment: EnvironmentState | None = None  # the environment light's, where the scene has one
 
     def shadowed_lights(self) -> list[int]:
         return sorted(self.shadow_views)
@@ -129,6 +131,7 @@ class FrameEvaluator:
             fog_density=fog.density(time) if fog else 0.0, exposure=float(render.exposure(time)),
             bounds=bounds, shadow_views=self._shadow_views(lights, world, objects, bounds, camera),
             materials={id(m): _material_values(m, time) for m in world.materials()},
+            environment=world.environment.state(time) if world.environment is not None else None,
         )
 
     # -- camera -----------------------------------------------------------------------

@@ -70,11 +70,14 @@ class WorldInputs:
     outlines: WorldInput | None
     skybox: WorldInput | None
     exposure: WorldInput | None
+    environment: WorldInput | None = None      # intensity, colour and rotation of the environment light
+    environment_map: WorldInput | None = None  # its image and diffuse map on the GPU: static
 
     def all(self) -> list[WorldInput]:
         fixed = [self.camera, self.objects, self.materials, self.background, *self.per_light, self.ambient,
                  *self.shadow_views.values(), self.lights]
-        return fixed + [i for i in (self.fog, self.outlines, self.skybox, self.exposure) if i is not None]
+        return fixed + [i for i in (self.fog, self.outlines, self.skybox, self.exposure, self.environment,
+                                    self.environment_map) if i is not None]
 
 
 def _input(name: str, keys: list, follows: tuple = ()) -> WorldInput:
@@ -127,7 +130,17 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
         skybox=_input("skybox", []) if render.skybox is not None else None,
         exposure=_input("exposure", ["render.exposure"] if animated_keys(render.exposure) else [])
         if has_exposure(render) else None,
+        **_environment_inputs(world.environment),
     )
+
+
+def _environment_inputs(environment) -> dict:
+    """The environment light's two inputs: its per-frame values, animated by its keys, and
+    its images, which never change (so what is computed from them alone is cached)."""
+    if environment is None:
+        return {}
+    keys = [f"{environment.name}.{key}" for key in animated_keys(environment)]
+    return {"environment": _input("environment", keys), "environment_map": _input("environment_map", [])}
 
 
 def has_exposure(render) -> bool:

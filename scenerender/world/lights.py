@@ -75,7 +75,8 @@ def light_defs(spec, shadows_default) -> list[LightDef]:
     (a headlight that follows the camera plus a weak ambient)."""
     if spec is None:
         return _default_rig()
-    return [_from_spec(i, light, shadows_default) for i, light in enumerate(spec)]
+    # the environment light is world.environment's
+    return [_from_spec(i, light, shadows_default) for i, light in enumerate(spec) if light.type != "environment"]
 
 
 def _default_rig() -> list[LightDef]:

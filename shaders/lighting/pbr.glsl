@@ -62,11 +62,24 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
 
 // What a uniform ambient light of radiance 1 gives: the BRDF integrated over the
 // hemisphere, from the fitted integrals of lighting/ambient_brdf.glsl: specular F0 A + B,
-// diffuse (1 - metallic) base (1 - F0) (1 - Cd).
-vec3 pbr_ambient(vec3 n, vec3 v, Surface s) {
+// diffuse (1 - metallic) base (1 - F0) (1 - Cd). Kept apart, since the environment light
+// weighs its diffuse and specular lookups by them.
+struct PbrAmbientWeights {
+    vec3 diffuse;
+    vec3 specular;
+};
+
+PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     float n_dot_v = clamp(dot(n, v), 0.0, 1.0);
     vec2 scale_bias = ambient_specular(n_dot_v, s.roughness);
     vec3 f0 = mix(vec3(0.04), s.base, s.metallic);
-    vec3 diffuse = s.base * (1.0 - s.metallic) * (1.0 - f0) * (1.0 - ambient_diffuse_fresnel(n_dot_v));
-    return diffuse + f0 * scale_bias.x + scale_bias.y;
+    PbrAmbientWeights w;
+    w.diffuse = s.base * (1.0 - s.metallic) * (1.0 - f0) * (1.0 - ambient_diffuse_fresnel(n_dot_v));
+    w.specular = f0 * scale_bias.x + scale_bias.y;
+    return w;
+}
+
+vec3 pbr_ambient(vec3 n, vec3 v, Surface s) {
+    PbrAmbientWeights w = pbr_ambient_weights(n, v, s);
+    return w.diffuse + w.specular;
 }

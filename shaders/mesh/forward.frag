@@ -12,6 +12,9 @@
 #ifdef HAS_FOG
 #include "lighting/fog.glsl"
 #endif
+#ifdef HAS_ENVIRONMENT
+#include "lighting/environment.glsl"
+#endif
 
 #ifdef SHADOW_VISIBLE_SAMPLES
 // gl_SampleMaskIn after the depth test (the depth prepass has laid down the final depth)
@@ -61,8 +64,14 @@ void main() {
 #ifdef SHADING_PBR
     vec3 color = u_ambient * u_ka * pbr_ambient(n, v, s) * ambient_visibility + direct_light(v_position, n, v, s)
                + surface_emission(v_uv);
+#ifdef HAS_ENVIRONMENT
+    color += u_ka * pbr_environment(n, v, s) * ambient_visibility;
+#endif
 #else
     vec3 color = u_ambient * u_ka * s.base * ambient_visibility + direct_light(v_position, n, v, s) + surface_emission(v_uv);
+#ifdef HAS_ENVIRONMENT
+    color += u_ka * s.base * env_diffuse(n) * ambient_visibility;  // classic: its diffuse term, as an ambient
+#endif
 #endif
 #endif
 #ifdef HAS_FOG

@@ -14,6 +14,7 @@ from scenerender.rendering.draw import (
 )
 from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
 from scenerender.rendering.inputs import InputHandles
+from scenerender.rendering.passes.environment import EnvironmentLighting
 from scenerender.rendering.passes.data import ImageData, TargetData
 
 FORWARD_FRAGMENT = "mesh/forward.frag"
@@ -30,9 +31,11 @@ class Shading:
     atlas_pages: tuple = ()
     ao: Handle | None = None
     visible_samples: bool = False  # shadows averaged over the samples that pass the depth test
+    environment: EnvironmentLighting | None = None
 
     def declare(self, builder) -> None:
-        builder.read(*self.inputs.shading(), *self.atlas_pages, *((self.ao,) if self.ao is not None else ()))
+        builder.read(*self.inputs.shading(), *self.atlas_pages, *((self.ao,) if self.ao is not None else ()),
+                     *(self.environment.handles() if self.environment is not None else ()))
 
     def bind(self, ctx) -> None:
         bind_lights(ctx.input(self.inputs.lights))
@@ -40,6 +43,8 @@ class Shading:
             bind_shadow_atlas(ctx, handle, page)
         if self.ao is not None:
             ctx.image(self.ao).use(TEXTURE_UNITS["u_ao"])
+        if self.environment is not None:
+            self.environment.bind(ctx)
 
     def draw(self, ctx, items, mode=None, cull_hidden: bool = False) -> None:
         """Shade ``items`` with each material's program variant; ``cull_hidden``: skip the
@@ -51,9 +56,10 @@ class Shading:
         view_proj = camera.view_proj_relative()
         ambient = ctx.input(self.inputs.ambient)
         fog = ctx.input(self.inputs.fog) if self.inputs.fog is not None else None
+        environment = self.environment.uniforms(ctx) if self.environment is not None else {}
         for item in items:
             program = self._program(ctx, item.material)
-            set_uniforms(program, u_view_proj=view_proj, u_ambient=ambient)
+            set_uniforms(program, u_view_proj=view_proj, u_ambient=ambient, **environment)
             if fog is not None:
                 set_uniforms(program, u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
             bind_material(program, item.material, materials)

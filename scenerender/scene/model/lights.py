@@ -1,4 +1,4 @@
-"""``lights:``: directional, point, spot and ambient lights, chosen by ``type``."""
+"""``lights:``: directional, point, spot, ambient and environment lights, chosen by ``type``."""
 from __future__ import annotations
 
 from typing import Annotated, Literal
@@ -7,11 +7,13 @@ from pydantic import PlainValidator, WithJsonSchema, model_validator
 from pydantic_core import PydanticCustomError
 
 from scenerender.scene.describe import describe
+from scenerender.scene.model.paths import EnvironmentPath
 from scenerender.scene.model.render import ShadowOverride
 from scenerender.scene.model.unions import mapping_or, tagged_union
 from scenerender.scene.strict import StrictModel
 from scenerender.scene.values import (
-    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedVec3, Bool, Text, animated_number, choice, vector_item,
+    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedVec3, Bool, Text, animated_number, choice, number,
+    vector_item,
 )
 
 # true / false, or a mapping overriding render.shadows for this light
@@ -80,5 +82,26 @@ class AmbientLight(_LightBase):
     color: AnimatedColor = (0.25, 0.25, 0.25)
 
 
+# ``image: sky``: the environment is render.skybox
+SKY = "sky"
+EnvironmentImage = choice(SKY) | EnvironmentPath
+
+
+class EnvironmentLight(_LightBase):
+    """Light from every direction, as an image of the surroundings: the skybox, or an
+    equirectangular image (world.environment). Radiance from a direction is the image's
+    linear value there x colour x intensity; ``rotation`` turns the image about +Y."""
+
+    type: Literal["environment"]
+    image: EnvironmentImage = SKY
+    rotation: animated_number() = 0.0
+    classic: Bool = False  # Phong and Blinn-Phong materials get its diffuse term too, as an ambient
+    prefilter_size: number(8, 2048, integer=True) = 128
+    sh_order: number(0, 4, integer=True) = 4
+    samples: number(1, 4096, integer=True) = 512
+    footprint: Bool = False  # reflections averaged over the pixel's spread of directions (an option)
+
+
 LightSpec = tagged_union("type", "light", {"directional": DirectionalLight, "point": PointLight,
-                                           "spot": SpotLight, "ambient": AmbientLight})
+                                           "spot": SpotLight, "ambient": AmbientLight,
+                                           "environment": EnvironmentLight})

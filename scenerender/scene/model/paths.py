@@ -75,3 +75,10 @@ IMAGE_SUFFIXES = (".png", ".bmp", ".jpg", ".jpeg", ".tga", ".gif")
 IMAGE_FILE = FileKind(IMAGE_SUFFIXES, "{value} is not an image this renderer reads ({kinds})",
                       "image path relative to the scene file (PNG BMP JPG TGA GIF)")
 ImagePath = file_path(IMAGE_FILE)
+
+ENVIRONMENT_SUFFIXES = (".hdr", ".exr") + IMAGE_SUFFIXES
+ENVIRONMENT_FILE = FileKind(ENVIRONMENT_SUFFIXES,
+                            "{value} is not an environment image this renderer reads ({kinds})",
+                            "equirectangular image relative to the scene file: Radiance .hdr or OpenEXR .exr "
+                            "(linear), or PNG BMP JPG TGA GIF (sRGB)")
+EnvironmentPath = file_path(ENVIRONMENT_FILE)

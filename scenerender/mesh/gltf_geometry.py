@@ -1,0 +1,189 @@
+"""glTF 2.0 geometry read with NumPy alone: the common case, without importing trimesh.
+
+Reading a GLB through trimesh imports trimesh and SciPy, about 0.45 s of a 1.2 s one-frame
+render. Most files need no more than this module reads: triangle primitives (mode 4) whose
+accessors are plain or strided views of a buffer (floats, integer indices, normalized
+integer colours), placed by a node hierarchy of matrices or translation,
+rotation and scale. What it does not read, ``NotReadHere`` says, and the loader hands the
+file to trimesh instead: sparse accessors, other primitive modes (points, lines, strips,
+fans), compressed or quantized geometry (Draco, meshopt, KHR_mesh_quantization), GPU
+instancing, primitives with extensions. Morph targets are ignored, as trimesh does.
+
+The parts come out as the trimesh path gives them (mesh.loader._raw_parts): vertices,
+faces, the normals the file stores (else None), TEXCOORD_0 with v flipped (trimesh's
+convention: v = 0 at the image's bottom row), the node's world transform, the material's
+name and COLOR_0 as linear RGBA. The checks after (mesh.loader._part_arrays) are shared.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from scenerender.mesh.gltf import GltfProblem, buffer_view_bytes, split_glb
+
+_DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
+_WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
+# extensions that change how geometry is stored: the file goes to trimesh
+_GEOMETRY_EXTENSIONS = ("KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization",
+                        "EXT_mesh_gpu_instancing")
+_MAX_DEPTH = 64  # node nesting followed; deeper (or a cycle) is a malformed file
+
+
+class NotReadHere(Exception):
+    """The file uses something this reader leaves to trimesh."""
+
+
+def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
+    """The triangle parts of the glTF file ``raw`` (GLB or text) in world space order of its
+    default scene's nodes, depth first. ``read_file(uri)`` reads an external buffer;
+    ``material_names``: the names mesh.gltf gave the file's materials, by index.
+
+    Raises NotReadHere where trimesh must read the file, GltfProblem where it is malformed."""
+    header, binary = split_glb(raw)
+    used = set(header.get("extensionsUsed", []) or []) | set(header.get("extensionsRequired", []) or [])
+    if used & set(_GEOMETRY_EXTENSIONS):
+        raise NotReadHere("compressed or quantized geometry")
+    reader = _Accessors(header, binary, read_file)
+    parts = []
+    for node, transform in _placed_nodes(header):
+        mesh_index = node.get("mesh")
+        if mesh_index is None:
+            continue
+        meshes = header.get("meshes", [])
+        if not (isinstance(mesh_index, int) and 0 <= mesh_index < len(meshes)):
+            raise GltfProblem(f"a node names mesh {mesh_index!r}, the file has {len(meshes)}")
+        for primitive in meshes[mesh_index].get("primitives", []):
+            part = _primitive(primitive, reader, material_names)
+            if part is not None:
+                parts.append({**part, "transform": transform})
+    return parts
+
+
+def _primitive(primitive: dict, reader: "_Accessors", material_names: list) -> dict | None:
+    if primitive.get("mode", 4) != 4:
+        raise NotReadHere("a primitive that is not a triangle list")
+    if primitive.get("extensions"):
+        raise NotReadHere("a primitive with extensions")
+    attributes = primitive.get("attributes", {})
+    if "POSITION" not in attributes:
+        return None
+    vertices = reader.read(attributes["POSITION"], 3)
+    count = len(vertices)
+    indices = reader.read(primitive["indices"], 1).reshape(-1) if "indices" in primitive else np.arange(count)
+    if len(indices) % 3 or not len(indices):
+        return None
+    normals = reader.read(attributes["NORMAL"], 3) if "NORMAL" in attributes else None
+    uv = None
+    if "TEXCOORD_0" in attributes:
+        uv = reader.read(attributes["TEXCOORD_0"], 2)
+        uv = np.column_stack([uv[:, 0], 1.0 - uv[:, 1]])
+    colors = _colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
+    material = primitive.get("material")
+    name = material_names[material] if isinstance(material, int) and 0 <= material < len(material_names) else None
+    return {"vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
+            "normals": normals.astype(np.float64) if normals is not None and len(normals) == count else None,
+            "uv": uv if uv is not None and len(uv) == count else None, "material": name, "colors": colors}
+
+
+def _colors(values: np.ndarray, count: int) -> np.ndarray | None:
+    """(N, 4) linear RGBA in [0, 1] of COLOR_0 (already normalized), or None if unusable."""
+    colors = np.asarray(values, dtype=np.float64)
+    if colors.ndim != 2 or colors.shape[1] not in (3, 4) or len(colors) != count or not np.isfinite(colors).all():
+        return None
+    if colors.shape[1] == 3:
+        colors = np.hstack([colors, np.ones((len(colors), 1))])
+    return np.clip(colors, 0.0, 1.0)
+
+
+class _Accessors:
+    """Accessor arrays of one file, each buffer read once."""
+
+    def __init__(self, header: dict, binary: bytes | None, read_file):
+        self.header, self.binary, self.read_file = header, binary, read_file
+        self.buffers: dict = {}
+
+    def read(self, index, width: int | None) -> np.ndarray:
+        """(count, width) of accessor ``index``: floats, or integers; normalized integers as
+        floats in [0, 1] (unsigned) or [-1, 1] (signed). ``width`` None: the accessor's own."""
+        accessors = self.header.get("accessors", [])
+        if not (isinstance(index, int) and 0 <= index < len(accessors)):
+            raise GltfProblem(f"a primitive names accessor {index!r}, the file has {len(accessors)}")
+        accessor = accessors[index]
+        if "sparse" in accessor:
+            raise NotReadHere("a sparse accessor")
+        dtype = _DTYPES.get(accessor.get("componentType"))
+        own_width = _WIDTHS.get(accessor.get("type"))
+        count = accessor.get("count")
+        if dtype is None or own_width is None or not isinstance(count, int) or count < 0:
+            raise GltfProblem(f"accessors[{index}] has an unknown type or count")
+        if width is not None and own_width != width:
+            raise GltfProblem(f"accessors[{index}] is {accessor.get('type')}, {width} components expected")
+        values = self._values(accessor, index, np.dtype(dtype).newbyteorder("<"), own_width, count)
+        if accessor.get("normalized") and dtype is not np.float32:
+            scale = float(np.iinfo(dtype).max)
+            return np.maximum(values.astype(np.float64) / scale, -1.0)
+        return values
+
+    def _values(self, accessor: dict, index: int, dtype: np.dtype, width: int, count: int) -> np.ndarray:
+        if accessor.get("bufferView") is None:  # all zeros, by the specification
+            return np.zeros((count, width), dtype)
+        view_index = accessor["bufferView"]
+        data, stride = buffer_view_bytes(self.header, view_index, self.binary, self.buffers, self.read_file)
+        offset = accessor.get("byteOffset", 0)
+        element = dtype.itemsize * width
+        stride = stride or element
+        if not isinstance(offset, int) or offset < 0 or stride < element:
+            raise GltfProblem(f"accessors[{index}] has a bad byteOffset or its view a bad byteStride")
+        if count and offset + (count - 1) * stride + element > len(data):
+            raise GltfProblem(f"accessors[{index}] reaches past its bufferView")
+        if count == 0:
+            return np.zeros((0, width), dtype)
+        view = np.ndarray((count, width), dtype, buffer=data, offset=offset, strides=(stride, dtype.itemsize))
+        return np.array(view)  # a copy: the buffer's bytes are not kept alive by the mesh
+
+
+def _placed_nodes(header: dict):
+    """(node, world transform (4, 4) float64) for every node of the default scene (all root
+    nodes where the file has no scenes), depth first in the file's order."""
+    nodes = header.get("nodes", [])
+    scenes = header.get("scenes", [])
+    if scenes:
+        scene = header.get("scene", 0)
+        if not (isinstance(scene, int) and 0 <= scene < len(scenes)):
+            raise GltfProblem(f"the default scene {scene!r} is not one of the {len(scenes)} scenes")
+        roots = scenes[scene].get("nodes", [])
+    else:
+        children = {c for node in nodes for c in node.get("children", [])}
+        roots = [i for i in range(len(nodes)) if i not in children]
+    stack = [(root, np.eye(4), 0) for root in reversed(roots)]
+    while stack:
+        index, parent, depth = stack.pop()
+        if not (isinstance(index, int) and 0 <= index < len(nodes)) or depth > _MAX_DEPTH:
+            raise GltfProblem(f"node {index!r} is not in the file, or the hierarchy runs in a circle")
+        node = nodes[index]
+        world = parent @ _local(node)
+        yield node, world
+        stack.extend((child, world, depth + 1) for child in reversed(node.get("children", [])))
+
+
+def _local(node: dict) -> np.ndarray:
+    """A node's transform: its matrix (column-major in the file), else T R S."""
+    if "matrix" in node:
+        matrix = np.asarray(node["matrix"], dtype=np.float64)
+        if matrix.shape != (16,):
+            raise GltfProblem("a node's matrix does not have 16 numbers")
+        return matrix.reshape(4, 4).T
+    transform = np.eye(4)
+    quaternion = np.asarray(node.get("rotation", (0.0, 0.0, 0.0, 1.0)), dtype=np.float64)
+    norm = np.linalg.norm(quaternion) if quaternion.shape == (4,) else 0.0
+    if not norm > 0.0:
+        raise GltfProblem("a node's rotation is not a quaternion")
+    x, y, z, w = quaternion / norm
+    rotation = np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+    scale = np.asarray(node.get("scale", (1.0, 1.0, 1.0)), dtype=np.float64)
+    transform[:3, :3] = rotation * scale[None, :]
+    transform[:3, 3] = np.asarray(node.get("translation", (0.0, 0.0, 0.0)), dtype=np.float64)
+    return transform
