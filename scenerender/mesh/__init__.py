@@ -1,5 +1,5 @@
-"""CPU-side meshes: the MeshData type, OBJ/MTL reading, other formats through trimesh,
-built-in primitives and geometry helpers. No OpenGL here, so everything is testable
+"""CPU-side meshes: the MeshData type, OBJ/MTL and glTF reading, other formats through
+trimesh, built-in primitives and geometry helpers. No OpenGL here, so everything is testable
 without a GL context.
 """
 from __future__ import annotations

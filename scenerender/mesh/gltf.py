@@ -1,7 +1,7 @@
-"""glTF 2.0 materials: what the renderer needs of a GLB or .gltf file's JSON beyond trimesh.
+"""glTF 2.0 materials: what the renderer needs of a GLB or .gltf file's JSON beyond its
+geometry (which mesh.gltf_geometry reads, or trimesh where that cannot).
 
-trimesh reads the geometry (accessors, primitives, the node hierarchy) and keeps part of
-each material. What it drops is read here from the file's JSON: ``normalTexture.scale``,
+trimesh, where it reads the geometry, keeps part of each material. What it drops is read here from the file's JSON: ``normalTexture.scale``,
 ``occlusionTexture.strength``, ``KHR_texture_transform``, ``KHR_materials_emissive_strength``,
 ``KHR_materials_unlit``, the samplers' wrap and filter modes, ``texCoord``, and which
 material each primitive uses (trimesh's geometries are matched to the primitives in file
