@@ -181,10 +181,15 @@ def vertex_colors(visual, component_type, vertex_count: int):
         raw, scale = visual.vertex_colors, 255.0
     if raw is None:
         return None
-    colors = np.asarray(raw, dtype=np.float64)
+    return rgba_colors(np.asarray(raw, dtype=np.float64) / scale, vertex_count)
+
+
+def rgba_colors(colors: np.ndarray, vertex_count: int):
+    """(N, 4) RGBA in [0, 1] of COLOR_0 values already in [0, 1] units (N, 3 or 4), or None
+    where they are not one finite colour per vertex."""
+    colors = np.asarray(colors, dtype=np.float64)
     if colors.ndim != 2 or colors.shape[1] not in (3, 4) or len(colors) != vertex_count:
         return None
-    colors = colors / scale
     if colors.shape[1] == 3:
         colors = np.hstack([colors, np.ones((len(colors), 1))])
     if not np.isfinite(colors).all():

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from scenerender.mesh.gltf import GltfProblem, buffer_view_bytes, split_glb
+from scenerender.mesh.gltf import GltfProblem, buffer_view_bytes, rgba_colors, split_glb
 
 _DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 _WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
@@ -76,22 +76,12 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list) -> d
     if "TEXCOORD_0" in attributes:
         uv = reader.read(attributes["TEXCOORD_0"], 2)
         uv = np.column_stack([uv[:, 0], 1.0 - uv[:, 1]])
-    colors = _colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
+    colors = rgba_colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
     material = primitive.get("material")
     name = material_names[material] if isinstance(material, int) and 0 <= material < len(material_names) else None
     return {"vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
             "normals": normals.astype(np.float64) if normals is not None and len(normals) == count else None,
             "uv": uv if uv is not None and len(uv) == count else None, "material": name, "colors": colors}
-
-
-def _colors(values: np.ndarray, count: int) -> np.ndarray | None:
-    """(N, 4) linear RGBA in [0, 1] of COLOR_0 (already normalized), or None if unusable."""
-    colors = np.asarray(values, dtype=np.float64)
-    if colors.ndim != 2 or colors.shape[1] not in (3, 4) or len(colors) != count or not np.isfinite(colors).all():
-        return None
-    if colors.shape[1] == 3:
-        colors = np.hstack([colors, np.ones((len(colors), 1))])
-    return np.clip(colors, 0.0, 1.0)
 
 
 class _Accessors:

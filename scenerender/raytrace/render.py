@@ -338,16 +338,12 @@ class _FrameScene:
         total = np.zeros_like(n)
         if not np.any(ambient > 0.0):
             return total
-        tangent = shading.safe_normalize(np.cross(n, np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]],
-                                                              [[0.0, 1.0, 0.0]])))
-        bitangent = np.cross(n, tangent)
+        tangent, bitangent = environment.tangent_frame(n)
         epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p, axis=1)
         for _ in range(self.ambient_samples):
-            r1, r2 = self.ambient_rng.random((2, len(p)))
-            radius, angle = np.sqrt(r1), 2.0 * np.pi * r2
-            cos = np.sqrt(np.maximum(1.0 - r1, 0.0))
-            l = (tangent * (radius * np.cos(angle))[:, None] + bitangent * (radius * np.sin(angle))[:, None]
-                 + n * cos[:, None])
+            local = environment.cosine_directions(*self.ambient_rng.random((2, len(p))))
+            cos = local[:, 2]
+            l = tangent * local[:, :1] + bitangent * local[:, 1:2] + n * local[:, 2:]
             radiance = np.broadcast_to(ambient, n.shape)
             term = self._direct(n, l, view, radiance, surface, model) / np.maximum(cos, 1e-12)[:, None]
             if self.primary_count:

@@ -129,9 +129,7 @@ class SceneFeatures:
 
     def environment_defines(self) -> dict:
         """The prefiltered image's layout (shaders/lighting/environment_map.glsl)."""
-        levels, width, height = self.environment
-        defines = {"HAS_ENVIRONMENT": True, "ENV_LEVELS": f"{levels}.0", "ENV_STRIP_WIDTH": f"{width}.0",
-                   "ENV_STRIP_HEIGHT": f"{height}.0"}
+        defines = {"HAS_ENVIRONMENT": True, **specular_layout_defines(self.environment)}
         if self.environment_footprint:
             defines["ENV_FOOTPRINT"] = True
         return defines
@@ -158,6 +156,12 @@ def specular_layout(environment) -> tuple:
     """(levels, strip width, strip height) of the environment's prefiltered image."""
     width = environment.prefilter_size
     return SPECULAR_LEVELS, width, max(width // 2, 1)
+
+
+def specular_layout_defines(layout: tuple) -> dict:
+    """The defines that tell the shaders a ``specular_layout`` (GLSL floats)."""
+    levels, width, height = layout
+    return {"ENV_LEVELS": f"{levels}.0", "ENV_STRIP_WIDTH": f"{width}.0", "ENV_STRIP_HEIGHT": f"{height}.0"}
 
 
 def _footprint_samples(samples: int) -> int:

@@ -1935,12 +1935,9 @@ def studio_environment(width: int = 256) -> np.ndarray:
     """(W / 2, W, 3) linear radiance: a dim studio (warm grey floor, darker ceiling) with a
     large warm key panel front-left above, a cool strip light behind right and a small
     fill panel low on the right. Lights a pbr scene as a product photograph is lit."""
-    height = width // 2
-    phi = ((np.arange(width) + 0.5) / width - 0.5) * 2.0 * np.pi
-    theta = (np.arange(height) + 0.5) / height * np.pi
-    sin_t = np.sin(theta)[:, None]
-    d = np.stack([sin_t * np.sin(phi)[None, :], np.broadcast_to(np.cos(theta)[:, None], (height, width)),
-                  -sin_t * np.cos(phi)[None, :]], axis=-1)
+    from scenerender.world.environment import equirect_directions
+
+    d = equirect_directions(width // 2, width)
     y = d[..., 1]
     room = np.where((y > 0)[..., None], mix(np.array([0.10, 0.10, 0.11]), np.array([0.03, 0.03, 0.035]),
                                             np.clip(y, 0, 1)),

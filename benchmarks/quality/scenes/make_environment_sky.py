@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from scenerender.world.environment import equirect_directions
 from scenerender.world.environment_files import write_hdr
 
 WIDTH, HEIGHT = 512, 256
@@ -44,16 +45,6 @@ def sun_direction() -> np.ndarray:
                      math.cos(SUN_ELEVATION) * math.cos(SUN_AZIMUTH)])
 
 
-def directions(height: int, width: int) -> np.ndarray:
-    """(H, W, 3) unit directions at the centres of an equirectangular grid (the mapping of
-    scenerender/world/environment.py)."""
-    phi = ((np.arange(width) + 0.5) / width - 0.5) * 2.0 * np.pi
-    theta = (np.arange(height) + 0.5) / height * np.pi
-    sin_t = np.sin(theta)[:, None]
-    return np.stack([sin_t * np.sin(phi)[None, :], np.broadcast_to(np.cos(theta)[:, None], (height, width)),
-                     -sin_t * np.cos(phi)[None, :]], axis=-1)
-
-
 def radiance(d: np.ndarray) -> np.ndarray:
     """(..., 3) the sky's linear radiance towards unit directions d (..., 3)."""
     y = d[..., 1:2]
@@ -70,7 +61,7 @@ def radiance(d: np.ndarray) -> np.ndarray:
 
 def sky_image() -> np.ndarray:
     """(HEIGHT, WIDTH, 3) float32: each texel the mean of SUPERSAMPLE^2 points over it."""
-    fine = radiance(directions(HEIGHT * SUPERSAMPLE, WIDTH * SUPERSAMPLE))
+    fine = radiance(equirect_directions(HEIGHT * SUPERSAMPLE, WIDTH * SUPERSAMPLE))
     return fine.reshape(HEIGHT, SUPERSAMPLE, WIDTH, SUPERSAMPLE, 3).mean(axis=(1, 3)).astype(np.float32)
 
 

@@ -14,7 +14,7 @@ import moderngl
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import FULLSCREEN_VERTEX, begin_fullscreen_pass, bind_texture_units
-from scenerender.rendering.features import TEXTURE_UNITS
+from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.passes.data import ImageData
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"
@@ -40,9 +40,7 @@ class EnvironmentPrefilterPass(RenderPass):
 
     def execute(self, ctx, data: ImageData) -> None:
         begin_fullscreen_pass(ctx, data.image)
-        levels, width, height = self.layout
-        program = ctx.programs.get(FULLSCREEN_VERTEX, PREFILTER_FRAGMENT, {
-            "ENV_LEVELS": f"{levels}.0", "ENV_STRIP_WIDTH": f"{width}.0", "ENV_STRIP_HEIGHT": f"{height}.0"})
+        program = ctx.programs.get(FULLSCREEN_VERTEX, PREFILTER_FRAGMENT, specular_layout_defines(self.layout))
         bind_texture_units(program)
         source = ctx.input(self.environment_map).source
         source.use(TEXTURE_UNITS["u_env_source"])
