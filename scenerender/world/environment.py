@@ -251,11 +251,12 @@ def project_sh(image: np.ndarray, order: int) -> np.ndarray:
     small = _area_average(image, SH_PROJECTION_WIDTH)
     height, width = small.shape[:2]
     weights = texel_solid_angles(height, width)
+    grid = equirect_directions(height, width)
     total = np.zeros(((order + 1) ** 2, 3))
     rows = max(1, 65536 // width)  # a band of rows at a time: the basis of a large image is big
     for top in range(0, height, rows):
         band = slice(top, min(height, top + rows))
-        directions = equirect_directions(height, width)[band].reshape(-1, 3)
+        directions = grid[band].reshape(-1, 3)
         weighted = sh_basis(directions, order) * np.repeat(weights[band], width, axis=0)
         total += weighted.T @ small[band].reshape(-1, 3)
     return total
