@@ -23,7 +23,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from scenerender.compare import perturbation  # noqa: E402
+from scenerender.tools import perturbation  # noqa: E402
 from scenerender.compare.objects import measure_objects  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
 from scenerender.run.session import Renderer, load  # noqa: E402

@@ -517,7 +517,7 @@ def bench(scene, output, knobs, frames, rounds, spp, environment_samples, overri
     front marked."""
     import json
 
-    from scenerender.raytrace import bench as sweep
+    from scenerender.tools import bench as sweep
 
     echo = (lambda text: click.echo(text, err=True))
     rows = sweep.run_bench(scene, overrides, knobs=knobs or sweep.KNOBS, frames=frames,

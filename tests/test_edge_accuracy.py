@@ -11,7 +11,7 @@ from pathlib import Path
 
 import scenerender
 from scenerender.raytrace import render_reference
-from scenerender.raytrace.quality import frame_errors
+from scenerender.tools.quality import frame_errors
 
 SCENES = Path(__file__).resolve().parent.parent / "benchmarks" / "quality" / "scenes"
 

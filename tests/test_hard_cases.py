@@ -10,7 +10,7 @@ import pytest
 
 import scenerender
 from scenerender.raytrace import render_reference
-from scenerender.raytrace.quality import region_masks, rmse_percent
+from scenerender.tools.quality import region_masks, rmse_percent
 from scenerender.world.frame import FrameEvaluator
 
 CASES = Path(__file__).resolve().parent / "hard_cases"

@@ -12,7 +12,7 @@ from PIL import Image
 
 import scenerender
 from scenerender.raytrace import ambient_fit, render_reference, shading
-from scenerender.raytrace.quality import frame_errors
+from scenerender.tools.quality import frame_errors
 from scenerender.rendering.features import SceneFeatures
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -13,7 +13,7 @@ import pytest
 
 from conftest import ROOT
 from scenerender.compare import DEFAULT_RULE, compare_paths
-from scenerender.compare import perturbation as suite
+from scenerender.tools import perturbation as suite
 from scenerender.compare.metrics import measure, shift_residual, worst_window_bias
 
 

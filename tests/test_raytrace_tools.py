@@ -11,8 +11,9 @@ from click.testing import CliRunner
 
 import scenerender
 from scenerender.cli import main
-from scenerender.raytrace import bench, rays
-from scenerender.raytrace.quality import frame_errors, region_masks
+from scenerender.raytrace import rays
+from scenerender.tools import bench
+from scenerender.tools.quality import frame_errors, region_masks
 from scenerender.raytrace.render import ReferenceFrame
 from scenerender.world.environment_files import write_hdr
 

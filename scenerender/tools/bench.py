@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from scenerender.gpu.context import create_context
-from scenerender.raytrace.quality import frame_errors
+from scenerender.tools.quality import frame_errors
 from scenerender.raytrace.render import ENVIRONMENT_SAMPLES, render_reference
 from scenerender.run.session import Renderer, load
 from scenerender.sinks.base import atomic_path
