@@ -23,11 +23,11 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from scenerender.tools import perturbation  # noqa: E402
 from scenerender.compare.objects import measure_objects  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
 from scenerender.run.session import Renderer, load  # noqa: E402
 from scenerender.sinks.images import encode_grey16_png  # noqa: E402
+from scenerender.tools import perturbation  # noqa: E402
 
 WARM_UP = 3
 

@@ -2,7 +2,7 @@
 slab's contact shadow (the scenes of benchmarks/quality/scenes/, made smaller so each
 test takes a few seconds on llvmpipe).
 
-Errors are measured as `scenerender bench` does (scenerender/raytrace/quality.py): RMSE
+Errors are measured as `scenerender bench` does (scenerender/tools/quality.py): RMSE
 over a region in % of the reference's mean radiance, silhouette pixels left to the
 geometry edge; umbra leak in % of the light the reference's shadows take away."""
 from __future__ import annotations

@@ -15,9 +15,9 @@ PACKAGE = Path(__file__).resolve().parent.parent / "scenerender"
 LAYERS = [
     ["scenerender.cli", "scenerender.pytest_plugin", "scenerender.__main__"],  # entry points
     ["scenerender.api"],                                                       # the public facade
-    ["scenerender.raytrace", "scenerender.compare.perturbation"],              # tools that render
+    ["scenerender.tools"],                                                     # tools that render and measure
     ["scenerender.run"],                                                       # a run: scene -> sink
-    ["scenerender.rendering", "scenerender.compare"],                          # the frame graph's passes; diffing
+    ["scenerender.rendering", "scenerender.compare", "scenerender.raytrace"],  # passes; diffing; the CPU reference
     ["scenerender.gpu"],                                                       # GL objects
     ["scenerender.world"],                                                     # the world a renderer draws
     ["scenerender.mesh"],                                                      # mesh files and primitives
@@ -159,3 +159,33 @@ def test_the_checks_catch_an_upward_import_and_a_circle(bad_package, monkeypatch
     graph = import_graph(bad_package)
     assert upward_imports(graph) == ["scenerender.errors (layer 10) imports scenerender.scene.model (layer 8)"]
     assert circles(graph) == [["scenerender.scene.checks", "scenerender.scene.model"]]
+
+
+@pytest.fixture
+def tools_below_run(tmp_path: Path) -> Path:
+    """The arrows this layer order was made to forbid: a tool in ``compare/`` and the
+    reference renderer reaching up into the run layer, with one lawful arrow beside them."""
+    root = tmp_path / "scenerender"
+    for name, text in {
+        "__init__.py": "",
+        "run/__init__.py": "",
+        "run/session.py": "from scenerender.compare import metrics\n",            # down: lawful
+        "compare/__init__.py": "",
+        "compare/metrics.py": "",
+        "compare/perturbation.py": "from scenerender.run.session import Renderer\n",
+        "raytrace/__init__.py": "",
+        "raytrace/bench.py": "def sweep():\n    import scenerender.run\n",           # up, inside a function
+        "tools/__init__.py": "",
+        "tools/bench.py": "from scenerender.run import session\nfrom scenerender.raytrace import bench\n",
+    }.items():
+        (root / name).parent.mkdir(parents=True, exist_ok=True)
+        (root / name).write_text(text)
+    return root
+
+
+def test_the_layer_check_catches_a_tool_below_the_run_layer(tools_below_run, monkeypatch):
+    monkeypatch.setattr(__import__(__name__), "PACKAGE", tools_below_run)
+    assert upward_imports(import_graph(tools_below_run)) == [
+        "scenerender.compare.perturbation (layer 4) imports scenerender.run.session (layer 3)",
+        "scenerender.raytrace.bench (layer 4) imports scenerender.run (layer 3)",
+    ]

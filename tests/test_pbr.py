@@ -12,8 +12,8 @@ from PIL import Image
 
 import scenerender
 from scenerender.raytrace import ambient_fit, render_reference, shading
-from scenerender.tools.quality import frame_errors
 from scenerender.rendering.features import SceneFeatures
+from scenerender.tools.quality import frame_errors
 
 ROOT = Path(__file__).resolve().parent.parent
 QUALITY = ROOT / "benchmarks" / "quality" / "scenes"

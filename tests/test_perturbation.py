@@ -1,4 +1,4 @@
-"""The perturbation corpus (scenerender.compare.perturbation): under DEFAULT_RULE, with the
+"""The perturbation corpus (scenerender.tools.perturbation): under DEFAULT_RULE, with the
 object ids every render keeps, every noise case passes and every change fails (KNOWN_MISSES
 is empty); the rule before the shift test (the neighbourhood ranges alone) passed the thin
 and small changes the shift test now catches, and the colours alone pass the five the object
@@ -13,8 +13,8 @@ import pytest
 
 from conftest import ROOT
 from scenerender.compare import DEFAULT_RULE, compare_paths
-from scenerender.tools import perturbation as suite
 from scenerender.compare.metrics import measure, shift_residual, worst_window_bias
+from scenerender.tools import perturbation as suite
 
 
 @pytest.fixture(scope="module")

@@ -12,9 +12,9 @@ from click.testing import CliRunner
 import scenerender
 from scenerender.cli import main
 from scenerender.raytrace import rays
+from scenerender.raytrace.render import ReferenceFrame
 from scenerender.tools import bench
 from scenerender.tools.quality import frame_errors, region_masks
-from scenerender.raytrace.render import ReferenceFrame
 from scenerender.world.environment_files import write_hdr
 
 SCENE = """

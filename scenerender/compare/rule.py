@@ -3,7 +3,7 @@
 A frame passes when all three colour limits hold (the two views of a difference are explained
 in scenerender.compare.metrics) and, where both sides carry object ids, the three object
 limits too (scenerender.compare.objects). The defaults come from the perturbation corpus (``python -m
-scenerender.compare.perturbation``, tables in docs/diff-margins.md): re-renders, sub-pixel
+scenerender.tools.perturbation``, tables in docs/diff-margins.md): re-renders, sub-pixel
 camera jitter of 1/8 and 1/4 pixel, one-level dither and a one-level offset must pass;
 moved, dropped, added, recoloured, re-lit and re-textured objects must fail.
 

@@ -11,8 +11,8 @@ largest noise score and the smallest change score; the default rule
 (scenerender.compare.rule) is chosen from it and must pass every noise case and fail every
 change case except those listed in KNOWN_MISSES (none now), whose scores are printed.
 
-    python -m scenerender.compare.perturbation              # print the tables (needs GL)
-    python -m scenerender.compare.perturbation --write docs/diff-margins.md
+    python -m scenerender.tools.perturbation              # print the tables (needs GL)
+    python -m scenerender.tools.perturbation --write docs/diff-margins.md
 
 It renders the scenes of a source checkout (scenes/ and tests/diff_corpus/ beside the package).
 """
@@ -423,7 +423,7 @@ def report_text(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
     scenes = ", ".join(f"{c.name} ({c.size[0]}x{c.size[1]})" for c in CASES)
     return "\n".join([
         "## The corpus: noise against change, metric by metric", "",
-        "Made by `python -m scenerender.compare.perturbation --write docs/diff-margins.md`. "
+        "Made by `python -m scenerender.tools.perturbation --write docs/diff-margins.md`. "
         f"Scenes: {scenes}. Noise: {', '.join(NOISE)}. {noise} noise cases, {changes} changes. Every "
         "render keeps its object ids.", "",
         f"The default rule fails {caught} of the {changes} changes and passes "
@@ -449,7 +449,7 @@ def report_text(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:
     ])
 
 
-TABLES_MARK = "<!-- Below: made by python -m scenerender.compare.perturbation --write; edit the prose above -->"
+TABLES_MARK = "<!-- Below: made by python -m scenerender.tools.perturbation --write; edit the prose above -->"
 
 
 def _with_kept_prose(path: Path, tables: str) -> str:
