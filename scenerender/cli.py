@@ -7,14 +7,17 @@ something (no EGL driver), 1 a bug in scenerender.
 from __future__ import annotations
 
 import functools
-import math
 import os
 import sys
+from dataclasses import fields
 from pathlib import Path
 
 import click
 
+from scenerender import option_rules
+from scenerender.compare.rule import DiffRule  # the diff options are its fields (loads no numpy)
 from scenerender.errors import EnvironmentProblem, SceneErrors, UserError
+from scenerender.option_rules import MSAA_SAMPLES
 from scenerender.version import __version__
 
 SET_HELP = "Override any scene key, e.g. --set render.samples=8 or --set objects[0].position=[0,1,0] (repeatable)."
@@ -130,17 +133,31 @@ class GivenPath(click.Path):
         return super().convert(value, param, ctx)
 
 
-class FiniteFloatRange(click.FloatRange):
-    """A click.FloatRange that also refuses NaN and the infinities. A NaN limit compares
-    false with every score, so `diff --max-tile nan` would pass any change (and inf too)."""
+class RuleType(click.ParamType):
+    """A number checked by its one rule (``scenerender.option_rules``), the rule the scene
+    file and the Python API check too, in the same words."""
 
-    name = "finite float range"
+    def __init__(self, rule):
+        self.rule = rule
+        self.name = rule.bounds()
 
     def convert(self, value, param, ctx):
-        number = super().convert(value, param, ctx)
-        if not math.isfinite(number):
-            self.fail(f"{value!r} is not a finite number", param, ctx)
-        return number
+        if isinstance(value, str):
+            value = _number(value)
+        problem = self.rule.problem(value)
+        if problem is not None:
+            self.fail(problem, param, ctx)
+        return self.rule.check(value)
+
+
+def _number(text: str):
+    """``text`` as an int, else a float, else itself (which the rule then calls no number)."""
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
 
 
 class ImageSize(click.ParamType):
@@ -181,7 +198,7 @@ def _scene_overrides(with_samples: bool = True):
                      help="Image size, e.g. 1280x720 (overrides render.size)."),
     ]
     if with_samples:
-        options.append(click.option("--samples", type=click.IntRange(1, 64),
+        options.append(click.option("--samples", type=RuleType(MSAA_SAMPLES), metavar="N",
                                     help="MSAA samples: 1 (anti-aliasing off), 2, 4, 8, 16, 32 or 64 "
                                          "(overrides render.samples)."))
 
@@ -367,12 +384,14 @@ def info():
     click.echo(f"{'shaders':<36} {shader_dir()}")
 
 
-# the diff options' defaults are the default rule (importing it loads no numpy)
-from scenerender.compare.rule import DEFAULT_RULE as _DIFF_DEFAULTS  # noqa: E402
-
-LEVELS = FiniteFloatRange(min=0)  # a limit on differences of 8-bit levels: finite and not negative
-# scenerender.raytrace.render.ENVIRONMENT_SAMPLES, written out: importing it would load numpy
-ENVIRONMENT_SAMPLES = 4
+def _diff_rule_options(command):
+    """One option per field of ``DiffRule`` (``--max-tile`` for ``max_tile``), with the
+    field's default, rule and help: a limit added to the rule is an option here."""
+    for item in reversed(fields(DiffRule)):
+        command = click.option(f"--{item.name.replace('_', '-')}", item.name, type=RuleType(item.metadata["rule"]),
+                               metavar=item.metadata["metavar"], default=item.default, show_default=True,
+                               help=item.metadata["help"])(command)
+    return command
 
 
 @main.command()
@@ -381,35 +400,8 @@ ENVIRONMENT_SAMPLES = 4
 @click.option("--report", type=GivenPath(dir_okay=False, path_type=Path),
               help="Write a self-contained HTML report (images, heatmaps, changed regions).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON on stdout instead of lines.")
-@click.option("--max-tile", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_tile,
-              show_default=True,
-              help="Largest allowed mean difference (levels) of any 8x8 block outside the other image's 3x3 "
-                   "colour ranges: catches a moved or dropped object, a lost shadow.")
-@click.option("--max-unexplained-mean", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_unexplained_mean,
-              show_default=True,
-              help="Largest allowed difference per pixel outside the 3x3 colour ranges, over the frame "
-                   "(levels): catches faint changes spread wide, such as a colour or the field of view.")
-@click.option("--max-shift-tile", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_shift_tile,
-              show_default=True,
-              help="Largest allowed signed mean (levels) of any 12x12 window of what is left after each 8x8 "
-                   "tile's best shift of up to 1/4 pixel: catches small and thin changes the ranges excuse.")
-@click.option("--aa-tolerance", type=click.IntRange(0, 255), metavar="LEVELS", default=_DIFF_DEFAULTS.aa_tolerance,
-              show_default=True,
-              help="Levels of rounding forgiven on every channel, before both tests.")
-@click.option("--min-object-pixels", type=click.IntRange(1), metavar="PX", default=_DIFF_DEFAULTS.min_object_pixels,
-              show_default=True,
-              help="With object ids on both sides: an object covering this many pixels or more on one side and "
-                   "none on the other fails (a dropped pole, a new glow).")
-@click.option("--max-object-shift", type=LEVELS, metavar="PX", default=_DIFF_DEFAULTS.max_object_shift,
-              show_default=True,
-              help="With object ids on both sides: largest allowed move of an object against the frame's common "
-                   "displacement (a camera jitter moves every object alike), pixels.")
-@click.option("--max-interior-change", type=LEVELS, metavar="LEVELS", default=_DIFF_DEFAULTS.max_interior_change,
-              show_default=True,
-              help="With object ids on both sides: largest allowed signed mean change of an object's interior, "
-                   "after its own move, discounted by the change of the other sign (a shininess, a colour).")
-def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max_shift_tile, aa_tolerance,
-         min_object_pixels, max_object_shift, max_interior_change):
+@_diff_rule_options
+def diff(reference, output, report, as_json, **limits):
     """Compare OUTPUT with REFERENCE: two images, two folders of frames (PNG, JPG, TGA, EXR;
     matched by file name) or two videos (MP4, GIF; matched frame by frame).
 
@@ -425,12 +417,9 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
     """
     import json
 
-    from scenerender.compare import DiffRule, compare_paths, write_html_report
+    from scenerender.compare import compare_paths, write_html_report
 
-    rule = DiffRule(max_tile=max_tile, max_unexplained_mean=max_unexplained_mean, max_shift_tile=max_shift_tile,
-                    aa_tolerance=aa_tolerance, min_object_pixels=min_object_pixels,
-                    max_object_shift=max_object_shift, max_interior_change=max_interior_change)
-    result = compare_paths(reference, output, rule)
+    result = compare_paths(reference, output, DiffRule(**limits))
     if report is not None:
         write_html_report(result, report, option="--report")
     if as_json:
@@ -451,12 +440,13 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
               show_default=True, help="Folder for frame_NNNN.exr (linear float) and frame_NNNN.png.")
 @click.option("--frames", metavar="A:B", default="0:1", show_default=True,
               help="Frames to render (like a Python slice).")
-@click.option("--spp", type=click.IntRange(1, 32), default=4, show_default=True,
+@click.option("--spp", type=RuleType(option_rules.SPP), default=4, show_default=True,
               help="Stratified samples a pixel along each axis (4 gives 4x4 = 16).")
-@click.option("--ambient-samples", type=click.IntRange(0, 65536), default=0, show_default=True,
+@click.option("--ambient-samples", type=RuleType(option_rules.AMBIENT_SAMPLES), default=0, show_default=True,
               help="0: ambient light by the GPU's formula. N: integrated over N directions a sample "
                    "(Monte Carlo, seeded), each weighted by the BRDF and blocked by surfaces in its way.")
-@click.option("--environment-samples", type=click.IntRange(1, 65536), default=ENVIRONMENT_SAMPLES, show_default=True,
+@click.option("--environment-samples", type=RuleType(option_rules.ENVIRONMENT_SAMPLES),
+              default=option_rules.DEFAULT_ENVIRONMENT_SAMPLES, show_default=True,
               help="Directions a sample an environment light is gathered from (Monte Carlo, seeded, "
                    "importance-sampled between the cosine and the GGX lobe), each blocked by surfaces in its way.")
 @_scene_overrides(with_samples=False)
@@ -499,10 +489,11 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
               help="Timed frames per variant and round (after one warm-up frame).")
 @click.option("--rounds", type=click.IntRange(1, 100), default=2, show_default=True,
               help="Rounds over all variants; ms/frame is the median over all of them.")
-@click.option("--spp", type=click.IntRange(1, 32), default=16, show_default=True,
+@click.option("--spp", type=RuleType(option_rules.SPP), default=16, show_default=True,
               help="Reference samples a pixel along each axis (at 4, the reference's own noise at "
                    "shadow and cone edges is larger than a good GPU frame's error there).")
-@click.option("--environment-samples", type=click.IntRange(1, 65536), default=ENVIRONMENT_SAMPLES, show_default=True,
+@click.option("--environment-samples", type=RuleType(option_rules.ENVIRONMENT_SAMPLES),
+              default=option_rules.DEFAULT_ENVIRONMENT_SAMPLES, show_default=True,
               help="Directions a sample an environment light is gathered from (Monte Carlo, seeded, "
                    "importance-sampled between the cosine and the GGX lobe), each blocked by surfaces in its way.")
 @_scene_overrides(with_samples=False)

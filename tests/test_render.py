@@ -261,20 +261,6 @@ objects:
         assert abs(row[e] - row[e + 1]) > 100
 
 
-def test_a_sample_count_that_is_no_power_of_two_is_lowered_with_a_warning(gl):
-    """Scenes cannot ask for 3 samples, but a caller of Renderer can: the driver refuses
-    the count, so the largest power of two below it is used, as for counts over the maximum."""
-    import scenerender
-    from conftest import scene
-
-    warnings = Warnings()
-    with scenerender.Renderer(scene(FLAT.format(samples=1, transform="srgb", c=0.5), warnings=warnings),
-                              gl=gl, samples=3) as renderer:
-        assert renderer.samples == 2
-        assert renderer.render(0).pixels.shape == (48, 64, 3)
-    assert warnings.items == ["MSAA samples 3 is not a power of two, the only counts GL offers; using 2"]
-
-
 def test_device_samples_are_powers_of_two_within_the_device():
     from scenerender.rendering.renderer import device_samples
 

@@ -30,10 +30,18 @@ its worst noise (0.21 levels) and 2.6 times under the closest change (2.59 level
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field, fields
+
+from scenerender.option_rules import LEVELS, OBJECT_PIXELS, PIXELS, TOLERANCE_LEVELS, NumberRule
 
 TILE = 8  # side of the square blocks of the range scores and of the shift search, pixels
 SHIFT_WINDOW = 12  # side of the windows the residual after the shift is averaged over, pixels
+
+
+def limit(default, rule: NumberRule, metavar: str, help: str):
+    """A DiffRule field: its default, its rule (option_rules), and what ``scenerender diff``
+    shows for the option made from it (``--max-tile`` for ``max_tile``)."""
+    return field(default=default, metadata={"rule": rule, "metavar": metavar, "help": help})
 
 
 @dataclass(frozen=True)
@@ -47,14 +55,38 @@ class DiffRule:
     limits catch an object on one side only, one moved against the frame's common
     displacement, and an interior changed one way (a shininess, a colour)."""
 
-    max_tile: float = 1.0                # worst TILE x TILE block outside the neighbourhood ranges, levels
-    max_unexplained_mean: float = 0.0007  # frame mean outside the neighbourhood ranges, levels
-    max_shift_tile: float = 0.7          # worst |signed mean| left after a shift, any SHIFT_WINDOW-square window, levels
-    aa_tolerance: int = 1                # levels of rounding forgiven on every channel
+    max_tile: float = limit(1.0, LEVELS, "LEVELS",
+                            "Largest allowed mean difference (levels) of any 8x8 block outside the other image's 3x3 "
+                            "colour ranges: catches a moved or dropped object, a lost shadow.")
+    max_unexplained_mean: float = limit(0.0007, LEVELS, "LEVELS",
+                                        "Largest allowed difference per pixel outside the 3x3 colour ranges, over "
+                                        "the frame (levels): catches faint changes spread wide, such as a colour or "
+                                        "the field of view.")
+    max_shift_tile: float = limit(0.7, LEVELS, "LEVELS",
+                                  "Largest allowed signed mean (levels) of any 12x12 window of what is left after "
+                                  "each 8x8 tile's best shift of up to 1/4 pixel: catches small and thin changes "
+                                  "the ranges excuse.")
+    aa_tolerance: int = limit(1, TOLERANCE_LEVELS, "LEVELS",
+                              "Levels of rounding forgiven on every channel, before both tests.")
     # with object ids on both sides (compare.objects)
-    min_object_pixels: int = 2           # an object on this many px or more on one side and none on the other
-    max_object_shift: float = 0.45       # px an object may move against the frame's common displacement
-    max_interior_change: float = 1.0     # levels: an object interior's signed mean, discounted by the other sign
+    min_object_pixels: int = limit(2, OBJECT_PIXELS, "PX",
+                                   "With object ids on both sides: an object covering this many pixels or more on "
+                                   "one side and none on the other fails (a dropped pole, a new glow).")
+    max_object_shift: float = limit(0.45, PIXELS, "PX",
+                                    "With object ids on both sides: largest allowed move of an object against the "
+                                    "frame's common displacement (a camera jitter moves every object alike), pixels.")
+    max_interior_change: float = limit(1.0, LEVELS, "LEVELS",
+                                       "With object ids on both sides: largest allowed signed mean change of an "
+                                       "object's interior, after its own move, discounted by the change of the other "
+                                       "sign (a shininess, a colour).")
+
+    def __post_init__(self):
+        """The Python door to the limits' rules (``scenerender diff`` makes its options from
+        the same fields): ValueError naming the field."""
+        for item in fields(self):
+            problem = item.metadata["rule"].problem(getattr(self, item.name))
+            if problem is not None:
+                raise ValueError(f"DiffRule.{item.name}: {problem}")
 
     def failures(self, metrics, objects=None) -> list[str]:
         """The limits ``metrics`` (a ``compare.metrics.FrameMetrics``) and ``objects`` (a

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scenerender import option_rules
 from scenerender.colorspace import tone_map
 from scenerender.errors import UserError
 from scenerender.raytrace import environment, shading
@@ -51,7 +52,7 @@ from scenerender.world.frame import FrameEvaluator
 # Samples shaded at once; bounds the memory of one chunk to a few hundred MB.
 _CHUNK_SAMPLES = 400_000
 # Directions a sample point gathers an environment light from, by default.
-ENVIRONMENT_SAMPLES = 4
+ENVIRONMENT_SAMPLES = option_rules.DEFAULT_ENVIRONMENT_SAMPLES
 
 
 @dataclass
@@ -120,17 +121,16 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
     naming what the reference leaves out, when the scene has any of it. ambient_samples:
     0 for the GPU's ambient formula, else the directions per sample point over which
     ambient light is integrated (see the module's docstring). environment_samples: the
-    directions per sample point over which an environment light is integrated (at least 1)."""
+    directions per sample point over which an environment light is integrated. The three
+    counts keep the rules of scenerender.option_rules (SPP, AMBIENT_SAMPLES, ENVIRONMENT_SAMPLES)."""
     world = getattr(world, "world", world)
     if world.render.mode != "shaded":
         raise single_error(f"the reference renders mode 'shaded' only, not '{world.render.mode}'",
                            ("render", "mode"), world.scene.source)
-    if spp < 1:
-        raise UserError(f"spp must be at least 1, got {spp}")
-    if ambient_samples < 0:
-        raise UserError(f"ambient samples must be 0 or more, got {ambient_samples}")
-    if environment_samples < 1:
-        raise UserError(f"environment samples must be at least 1, got {environment_samples}")
+    for rule, value in ((option_rules.SPP, spp), (option_rules.AMBIENT_SAMPLES, ambient_samples),
+                        (option_rules.ENVIRONMENT_SAMPLES, environment_samples)):
+        if rule.problem(value) is not None:
+            raise UserError(rule.problem(value))
     missing = unsupported_features(world)
     if missing and warn is not None:
         warn(f"the reference renders without {', '.join(missing)}")

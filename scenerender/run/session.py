@@ -19,6 +19,7 @@ import numpy as np
 from scenerender.errors import UserError, Warnings
 from scenerender.gpu.context import create_context
 from scenerender.mesh.data import MeshData
+from scenerender.option_rules import MSAA_SAMPLES
 from scenerender.rendering.profile import profile_report
 from scenerender.rendering.renderer import FrameResult
 from scenerender.rendering.renderer import GraphRenderer
@@ -150,8 +151,9 @@ class Renderer:
             frames = [renderer.render(i) for i in range(3)]
 
     size:    (width, height), default the scene's ``render.size``
-    samples: MSAA samples, default the scene's ``render.samples`` (lowered, with a warning, to
-             the largest power of two the device offers)
+    samples: MSAA samples, default the scene's ``render.samples``: 1 (off), 2, 4 ... 64, the
+             scene file's rule (``option_rules.MSAA_SAMPLES``; ValueError otherwise), lowered
+             with a warning to the largest count the device offers
     want_linear: also return each frame's linear colours (``Frame.linear``; a float target, slower)
     object_ids: also return which object each pixel shows (``Frame.object_ids``: (H, W) uint16,
              the object's index in the scene's ``objects`` + 1, 0 for none; one sample at each
@@ -163,6 +165,8 @@ class Renderer:
     def __init__(self, scene: Scene, size: tuple[int, int] | None = None, samples: int | None = None,
                  *, gl=None, want_linear: bool = False, profile: bool = False, cache_static_passes: bool = True,
                  object_ids: bool = False):
+        if samples is not None:
+            samples = MSAA_SAMPLES.check(samples)  # before a context is made for nothing
         self.scene = scene
         self._owns_gl = gl is None
         self.gl = create_context() if gl is None else gl

@@ -349,7 +349,7 @@ def _caught_by(score: Score, rule: DiffRule) -> list[str]:
     return [name for metric, name in RULE_METRICS.items() if exceeds(metric, score.value(metric), getattr(rule, name))]
 
 
-RANGE_ONLY = DiffRule(max_shift_tile=math.inf)  # the rule before the shift test
+RANGE_ONLY = DiffRule(max_shift_tile=255.0)  # the rule before the shift test (no window is off by more)
 
 
 def verdict_table(scores: list[Score], rule: DiffRule = DEFAULT_RULE) -> str:

@@ -9,6 +9,7 @@ from pydantic import ConfigDict, PlainValidator, WithJsonSchema, model_validator
 from pydantic_core import PydanticCustomError
 
 from scenerender.colorspace import TONE_MAPS
+from scenerender.option_rules import MSAA_SAMPLES
 from scenerender.scene.describe import describe
 from scenerender.scene.model.paths import ImagePath, folder_path
 from scenerender.scene.model.unions import mapping_or
@@ -74,21 +75,17 @@ class SkyboxFaces(StrictModel):
 SkyboxFolder = folder_path("folder with posx negx posy negy posz negz images")
 Skybox = mapping_or(SkyboxFaces, SkyboxFolder)
 
-# GL multisampled images come in powers of two only (moderngl refuses any other count), so
-# a count no device offers is refused here rather than by the driver in the middle of a render
-MSAA_SAMPLES = (1, 2, 4, 8, 16, 32, 64)
-
-
 def _msaa_samples(value) -> int:
+    """The scene file's door to the one rule of MSAA sample counts (option_rules.MSAA_SAMPLES)."""
     count = check_number(value, integer=True)
-    if count not in MSAA_SAMPLES:
-        raise PydanticCustomError("samples", "MSAA samples must be one of {counts} (1 = off), got {got}",
-                                  {"counts": ", ".join(map(str, MSAA_SAMPLES)), "got": count})
+    problem = MSAA_SAMPLES.problem(count)
+    if problem is not None:
+        raise PydanticCustomError("samples", problem)
     return count
 
 
 MsaaSamples = Annotated[int, PlainValidator(_msaa_samples),
-                        WithJsonSchema({"type": "integer", "enum": list(MSAA_SAMPLES)})]
+                        WithJsonSchema({"type": "integer", "enum": list(MSAA_SAMPLES.choices)})]
 
 
 def _size(value):
