@@ -1,9 +1,10 @@
 """The README and the pages beside it stay true to the repository.
 
 Every relative link in README.md, CHANGELOG.md and docs/*.md names a file that exists (and,
-where it names a heading of a Markdown page, a heading that exists); the README opens with
-the two set-up commands; every runtime dependency in pyproject.toml is named, with its
-reason, in the README's table of libraries.
+where it names a heading of a Markdown page, a heading that exists); the README is a front
+page (at most 150 lines) that opens with the two set-up commands and links every page of
+docs/; every runtime dependency in pyproject.toml is named, with its reason, in the table
+of docs/libraries.md.
 
 Run as a script, it prints the broken links: python tests/test_readme_and_docs.py
 """
@@ -54,7 +55,7 @@ def broken_links(page: Path) -> list[str]:
         if not dest.exists():
             problems.append(f"{target}: no such file")
         elif anchor and dest.suffix == ".md" and anchor not in _anchors(dest):
-            problems.append(f"{target}: no heading with that anchor in {dest.relative_to(ROOT)}")
+            problems.append(f"{target}: no heading with that anchor in {dest.name}")
     return problems
 
 
@@ -70,21 +71,37 @@ def test_readme_opens_with_the_setup_commands():
     assert first_block.group(1).splitlines() == SETUP_COMMANDS
 
 
-def test_readme_names_every_dependency_with_its_reason():
+def test_the_link_check_catches_a_missing_file_and_a_missing_heading(tmp_path):
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "usage.md").write_text("# Using it\n\n## The commands\n\ntext\n", encoding="utf-8")
+    page = tmp_path / "README.md"
+    page.write_text("[ok](docs/usage.md) [ok too](docs/usage.md#the-commands) [self](#a-front-page)\n"
+                    "# A front page\n[gone](docs/usage.md#the-comands) [missing](docs/ci.md)\n"
+                    "`[not a link](docs/none.md)`\n", encoding="utf-8")
+    assert broken_links(page) == ["docs/usage.md#the-comands: no heading with that anchor in usage.md",
+                                  "docs/ci.md: no such file"]
+
+
+def test_readme_is_a_front_page_linking_every_doc():
+    """A newcomer reads it in two minutes; the manual lives in docs/, every page one link away."""
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert len(readme.splitlines()) <= 150
+    linked = {target.partition("#")[0] for target in _LINK.findall(_prose(readme))}
+    assert sorted(page.name for page in (ROOT / "docs").glob("*.md") if f"docs/{page.name}" not in linked) == []
+
+
+def test_docs_name_every_dependency_with_its_reason():
     pyproject = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
     block = re.search(r"^dependencies = \[(.*?)^\]", pyproject, re.M | re.S).group(1)
     names = re.findall(r"^\s*\"([A-Za-z0-9_.-]+)", block, re.M)
     assert len(names) > 5
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    section = readme[readme.index("## Libraries"):]
-    section = section[:section.index("\n## ")]
     rows = {}
-    for line in section.splitlines():
+    for line in (ROOT / "docs" / "libraries.md").read_text(encoding="utf-8").splitlines():
         cells = [cell.strip() for cell in line.strip().strip("|").split("|")]
         if line.startswith("|") and len(cells) >= 2:
             rows[cells[0].split(" (")[0].lower()] = cells[1]
     missing = [name for name in names if not rows.get(name.lower())]
-    assert missing == [], f"pyproject.toml dependencies without a row and a reason in the README: {missing}"
+    assert missing == [], f"pyproject.toml dependencies without a row and a reason in docs/libraries.md: {missing}"
 
 
 if __name__ == "__main__":

@@ -33,7 +33,8 @@ shows, transparency order), [scene-notes.md](scene-notes.md) records what scener
 decides and why.
 
 For editors, `scenerender schema` prints the same format as JSON Schema; the repository
-carries it as `scene.schema.json` (see the README for completion and checking in VS Code).
+carries it as `scene.schema.json` ([usage.md](usage.md#editor-completion) says how to get completion and
+checking in VS Code).
 
 Contents: [conventions](#conventions) · [top level](#top-level) ·
 [animatable values](#animatable-values) · [files](#files-and-where-they-may-come-from) ·
