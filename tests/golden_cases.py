@@ -36,6 +36,9 @@ CASES = {
     "viewer_modes@wireframe": ("viewer_modes.yaml", 0, ["render.mode=wireframe"]),
     "primitives": ("primitives.yaml", 30, []),
     "primitives@phong": ("primitives.yaml", 30, ["render.shading=phong"]),
+    # a transparent prism and an outlined cylinder: as edges and points like every other surface
+    "primitives@wireframe": ("primitives.yaml", 30, ["render.mode=wireframe"]),
+    "primitives@points": ("primitives.yaml", 30, ["render.mode=points"]),
     "gltf_pbr": ("gltf_pbr.yaml", 36, []),
 }
 

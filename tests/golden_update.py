@@ -6,6 +6,9 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+# this checkout's package, not whichever scenerender is installed (the script's own folder,
+# tests/, is first on the path, not the repository root)
+sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
 
 from PIL import Image  # noqa: E402
 

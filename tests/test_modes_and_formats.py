@@ -45,3 +45,32 @@ def test_exr_keeps_data_modes_in_float(tmp_path, mode):
     assert values.dtype == np.float32
     fractions = values * 255.0 - np.round(values * 255.0)
     assert np.abs(fractions).max() > 0.01  # not 8-bit levels stored as floats
+
+
+LIGHT_MODES = ("shaded", "wireframe", "points")
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_only_the_data_modes_are_written_without_the_output_transform(gl, mode):
+    """What docs/scene-format.md and docs/scene-notes.md say: shaded, wireframe and points are
+    light, encoded by ``output_transform``; the data modes are written as they are."""
+    from conftest import render_one
+    from scenerender.rendering.pipeline import DATA_MODES
+
+    srgb, linear = (render_one(gl, SCENES / "viewer_modes.yaml",
+                               [f"render.mode={mode}", "render.size=[48, 32]", "render.samples=1",
+                                f"render.output_transform={transform}"]) for transform in ("srgb", "linear"))
+    assert (mode in DATA_MODES) == np.array_equal(srgb, linear)
+    assert (mode in LIGHT_MODES) != (mode in DATA_MODES)
+
+
+def test_the_format_reference_names_the_data_modes_the_renderer_has():
+    import re
+
+    from scenerender.rendering.pipeline import DATA_MODES
+    from scenerender.scene.reference_text import RENDER_MODES
+
+    light, data = RENDER_MODES.split("The data modes", 1)
+    data = data.split(":", 1)[0]
+    assert tuple(re.findall(r"`(\w+)`", data)) == DATA_MODES
+    assert [m for m in re.findall(r"`(\w+)`", light) if m in MODES] == list(LIGHT_MODES)

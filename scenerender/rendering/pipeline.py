@@ -86,10 +86,12 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     color, depth = opaque.color, opaque.depth
     if inputs.skybox is not None and sky is NO_SKY:
         color = graph.add(SkyboxPass(color, depth, inputs.camera, inputs.skybox)).image
+    lines_and_points = (fill, settings.line_width, settings.point_size)  # how wireframe and points draw
     if inputs.outlines is not None:
-        color = graph.add(OutlinePass(color, depth, inputs.camera, inputs.objects, inputs.outlines)).image
+        color = graph.add(OutlinePass(color, depth, inputs.camera, inputs.objects, inputs.outlines,
+                                      *lines_and_points)).image
     if any(m.transparent for m in world.materials()):
-        color = graph.add(TransparentPass(color, depth, shading)).image
+        color = graph.add(TransparentPass(color, depth, shading, *lines_and_points)).image
     if settings.wireframe_overlay:
         color = graph.add(WireframeOverlayPass(color, depth, inputs.camera, inputs.objects, settings.line_width)).image
     if not hdr and settings.output_transform == "srgb" and tone is NO_TONE and options.fuse_resolve:

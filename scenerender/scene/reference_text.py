@@ -154,15 +154,17 @@ before all three.
 """
 
 RENDER_MODES = """
-`render.mode` picks what a pixel shows; every mode but `shaded` is written without an
-output transform:
+`render.mode` picks what a pixel shows. `shaded`, `wireframe` and `points` show light and
+are written as light is: through `exposure`, `tone_map` and `output_transform` (sRGB by
+default). The data modes, `depth`, `normals`, `ambient_occlusion`, `shadow` and
+`light_depth`, show values and are written as they are, without any of the three:
 
 | mode | a pixel shows |
 |---|---|
 | `shaded` | the lit scene |
 | `depth` | linear view depth, black at `near`, white at `far` and where nothing is |
 | `normals` | the world-space normal mapped to colour (n * 0.5 + 0.5) |
-| `wireframe`, `points` | the triangle edges, or the vertices |
+| `wireframe`, `points` | the lit scene's triangle edges, or its vertices (transparent and outlined surfaces too) |
 | `ambient_occlusion` | the occlusion term, white open, black occluded |
 | `shadow` | the first shadowed light's visibility, white lit, black shadowed |
 | `light_depth` | the first shadowed light's depth map, seen from the light |

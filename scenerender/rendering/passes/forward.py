@@ -194,16 +194,33 @@ class OpaquePass(RenderPass):
         return masked
 
 
+def begin_fill(gl, fill: str, line_width: float, point_size: float):
+    """Set ``gl`` up to draw surfaces as ``fill`` ("solid", "wireframe": their edges, or
+    "points": their vertices) and return the primitive to draw with (None: the mesh's own
+    triangles). Callers end with ``gl.wireframe = False``."""
+    gl.line_width = line_width
+    if fill == "wireframe":
+        gl.wireframe = True
+    elif fill == "points":
+        gl.point_size = point_size
+        return moderngl.POINTS
+    return None
+
+
 @dataclass(frozen=True)
 class OutlinePass(RenderPass):
     """Selection outlines: each outlined object's back faces, pushed out along the normals
-    and drawn in a flat colour; the object itself hides all but the rim."""
+    and drawn in a flat colour; the object itself hides all but the rim. In the wireframe
+    and points modes (``fill``) the pushed-out faces are drawn as edges or points too."""
 
     color: Handle
     depth: Handle
     camera: Handle
     objects: Handle
     outlines: Handle
+    fill: str = "solid"
+    line_width: float = 1.0
+    point_size: float = 3.0
 
     name = "outline"
 
@@ -222,26 +239,37 @@ class OutlinePass(RenderPass):
         set_uniforms(program, u_view_proj=ctx.input(self.camera).view_proj_relative())
         objects = ctx.input(self.objects)
         outlines = ctx.input(self.outlines)
-        for index in objects.in_camera_view():
-            if index in outlines:
-                color, width = outlines[index]
-                set_uniforms(program, u_color=color, u_outline_width=width)
-                objects.draw(program, index, welded_normals=True)
-        gl.disable(moderngl.CULL_FACE)
-        gl.cull_face = "back"
+        mode = begin_fill(gl, self.fill, self.line_width, self.point_size)
+        try:
+            for index in objects.in_camera_view():
+                if index in outlines:
+                    color, width = outlines[index]
+                    set_uniforms(program, u_color=color, u_outline_width=width)
+                    objects.draw(program, index, mode=mode, welded_normals=True)
+        finally:
+            gl.wireframe = False
+            gl.disable(moderngl.CULL_FACE)
+            gl.cull_face = "back"
 
 
 @dataclass(frozen=True)
 class TransparentPass(RenderPass):
     """Transparent surfaces after everything opaque, sorted far to near, blended, with depth
     test but no depth writes. Each object draws its back faces first, then its front faces,
-    which orders a convex object's own surfaces correctly."""
+    which orders a convex object's own surfaces correctly. In the wireframe and points modes
+    (``fill``) each object draws every face once as edges or points, as opaque ones do."""
 
     color: Handle
     depth: Handle
     shading: Shading
+    fill: str = "solid"
+    line_width: float = 1.0
+    point_size: float = 3.0
 
     name = "transparent"
+
+    def describe(self) -> str:
+        return "" if self.fill == "solid" else self.fill
 
     def setup(self, builder) -> ImageData:
         builder.read(self.depth)
@@ -253,7 +281,7 @@ class TransparentPass(RenderPass):
         fbo = ctx.framebuffer([data.image], self.depth)
         fbo.use()
         fbo.depth_mask = False
-        gl.enable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
+        gl.enable(moderngl.DEPTH_TEST | moderngl.BLEND)
         gl.depth_func = ctx.depth.nearer
         # colour "over" what is there; alpha accumulates coverage, which the resolve's
         # sky-behind needs (passes/sky.py): a + (1 - a) * a_dst
@@ -261,8 +289,13 @@ class TransparentPass(RenderPass):
         self.shading.bind(ctx)
         items = transparent_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
         objects = ctx.input(self.shading.inputs.objects)
+        mode = begin_fill(gl, self.fill, self.line_width, self.point_size)
         try:
             for item in items:
+                if self.fill != "solid":  # edges and points: every face once, as the opaque pass draws them
+                    self.shading.draw(ctx, [item], mode)
+                    continue
+                gl.enable(moderngl.CULL_FACE)
                 hidden = None if item.material.double_sided else single_sided_faces(objects, item.object_index)
                 # cull front = draw back faces first; a single-sided surface shows one side
                 for side in ("front", "back") if hidden is None else (hidden,):
@@ -270,6 +303,7 @@ class TransparentPass(RenderPass):
                     self.shading.draw(ctx, [item])
         finally:
             fbo.depth_mask = True
+            gl.wireframe = False
             gl.disable(moderngl.BLEND | moderngl.CULL_FACE)
             gl.cull_face = "back"
 
