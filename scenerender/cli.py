@@ -21,6 +21,8 @@ from scenerender.option_rules import MSAA_SAMPLES
 from scenerender.version import __version__
 
 SET_HELP = "Override any scene key, e.g. --set render.samples=8 or --set objects[0].position=[0,1,0] (repeatable)."
+# every output option: -o out/new/dir makes out/new/dir (and out/new) without asking
+MAKES_PARENTS = "Folders on the way that do not exist are created."
 ASSET_ROOT_HELP = ("Also let the scene read assets (meshes, MTL files, textures, skyboxes) from DIR; by default "
                    "only the scene file's folder is allowed (repeatable; SCENERENDER_ASSET_ROOTS adds more, "
                    "separated by the path separator).")
@@ -217,7 +219,7 @@ def _scene_overrides(with_samples: bool = True):
 @main.command()
 @click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
 @click.option("-o", "--output", type=GivenPath(path_type=Path), default=Path("out"), show_default=True,
-              help="Folder for image sequences, or the video file / folder for MP4 and GIF.")
+              help="Folder for image sequences, or the video file / folder for MP4 and GIF. " + MAKES_PARENTS)
 @_scene_overrides()
 @click.option("--format", "fmt", type=click.Choice(["png", "jpg", "tga", "exr", "mp4", "gif"]),
               help="Output format (overrides output.format).")
@@ -325,7 +327,7 @@ def validate(scene, overrides, strict, assets, asset_roots, limit_texts):
 
 
 @main.command()
-@click.option("-o", "--output", type=GivenPath(dir_okay=False, path_type=Path), help="Write to a file.")
+@click.option("-o", "--output", type=GivenPath(dir_okay=False, path_type=Path), help="Write to a file. " + MAKES_PARENTS)
 @click.option("--markdown", is_flag=True,
               help="The format reference (every key, its type, range, default and an example) as Markdown.")
 def schema(output, markdown):
@@ -398,7 +400,7 @@ def _diff_rule_options(command):
 @click.argument("reference", type=GivenPath(path_type=Path))
 @click.argument("output", type=GivenPath(path_type=Path))
 @click.option("--report", type=GivenPath(dir_okay=False, path_type=Path),
-              help="Write a self-contained HTML report (images, heatmaps, changed regions).")
+              help="Write a self-contained HTML report (images, heatmaps, changed regions). " + MAKES_PARENTS)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON on stdout instead of lines.")
 @_diff_rule_options
 def diff(reference, output, report, as_json, **limits):
@@ -437,7 +439,7 @@ def diff(reference, output, report, as_json, **limits):
 @main.command()
 @click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
 @click.option("-o", "--output", type=GivenPath(file_okay=False, path_type=Path), default=Path("ref"),
-              show_default=True, help="Folder for frame_NNNN.exr (linear float) and frame_NNNN.png.")
+              show_default=True, help="Folder for frame_NNNN.exr (linear float) and frame_NNNN.png. " + MAKES_PARENTS)
 @click.option("--frames", metavar="A:B", default="0:1", show_default=True,
               help="Frames to render (like a Python slice).")
 @click.option("--spp", type=RuleType(option_rules.SPP), default=4, show_default=True,
@@ -480,7 +482,7 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
 @main.command()
 @click.argument("scene", type=GivenPath(dir_okay=False, path_type=Path))
 @click.option("-o", "--output", type=GivenPath(file_okay=False, path_type=Path), default=Path("bench"),
-              show_default=True, help="Folder for NAME.md (table), NAME.json and NAME.png (plot).")
+              show_default=True, help="Folder for NAME.md (table), NAME.json and NAME.png (plot). " + MAKES_PARENTS)
 @click.option("--knob", "knobs", multiple=True,
               type=click.Choice(["samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size",
                                  "sh_order", "env_samples", "env_footprint"]),

@@ -478,3 +478,17 @@ def test_a_pasted_value_does_not_fill_the_message(scenes):
     assert result.exit_code == 2
     assert len(result.stderr) < 800, result.stderr
     assert "characters left out" in result.stderr and "expected one of shaded" in result.stderr
+
+
+@pytest.mark.parametrize("command", ["render", "schema", "reference", "bench", "diff"])
+def test_every_output_option_says_it_creates_missing_folders(command):
+    """`-o /new/dir/x` makes every missing folder on the way: the help says so."""
+    from scenerender.cli import MAKES_PARENTS
+
+    assert MAKES_PARENTS in " ".join(cli(command, "--help").output.split())
+
+
+def test_schema_output_makes_its_missing_folders(tmp_path):
+    target = tmp_path / "new" / "dir" / "scene.schema.json"
+    assert cli("schema", "-o", target).exit_code == 0
+    assert target.is_file()
