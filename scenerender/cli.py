@@ -245,10 +245,14 @@ def _scene_overrides(with_samples: bool = True):
 @click.option("--scheduler", metavar="ADDRESS",
               help="Render on a Dask cluster, e.g. tcp://10.0.0.5:8786; the scene, its assets and -o must "
                    "be on storage every worker sees (needs the 'distributed' extra).")
+@click.option("--require-gpu", is_flag=True, default=None,
+              help="Exit 3 when the GL renderer draws on the CPU (llvmpipe, softpipe, swrast), as a driver that "
+                   "finds no GPU does without a word; SCENERENDER_REQUIRE_GPU=1 does the same for every render. "
+                   "The renderer used is the first line of progress and is recorded in the run manifest.")
 @_asset_root_option
 @_limit_option
 def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, profile, check,
-           update_references, object_ids, workers, scheduler, asset_roots, limit_texts):
+           update_references, object_ids, workers, scheduler, require_gpu, asset_roots, limit_texts):
     """Render SCENE into -o OUTPUT: a folder of frames, or the video or image file it names.
 
     A frame already in OUTPUT is kept only when the run manifest (OUTPUT/.scenerender.json)
@@ -268,7 +272,8 @@ def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, prof
       scenerender render scene.yaml -o out/ --object-ids --check ref/    # changes named by object
 
     Exit codes: 0 done, 1 frames changed (--check), 2 bad input or an output that cannot be
-    written, 3 the machine lacks something (no OpenGL driver), 130 / 143 interrupted.
+    written, 3 the machine lacks something (no OpenGL driver; no GPU with --require-gpu),
+    130 / 143 interrupted.
     """
     from scenerender.run.interrupts import signals_as_exceptions
     from scenerender.run.job import RenderOptions, run_render
@@ -287,7 +292,8 @@ def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, prof
                             overwrite=overwrite, strict=strict, quiet=quiet, format=fmt, profile=profile,
                             check=check, update_references=update_references, object_ids=object_ids,
                             asset_roots=tuple(asset_roots),
-                            workers=workers, scheduler=scheduler, limits=_limits(limit_texts))
+                            workers=workers, scheduler=scheduler, limits=_limits(limit_texts),
+                            require_gpu=require_gpu)
     with signals_as_exceptions():  # also while the scene loads: exit 143/129 with a message
         summary = run_render(scene, options, echo=echo, notice=notice)
     if summary.profile:

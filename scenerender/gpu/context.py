@@ -77,3 +77,31 @@ def _has_avx2(cpuinfo: Path) -> bool:
     except OSError:
         return False
     return any(line.startswith("flags") and "avx2" in line.split(":", 1)[-1].split() for line in text.splitlines())
+
+
+# GL_RENDERER names of Mesa's CPU rasterisers: a driver that finds no GPU (or is not allowed
+# to use one, as in a container started without it) falls back to one of these silently
+SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast")
+
+GPU_HINT = ("for a GPU, install its driver with EGL support (NVIDIA: the driver's libEGL_nvidia; AMD and Intel: "
+            "Mesa's radeonsi or iris) and, in a container, pass the GPU in (docker run --gpus all with "
+            "NVIDIA_DRIVER_CAPABILITIES=graphics); or leave out --require-gpu (and SCENERENDER_REQUIRE_GPU) "
+            "to render on the CPU")
+
+
+def renderer_name(ctx) -> str:
+    """The context's GL_RENDERER, e.g. 'llvmpipe (LLVM 15.0.6, 256 bits)'."""
+    return str(ctx.info.get("GL_RENDERER", "unknown"))
+
+
+def is_software(renderer: str) -> bool:
+    """Whether GL_RENDERER ``renderer`` names a CPU rasteriser."""
+    return any(name in renderer.lower() for name in SOFTWARE_RENDERERS)
+
+
+def refuse_software(ctx) -> None:
+    """EnvironmentProblem (exit 3) when ``ctx`` renders on the CPU: a GPU was required."""
+    renderer = renderer_name(ctx)
+    if is_software(renderer):
+        raise EnvironmentProblem(f"a GPU is required, but the GL renderer is '{renderer}', which draws on the CPU; "
+                                 f"{GPU_HINT}")

@@ -38,6 +38,7 @@ class RenderOptions:
     scheduler: str | None = None     # a Dask scheduler address: render on that cluster's workers
     update_references: bool = False  # with check: rewrite the references from this output
     object_ids: bool = False         # keep each frame's object ids beside it (sinks/object_ids.py)
+    require_gpu: bool | None = None  # a software GL renderer is exit 3; None: SCENERENDER_REQUIRE_GPU decides
 
 
 @dataclass
@@ -71,6 +72,7 @@ def render_to(scene, output, **options) -> "RenderSummary":
     Options are the CLI's (see ``RenderOptions``): ``overrides``, ``frames`` ("A:B"),
     ``overwrite``, ``strict``, ``format``, ``check`` (a reference folder),
     ``update_references``, ``object_ids`` (keep each frame's object ids for ``diff``),
+    ``require_gpu`` (a software GL renderer is an EnvironmentProblem),
     ``quiet`` (default True: no progress here).
     Returns a ``RenderSummary``.
     """
@@ -161,7 +163,8 @@ def _distributed(options: RenderOptions, plan: FramePlan) -> bool:
 def _render_here(scene: Scene, plan: FramePlan, options: RenderOptions, progress) -> str | None:
     """Render ``plan.todo`` in this process -> the per-pass table with ``options.profile``."""
     with Renderer(scene, want_linear=plan.sink.needs_linear, profile=options.profile,
-                  object_ids=options.object_ids) as renderer:
+                  object_ids=options.object_ids, require_gpu=options.require_gpu) as renderer:
+        progress.renderer(renderer.gl_renderer)
         plan.manifest.start(gl_info(renderer.gl))
         render_into(renderer, plan.recording, plan.todo, progress)
         return renderer.profile_report(len(plan.todo)) if options.profile else None

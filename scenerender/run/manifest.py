@@ -9,7 +9,7 @@ an output folder never mixes frames of two versions of a scene.
 Where it lives: ``<folder>/.scenerender.json`` for an image sequence, and
 ``<parent>/.<file name>.scenerender.json`` for a video or a single image. Besides the
 fingerprints it records provenance: the scenerender version and the GL renderer that made
-the frames, which ``scenerender diff`` shows.
+the frames (and whether it drew on the CPU: ``gl.software``), which ``scenerender diff`` shows.
 """
 from __future__ import annotations
 
@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import UserError, display_path
+from scenerender.gpu.context import is_software
 from scenerender.mesh.data import MeshData
 from scenerender.sinks.base import atomic_path, write_file
 from scenerender.version import __version__
@@ -190,8 +191,10 @@ class Manifest:
         self.data.update(format=FORMAT_VERSION, scenerender=__version__)
         self.data["runs"][self.scene] = {"run": self.run.digest, "inputs": self.run.parts}
         if gl_info:
-            self.data["gl"] = {"renderer": gl_info.get("GL_RENDERER"), "vendor": gl_info.get("GL_VENDOR"),
-                               "version": gl_info.get("GL_VERSION")}
+            renderer = gl_info.get("GL_RENDERER")
+            self.data["gl"] = {"renderer": renderer, "vendor": gl_info.get("GL_VENDOR"),
+                               "version": gl_info.get("GL_VERSION"),
+                               "software": renderer is not None and is_software(str(renderer))}
         self.save()
 
     def record(self, name: str, index: int, file: Path, ids: Path | None = None) -> None:

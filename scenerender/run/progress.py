@@ -5,6 +5,8 @@ from __future__ import annotations
 import sys
 import time
 
+from scenerender.gpu.context import is_software
+
 
 class Progress:
     """Counts frames; ``report`` prints at most every ``interval`` seconds when not a TTY."""
@@ -12,6 +14,7 @@ class Progress:
     def __init__(self, total: int, quiet: bool = False, stream=None, interval: float = 5.0):
         self.total = total
         self.done = 0
+        self.silent = quiet  # -q: not even the renderer line
         self.quiet = quiet or total <= 1
         self.stream = stream or sys.stderr
         self.interval = interval
@@ -45,6 +48,19 @@ class Progress:
     @property
     def fps(self) -> float:
         return self.done / self.elapsed if self.elapsed > 0 else 0.0
+
+    def renderer(self, gl_renderer: str) -> None:
+        """The first line of a run's progress, also of a one-frame run: which GL renderer
+        draws, and whether that is the CPU (a driver that finds no GPU falls back to one
+        without a word)."""
+        if self.silent:
+            return
+        where = "software, on the CPU" if is_software(gl_renderer) else "on the GPU"
+        line = f"GL renderer: {gl_renderer} ({where})"
+        if self._bar is not None:
+            self._bar.console.print(line, markup=False, highlight=False)
+        else:
+            print(line, file=self.stream, flush=True)
 
     def advance(self) -> None:
         self.done += 1

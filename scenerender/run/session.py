@@ -10,6 +10,7 @@ objects; ``scenerender.api`` re-exports them as the public API.
 from __future__ import annotations
 
 import copy
+import os
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import UserError, Warnings
-from scenerender.gpu.context import create_context
+from scenerender.gpu.context import create_context, refuse_software, renderer_name
 from scenerender.mesh.data import MeshData
 from scenerender.option_rules import MSAA_SAMPLES
 from scenerender.rendering.profile import profile_report
@@ -25,6 +26,8 @@ from scenerender.rendering.renderer import FrameResult
 from scenerender.rendering.renderer import GraphRenderer
 from scenerender.scene.loading import load_scene, load_scene_data, load_scene_text
 from scenerender.world.build import build_world
+
+REQUIRE_GPU_VARIABLE = "SCENERENDER_REQUIRE_GPU"  # =1: as --require-gpu, for every render of the process
 
 # A rendered frame: ``index``, ``time`` (seconds, float64), ``pixels`` ((H, W, 3) uint8,
 # top row first, display-encoded), ``linear`` ((H, W, 3) float32 linear light, or None) and
@@ -160,17 +163,21 @@ class Renderer:
              pixel's centre, the nearest surface)
     profile: time every pass (GPU-synchronised); see ``timings``
     cache_static_passes: False renders every pass every frame (to measure what caching saves)
+    require_gpu: a software GL renderer (llvmpipe, softpipe, swrast) is an EnvironmentProblem
+             (exit 3 on the command line); default: the SCENERENDER_REQUIRE_GPU variable
     """
 
     def __init__(self, scene: Scene, size: tuple[int, int] | None = None, samples: int | None = None,
                  *, gl=None, want_linear: bool = False, profile: bool = False, cache_static_passes: bool = True,
-                 object_ids: bool = False):
+                 object_ids: bool = False, require_gpu: bool | None = None):
         if samples is not None:
             samples = MSAA_SAMPLES.check(samples)  # before a context is made for nothing
         self.scene = scene
         self._owns_gl = gl is None
         self.gl = create_context() if gl is None else gl
         try:
+            if gpu_required(require_gpu):
+                refuse_software(self.gl)
             self._renderer = GraphRenderer(scene.world, self.gl, size=size, samples=samples,
                                            warn=scene.world.warnings.warn, want_linear=want_linear,
                                            profile=profile, cache_static_passes=cache_static_passes,
@@ -182,6 +189,11 @@ class Renderer:
     @property
     def size(self) -> tuple[int, int]:
         return self._renderer.size
+
+    @property
+    def gl_renderer(self) -> str:
+        """The GL renderer drawing the frames, e.g. 'llvmpipe (LLVM 15.0.6, 256 bits)'."""
+        return renderer_name(self.gl)
 
     @property
     def samples(self) -> int:
@@ -220,6 +232,13 @@ class Renderer:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def gpu_required(require_gpu: bool | None = None) -> bool:
+    """``require_gpu``, or where None whether SCENERENDER_REQUIRE_GPU is set (not 0 or empty)."""
+    if require_gpu is not None:
+        return require_gpu
+    return os.environ.get(REQUIRE_GPU_VARIABLE, "").strip().lower() not in ("", "0", "false", "no")
 
 
 def render(scene: Scene, frames: Iterable[int] | None = None, size=None, samples=None, *,

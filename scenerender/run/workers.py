@@ -50,6 +50,7 @@ class ChunkTask:
     indices: tuple
     object_names: tuple | None = None  # (id, name) pairs: keep each frame's object ids too
     scene_key: str = ""               # the scene as objects.json names it
+    require_gpu: bool | None = None   # RenderOptions.require_gpu, checked on each worker's own context
 
 
 @dataclass
@@ -93,7 +94,8 @@ def _renderer_for(task: ChunkTask):
         if "renderer" in _worker_state:
             _worker_state.pop("renderer").close()
         scene = load(task.scene, list(task.overrides), asset_roots=task.asset_roots, limits=task.limits)
-        renderer = Renderer(scene, want_linear=task.fmt == "exr", object_ids=object_ids)
+        renderer = Renderer(scene, want_linear=task.fmt == "exr", object_ids=object_ids,
+                            require_gpu=task.require_gpu)
         _worker_state.update(key=key, renderer=renderer, gl=gl_info(renderer.gl))
     return _worker_state["renderer"], {k: str(v) for k, v in _worker_state["gl"].items()}
 
@@ -182,7 +184,7 @@ def render_with_workers(scene, options, plan, progress) -> None:
                      pattern=plan.sink.pattern if sequence else STAGED_PATTERN,
                      quality=plan.sink.quality, indices=(),
                      object_names=_pairs(plan.sink.object_names) if sequence else None,
-                     scene_key=plan.sink.scene if sequence else "")
+                     scene_key=plan.sink.scene if sequence else "", require_gpu=options.require_gpu)
     workers = open_workers(options.workers, options.scheduler)
     try:
         started = False
@@ -190,6 +192,7 @@ def render_with_workers(scene, options, plan, progress) -> None:
             if result.error:
                 raise UserError(result.error)
             if not started:
+                progress.renderer(result.gl.get("GL_RENDERER", "unknown"))
                 plan.manifest.start(result.gl)
                 started = True
             for index, name in result.written:
