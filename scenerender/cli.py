@@ -201,8 +201,8 @@ def _scene_overrides(with_samples: bool = True):
     ]
     if with_samples:
         options.append(click.option("--samples", type=RuleType(MSAA_SAMPLES), metavar="N",
-                                    help="MSAA samples: 1 (anti-aliasing off), 2, 4, 8, 16, 32 or 64 "
-                                         "(overrides render.samples)."))
+                                    help=f"MSAA samples: {MSAA_SAMPLES.bounds()} {MSAA_SAMPLES.note}; overrides "
+                                         "render.samples."))
 
     def decorate(command):
         @functools.wraps(command)
