@@ -333,7 +333,8 @@ def validate(scene, overrides, strict, assets, asset_roots, limit_texts):
 
 
 @main.command()
-@click.option("-o", "--output", type=GivenPath(dir_okay=False, path_type=Path), help="Write to a file. " + MAKES_PARENTS)
+@click.option("-o", "--output", type=GivenPath(dir_okay=False, path_type=Path),
+              help="Write to a file. " + MAKES_PARENTS)
 @click.option("--markdown", is_flag=True,
               help="The format reference (every key, its type, range, default and an example) as Markdown.")
 def schema(output, markdown):
