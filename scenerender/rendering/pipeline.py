@@ -14,6 +14,7 @@ import numpy as np
 from scenerender.graph import FrameGraph
 from scenerender.rendering.features import environment_shades, specular_layout
 from scenerender.rendering.inputs import InputHandles, import_inputs
+from scenerender.rendering.passes.bloom import add_bloom
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
 from scenerender.rendering.passes.environment import EnvironmentLighting, EnvironmentPrefilterPass
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
@@ -75,8 +76,9 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else visible or prepass_pays(world, atlas, size, samples))
     tone = _tone_curve(world, inputs)
+    bloom = settings.bloom if fill == "solid" and settings.bloom is not None and settings.bloom.strength > 0 else None
     hdr = (options.hdr_target if options.hdr_target is not None
-           else hdr_target_pays(options, settings.output_transform, tone is not NO_TONE))
+           else hdr_target_pays(options, settings.output_transform, tone is not NO_TONE or bloom is not None))
     # with MSAA the resolve adds the sky behind the samples; without, a pass draws it (passes/sky.py)
     sky = (SkyUnder(inputs.camera, inputs.skybox)
            if inputs.skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY)
@@ -92,7 +94,13 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         color = graph.add(TransparentPass(color, depth, shading)).image
     if settings.wireframe_overlay:
         color = graph.add(WireframeOverlayPass(color, depth, inputs.camera, inputs.objects, settings.line_width)).image
-    if not hdr and settings.output_transform == "srgb" and tone is NO_TONE and options.fuse_resolve:
+    if bloom is not None:
+        # bloom reads the resolved linear image and hands on the bloomed one
+        if samples > 1:
+            color = graph.add(ResolvePass(color, size, sky=sky)).image
+        color = add_bloom(graph, color, size, bloom)
+        final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma, tone)).image
+    elif not hdr and settings.output_transform == "srgb" and tone is NO_TONE and options.fuse_resolve:
         # the 8-bit sRGB target already holds the output values: resolve (in linear
         # light) where multisampled, and read back
         final = graph.add(ResolveToSrgbPass(color, size, sky=sky)).image if samples > 1 else color

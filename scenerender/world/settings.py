@@ -52,6 +52,15 @@ class OutlineSettings:
 
 
 @dataclass(frozen=True)
+class BloomSettings:
+    """strength: the fraction of light spread into the glow; radius: the Gaussian's
+    standard deviation as a fraction of the image height (rendering/passes/bloom.py)."""
+
+    strength: float
+    radius: float
+
+
+@dataclass(frozen=True)
 class RenderSettings:
     """size: (width, height); skybox: the six face paths (+x -x +y -y +z -z) or None;
     tone_map: "none" | "aces" | "agx" (the exposure, a Track, is an input: world.inputs)."""
@@ -69,6 +78,8 @@ class RenderSettings:
     fog: FogSettings | None
     ambient_occlusion: AmbientOcclusionSettings | None
     skybox: tuple[Path, ...] | None
+    bloom: BloomSettings | None = None
+    film_samples: int = 16
 
     @classmethod
     def of(cls, render) -> "RenderSettings":
@@ -83,4 +94,6 @@ class RenderSettings:
             fog=FogSettings(fog.mode, fog.start, fog.end) if fog is not None else None,
             ambient_occlusion=AmbientOcclusionSettings.of(ao) if ao is not None else None,
             skybox=tuple(Path(getattr(sky, face)) for face in SKY_FACES) if sky is not None else None,
+            bloom=BloomSettings(render.bloom.strength, render.bloom.radius) if render.bloom is not None else None,
+            film_samples=render.film_samples,
         )
