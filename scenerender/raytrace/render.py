@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from scenerender.colorspace import tone_map
+from scenerender.colorspace import encode_output, tone_map
 from scenerender.errors import UserError
 from scenerender.raytrace import environment, shading
 from scenerender.raytrace.geometry import Soup, frame_soup
@@ -145,7 +145,7 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
               for y0 in range(0, height, rows_per_chunk)]
     linear, shadow, cone, objects, mixed, blocked = (np.concatenate(parts) for parts in zip(*chunks))
     toned = tone_map(linear, world.render.tone_map, frame.exposure)
-    pixels = shading.encode_output(toned, world.render.output_transform, world.render.gamma)
+    pixels = encode_output(toned, world.render.output_transform, world.render.gamma)
     return ReferenceFrame(index, time, linear.astype(np.float32), pixels, shadow, cone, objects, mixed, spp,
                           blocked)
 

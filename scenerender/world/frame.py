@@ -14,6 +14,7 @@ from scenerender.animation import animated_keys
 from scenerender.world.build import World, scene_bounds
 from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
+from scenerender.world.lens import lens_radius, through_lens
 from scenerender.world.environment import EnvironmentState
 from scenerender.world.lights import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye
@@ -104,7 +105,9 @@ class FrameEvaluator:
         return {i: self._placement(obj, obj.matrices(0.0), self._windings[i])
                 for i, obj in enumerate(self.world.objects) if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
 
-    def evaluate(self, index: int, time: float) -> FrameState:
+    def evaluate(self, index: int, time: float, lens_point: tuple | None = None) -> FrameState:
+        """The frame at ``time``; ``lens_point`` (x, y on the unit disc): seen from that point
+        of the lens of ``camera.aperture`` (world.lens), else from the pinhole."""
         world = self.world
         placements = [self._fixed.get(i) or self._placement(obj, obj.matrices(time), self._windings[i])
                       for i, obj in enumerate(world.objects)]
@@ -118,6 +121,8 @@ class FrameEvaluator:
                 [bool(obj.visible(0.0)) for obj in world.objects])
             self.rig.first_bounds = start if start is not None else np.array([[-1.0] * 3, [1.0] * 3])
         camera = self.rig.at(time, bounds)
+        if lens_point is not None:
+            camera = self._through_lens(camera, lens_point, time)
         planes = frustum_planes(camera.view_proj_relative())
         objects = [self._object(obj, p, v, camera, planes) for obj, p, v in zip(world.objects, placements, visible)]
         lights = evaluate_lights(world.lights, time, camera)
@@ -135,6 +140,11 @@ class FrameEvaluator:
         )
 
     # -- camera -----------------------------------------------------------------------
+    def _through_lens(self, camera: CameraState, point: tuple, t: float) -> CameraState:
+        spec = self.world.spec.camera
+        focus = self.rig.focus_distance(t)
+        return through_lens(camera, point, lens_radius(camera, spec.aperture, focus, spec.sensor_width), focus)
+
     def camera(self, t: float, bounds) -> CameraState:
         """The camera at ``t`` in a scene whose objects span ``bounds`` (2, 3), without
         evaluating the rest of the frame (objects that never move: their bounds at 0)."""

@@ -102,7 +102,9 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
     objects = _input("objects", [f"{obj.name}.{key}" for obj in world.objects
                                  for key in animated_keys(obj, skip=OBJECT_LOOK_KEYS)])
     auto_planes = spec.camera is None or "auto" in (spec.camera.near, spec.camera.far)
-    camera = _input("camera", animated_keys(spec.camera), (objects,) if auto_planes else ())
+    # an aperture moves the eye over the lens every sub-frame (world.lens)
+    lens = ["camera.aperture"] if spec.camera is not None and spec.camera.aperture is not None else []
+    camera = _input("camera", animated_keys(spec.camera) + lens, (objects,) if auto_planes else ())
     per_light, views = [], {}
     for index, (light, name) in enumerate(zip(world.lights, _unique_names(world.lights))):
         per_light.append(_input(f"light:{name}", animated_keys(light), (camera,) if light.attach_camera else ()))
