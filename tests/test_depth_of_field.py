@@ -12,6 +12,7 @@ import pytest
 import scenerender
 from scenerender.colorspace import srgb_decode
 from scenerender.errors import SceneErrors
+from scenerender.raytrace import render_reference
 from scenerender.world.camera import CameraState, perspective
 from scenerender.world.lens import lens_radius, through_lens
 
@@ -21,13 +22,13 @@ FOCAL_PX = WIDTH / 2 / (math.tan(math.radians(FOV) / 2) * WIDTH / HEIGHT)
 COLUMNS = (36, 80, 124)
 
 
-def _points_scene(depths, aperture, focus, samples=256) -> str:
-    """Tiny unlit white spheres (about 1 px) at ``depths`` in front of a camera at the
+def _points_scene(depths, aperture, focus, samples=256, radius_px=0.5) -> str:
+    """Tiny unlit white spheres (``radius_px`` in radius) at ``depths`` in front of a camera at the
     origin looking down -Z, one at each of COLUMNS on the middle row."""
     objects = []
     for column, depth in zip(COLUMNS, depths):
         x = (column + 0.5 - WIDTH / 2) / FOCAL_PX * depth
-        objects.append(f"  - {{mesh: {{primitive: sphere, radius: {0.5 * depth / FOCAL_PX:.6g}}}, "
+        objects.append(f"  - {{mesh: {{primitive: sphere, radius: {radius_px * depth / FOCAL_PX:.6g}}}, "
                        f"position: [{x:.6g}, 0, {-depth:.6g}], material: {{diffuse: [1, 1, 1], unlit: true}}}}")
     lens = f", aperture: {aperture}, focus_distance: {focus}" if aperture is not None else ""
     return (f"render: {{size: [{WIDTH}, {HEIGHT}], samples: 4, background: [0, 0, 0], film_samples: {samples}}}\n"
@@ -110,3 +111,19 @@ def test_an_aperture_with_yaw_and_pitch_needs_a_focus_distance():
         scenerender.Scene.from_yaml("camera: {position: [0, 0, 5], yaw: -90, aperture: 2}\nobjects: []\n", ".")
     with pytest.raises(SceneErrors, match="depth of field"):
         scenerender.Scene.from_yaml("camera: {projection: orthographic, aperture: 2}\nobjects: []\n", ".")
+
+
+def test_the_reference_draws_the_same_circles_of_confusion():
+    """The CPU reference (each ray from its own random point of the lens, through the
+    focus plane) against the same thin-lens diameters, within 10 %."""
+    depths, focus, aperture = (0.25, 0.35, 1.5), 0.5, 1.0
+    # larger points (3 px across) than on the GPU, so that enough random rays find them
+    sharp = reference_light(_points_scene(depths, None, None, radius_px=1.5))
+    blurred = reference_light(_points_scene(depths, aperture, focus, radius_px=1.5))
+    for column, depth in zip(COLUMNS, depths):
+        diameter = 4.0 * math.sqrt(_spread(blurred, column) - _spread(sharp, column))
+        assert diameter == pytest.approx(thin_lens_coc_px(depth, focus, aperture), rel=0.10), depth
+
+
+def reference_light(text: str) -> np.ndarray:
+    return render_reference(scenerender.Scene.from_yaml(text, "."), 0, spp=6).linear[..., 0].astype(np.float64)

@@ -9,6 +9,7 @@ import pytest
 
 import scenerender
 from scenerender.colorspace import srgb_decode, srgb_encode
+from scenerender.raytrace import render_reference
 from scenerender.world.lens import film_samples
 
 # 10 px a unit (orthographic, 12 units tall in 120 px); the unlit box is 20 px wide and
@@ -101,3 +102,20 @@ def test_static_passes_run_once_across_sub_frames(gl):
         renderer.render(1)
         assert len(renderer.timings["opaque"]) == 16
         assert len(renderer.timings["shadow:point0"]) == 1
+
+
+def test_the_reference_integrates_the_shutter_too(gl):
+    """The CPU reference (16 instants drawn at random over the open shutter) smears the
+    box over the same 20 px, and the GPU's frame at the default sub-frames is within 2 %
+    RMSE of it: within 1 % (0.57 % measured)."""
+    sharp = _edge_width(_reference(0.0))
+    blurred = _reference(0.5)
+    assert np.sqrt(_edge_width(blurred) ** 2 - sharp ** 2) == pytest.approx(20.0, abs=1.0)
+    rmse = np.sqrt(np.mean((_render(gl, 1).astype(float) - blurred) ** 2)) / 255.0
+    print(f"GPU against the reference: RMSE {rmse:.4f}")
+    assert rmse < 0.01, rmse
+
+
+def _reference(shutter: float) -> np.ndarray:
+    scene = scenerender.Scene.from_yaml(MOVING_BOX.format(shutter=shutter, fps=10, end=0.2), ".")
+    return render_reference(scene, 1, spp=2, shutter_samples=16).pixels
