@@ -373,6 +373,8 @@ from scenerender.compare.rule import DEFAULT_RULE as _DIFF_DEFAULTS  # noqa: E40
 LEVELS = FiniteFloatRange(min=0)  # a limit on differences of 8-bit levels: finite and not negative
 # scenerender.raytrace.render.ENVIRONMENT_SAMPLES, written out: importing it would load numpy
 ENVIRONMENT_SAMPLES = 4
+# scenerender.raytrace.render.SHUTTER_SAMPLES, likewise
+SHUTTER_SAMPLES = 32
 
 
 @main.command()
@@ -459,9 +461,13 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
 @click.option("--environment-samples", type=click.IntRange(1, 65536), default=ENVIRONMENT_SAMPLES, show_default=True,
               help="Directions a sample an environment light is gathered from (Monte Carlo, seeded, "
                    "importance-sampled between the cosine and the GGX lobe), each blocked by surfaces in its way.")
+@click.option("--shutter-samples", type=click.IntRange(1, 4096), default=SHUTTER_SAMPLES, show_default=True,
+              help="With camera.shutter: instants over the open shutter averaged (one drawn at random in each "
+                   "slice, seeded). With camera.aperture every ray starts at its own random point of the lens.")
 @_scene_overrides(with_samples=False)
 @_asset_root_option
-def reference(scene, output, frames, spp, ambient_samples, environment_samples, overrides, asset_roots):
+def reference(scene, output, frames, spp, ambient_samples, environment_samples, shutter_samples, overrides,
+              asset_roots):
     """Render SCENE (render.mode: shaded) with the CPU reference: ray-cast visibility, exact
     hard shadows, the GPU's shading equations, spp x spp samples a pixel. It is the truth
     error is measured against (`scenerender bench`), not a second renderer: normal and
@@ -481,7 +487,7 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
     for index in parse_frame_range(frames, loaded.frame_count):
         started = time.perf_counter()
         frame = render_reference(loaded, index, spp=spp, warn=warn, ambient_samples=ambient_samples,
-                                 environment_samples=environment_samples)
+                                 environment_samples=environment_samples, shutter_samples=shutter_samples)
         paths = write_reference(frame, output)
         warn = None  # the left-out features are the same on every frame
         click.echo(f"frame {index}: {', '.join(str(p) for p in paths)} ({time.perf_counter() - started:.1f} s)")

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import scenerender
+from scenerender.raytrace.render import bloomed
 from scenerender.rendering.passes.bloom import bloom_weights
 from scenerender.rendering.renderer import plan
 
@@ -68,3 +69,12 @@ def test_no_bloom_and_strength_0_render_the_bytes_and_graph_of_a_scene_without_t
 def plan_names(overrides) -> list[str]:
     world = scenerender.Scene.from_yaml(EMITTER, ".", list(overrides)).world
     return plan(world, world.settings.size, world.settings.samples).compiled.pass_names
+
+
+def test_the_reference_blooms_like_the_gpu(gl):
+    """The reference's NumPy bloom of the GPU's own linear image is the GPU's bloomed
+    image within 16-bit float rounding (0.2 % of the brightest value)."""
+    plain = _frame(gl, want_linear=True).linear.astype(np.float64)
+    bloomed_gpu = _frame(gl, ["render.bloom={strength: 0.3, radius: 0.05}"], want_linear=True).linear
+    expected = bloomed(plain, 0.3, 0.05)
+    assert np.abs(bloomed_gpu - expected).max() < 0.002 * plain.max()

@@ -119,3 +119,10 @@ def test_the_reference_integrates_the_shutter_too(gl):
 def _reference(shutter: float) -> np.ndarray:
     scene = scenerender.Scene.from_yaml(MOVING_BOX.format(shutter=shutter, fps=10, end=0.2), ".")
     return render_reference(scene, 1, spp=2, shutter_samples=16).pixels
+
+
+def test_the_reference_command_offers_the_renderers_default_shutter_samples():
+    from scenerender import cli
+    from scenerender.raytrace.render import SHUTTER_SAMPLES
+
+    assert cli.SHUTTER_SAMPLES == SHUTTER_SAMPLES

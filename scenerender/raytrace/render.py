@@ -47,6 +47,7 @@ from scenerender.raytrace.rays import TriangleCaster
 from scenerender.raytrace.textures import MapSampler
 from scenerender.scene.messages import single_error
 from scenerender.world.frame import FrameEvaluator
+from scenerender.rendering.passes.bloom import bloom_weights
 from scenerender.world.lens import lens_radius
 
 # Samples shaded at once; bounds the memory of one chunk to a few hundred MB.
@@ -152,10 +153,32 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
     linear, shadow, cone, blocked = (parts[0][k] if len(parts) == 1 else np.mean([part[k] for part in parts], axis=0)
                                      for k in (0, 1, 2, 5))
     objects, mixed = parts[0][3], parts[0][4]
+    bloom = world.render.bloom
+    if bloom is not None and bloom.strength > 0:
+        linear = bloomed(linear, bloom.strength, bloom.radius)
     toned = tone_map(linear, world.render.tone_map, float(world.render.exposure(time)))
     pixels = encode_output(toned, world.render.output_transform, world.render.gamma)
     return ReferenceFrame(index, time, linear.astype(np.float32), pixels, shadow.astype(np.float32),
                           cone.astype(np.float32), objects, mixed, spp, blocked.astype(np.float32))
+
+
+def bloomed(linear: np.ndarray, strength: float, radius: float) -> np.ndarray:
+    """``render.bloom`` in NumPy, as rendering/passes/bloom.py does it: the image mixed with
+    its Gaussian blur (standard deviation ``radius`` times the height), the blur reading
+    the image mirrored about its edges (np.pad's "symmetric": the texel past the edge is
+    the edge's), one direction at a time."""
+    height, width = linear.shape[:2]
+    weights = bloom_weights(radius * height, min(width, height) - 1).astype(np.float64)
+    kernel = np.concatenate([weights[:0:-1], weights])
+    taps = len(weights) - 1
+    blur = np.asarray(linear, dtype=np.float64)
+    for axis in (1, 0):
+        padding = [(0, 0)] * blur.ndim
+        padding[axis] = (taps, taps)
+        padded = np.pad(blur, padding, mode="symmetric")
+        size = blur.shape[axis]
+        blur = sum(w * np.take(padded, np.arange(k, k + size), axis=axis) for k, w in enumerate(kernel))
+    return (1.0 - strength) * linear + strength * blur
 
 
 def shutter_offsets(world, index: int, count: int) -> list[float]:
