@@ -126,3 +126,15 @@ def test_the_reference_command_offers_the_renderers_default_shutter_samples():
     from scenerender.raytrace.render import SHUTTER_SAMPLES
 
     assert cli.SHUTTER_SAMPLES == SHUTTER_SAMPLES
+
+
+def test_the_graph_command_names_the_sub_frames_and_plans_their_linear_readback():
+    from scenerender.run.graph_report import graph_report
+
+    scene = scenerender.Scene.from_yaml(MOVING_BOX.format(shutter=0.5, fps=10, end=0.2), ".")
+    report = graph_report(scene)
+    assert report.header("box").endswith(", 16 sub-frames a frame (shutter 0.5)")
+    readback = report.compiled.node("readback").render_pass
+    assert readback.linear is not None
+    still = graph_report(scenerender.Scene.from_yaml(MOVING_BOX.format(shutter=0, fps=10, end=0.2), "."))
+    assert "sub-frames" not in still.header("box") and still.compiled.node("readback").render_pass.linear is None

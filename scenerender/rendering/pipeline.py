@@ -28,9 +28,8 @@ from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
 from scenerender.world.frame import FrameEvaluator
-from scenerender.world.settings import AmbientOcclusionSettings
+from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
-DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
 
 
 @dataclass(frozen=True)

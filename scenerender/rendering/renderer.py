@@ -18,7 +18,7 @@ from scenerender.rendering.features import SceneFeatures
 from scenerender.rendering.inputs import InputHandles, input_values, same_value
 from scenerender.rendering.lights import pack_lights
 from scenerender.rendering.passes.object_ids import MAX_OBJECT_IDS
-from scenerender.rendering.pipeline import DATA_MODES, GraphOptions, build_graph
+from scenerender.rendering.pipeline import GraphOptions, build_graph
 from scenerender.rendering.profile import CPU_SETUP
 from scenerender.rendering.scene_gpu import GpuScene
 from scenerender.world.frame import FrameEvaluator, FrameState
@@ -165,7 +165,7 @@ class GraphRenderer:
         self.object_ids = object_ids
         tuning = {"post_depth_coverage": "GL_ARB_post_depth_coverage" in gl.extensions, **(tuning or {})}
         # a shutter or a lens: each frame the mean of sub-frames' linear images (world.lens)
-        self.film = Film.of(world.spec.camera, render.film_samples) if render.mode not in DATA_MODES else None
+        self.film = Film.of_world(world)
         self.plan = plan(world, self.size, self.samples, max_size,
                          want_linear or self.check_finite or self.film is not None, warn, tuning, object_ids)
         self.features = SceneFeatures.of(world, self.samples, self.plan.atlas)

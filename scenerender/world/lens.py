@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from scenerender.world.camera import CameraState
+from scenerender.world.settings import DATA_MODES
 
 MILLIMETRE = 1e-3  # the lens takes scene units as metres
 
@@ -44,6 +45,19 @@ class Film:
         if camera_spec is None or (camera_spec.shutter == 0.0 and camera_spec.aperture is None):
             return None
         return cls(camera_spec.shutter, camera_spec.aperture, camera_spec.sensor_width, samples)
+
+    def describe(self) -> str:
+        """As "12 sub-frames a frame (shutter 0.5, f/0.95)"."""
+        parts = ([f"shutter {self.shutter:g}"] if self.shutter > 0 else []) + (
+            [f"f/{self.aperture:g}"] if self.aperture is not None else [])
+        return f"{self.samples} sub-frames a frame ({', '.join(parts)})"
+
+    @classmethod
+    def of_world(cls, world) -> "Film | None":
+        """The film a render of ``world`` uses: none in the data modes (a mean depth is no depth)."""
+        if world.settings.mode in DATA_MODES:
+            return None
+        return cls.of(world.spec.camera, world.settings.film_samples)
 
     def samples_over(self, frame_interval: float) -> list[FilmSample]:
         """The sub-frames of one frame (``frame_interval`` = 1 / fps seconds)."""

@@ -7,6 +7,9 @@ from pathlib import Path
 
 from scenerender.scene.model.render import SKY_FACES, AmbientOcclusion
 
+# The render modes that show values rather than light (no tone curve, no bloom, no sub-frames).
+DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
+
 
 @dataclass(frozen=True)
 class FogSettings:
