@@ -11,7 +11,7 @@ import pytest
 
 import scenerender
 from scenerender.colorspace import srgb_decode
-from scenerender.errors import SceneErrors
+from scenerender.errors import SceneErrors, UserError
 from scenerender.raytrace import render_reference
 from scenerender.world.camera import CameraState, perspective
 from scenerender.world.lens import lens_radius, through_lens
@@ -127,3 +127,22 @@ def test_the_reference_draws_the_same_circles_of_confusion():
 
 def reference_light(text: str) -> np.ndarray:
     return render_reference(scenerender.Scene.from_yaml(text, "."), 0, spp=6).linear[..., 0].astype(np.float64)
+
+
+def test_focus_on_an_object_is_focus_at_its_distance(gl):
+    """`focus: <object>` renders the bytes of `focus_distance` set to the distance of the
+    object's centre along the view axis (here 0.35, the middle point)."""
+    depths = (0.25, 0.35, 1.5)
+    named = _points_scene(depths, 1.0, 0.5, samples=8).replace("focus_distance: 0.5", "focus: middle")
+    named = named.replace("  - {mesh: {primitive: sphere", "  - {name: middle, mesh: {primitive: sphere", 2)
+    named = named.replace("  - {name: middle, mesh", "  - {name: first, mesh", 1)
+    by_distance = _points_scene(depths, 1.0, 0.35, samples=8)
+    assert np.array_equal(_render(gl, named), _render(gl, by_distance))
+
+
+def test_focus_on_a_missing_object_names_the_key(tmp_path):
+    path = tmp_path / "scene.yaml"
+    path.write_text("camera: {aperture: 2, focus: crate}\nobjects:\n  - {name: ball, mesh: {primitive: sphere}}\n")
+    with pytest.raises(UserError, match="no object is named 'crate'") as error:
+        scenerender.load(path)
+    assert "scene.yaml:1" in str(error.value) and "camera.focus" in str(error.value)

@@ -201,7 +201,7 @@ def _render_instant(world, evaluator, index: int, time: float, size: tuple, spp:
     sample's ray from its own point of the lens where the camera has an aperture."""
     width, height = size
     frame = evaluator.evaluate(index, time)
-    lens = _lens_of(world, evaluator, frame.camera, time)
+    lens = _lens_of(world, frame)
     later = [sub_frame] if sub_frame else []  # the first sub-frame draws what a frame without a shutter drew
     scene = _FrameScene(world, frame, warn, ambient_samples,
                         np.random.Generator(np.random.PCG64([index, 1, *later])), environment_samples,
@@ -213,13 +213,13 @@ def _render_instant(world, evaluator, index: int, time: float, size: tuple, spp:
     return tuple(np.concatenate(part) for part in zip(*chunks))
 
 
-def _lens_of(world, evaluator, camera, time: float) -> tuple | None:
-    """(radius, focus distance) of the camera's thin lens at ``time``, None for a pinhole."""
+def _lens_of(world, frame) -> tuple | None:
+    """(radius, focus distance) of the camera's thin lens in ``frame``, None for a pinhole."""
     spec = world.spec.camera
     if spec is None or spec.aperture is None:
         return None
-    focus = evaluator.rig.focus_distance(time)
-    return lens_radius(camera, spec.aperture, focus, spec.sensor_width), focus
+    focus = frame.focus_distance
+    return lens_radius(frame.camera, spec.aperture, focus, spec.sensor_width), focus
 
 
 class _FrameScene:

@@ -96,6 +96,7 @@ KEYS: dict[str, Key] = {
     "camera.shutter": Key("How long the shutter stays open, as a fraction of the frame interval (1 / fps), centred on the frame's time: 0.5 is the film camera's 180 degree shutter. Camera motion and every keyframed transform blur over it (`render.film_samples` sub-frames averaged in linear light). 0: an instant, the image as without the key.", "0.5"),
     "camera.aperture": Key("The lens's f-number (focal length / aperture diameter) for depth of field, focused at `focus_distance`. The focal length follows from `fov` and `sensor_width`, with scene units taken as metres. Not set: a pinhole, everything sharp.", "2.8"),
     "camera.focus_distance": Key("Distance along the view axis, in scene units, of the plane the lens keeps sharp (animatable: a focus pull). Not set: the distance to `target` (or to the scene's centre, which the default camera looks at); with `yaw`/`pitch` it must be set.", "{keys: [[0, 2], [1, 6]]}"),
+    "camera.focus": Key("The name of an object to keep in focus: the lens focuses at its centre's distance along the view axis, every frame (instead of `focus_distance`).", "crate"),
     "camera.sensor_width": Key("The sensor's (film's) width in millimetres, which with `fov` gives the focal length: 36 is full-frame 35 mm film.", "24"),
     "camera.far": Key("Far clipping distance; `auto` fits the scene's bounds every frame.", "500"),
     # -- lights (entries with [] cover every light type) -----------------------------------
