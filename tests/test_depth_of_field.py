@@ -14,7 +14,8 @@ from scenerender.colorspace import srgb_decode
 from scenerender.errors import SceneErrors, UserError
 from scenerender.raytrace import render_reference
 from scenerender.world.camera import CameraState, perspective
-from scenerender.world.lens import lens_radius, through_lens
+from scenerender.rendering.renderer import plan
+from scenerender.world.lens import Film, lens_radius, through_lens
 
 WIDTH, HEIGHT, FOV, SENSOR = 160, 120, 40.0, 36.0
 # the focal length in pixels, and where three points sit across the image
@@ -146,3 +147,50 @@ def test_focus_on_a_missing_object_names_the_key(tmp_path):
     with pytest.raises(UserError, match="no object is named 'crate'") as error:
         scenerender.load(path)
     assert "scene.yaml:1" in str(error.value) and "camera.focus" in str(error.value)
+
+
+# -- the gather blur (render.depth_of_field: gather) ----------------------------------------
+
+def _edge_scene(method: str, aperture=1.0) -> str:
+    """An unlit white square 1.5 in front of the camera (focus 0.5), its left edge on the
+    middle column, against black at infinity."""
+    half = 0.6
+    lens = f", aperture: {aperture}, focus_distance: 0.5" if aperture is not None else ""
+    return (f"render: {{size: [{WIDTH}, {HEIGHT}], samples: 4, background: [0, 0, 0], depth_of_field: {method}, "
+            "film_samples: 64}\n"
+            f"camera: {{position: [0, 0, 0], target: [0, 0, -1], fov: {FOV}{lens}}}\n"
+            "lights: []\nobjects:\n"
+            f"  - {{mesh: {{primitive: box, size: [{2 * half}, {2 * half}, 0.01]}}, position: [{half}, 0, -1.5], "
+            "material: {diffuse: [1, 1, 1], unlit: true}}\n")
+
+
+def _edge_diameter(light: np.ndarray) -> float:
+    """The width of the blur across the square's left edge, as the diameter of the disc
+    that blurs a straight edge so (its rise has standard deviation diameter / 4)."""
+    rise = np.clip(np.diff(light[HEIGHT // 2, 50:110]), 0.0, None)
+    x = np.arange(len(rise))
+    mean = (x * rise).sum() / rise.sum()
+    return 4.0 * math.sqrt(((x - mean) ** 2 * rise).sum() / rise.sum())
+
+
+def test_the_gather_blurs_an_edge_by_about_the_circle_of_confusion(gl):
+    """The square's edge at 1.5 (focus 0.5, f/1): blurred across about the thin-lens
+    circle of confusion, within 15 % (the gather is approximate at edges between near and
+    far), as the sub-frames blur it within 10 %."""
+    expected = thin_lens_coc_px(1.5, 0.5, 1.0)
+    sharp = _edge_diameter(_render(gl, _edge_scene("gather", None)))
+    for method, tolerance in (("gather", 0.15), ("sub_frames", 0.10)):
+        diameter = math.sqrt(_edge_diameter(_render(gl, _edge_scene(method))) ** 2 - sharp ** 2)
+        print(f"{method}: edge blurred over {diameter:.2f} px, thin lens {expected:.2f} px")
+        assert diameter == pytest.approx(expected, rel=tolerance), (method, diameter, expected)
+
+
+def test_the_gather_is_one_pass_on_the_depth_prepass_and_no_sub_frames(gl):
+    world = scenerender.Scene.from_yaml(_edge_scene("gather"), ".").world
+    compiled = plan(world, world.settings.size, 4).compiled
+    assert {"gbuffer", "depth_of_field"} <= set(compiled.pass_names)
+    assert "lens" in [name for _, name, _ in compiled.inputs()]
+    assert Film.of_world(world) is None
+    exact = scenerender.Scene.from_yaml(_edge_scene("sub_frames"), ".").world
+    assert "depth_of_field" not in plan(exact, exact.settings.size, 4).compiled.pass_names
+    assert Film.of_world(exact) is not None

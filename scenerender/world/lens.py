@@ -39,12 +39,14 @@ class Film:
     samples: int
 
     @classmethod
-    def of(cls, camera_spec, samples: int) -> "Film | None":
+    def of(cls, camera_spec, samples: int, lens_by_sub_frames: bool = True) -> "Film | None":
         """The film of a ``camera:`` spec (None: no spec); None where neither the shutter nor
-        the lens is set, so such a scene renders as it always did."""
-        if camera_spec is None or (camera_spec.shutter == 0.0 and camera_spec.aperture is None):
+        a lens filmed by sub-frames (``lens_by_sub_frames``: not the gather blur) is set, so
+        such a scene renders as it always did."""
+        aperture = camera_spec.aperture if camera_spec is not None and lens_by_sub_frames else None
+        if camera_spec is None or (camera_spec.shutter == 0.0 and aperture is None):
             return None
-        return cls(camera_spec.shutter, camera_spec.aperture, camera_spec.sensor_width, samples)
+        return cls(camera_spec.shutter, aperture, camera_spec.sensor_width, samples)
 
     def describe(self) -> str:
         """As "12 sub-frames a frame (shutter 0.5, f/0.95)"."""
@@ -57,7 +59,7 @@ class Film:
         """The film a render of ``world`` uses: none in the data modes (a mean depth is no depth)."""
         if world.settings.mode in DATA_MODES:
             return None
-        return cls.of(world.spec.camera, world.settings.film_samples)
+        return cls.of(world.spec.camera, world.settings.film_samples, world.settings.depth_of_field == "sub_frames")
 
     def samples_over(self, frame_interval: float) -> list[FilmSample]:
         """The sub-frames of one frame (``frame_interval`` = 1 / fps seconds)."""

@@ -83,6 +83,7 @@ class RenderSettings:
     skybox: tuple[Path, ...] | None
     bloom: BloomSettings | None = None
     film_samples: int = 16
+    depth_of_field: str = "sub_frames"
 
     @classmethod
     def of(cls, render) -> "RenderSettings":
@@ -98,5 +99,5 @@ class RenderSettings:
             ambient_occlusion=AmbientOcclusionSettings.of(ao) if ao is not None else None,
             skybox=tuple(Path(getattr(sky, face)) for face in SKY_FACES) if sky is not None else None,
             bloom=BloomSettings(render.bloom.strength, render.bloom.radius) if render.bloom is not None else None,
-            film_samples=render.film_samples,
+            film_samples=render.film_samples, depth_of_field=render.depth_of_field,
         )

@@ -136,3 +136,4 @@ class RenderSpec(StrictModel):
     point_size: number(1, 64) = 3.0
     bloom: Bloom | None = None
     film_samples: number(1, 1024, integer=True) = 16
+    depth_of_field: choice("sub_frames", "gather") = "sub_frames"
