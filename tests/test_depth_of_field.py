@@ -90,6 +90,8 @@ def test_unset_aperture_renders_the_bytes_of_a_scene_without_the_keys(gl):
     text = _points_scene(depths, None, None).replace("far: 10}", "far: 10, focus_distance: 0.3, sensor_width: 24}")
     assert "focus_distance" in text
     assert np.array_equal(_render(gl, text), plain)
+    gather = text.replace("film_samples: 256}", "film_samples: 256, depth_of_field: gather}")
+    assert "gather" in gather and np.array_equal(_render(gl, gather), plain)  # no aperture: no lens pass
 
 
 def test_the_lens_keeps_the_focus_plane_and_moves_the_eye_in_the_view_plane():
