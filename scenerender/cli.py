@@ -458,9 +458,14 @@ def diff(reference, output, report, as_json, **limits):
               default=option_rules.DEFAULT_ENVIRONMENT_SAMPLES, show_default=True,
               help="Directions a sample an environment light is gathered from (Monte Carlo, seeded, "
                    "importance-sampled between the cosine and the GGX lobe), each blocked by surfaces in its way.")
+@click.option("--shutter-samples", type=RuleType(option_rules.SHUTTER_SAMPLES),
+              default=option_rules.DEFAULT_SHUTTER_SAMPLES, show_default=True,
+              help="With camera.shutter: instants over the open shutter averaged (one drawn at random in each "
+                   "slice, seeded). With camera.aperture every ray starts at its own random point of the lens.")
 @_scene_overrides(with_samples=False)
 @_asset_root_option
-def reference(scene, output, frames, spp, ambient_samples, environment_samples, overrides, asset_roots):
+def reference(scene, output, frames, spp, ambient_samples, environment_samples, shutter_samples, overrides,
+              asset_roots):
     """Render SCENE (render.mode: shaded) with the CPU reference: ray-cast visibility, exact
     hard shadows, the GPU's shading equations, spp x spp samples a pixel. It is the truth
     error is measured against (`scenerender bench`), not a second renderer: normal and
@@ -480,7 +485,7 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
     for index in parse_frame_range(frames, loaded.frame_count):
         started = time.perf_counter()
         frame = render_reference(loaded, index, spp=spp, warn=warn, ambient_samples=ambient_samples,
-                                 environment_samples=environment_samples)
+                                 environment_samples=environment_samples, shutter_samples=shutter_samples)
         paths = write_reference(frame, output)
         warn = None  # the left-out features are the same on every frame
         click.echo(f"frame {index}: {', '.join(str(p) for p in paths)} ({time.perf_counter() - started:.1f} s)")
@@ -492,7 +497,7 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
               show_default=True, help="Folder for NAME.md (table), NAME.json and NAME.png (plot). " + MAKES_PARENTS)
 @click.option("--knob", "knobs", multiple=True,
               type=click.Choice(["samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size",
-                                 "sh_order", "env_samples", "env_footprint"]),
+                                 "sh_order", "env_samples", "env_footprint", "film_samples"]),
               help="Sweep only these knobs (repeatable; default all).")
 @click.option("--frames", type=click.IntRange(1, 1000), default=3, show_default=True,
               help="Timed frames per variant and round (after one warm-up frame).")

@@ -81,3 +81,18 @@ def tone_map(linear, curve: str, exposure: float = 0.0) -> np.ndarray:
     if curve == "agx":
         return agx(scaled)
     return scaled
+
+
+def encode_output(linear: np.ndarray, transform: str, gamma: float = 2.2) -> np.ndarray:
+    """Linear colour -> 8-bit display values as the output pass stores them.
+
+    transform: "srgb" | "gamma" | "linear". Any (..., 3) float array -> same shape uint8,
+    rounded to nearest."""
+    c = np.clip(linear, 0.0, 1.0)
+    if transform == "srgb":
+        encoded = srgb_encode(c)
+    elif transform == "gamma":
+        encoded = np.power(c, 1.0 / gamma)
+    else:
+        encoded = c
+    return np.floor(encoded * 255.0 + 0.5).astype(np.uint8)

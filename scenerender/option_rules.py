@@ -81,3 +81,5 @@ SPP = NumberRule("samples a pixel along each axis (spp)", lo=1, hi=32, integer=T
 AMBIENT_SAMPLES = NumberRule("ambient samples", lo=0, hi=65536, integer=True)
 ENVIRONMENT_SAMPLES = NumberRule("environment samples", lo=1, hi=65536, integer=True)
 DEFAULT_ENVIRONMENT_SAMPLES = 4  # directions a sample point draws from an environment light
+SHUTTER_SAMPLES = NumberRule("shutter samples", lo=1, hi=4096, integer=True)
+DEFAULT_SHUTTER_SAMPLES = 32  # instants over an open shutter (camera.shutter)

@@ -40,6 +40,7 @@ CASES = {
     "primitives@wireframe": ("primitives.yaml", 30, ["render.mode=wireframe"]),
     "primitives@points": ("primitives.yaml", 30, ["render.mode=points"]),
     "gltf_pbr": ("gltf_pbr.yaml", 36, []),
+    "film": ("film.yaml", 32, []),
 }
 
 

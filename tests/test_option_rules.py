@@ -128,12 +128,14 @@ def test_the_diff_limits_at_their_bounds_pass_everywhere(two_images):
     assert cli("diff", *two_images, *args).exit_code == 0
 
 
-# --- the CPU reference: --spp, --ambient-samples, --environment-samples and render_reference
+# --- the CPU reference: --spp, --ambient-samples, --environment-samples, --shutter-samples and render_reference
 
 REFERENCE_LIMITS = [("spp", option_rules.SPP, 0), ("spp", option_rules.SPP, 33),
                     ("ambient_samples", option_rules.AMBIENT_SAMPLES, -1),
                     ("environment_samples", option_rules.ENVIRONMENT_SAMPLES, 0),
-                    ("environment_samples", option_rules.ENVIRONMENT_SAMPLES, 65537)]
+                    ("environment_samples", option_rules.ENVIRONMENT_SAMPLES, 65537),
+                    ("shutter_samples", option_rules.SHUTTER_SAMPLES, 0),
+                    ("shutter_samples", option_rules.SHUTTER_SAMPLES, 4097)]
 
 
 @pytest.mark.parametrize("name, rule, value", REFERENCE_LIMITS)
@@ -154,4 +156,7 @@ def test_the_bench_command_shares_the_reference_rules():
             assert param.type.rule is rule
     env = next(p for p in main.commands["reference"].params if "--environment-samples" in p.opts)
     assert env.default == option_rules.DEFAULT_ENVIRONMENT_SAMPLES
+    shutter = next(p for p in main.commands["reference"].params if "--shutter-samples" in p.opts)
+    assert shutter.type.rule is option_rules.SHUTTER_SAMPLES
+    assert shutter.default == option_rules.DEFAULT_SHUTTER_SAMPLES
 

@@ -68,6 +68,7 @@ VALUES = {
     "pitch": (-15.0, -30.0),
     "fov": (60.0, 40.0),
     "height": (5.0, 8.0),
+    "focus_distance": (2.0, 6.0),
     "intensity": (1.0, 0.3),
     "enabled": (True, False),
     "direction": ([-1.0, -1.0, -0.5], [0.5, -1.0, 0.2]),
@@ -122,6 +123,9 @@ def animated_scene(path: str) -> dict:
         scene["camera"] = {"position": [0, 2, 6], "yaw": -90, "pitch": -15}
     if path == "camera.height":
         scene["camera"]["projection"] = "orthographic"
+    if path == "camera.focus_distance":  # through a lens (two sub-frames keep it quick)
+        scene["camera"]["aperture"] = 1.4
+        scene.setdefault("render", {})["film_samples"] = 2
     if path.startswith("lights[environment]"):
         scene["lights"].append(dict(ENVIRONMENT))
     node, leaf = _locate(scene, path)
@@ -171,8 +175,10 @@ def changed_inputs(world, graph_plan) -> set[str]:
     stub_gpu = SimpleNamespace(textures=None, skybox=None, environment=None)
     names = {h.resource: h.name for h in graph_plan.inputs.all()}
     values = []
+    camera = world.spec.camera
+    lens_point = (0.5, 0.0) if camera is not None and camera.aperture is not None else None  # off the lens's centre
     for index, time in ((0, 0.0), (2, 1.0)):
-        frame = evaluator.evaluate(index, time)
+        frame = evaluator.evaluate(index, time, lens_point)
         packed = pack_lights(frame, graph_plan.atlas)
         values.append(input_values(graph_plan.inputs, frame, frame.camera, stub_gpu, world, packed))
     return {names[i] for i in values[0] if not _same(_canonical(values[0][i]), _canonical(values[1][i]))}

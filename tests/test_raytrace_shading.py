@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import scenerender
+from scenerender.colorspace import encode_output
 from scenerender.raytrace import render_reference, shading
 from scenerender.world.frame import FrameEvaluator
 
@@ -76,7 +77,7 @@ def formula_pixels(scene) -> np.ndarray:
     if fog is not None:
         color = shading.apply_fog(color, np.linalg.norm(p, axis=1), frame.fog_color, fog.mode, frame.fog_density,
                                   fog.start, fog.end)
-    return shading.encode_output(color, world.render.output_transform, world.render.gamma).reshape(SIZE, SIZE, 3)
+    return encode_output(color, world.render.output_transform, world.render.gamma).reshape(SIZE, SIZE, 3)
 
 
 FOG = ", fog: {mode: exp2, density: 0.12, color: [0.3, 0.4, 0.5]}"

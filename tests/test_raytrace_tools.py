@@ -163,3 +163,12 @@ def test_bench_offers_every_knob_of_the_sweep_and_the_environment_ones_where_it_
     assert "lights[1].footprint=true" in overrides
     without = bench.sweep_variants(scenerender.Scene.from_yaml("objects: [{mesh: {primitive: box}}]\n", tmp_path))
     assert not [v for v in without if v.knob in ("prefilter_size", "sh_order", "env_samples")]
+
+
+def test_bench_sweeps_the_sub_frames_only_where_the_camera_films(tmp_path):
+    box = "objects: [{mesh: {primitive: box}}]\n"
+    filmed = bench.sweep_variants(scenerender.Scene.from_yaml("camera: {shutter: 0.5}\n" + box, tmp_path))
+    overrides = [o for v in filmed if v.knob == "film_samples" for o in v.overrides]
+    assert "render.film_samples=4" in overrides and "render.film_samples=16" not in overrides  # 16: the default
+    plain = bench.sweep_variants(scenerender.Scene.from_yaml(box, tmp_path))
+    assert not [v for v in plain if v.knob == "film_samples"]

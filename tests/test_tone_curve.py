@@ -10,9 +10,8 @@ from PIL import Image
 
 import scenerender
 from golden_cases import CASES, render_case
-from scenerender.colorspace import TONE_MAPS, aces_fitted, agx, srgb_encode, tone_map
+from scenerender.colorspace import TONE_MAPS, aces_fitted, agx, encode_output, srgb_encode, tone_map
 from scenerender.raytrace import render_reference
-from scenerender.raytrace.shading import encode_output
 from scenerender.rendering.passes.output import NO_TONE, OutputTransformPass
 from scenerender.rendering.renderer import plan
 

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender import option_rules
-from scenerender.colorspace import tone_map
+from scenerender.colorspace import encode_output, tone_map
 from scenerender.errors import UserError
 from scenerender.raytrace import environment, shading
 from scenerender.raytrace.geometry import Soup, frame_soup
@@ -48,11 +48,15 @@ from scenerender.raytrace.rays import TriangleCaster
 from scenerender.raytrace.textures import MapSampler
 from scenerender.scene.messages import single_error
 from scenerender.world.frame import FrameEvaluator
+from scenerender.rendering.passes.bloom import bloom_weights
+from scenerender.world.lens import lens_radius
 
 # Samples shaded at once; bounds the memory of one chunk to a few hundred MB.
 _CHUNK_SAMPLES = 400_000
 # Directions a sample point gathers an environment light from, by default.
 ENVIRONMENT_SAMPLES = option_rules.DEFAULT_ENVIRONMENT_SAMPLES
+# Instants over an open shutter (camera.shutter), by default.
+SHUTTER_SAMPLES = option_rules.DEFAULT_SHUTTER_SAMPLES
 
 
 @dataclass
@@ -114,21 +118,26 @@ def unsupported_features(world) -> list[str]:
 
 def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None = None,
                      warn=None, ambient_samples: int = 0,
-                     environment_samples: int = ENVIRONMENT_SAMPLES) -> ReferenceFrame:
+                     environment_samples: int = ENVIRONMENT_SAMPLES,
+                     shutter_samples: int = SHUTTER_SAMPLES) -> ReferenceFrame:
     """Frame ``index`` of ``world`` (a World or a scenerender.Scene), spp x spp rays a pixel.
 
     size: (width, height), default the scene's render.size. ``warn`` receives one line
     naming what the reference leaves out, when the scene has any of it. ambient_samples:
     0 for the GPU's ambient formula, else the directions per sample point over which
     ambient light is integrated (see the module's docstring). environment_samples: the
-    directions per sample point over which an environment light is integrated. The three
-    counts keep the rules of scenerender.option_rules (SPP, AMBIENT_SAMPLES, ENVIRONMENT_SAMPLES)."""
+    directions per sample point over which an environment light is integrated.
+    shutter_samples: with ``camera.shutter``, the instants over the open shutter averaged
+    (shutter_offsets); with ``camera.aperture`` every ray starts at its own random point of
+    the lens (seeded by the frame). The four counts keep the rules of
+    scenerender.option_rules (SPP, AMBIENT_SAMPLES, ENVIRONMENT_SAMPLES, SHUTTER_SAMPLES)."""
     world = getattr(world, "world", world)
     if world.render.mode != "shaded":
         raise single_error(f"the reference renders mode 'shaded' only, not '{world.render.mode}'",
                            ("render", "mode"), world.scene.source)
     for rule, value in ((option_rules.SPP, spp), (option_rules.AMBIENT_SAMPLES, ambient_samples),
-                        (option_rules.ENVIRONMENT_SAMPLES, environment_samples)):
+                        (option_rules.ENVIRONMENT_SAMPLES, environment_samples),
+                        (option_rules.SHUTTER_SAMPLES, shutter_samples)):
         if rule.problem(value) is not None:
             raise UserError(rule.problem(value))
     missing = unsupported_features(world)
@@ -136,26 +145,92 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
         warn(f"the reference renders without {', '.join(missing)}")
     width, height = size or tuple(int(v) for v in world.render.size)
     time = index / float(world.output.fps)
-    frame = FrameEvaluator(world, (width, height), atlas=None).evaluate(index, time)
-    scene = _FrameScene(world, frame, warn, ambient_samples, np.random.Generator(np.random.PCG64([index, 1])),
-                        environment_samples, np.random.Generator(np.random.PCG64([index, 2])))
-    rng = np.random.Generator(np.random.PCG64(index))
+    evaluator = FrameEvaluator(world, (width, height), atlas=None)
+    parts = [_render_instant(world, evaluator, index, time + offset, (width, height), spp, warn, ambient_samples,
+                             environment_samples, sub_frame)
+             for sub_frame, offset in enumerate(shutter_offsets(world, index, shutter_samples))]
+    # the float outputs are means over the sub-frames; which object a pixel shows is the
+    # first sub-frame's (the one nearest the frame's time)
+    linear, shadow, cone, blocked = (parts[0][k] if len(parts) == 1 else np.mean([part[k] for part in parts], axis=0)
+                                     for k in (0, 1, 2, 5))
+    objects, mixed = parts[0][3], parts[0][4]
+    bloom = world.render.bloom
+    if bloom is not None and bloom.strength > 0:
+        linear = bloomed(linear, bloom.strength, bloom.radius)
+    toned = tone_map(linear, world.render.tone_map, float(world.render.exposure(time)))
+    pixels = encode_output(toned, world.render.output_transform, world.render.gamma)
+    return ReferenceFrame(index, time, linear.astype(np.float32), pixels, shadow.astype(np.float32),
+                          cone.astype(np.float32), objects, mixed, spp, blocked.astype(np.float32))
+
+
+def bloomed(linear: np.ndarray, strength: float, radius: float) -> np.ndarray:
+    """``render.bloom`` in NumPy, as rendering/passes/bloom.py does it: the image mixed with
+    its Gaussian blur (standard deviation ``radius`` times the height), the blur reading
+    the image mirrored about its edges (np.pad's "symmetric": the texel past the edge is
+    the edge's), one direction at a time."""
+    height, width = linear.shape[:2]
+    weights = bloom_weights(radius * height, min(width, height) - 1).astype(np.float64)
+    kernel = np.concatenate([weights[:0:-1], weights])
+    taps = len(weights) - 1
+    blur = np.asarray(linear, dtype=np.float64)
+    for axis in (1, 0):
+        padding = [(0, 0)] * blur.ndim
+        padding[axis] = (taps, taps)
+        padded = np.pad(blur, padding, mode="symmetric")
+        size = blur.shape[axis]
+        blur = sum(w * np.take(padded, np.arange(k, k + size), axis=axis) for k, w in enumerate(kernel))
+    return (1.0 - strength) * linear + strength * blur
+
+
+def shutter_offsets(world, index: int, count: int) -> list[float]:
+    """Seconds from frame ``index``'s time at which the reference looks: [0.0] without
+    ``camera.shutter``; else ``count`` times over the open shutter (centred on the frame),
+    one drawn at random in each of ``count`` equal slices (seeded by the frame), the one
+    nearest the frame's time first."""
+    camera = world.spec.camera
+    if camera is None or camera.shutter == 0.0:
+        return [0.0]
+    rng = np.random.Generator(np.random.PCG64([index, 3]))
+    open_seconds = camera.shutter / float(world.output.fps)
+    offsets = ((np.arange(count) + rng.random(count)) / count - 0.5) * open_seconds
+    return sorted(offsets.tolist(), key=abs)
+
+
+def _render_instant(world, evaluator, index: int, time: float, size: tuple, spp: int, warn, ambient_samples: int,
+                    environment_samples: int, sub_frame: int) -> tuple:
+    """(linear, shadow, cone, objects, mixed, blocked) of the scene at ``time``, each
+    sample's ray from its own point of the lens where the camera has an aperture."""
+    width, height = size
+    frame = evaluator.evaluate(index, time)
+    lens = _lens_of(world, frame)
+    later = [sub_frame] if sub_frame else []  # the first sub-frame draws what a frame without a shutter drew
+    scene = _FrameScene(world, frame, warn, ambient_samples,
+                        np.random.Generator(np.random.PCG64([index, 1, *later])), environment_samples,
+                        np.random.Generator(np.random.PCG64([index, 2, *later])), lens)
+    rng = np.random.Generator(np.random.PCG64([index, *later]) if later else np.random.PCG64(index))
     rows_per_chunk = max(1, _CHUNK_SAMPLES // (width * spp * spp))
     chunks = [scene.render_rows(y0, min(height, y0 + rows_per_chunk), width, height, spp, rng)
               for y0 in range(0, height, rows_per_chunk)]
-    linear, shadow, cone, objects, mixed, blocked = (np.concatenate(parts) for parts in zip(*chunks))
-    toned = tone_map(linear, world.render.tone_map, frame.exposure)
-    pixels = shading.encode_output(toned, world.render.output_transform, world.render.gamma)
-    return ReferenceFrame(index, time, linear.astype(np.float32), pixels, shadow, cone, objects, mixed, spp,
-                          blocked)
+    return tuple(np.concatenate(part) for part in zip(*chunks))
+
+
+def _lens_of(world, frame) -> tuple | None:
+    """(radius, focus distance) of the camera's thin lens in ``frame``, None for a pinhole."""
+    spec = world.spec.camera
+    if spec is None or spec.aperture is None:
+        return None
+    focus = frame.focus_distance
+    return lens_radius(frame.camera, spec.aperture, focus, spec.sensor_width), focus
 
 
 class _FrameScene:
     """One frame's geometry, lights and materials, ready to shade samples."""
 
     def __init__(self, world, frame, warn, ambient_samples: int = 0, ambient_rng=None,
-                 environment_samples: int = ENVIRONMENT_SAMPLES, environment_rng=None):
+                 environment_samples: int = ENVIRONMENT_SAMPLES, environment_rng=None, lens: tuple | None = None):
+        """lens: (radius, focus distance) of a thin lens, None for a pinhole."""
         self.world = world
+        self.lens = lens
         self.frame = frame
         self.ambient_samples = ambient_samples
         self.ambient_rng = ambient_rng
@@ -185,6 +260,8 @@ class _FrameScene:
         ndc_x = 2.0 * sx / width - 1.0
         ndc_y = 1.0 - 2.0 * sy / height
         origins, directions = self._camera_rays(ndc_x.reshape(-1), ndc_y.reshape(-1))
+        if self.lens is not None:
+            origins, directions = self._through_lens(origins, directions, rng)
         strata = None
         if self.frame.environment is not None:
             strata = environment.pixel_strata(self.environment_rng, rows * width, spp * spp,
@@ -213,6 +290,17 @@ class _FrameScene:
             return local @ to_world.T, directions
         local = np.stack([ndc_x / p[0, 0], ndc_y / p[1, 1], -np.ones_like(ndc_x)], axis=1)
         return np.zeros_like(local), local @ to_world.T
+
+    def _through_lens(self, origins: np.ndarray, directions: np.ndarray, rng):
+        """Pinhole rays -> thin-lens rays: each starts at a uniform random point of the lens
+        disc and passes through the point its pinhole ray meets on the focus plane (so the
+        direction keeps view depth 1)."""
+        radius, focus = self.lens
+        r = radius * np.sqrt(rng.random(len(origins)))
+        angle = 2.0 * np.pi * rng.random(len(origins))
+        camera = self.frame.camera
+        offsets = (r * np.cos(angle))[:, None] * camera.right + (r * np.sin(angle))[:, None] * camera.up
+        return origins + offsets, directions - offsets / focus
 
     def _trace(self, origins: np.ndarray, directions: np.ndarray, strata: environment.Strata | None = None):
         near, far = self.depth_range

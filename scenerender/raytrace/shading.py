@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from scenerender.colorspace import srgb_encode
 from scenerender.raytrace import ambient_fit
 
 
@@ -182,16 +181,3 @@ def apply_fog(color: np.ndarray, distance: np.ndarray, fog_color: np.ndarray, mo
     return fog_color[None, :] * (1.0 - keep) + color * keep
 
 
-def encode_output(linear: np.ndarray, transform: str, gamma: float = 2.2) -> np.ndarray:
-    """Linear colour -> 8-bit display values as the output pass stores them.
-
-    transform: "srgb" | "gamma" | "linear". Any (..., 3) float array -> same shape uint8,
-    rounded to nearest."""
-    c = np.clip(linear, 0.0, 1.0)
-    if transform == "srgb":
-        encoded = srgb_encode(c)
-    elif transform == "gamma":
-        encoded = np.power(c, 1.0 / gamma)
-    else:
-        encoded = c
-    return np.floor(encoded * 255.0 + 0.5).astype(np.uint8)

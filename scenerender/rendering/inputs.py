@@ -17,6 +17,7 @@ from scenerender.graph import FrameGraph, Handle, InputDesc
 from scenerender.world.camera import CameraState
 from scenerender.world.frame import FrameState
 from scenerender.world.inputs import WorldInput, world_inputs
+from scenerender.world.lens import lens_radius
 
 
 @dataclass(frozen=True)
@@ -45,6 +46,7 @@ class InputHandles:
     exposure: Handle | None
     environment: Handle | None = None      # EnvironmentState: colour x intensity, rotation
     environment_map: Handle | None = None  # scene_gpu.EnvironmentTextures: static
+    lens: Handle | None = None  # LensInput, for render.depth_of_field: gather
 
     def shading(self) -> tuple:
         """Everything lit shading reads: camera, objects, materials, the ambient light,
@@ -59,7 +61,7 @@ class InputHandles:
         """Every input handle, in import order."""
         found = [self.camera, self.objects, self.materials, self.background, self.ambient, *self.per_light,
                  *(handle for _, handle in self.shadow_views), self.lights, self.fog, self.outlines, self.skybox,
-                 self.exposure, self.environment, self.environment_map]
+                 self.exposure, self.environment, self.environment_map, self.lens]
         return [handle for handle in found if handle is not None]
 
 
@@ -79,7 +81,7 @@ def import_inputs(graph: FrameGraph, world) -> InputHandles:
         lights=imported(inputs.lights),
         fog=imported(inputs.fog), outlines=imported(inputs.outlines), skybox=imported(inputs.skybox),
         exposure=imported(inputs.exposure), environment=imported(inputs.environment),
-        environment_map=imported(inputs.environment_map),
+        environment_map=imported(inputs.environment_map), lens=imported(inputs.lens),
     )
 
 
@@ -205,4 +207,20 @@ def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, 
     if handles.environment is not None:
         values[handles.environment.resource] = frame.environment
         values[handles.environment_map.resource] = gpu.environment
+    if handles.lens is not None:
+        spec = world.spec.camera
+        radius = lens_radius(frame.camera, spec.aperture, frame.focus_distance, spec.sensor_width)
+        values[handles.lens.resource] = LensInput(radius, frame.focus_distance)
     return values
+
+
+@dataclass(frozen=True)
+class LensInput:
+    """The thin lens at one instant (world.lens): aperture radius and focus distance, in
+    scene units."""
+
+    radius: float
+    focus: float
+
+    def same_as(self, other) -> bool:
+        return isinstance(other, LensInput) and self == other

@@ -14,6 +14,8 @@ import numpy as np
 from scenerender.graph import FrameGraph
 from scenerender.rendering.features import environment_shades, specular_layout
 from scenerender.rendering.inputs import InputHandles, import_inputs
+from scenerender.rendering.passes.bloom import add_bloom
+from scenerender.rendering.passes.depth_of_field import DepthOfFieldGatherPass
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
 from scenerender.rendering.passes.environment import EnvironmentLighting, EnvironmentPrefilterPass
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
@@ -27,9 +29,8 @@ from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
 from scenerender.world.frame import FrameEvaluator
-from scenerender.world.settings import AmbientOcclusionSettings
+from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
-DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
 
 
 @dataclass(frozen=True)
@@ -60,14 +61,16 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     shadow_passes, atlas_pages = _add_shadow_passes(graph, world, atlas, inputs)
 
     gbuffer = ao = None
-    if settings.ambient_occlusion is not None or settings.mode in ("depth", "normals", "ambient_occlusion"):
+    fill = settings.mode if settings.mode in ("wireframe", "points") else "solid"
+    lens_blur = inputs.lens is not None and fill == "solid"  # render.depth_of_field: gather
+    if (settings.ambient_occlusion is not None or settings.mode in ("depth", "normals", "ambient_occlusion")
+            or lens_blur):
         geometry = graph.add(GBufferPass(size, inputs.camera, inputs.objects, _masked_materials(world, inputs)))
         gbuffer = geometry.color
     if settings.ambient_occlusion is not None or settings.mode == "ambient_occlusion":
         raw = graph.add(SSAOPass(gbuffer, geometry.depth, inputs.camera, size,
                                  settings.ambient_occlusion or AmbientOcclusionSettings.default())).image
         ao = graph.add(SSAOBlurPass(raw, size)).image
-    fill = settings.mode if settings.mode in ("wireframe", "points") else "solid"
     visible = fill == "solid" and (options.visible_samples if options.visible_samples is not None
                                    else visible_samples_pay(world, samples, options.post_depth_coverage))
     shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None, visible,
@@ -75,8 +78,10 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else visible or prepass_pays(world, atlas, size, samples))
     tone = _tone_curve(world, inputs)
+    bloom = settings.bloom if fill == "solid" and settings.bloom is not None and settings.bloom.strength > 0 else None
     hdr = (options.hdr_target if options.hdr_target is not None
-           else hdr_target_pays(options, settings.output_transform, tone is not NO_TONE))
+           else hdr_target_pays(options, settings.output_transform,
+                                tone is not NO_TONE or bloom is not None or lens_blur))
     # with MSAA the resolve adds the sky behind the samples; without, a pass draws it (passes/sky.py)
     sky = (SkyUnder(inputs.camera, inputs.skybox)
            if inputs.skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY)
@@ -94,7 +99,16 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         color = graph.add(TransparentPass(color, depth, shading, *lines_and_points)).image
     if settings.wireframe_overlay:
         color = graph.add(WireframeOverlayPass(color, depth, inputs.camera, inputs.objects, settings.line_width)).image
-    if not hdr and settings.output_transform == "srgb" and tone is NO_TONE and options.fuse_resolve:
+    if bloom is not None or lens_blur:
+        # the lens blur and bloom read the resolved linear image and hand on their own
+        if samples > 1:
+            color = graph.add(ResolvePass(color, size, sky=sky)).image
+        if lens_blur:
+            color = graph.add(DepthOfFieldGatherPass(color, gbuffer, inputs.camera, inputs.lens, size)).image
+        if bloom is not None:
+            color = add_bloom(graph, color, size, bloom)
+        final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma, tone)).image
+    elif not hdr and settings.output_transform == "srgb" and tone is NO_TONE and options.fuse_resolve:
         # the 8-bit sRGB target already holds the output values: resolve (in linear
         # light) where multisampled, and read back
         final = graph.add(ResolveToSrgbPass(color, size, sky=sky)).image if samples > 1 else color

@@ -7,6 +7,7 @@ from time import perf_counter
 
 import numpy as np
 
+from scenerender.colorspace import encode_output, tone_map
 from scenerender.errors import UserError
 from scenerender.graph import CompiledGraph
 from scenerender.gpu.depth import depth_convention
@@ -22,6 +23,7 @@ from scenerender.rendering.profile import CPU_SETUP
 from scenerender.rendering.scene_gpu import GpuScene
 from scenerender.world.frame import FrameEvaluator, FrameState
 from scenerender.world.inputs import redrawn_shadow_maps
+from scenerender.world.lens import Film
 from scenerender.world.shadows import plan_atlas
 
 
@@ -162,8 +164,10 @@ class GraphRenderer:
         self.want_linear = want_linear
         self.object_ids = object_ids
         tuning = {"post_depth_coverage": "GL_ARB_post_depth_coverage" in gl.extensions, **(tuning or {})}
-        self.plan = plan(world, self.size, self.samples, max_size, want_linear or self.check_finite, warn, tuning,
-                         object_ids)
+        # a shutter or a lens: each frame the mean of sub-frames' linear images (world.lens)
+        self.film = Film.of_world(world)
+        self.plan = plan(world, self.size, self.samples, max_size,
+                         want_linear or self.check_finite or self.film is not None, warn, tuning, object_ids)
         self.features = SceneFeatures.of(world, self.samples, self.plan.atlas)
         # encode linear -> sRGB on writes to (only) sRGB-format targets, decode for blending
         gl.enable_direct(GL_FRAMEBUFFER_SRGB)
@@ -210,8 +214,21 @@ class GraphRenderer:
 
     def render(self, index: int) -> FrameResult:
         time = self.frame_time(index)
+        if self.film is None:
+            pixels, linear, ids = self._run_graph(index, time)
+        else:
+            pixels, linear, ids = self._film(index, time)
+        if self.check_finite and linear is not None:
+            problem = first_non_finite(linear)
+            if problem is not None:
+                raise NonFiniteOutput(f"frame {index}: {problem} ({ENV_CHECK_FINITE} is on)")
+        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids)
+
+    def _run_graph(self, index: int, time: float, lens_point: tuple | None = None) -> tuple:
+        """Run the graph for the scene at ``time`` (seen from ``lens_point`` of the lens,
+        world.lens): (pixels, linear or None, object ids or None)."""
         started = perf_counter()
-        frame = self.evaluator.evaluate(index, time)
+        frame = self.evaluator.evaluate(index, time, lens_point)
         self.backend.inputs = self.import_frame(frame)
         if self.timings is not None:
             self.timings.setdefault(CPU_SETUP, []).append(perf_counter() - started)
@@ -223,9 +240,22 @@ class GraphRenderer:
             self.depth.end_frame()
         self._rendered_any = True
         outputs = self.backend.outputs
-        pixels, linear, ids = outputs.pop("pixels"), outputs.pop("linear", None), outputs.pop("object_ids", None)
-        if self.check_finite and linear is not None:
-            problem = first_non_finite(linear)
-            if problem is not None:
-                raise NonFiniteOutput(f"frame {index}: {problem} ({ENV_CHECK_FINITE} is on)")
-        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids)
+        return outputs.pop("pixels"), outputs.pop("linear", None), outputs.pop("object_ids", None)
+
+    def _film(self, index: int, time: float) -> tuple:
+        """The frame through the shutter and the lens: the mean in linear light of the
+        sub-frames (static passes stay cached across them), then the exposure, the tone
+        curve and the output transform once, in NumPy (colorspace), as the output pass
+        would. Object ids are the sub-frame's nearest the frame's time."""
+        samples = self.film.samples_over(1.0 / float(self.world.output.fps))
+        total, ids, nearest = None, None, None
+        for sample in samples:
+            _, linear, sample_ids = self._run_graph(index, time + sample.time_offset, sample.lens)
+            total = linear.astype(np.float64) if total is None else total + linear
+            if nearest is None or abs(sample.time_offset) < nearest:
+                ids, nearest = sample_ids, abs(sample.time_offset)
+        linear = total / len(samples)
+        settings = self.world.settings
+        display = tone_map(linear, settings.tone_map, float(self.world.render.exposure(time)))
+        pixels = encode_output(display, settings.output_transform, settings.gamma)
+        return pixels, linear.astype(np.float32), ids

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from scenerender.errors import EnvironmentProblem
 from scenerender.gpu.context import create_context
 from scenerender.rendering.renderer import device_samples, plan
+from scenerender.world.lens import Film
 
 
 @dataclass(frozen=True)
@@ -27,8 +28,9 @@ class GraphReport:
             msaa += f" ({settings.samples} asked; this device offers {self.device_max})"
         elif self.device_max is None and settings.samples > 1:
             msaa += " (no GL device to ask: a device may offer fewer)"
+        film = Film.of_world(self.scene.world)
         return (f"render graph of {name}: mode {settings.mode}, {settings.size[0]}x{settings.size[1]}, {msaa}, "
-                f"{self.scene.frame_count} frame(s)")
+                f"{self.scene.frame_count} frame(s)" + (f", {film.describe()}" if film is not None else ""))
 
 
 def graph_report(scene) -> GraphReport:
@@ -36,7 +38,9 @@ def graph_report(scene) -> GraphReport:
     settings = scene.world.settings
     device_max = device_max_samples()
     used = device_samples(settings.samples, device_max if device_max is not None else settings.samples)
-    return GraphReport(scene, plan(scene.world, settings.size, used).compiled, used, device_max)
+    # a filmed frame reads back each sub-frame's linear image, as GraphRenderer plans it
+    filmed = Film.of_world(scene.world) is not None
+    return GraphReport(scene, plan(scene.world, settings.size, used, want_linear=filmed).compiled, used, device_max)
 
 
 def device_max_samples() -> int | None:

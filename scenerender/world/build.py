@@ -110,6 +110,7 @@ def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
     check_placements(objects, scene.source)
     lights, ambient = split_ambient(light_defs(spec.lights, spec.render.shadows))
     _check_modes(scene, lights)
+    _check_focus(scene, objects)
     images = ImageStore(max_pixels=_limit(scene, "texture_pixels", DEFAULT_MAX_PIXELS))
     for mesh in loader.meshes.values():
         for key, data in mesh.images.items():  # held by the mesh file itself (glTF)
@@ -131,6 +132,14 @@ def _check_modes(scene: LoadedScene, lights: list[LightDef]) -> None:
     if mode in ("shadow", "light_depth") and not any(light.shadow is not None for light in lights):
         raise single_error(f"mode '{mode}' shows the first shadowed light, but no light has shadows: true",
                            ("render", "mode"), scene.source)
+
+
+def _check_focus(scene: LoadedScene, objects: list) -> None:
+    camera = scene.spec.camera
+    if camera is None or camera.focus is None or any(obj.name == camera.focus for obj in objects):
+        return
+    named = ", ".join(f"'{obj.name}'" for obj in objects[:8]) or "none"
+    raise single_error(f"no object is named '{camera.focus}' (objects: {named})", ("camera", "focus"), scene.source)
 
 
 def _mesh_key(obj) -> tuple:

@@ -223,6 +223,15 @@ class CameraRig:
         target = np.asarray(spec.target(t), dtype=np.float64) if spec.target is not None else center
         return position, target - position  # zero where they meet: look_rotation has a fallback
 
+    def focus_distance(self, t: float) -> float:
+        """Where the lens focuses at ``t``: ``focus_distance``, else the distance to what the
+        camera looks at (its target, or the centre the default camera frames)."""
+        spec = self.spec
+        if spec is not None and spec.focus_distance is not None:
+            return float(spec.focus_distance(t))
+        _, forward = self._aim(t, spec.fov(t) if spec is not None else 60.0)
+        return max(float(np.linalg.norm(forward)), 1e-9)
+
     def _ortho_height(self, t: float) -> float:
         if self.spec.height is not None:
             return self.spec.height(t)

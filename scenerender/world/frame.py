@@ -14,6 +14,7 @@ from scenerender.animation import animated_keys
 from scenerender.world.build import World, scene_bounds
 from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
+from scenerender.world.lens import lens_radius, through_lens
 from scenerender.world.environment import EnvironmentState
 from scenerender.world.lights import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye
@@ -73,6 +74,7 @@ class FrameState:
     shadow_views: dict      # light index -> list[ShadowView], for each shadowed light
     materials: dict         # id(Material) -> evaluated uniforms
     environment: EnvironmentState | None = None  # the environment light's, where the scene has one
+    focus_distance: float | None = None  # where the lens focuses, with camera.aperture (world.lens)
 
     def shadowed_lights(self) -> list[int]:
         return sorted(self.shadow_views)
@@ -104,7 +106,9 @@ class FrameEvaluator:
         return {i: self._placement(obj, obj.matrices(0.0), self._windings[i])
                 for i, obj in enumerate(self.world.objects) if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
 
-    def evaluate(self, index: int, time: float) -> FrameState:
+    def evaluate(self, index: int, time: float, lens_point: tuple | None = None) -> FrameState:
+        """The frame at ``time``; ``lens_point`` (x, y on the unit disc): seen from that point
+        of the lens of ``camera.aperture`` (world.lens), else from the pinhole."""
         world = self.world
         placements = [self._fixed.get(i) or self._placement(obj, obj.matrices(time), self._windings[i])
                       for i, obj in enumerate(world.objects)]
@@ -118,6 +122,9 @@ class FrameEvaluator:
                 [bool(obj.visible(0.0)) for obj in world.objects])
             self.rig.first_bounds = start if start is not None else np.array([[-1.0] * 3, [1.0] * 3])
         camera = self.rig.at(time, bounds)
+        focus = self._focus_distance(time, camera, placements) if self._has_lens else None
+        if lens_point is not None:
+            camera = self._through_lens(camera, lens_point, focus)
         planes = frustum_planes(camera.view_proj_relative())
         objects = [self._object(obj, p, v, camera, planes) for obj, p, v in zip(world.objects, placements, visible)]
         lights = evaluate_lights(world.lights, time, camera)
@@ -132,9 +139,28 @@ class FrameEvaluator:
             bounds=bounds, shadow_views=self._shadow_views(lights, world, objects, bounds, camera),
             materials={id(m): _material_values(m, time) for m in world.materials()},
             environment=world.environment.state(time) if world.environment is not None else None,
+            focus_distance=focus,
         )
 
     # -- camera -----------------------------------------------------------------------
+    @cached_property
+    def _has_lens(self) -> bool:
+        return self.world.spec.camera is not None and self.world.spec.camera.aperture is not None
+
+    def _focus_distance(self, t: float, camera: CameraState, placements: list) -> float:
+        """Where the lens focuses at ``t``: on the centre of the object ``camera.focus``
+        names (its distance along the view axis), else as the rig says."""
+        name = self.world.spec.camera.focus
+        if name is None:
+            return self.rig.focus_distance(t)
+        index = next(i for i, obj in enumerate(self.world.objects) if obj.name == name)
+        lo, hi = placements[index][2]
+        return max(float(np.dot((lo + hi) / 2.0 - camera.position, camera.forward)), 1e-6)
+
+    def _through_lens(self, camera: CameraState, point: tuple, focus: float) -> CameraState:
+        spec = self.world.spec.camera
+        return through_lens(camera, point, lens_radius(camera, spec.aperture, focus, spec.sensor_width), focus)
+
     def camera(self, t: float, bounds) -> CameraState:
         """The camera at ``t`` in a scene whose objects span ``bounds`` (2, 3), without
         evaluating the rest of the frame (objects that never move: their bounds at 0)."""

@@ -72,12 +72,13 @@ class WorldInputs:
     exposure: WorldInput | None
     environment: WorldInput | None = None      # intensity, colour and rotation of the environment light
     environment_map: WorldInput | None = None  # its image and diffuse map on the GPU: static
+    lens: WorldInput | None = None  # the thin lens's radius and focus, for render.depth_of_field: gather
 
     def all(self) -> list[WorldInput]:
         fixed = [self.camera, self.objects, self.materials, self.background, *self.per_light, self.ambient,
                  *self.shadow_views.values(), self.lights]
         return fixed + [i for i in (self.fog, self.outlines, self.skybox, self.exposure, self.environment,
-                                    self.environment_map) if i is not None]
+                                    self.environment_map, self.lens) if i is not None]
 
 
 def _input(name: str, keys: list, follows: tuple = ()) -> WorldInput:
@@ -102,7 +103,11 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
     objects = _input("objects", [f"{obj.name}.{key}" for obj in world.objects
                                  for key in animated_keys(obj, skip=OBJECT_LOOK_KEYS)])
     auto_planes = spec.camera is None or "auto" in (spec.camera.near, spec.camera.far)
-    camera = _input("camera", animated_keys(spec.camera), (objects,) if auto_planes else ())
+    # an aperture filmed by sub-frames moves the eye over the lens every sub-frame (world.lens)
+    has_lens = spec.camera is not None and spec.camera.aperture is not None
+    gather = has_lens and render.depth_of_field == "gather"
+    lens = ["camera.aperture"] if has_lens and not gather else []
+    camera = _input("camera", animated_keys(spec.camera) + lens, (objects,) if auto_planes else ())
     per_light, views = [], {}
     for index, (light, name) in enumerate(zip(world.lights, _unique_names(world.lights))):
         per_light.append(_input(f"light:{name}", animated_keys(light), (camera,) if light.attach_camera else ()))
@@ -120,6 +125,9 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
     lights = _input("lights", light_keys, (*views.values(), *((camera,) if placed else ())))
     outlined = [obj for obj in world.objects if obj.outline is not None]
     return WorldInputs(
+        # the gather blur's lens: its radius and focus follow the camera (fov, target) and the objects (focus)
+        lens=_input("lens", ["camera.focus_distance"] if animated_keys(spec.camera.focus_distance) else [],
+                    (camera, objects)) if gather else None,
         camera=camera, objects=objects,
         materials=_input("materials", [f"{m.name}.{key}" for m in world.materials() for key in animated_keys(m)]),
         background=_input("background", animated_keys(render.background)),

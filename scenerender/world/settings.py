@@ -7,6 +7,9 @@ from pathlib import Path
 
 from scenerender.scene.model.render import SKY_FACES, AmbientOcclusion
 
+# The render modes that show values rather than light (no tone curve, no bloom, no sub-frames).
+DATA_MODES = ("depth", "normals", "ambient_occlusion", "shadow", "light_depth")
+
 
 @dataclass(frozen=True)
 class FogSettings:
@@ -52,6 +55,15 @@ class OutlineSettings:
 
 
 @dataclass(frozen=True)
+class BloomSettings:
+    """strength: the fraction of light spread into the glow; radius: the Gaussian's
+    standard deviation as a fraction of the image height (rendering/passes/bloom.py)."""
+
+    strength: float
+    radius: float
+
+
+@dataclass(frozen=True)
 class RenderSettings:
     """size: (width, height); skybox: the six face paths (+x -x +y -y +z -z) or None;
     tone_map: "none" | "aces" | "agx" (the exposure, a Track, is an input: world.inputs)."""
@@ -69,6 +81,9 @@ class RenderSettings:
     fog: FogSettings | None
     ambient_occlusion: AmbientOcclusionSettings | None
     skybox: tuple[Path, ...] | None
+    bloom: BloomSettings | None = None
+    film_samples: int = 16
+    depth_of_field: str = "sub_frames"
 
     @classmethod
     def of(cls, render) -> "RenderSettings":
@@ -83,4 +98,6 @@ class RenderSettings:
             fog=FogSettings(fog.mode, fog.start, fog.end) if fog is not None else None,
             ambient_occlusion=AmbientOcclusionSettings.of(ao) if ao is not None else None,
             skybox=tuple(Path(getattr(sky, face)) for face in SKY_FACES) if sky is not None else None,
+            bloom=BloomSettings(render.bloom.strength, render.bloom.radius) if render.bloom is not None else None,
+            film_samples=render.film_samples, depth_of_field=render.depth_of_field,
         )

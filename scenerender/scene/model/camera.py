@@ -9,7 +9,7 @@ from pydantic_core import PydanticCustomError
 
 from scenerender.scene.describe import describe
 from scenerender.scene.strict import StrictModel
-from scenerender.scene.values import AnimatedFloat, AnimatedVec3, animated_number, check_number, choice, vector
+from scenerender.scene.values import AnimatedFloat, AnimatedVec3, animated_number, check_number, choice, number, vector
 
 
 def _near_far(value):
@@ -37,6 +37,12 @@ class CameraSpec(StrictModel):
     height: animated_number(0, lo_open=True) | None = None
     near: NearFar = "auto"
     far: NearFar = "auto"
+    # the filmed camera (world/lens.py): shutter, thin lens
+    shutter: number(0, 1) = 0.0
+    aperture: number(0.5, 1024) | None = None
+    focus_distance: animated_number(0, lo_open=True) | None = None
+    focus: str | None = None  # an object's name: focus on its centre (world/frame.py)
+    sensor_width: number(1, 1000) = 36.0
 
     @model_validator(mode="after")
     def _check(self):
@@ -50,6 +56,16 @@ class CameraSpec(StrictModel):
                 "camera_aim", "camera position and target are the same point {point}: there is no direction to "
                 "look in; move the target or give yaw/pitch instead", {"point": _vector_text(self.target(0.0)),
                                                                          "subpath": ("target",)})
+        if self.focus is not None and self.focus_distance is not None:
+            raise PydanticCustomError("camera_lens", "give either focus (an object) or focus_distance, not both",
+                                      {"subpath": ("focus",)})
+        if (self.aperture is not None and self.focus_distance is None and self.focus is None
+                and (self.yaw is not None or self.pitch is not None)):
+            raise PydanticCustomError("camera_lens", "an aperture with yaw/pitch needs a focus_distance or a focus "
+                                      "object (where the lens is focused)", {"subpath": ("aperture",)})
+        if self.aperture is not None and self.projection == "orthographic":
+            raise PydanticCustomError("camera_lens", "depth of field (aperture) needs a perspective camera",
+                                      {"subpath": ("aperture",)})
         if (isinstance(self.near, float) and isinstance(self.far, float) and self.near >= self.far):
             raise PydanticCustomError("near_far", "near ({n}) must be less than far ({f})",
                                       {"n": f"{self.near:g}", "f": f"{self.far:g}", "subpath": ("far",)})

@@ -56,6 +56,11 @@ class AmbientOcclusion(StrictModel):
     strength: number(0, 4) = 1.0
 
 
+class Bloom(StrictModel):
+    strength: number(0, 1) = 0.05
+    radius: number(0, 0.25, lo_open=True) = 0.02
+
+
 SKY_FACES = ("posx", "negx", "posy", "negy", "posz", "negz")
 
 
@@ -126,3 +131,6 @@ class RenderSpec(StrictModel):
     wireframe_overlay: Bool = False
     line_width: number(0.1, 16) = 1.0
     point_size: number(1, 64) = 3.0
+    bloom: Bloom | None = None
+    film_samples: number(1, 1024, integer=True) = 16
+    depth_of_field: choice("sub_frames", "gather") = "sub_frames"
