@@ -45,6 +45,7 @@ class InputHandles:
     exposure: Handle | None
     environment: Handle | None = None      # EnvironmentState: colour x intensity, rotation
     environment_map: Handle | None = None  # scene_gpu.EnvironmentTextures: static
+    environment_views: Handle | None = None  # world.environment_visibility.EnvironmentViews
 
     def shading(self) -> tuple:
         """Everything lit shading reads: camera, objects, materials, the ambient light,
@@ -59,7 +60,7 @@ class InputHandles:
         """Every input handle, in import order."""
         found = [self.camera, self.objects, self.materials, self.background, self.ambient, *self.per_light,
                  *(handle for _, handle in self.shadow_views), self.lights, self.fog, self.outlines, self.skybox,
-                 self.exposure, self.environment, self.environment_map]
+                 self.exposure, self.environment, self.environment_map, self.environment_views]
         return [handle for handle in found if handle is not None]
 
 
@@ -79,7 +80,7 @@ def import_inputs(graph: FrameGraph, world) -> InputHandles:
         lights=imported(inputs.lights),
         fog=imported(inputs.fog), outlines=imported(inputs.outlines), skybox=imported(inputs.skybox),
         exposure=imported(inputs.exposure), environment=imported(inputs.environment),
-        environment_map=imported(inputs.environment_map),
+        environment_map=imported(inputs.environment_map), environment_views=imported(inputs.environment_views),
     )
 
 
@@ -205,4 +206,6 @@ def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, 
     if handles.environment is not None:
         values[handles.environment.resource] = frame.environment
         values[handles.environment_map.resource] = gpu.environment
+    if handles.environment_views is not None:
+        values[handles.environment_views.resource] = frame.environment_views
     return values

@@ -26,6 +26,7 @@ from scenerender.rendering.passes.sky import NO_SKY, SkyboxPass, SkyUnder
 from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
+from scenerender.world.environment_visibility import visibility_tiles
 from scenerender.world.frame import FrameEvaluator
 from scenerender.world.settings import AmbientOcclusionSettings
 
@@ -145,7 +146,16 @@ def _environment_lighting(graph, world, inputs: InputHandles) -> EnvironmentLigh
         return None
     specular = graph.add(EnvironmentPrefilterPass(inputs.environment_map, specular_layout(environment),
                                                   environment.samples)).image
-    return EnvironmentLighting(inputs.environment, inputs.environment_map, specular)
+    visibility = None
+    if inputs.environment_views is not None:
+        page_size, _ = visibility_tiles(environment.visibility, environment.visibility_map_size)
+        visibility = graph.add(ShadowMapPass(f"{environment.name} visibility", "directional",
+                                             environment.visibility_map_size, 2, 0, page_size,
+                                             inputs.environment_views, inputs.objects, None,
+                                             _masked_materials(world, inputs, casters_only=True),
+                                             page_name="environment_visibility")).atlas
+    return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
+                               visibility)
 
 
 def prepass_pays(world, atlas, size, samples: int) -> bool:

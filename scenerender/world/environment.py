@@ -50,6 +50,9 @@ class EnvironmentDef:
     sh_order: the highest spherical-harmonic band of the diffuse term (0..4).
     samples: GGX samples a texel of each rough prefiltered level.
     footprint: the specular lookup widened to the pixel's spread of reflection directions.
+    visibility: how many directions the scene's occlusion of the light is sampled in, each
+    with a shadow map of ``visibility_map_size`` texels a side (world.environment_visibility);
+    0: the scene does not block it.
     """
 
     name: str
@@ -64,6 +67,8 @@ class EnvironmentDef:
     sh_order: int = 4
     samples: int = 512
     footprint: bool = False
+    visibility: int = 0
+    visibility_map_size: int = 512
 
     @cached_property
     def sh(self) -> np.ndarray:
@@ -126,7 +131,8 @@ def environment_def(scene, images, sky_faces) -> EnvironmentDef | None:
                                scene.source) from None
     return EnvironmentDef(light.name or f"environment{index}", path, image, light.color, light.intensity,
                           light.enabled, light.rotation, light.classic, light.prefilter_size, light.sh_order,
-                          light.samples, light.footprint)
+                          light.samples, light.footprint, light.visibility_directions if light.visibility else 0,
+                          light.visibility_map_size)
 
 
 def skybox_image(faces, images) -> np.ndarray:

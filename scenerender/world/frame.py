@@ -15,6 +15,7 @@ from scenerender.world.build import World, scene_bounds
 from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
 from scenerender.world.environment import EnvironmentState
+from scenerender.world.environment_visibility import EnvironmentViews, environment_views, median_cut, visibility_tiles
 from scenerender.world.lights import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
@@ -73,6 +74,8 @@ class FrameState:
     shadow_views: dict      # light index -> list[ShadowView], for each shadowed light
     materials: dict         # id(Material) -> evaluated uniforms
     environment: EnvironmentState | None = None  # the environment light's, where the scene has one
+    # the environment's visibility maps' views (world.environment_visibility), where it has them
+    environment_views: EnvironmentViews | None = None
 
     def shadowed_lights(self) -> list[int]:
         return sorted(self.shadow_views)
@@ -132,6 +135,7 @@ class FrameEvaluator:
             bounds=bounds, shadow_views=self._shadow_views(lights, world, objects, bounds, camera),
             materials={id(m): _material_values(m, time) for m in world.materials()},
             environment=world.environment.state(time) if world.environment is not None else None,
+            environment_views=self._environment_views(world, objects, bounds, time),
         )
 
     # -- camera -----------------------------------------------------------------------
@@ -164,6 +168,21 @@ class FrameEvaluator:
             rel, normals, matrices = rel[order], normals[order], matrices[order]
         return ObjectFrame(visible, rel.astype(np.float32), matrices, normals, bounds, (bounds[0] + bounds[1]) / 2.0,
                            int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding)
+
+    @cached_property
+    def _environment_directions(self) -> tuple:
+        """The environment's visibility directions and weights (median_cut), once a run."""
+        environment = self.world.environment
+        return median_cut(environment.image, environment.visibility)
+
+    def _environment_views(self, world: World, objects: list, bounds, time: float) -> EnvironmentViews | None:
+        environment = world.environment
+        if environment is None or not environment.visibility:
+            return None
+        casters = union_bounds([f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows])
+        directions, weights = self._environment_directions
+        _, tiles = visibility_tiles(len(directions), environment.visibility_map_size)
+        return environment_views(directions, weights, environment.state(time).to_image, tiles, casters, bounds)
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:

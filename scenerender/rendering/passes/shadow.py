@@ -30,6 +30,8 @@ class ShadowMapPass(RenderPass):
     page_size: its (width, height). views: the light's ``shadow_views`` input, dynamic
     wherever the views follow the camera. materials: the ``materials`` input, read only in
     a scene with alpha-masked materials (glTF MASK), whose cut-away pixels cast no shadow.
+    page_name: the depth texture's name where it is not an atlas page (the environment's
+    visibility maps, rendering.passes.environment).
     """
 
     keeps_unchanged = True  # casters are drawn relative to the light, never the camera
@@ -44,6 +46,7 @@ class ShadowMapPass(RenderPass):
     objects: Handle
     atlas_in: Handle | None = None
     materials: Handle | None = None
+    page_name: str | None = None
 
     @property
     def name(self) -> str:
@@ -52,7 +55,8 @@ class ShadowMapPass(RenderPass):
     def setup(self, builder) -> ShadowMapData:
         builder.read(self.views, self.objects, *((self.materials,) if self.materials is not None else ()))
         if self.atlas_in is None:
-            return ShadowMapData(builder.create(atlas_page_name(self.page), ResourceDesc("depth", self.page_size, "depth24")))
+            name = self.page_name or atlas_page_name(self.page)
+            return ShadowMapData(builder.create(name, ResourceDesc("depth", self.page_size, "depth24")))
         return ShadowMapData(builder.write(self.atlas_in, own_region=True))  # its own tiles
 
     def describe(self) -> str:

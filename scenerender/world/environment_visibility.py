@@ -1,0 +1,119 @@
+"""How much of the environment light the scene blocks at a surface, CPU side. No GL.
+
+The environment image is split into K regions of about equal power by median cut
+(Debevec, "A median cut algorithm for light probe sampling", 2005): a region is cut across
+its longer side (its width measured at its middle row's latitude) where half its power
+lies on each side, every region in turn, largest power first, until there are K. Each
+region becomes one direction (its power-weighted centroid) with a weight (its share of
+the image's power, luminance x solid angle). Each direction gets an orthographic shadow
+map over the casters' footprint, as a directional light's (world.shadows), on one depth
+texture of K tiles; the shader (shaders/lighting/environment_visibility.glsl) turns the
+lookups into the fraction of the light that reaches a point:
+
+    V_d = sum_k w_k max(N.l_k, 0) s_k / sum_k w_k max(N.l_k, 0)
+    V_s = sum_k w_k max(N.l_k, 0) D(N.h_k) s_k / sum_k w_k max(N.l_k, 0) D(N.h_k)
+
+(s_k: 1 lit, 0 shadowed; D: GGX of the surface's roughness, at least the directions'
+spacing), which scale the split sum's diffuse and specular terms. A point no direction
+is blocked at gets exactly 1, so a convex object alone is not darkened by itself.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from scenerender.world.environment import _area_average, equirect_directions, texel_solid_angles
+from scenerender.world.shadows import Tile, light_views
+
+CUT_WIDTH = 128  # the image is area-averaged to at most this wide before the cut
+
+
+def median_cut(image: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """((count, 3) unit directions in the image's frame, (count,) weights summing to 1):
+    the centroids and power shares of ``count`` regions of about equal power."""
+    small = _area_average(np.asarray(image, dtype=np.float64), CUT_WIDTH)
+    while small.shape[0] * small.shape[1] < count:  # a tiny image: texels enough for every region
+        small = np.repeat(np.repeat(small, 2, axis=0), 2, axis=1)
+    height, width = small.shape[:2]
+    power = np.maximum(small.mean(axis=2), 0.0) * texel_solid_angles(height, width)
+    if not np.any(power > 0.0):
+        power = np.broadcast_to(texel_solid_angles(height, width), (height, width)).copy()
+    regions = [(0, height, 0, width)]
+    while len(regions) < count:
+        cuttable = sorted((r for r in regions if r[1] - r[0] > 1 or r[3] - r[2] > 1),
+                          key=lambda r: -power[r[0]:r[1], r[2]:r[3]].sum())
+        if not cuttable:
+            break
+        for region in cuttable[:count - len(regions)]:
+            regions.remove(region)
+            regions.extend(_cut(region, power, height))
+    directions = equirect_directions(height, width)
+    found_directions, weights = [], []
+    for top, bottom, left, right in regions:
+        p = power[top:bottom, left:right]
+        total = p.sum()
+        d = (directions[top:bottom, left:right] * (p if total > 0 else np.ones_like(p))[..., None]).sum(axis=(0, 1))
+        found_directions.append(d / max(np.linalg.norm(d), 1e-12))
+        weights.append(total)
+    weights = np.asarray(weights)
+    return np.asarray(found_directions), weights / weights.sum()
+
+
+def _cut(region: tuple, power: np.ndarray, height: int) -> list:
+    """``region`` (top, bottom, left, right) in two, across its longer side, at its power's median."""
+    top, bottom, left, right = region
+    middle = math.sin((top + bottom) / 2.0 / height * math.pi)  # a row's width shrinks towards the poles
+    across_columns = (right - left) * middle >= (bottom - top) and right - left > 1 or bottom - top == 1
+    p = power[top:bottom, left:right]
+    profile = p.sum(axis=0) if across_columns else p.sum(axis=1)
+    cumulative = np.cumsum(profile)
+    at = int(np.searchsorted(cumulative, cumulative[-1] / 2.0)) + 1
+    at = min(max(at, 1), len(profile) - 1)
+    if across_columns:
+        return [(top, bottom, left, left + at), (top, bottom, left + at, right)]
+    return [(top, top + at, left, right), (top + at, bottom, left, right)]
+
+
+def visibility_tiles(count: int, size: int) -> tuple[tuple, list]:
+    """((width, height) of the depth texture, [Tile] per direction): ``count`` tiles of
+    ``size`` texels in a grid as square as it can be."""
+    columns = math.ceil(math.sqrt(count))
+    rows = math.ceil(count / columns)
+    tiles = [Tile((k % columns) * size, (k // columns) * size, size) for k in range(count)]
+    return (columns * size, rows * size), tiles
+
+
+class _TowardsLight:
+    """What world.shadows.light_views reads of a directional light: the way its light travels."""
+
+    kind = "directional"
+
+    def __init__(self, direction: np.ndarray):
+        self.direction = direction
+
+
+@dataclass(frozen=True)
+class EnvironmentViews:
+    """The visibility maps at one instant: ``views`` one ShadowView per direction,
+    ``directions`` (K, 3) the world directions towards the light, ``weights`` (K,) their
+    power shares."""
+
+    views: list
+    directions: np.ndarray
+    weights: np.ndarray
+
+    def same_as(self, other) -> bool:
+        return (isinstance(other, EnvironmentViews) and len(self.views) == len(other.views)
+                and all(a.same_as(b) for a, b in zip(self.views, other.views))
+                and np.array_equal(self.directions, other.directions) and np.array_equal(self.weights, other.weights))
+
+
+def environment_views(directions: np.ndarray, weights: np.ndarray, to_image: np.ndarray, tiles: list, casters,
+                      everything) -> EnvironmentViews:
+    """One orthographic ShadowView per direction (image frame, (K, 3)), turned into the
+    world (``to_image``: world -> image), over the casters' whole footprint."""
+    world_directions = directions @ to_image  # (to_image.T @ d) for each d
+    views = [light_views(_TowardsLight(-d), [tile], casters, everything)[0] for d, tile in zip(world_directions, tiles)]
+    return EnvironmentViews(views, world_directions, weights)
