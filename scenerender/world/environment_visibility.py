@@ -28,27 +28,31 @@ from scenerender.world.environment import _area_average, equirect_directions, te
 from scenerender.world.shadows import Tile, light_views
 
 CUT_WIDTH = 128  # the image is area-averaged to at most this wide before the cut
+AREA_SHARE = 0.5  # the cuts share out this much solid angle beside power (see median_cut)
 
 
-def median_cut(image: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
+def median_cut(image: np.ndarray, count: int, area_share: float = AREA_SHARE) -> tuple[np.ndarray, np.ndarray]:
     """((count, 3) unit directions in the image's frame, (count,) weights summing to 1):
     the centroids and power shares of ``count`` regions of about equal power."""
     small = _area_average(np.asarray(image, dtype=np.float64), CUT_WIDTH)
     while small.shape[0] * small.shape[1] < count:  # a tiny image: texels enough for every region
         small = np.repeat(np.repeat(small, 2, axis=0), 2, axis=1)
     height, width = small.shape[:2]
-    power = np.maximum(small.mean(axis=2), 0.0) * texel_solid_angles(height, width)
+    area = np.broadcast_to(texel_solid_angles(height, width), (height, width))
+    power = np.maximum(small.mean(axis=2), 0.0) * area
     if not np.any(power > 0.0):
-        power = np.broadcast_to(texel_solid_angles(height, width), (height, width)).copy()
+        power = area.copy()
+    # what the cuts share out: power, and with ``area_share`` of it solid angle
+    measure = (1.0 - area_share) * power / power.sum() + area_share * area / area.sum()
     regions = [(0, height, 0, width)]
     while len(regions) < count:
         cuttable = sorted((r for r in regions if r[1] - r[0] > 1 or r[3] - r[2] > 1),
-                          key=lambda r: -power[r[0]:r[1], r[2]:r[3]].sum())
+                          key=lambda r: -measure[r[0]:r[1], r[2]:r[3]].sum())
         if not cuttable:
             break
         for region in cuttable[:count - len(regions)]:
             regions.remove(region)
-            regions.extend(_cut(region, power, height))
+            regions.extend(_cut(region, measure, height))
     directions = equirect_directions(height, width)
     found_directions, weights = [], []
     for top, bottom, left, right in regions:
