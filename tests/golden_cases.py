@@ -37,6 +37,8 @@ CASES = {
     "primitives": ("primitives.yaml", 30, []),
     "primitives@phong": ("primitives.yaml", 30, ["render.shading=phong"]),
     "gltf_pbr": ("gltf_pbr.yaml", 36, []),
+    # the studio environment not blocked by the scene: what gltf_pbr drew before visibility
+    "gltf_pbr@visibility_off": ("gltf_pbr.yaml", 36, ["lights[2].visibility=false"]),
 }
 
 

@@ -148,12 +148,12 @@ def _environment_lighting(graph, world, inputs: InputHandles) -> EnvironmentLigh
                                                   environment.samples)).image
     visibility = None
     if inputs.environment_views is not None:
-        page_size, _ = visibility_tiles(environment.visibility, environment.visibility_map_size)
-        visibility = graph.add(ShadowMapPass(f"{environment.name} visibility", "directional",
-                                             environment.visibility_map_size, 2, 0, page_size,
-                                             inputs.environment_views, inputs.objects, None,
+        page_size, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size)
+        note = f"{environment.visibility} directions of the environment, {tiles[0].size}px each"
+        visibility = graph.add(ShadowMapPass(f"{environment.name} visibility", "directional", tiles[0].size, 2, 0,
+                                             page_size, inputs.environment_views, inputs.objects, None,
                                              _masked_materials(world, inputs, casters_only=True),
-                                             page_name="environment_visibility")).atlas
+                                             page_name="environment_visibility", note=note)).atlas
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
                                visibility)
 

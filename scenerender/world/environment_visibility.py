@@ -28,6 +28,7 @@ from scenerender.world.environment import _area_average, equirect_directions, te
 from scenerender.world.shadows import Tile, light_views
 
 CUT_WIDTH = 128  # the image is area-averaged to at most this wide before the cut
+MAX_TEXTURE_SIDE = 16384  # what every GL 4.3 device offers (world.directional_views)
 AREA_SHARE = 0.5  # the cuts share out this much solid angle beside power (see median_cut)
 
 
@@ -80,11 +81,14 @@ def _cut(region: tuple, power: np.ndarray, height: int) -> list:
     return [(top, top + at, left, right), (top + at, bottom, left, right)]
 
 
-def visibility_tiles(count: int, size: int) -> tuple[tuple, list]:
+def visibility_tiles(count: int, size: int, max_side: int = MAX_TEXTURE_SIDE) -> tuple[tuple, list]:
     """((width, height) of the depth texture, [Tile] per direction): ``count`` tiles of
-    ``size`` texels in a grid as square as it can be."""
-    columns = math.ceil(math.sqrt(count))
+    ``size`` texels (halved until the texture fits ``max_side``) in the grid of least area,
+    the squarer of two equal ones."""
+    columns = min(range(1, count + 1), key=lambda c: (c * math.ceil(count / c), abs(c - math.ceil(count / c))))
     rows = math.ceil(count / columns)
+    while max(columns, rows) * size > max_side and size > 16:
+        size //= 2
     tiles = [Tile((k % columns) * size, (k // columns) * size, size) for k in range(count)]
     return (columns * size, rows * size), tiles
 

@@ -30,8 +30,8 @@ class ShadowMapPass(RenderPass):
     page_size: its (width, height). views: the light's ``shadow_views`` input, dynamic
     wherever the views follow the camera. materials: the ``materials`` input, read only in
     a scene with alpha-masked materials (glTF MASK), whose cut-away pixels cast no shadow.
-    page_name: the depth texture's name where it is not an atlas page (the environment's
-    visibility maps, rendering.passes.environment).
+    page_name: the depth texture's name where it is not an atlas page, and ``note`` what
+    the dump shows instead (the environment's visibility maps, rendering.pipeline).
     """
 
     keeps_unchanged = True  # casters are drawn relative to the light, never the camera
@@ -47,6 +47,7 @@ class ShadowMapPass(RenderPass):
     atlas_in: Handle | None = None
     materials: Handle | None = None
     page_name: str | None = None
+    note: str = ""
 
     @property
     def name(self) -> str:
@@ -60,6 +61,8 @@ class ShadowMapPass(RenderPass):
         return ShadowMapData(builder.write(self.atlas_in, own_region=True))  # its own tiles
 
     def describe(self) -> str:
+        if self.note:
+            return self.note
         views = "6 cube faces" if self.kind == "point" else "1 view"
         return f"{self.kind} light, {views}, {self.map_size}px, pcf {self.pcf}"
 
