@@ -22,7 +22,7 @@ from scenerender.rendering.passes.output import (
     NO_TONE, OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass, ToneCurve,
 )
 from scenerender.rendering.passes.shadow import ShadowMapPass
-from scenerender.rendering.passes.sky import NO_SKY, SkyboxPass, SkyUnder
+from scenerender.rendering.passes.sky import NO_SKY, EnvironmentSky, SkyboxPass, SkyUnder
 from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
@@ -79,14 +79,14 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     hdr = (options.hdr_target if options.hdr_target is not None
            else hdr_target_pays(options, settings.output_transform, tone is not NO_TONE))
     # with MSAA the resolve adds the sky behind the samples; without, a pass draws it (passes/sky.py)
-    sky = (SkyUnder(inputs.camera, inputs.skybox)
-           if inputs.skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY)
+    skybox = _sky(world, inputs)
+    sky = SkyUnder(inputs.camera, skybox) if skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY
     opaque = graph.add(OpaquePass(size, samples, shading, inputs.background, fill, prepass,
                                   "rgba16f" if hdr else "srgba8", settings.line_width, settings.point_size,
                                   sky_behind=sky is not NO_SKY))
     color, depth = opaque.color, opaque.depth
-    if inputs.skybox is not None and sky is NO_SKY:
-        color = graph.add(SkyboxPass(color, depth, inputs.camera, inputs.skybox)).image
+    if skybox is not None and sky is NO_SKY:
+        color = graph.add(SkyboxPass(color, depth, inputs.camera, skybox)).image
     if inputs.outlines is not None:
         color = graph.add(OutlinePass(color, depth, inputs.camera, inputs.objects, inputs.outlines)).image
     if any(m.transparent for m in world.materials()):
@@ -114,6 +114,14 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     ids = graph.add(ObjectIdPass(size, inputs.camera, inputs.objects)).color if options.object_ids else None
     graph.add(ReadbackPass(final, size, linear, ids))
     return graph, inputs
+
+
+def _sky(world, inputs: InputHandles):
+    """What the sky shows: the environment light's image where it says ``background:
+    true``, else render.skybox's cube map, else nothing (None)."""
+    if world.environment is not None and world.environment.background:
+        return EnvironmentSky(inputs.environment, inputs.environment_map)
+    return inputs.skybox
 
 
 def _tone_curve(world, inputs: InputHandles) -> ToneCurve:

@@ -53,6 +53,8 @@ class EnvironmentDef:
     visibility: how many directions the scene's occlusion of the light is sampled in, each
     with a shadow map of ``visibility_map_size`` texels a side (world.environment_visibility);
     0: the scene does not block it.
+    background: the image is drawn behind the scene (turned by ``rotation``, times colour x
+    intensity), in place of the skybox.
     """
 
     name: str
@@ -69,6 +71,7 @@ class EnvironmentDef:
     footprint: bool = False
     visibility: int = 0
     visibility_map_size: int = 512
+    background: bool = False
 
     @cached_property
     def sh(self) -> np.ndarray:
@@ -132,7 +135,7 @@ def environment_def(scene, images, sky_faces) -> EnvironmentDef | None:
     return EnvironmentDef(light.name or f"environment{index}", path, image, light.color, light.intensity,
                           light.enabled, light.rotation, light.classic, light.prefilter_size, light.sh_order,
                           light.samples, light.footprint, light.visibility_directions if light.visibility else 0,
-                          light.visibility_map_size)
+                          light.visibility_map_size, light.background)
 
 
 def skybox_image(faces, images) -> np.ndarray:

@@ -104,6 +104,7 @@ class EnvironmentLight(_LightBase):
     visibility: Bool = True
     visibility_directions: number(1, 64, integer=True) = 32  # directions, each with a shadow map
     visibility_map_size: number(32, 4096, integer=True) = 512  # texels per side of each map
+    background: Bool = False  # the image drawn behind the scene (in place of render.skybox), turned by rotation
 
 
 LightSpec = tagged_union("type", "light", {"directional": DirectionalLight, "point": PointLight,
