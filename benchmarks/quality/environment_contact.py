@@ -3,7 +3,9 @@ a sky with a bright patch (scenes/environment_contact.yaml), each setting's erro
 regions where occlusion matters, and its cost. Writes environment_contact.md and .json.
 
     python benchmarks/quality/scenes/make_contact_sky.py    # contact_sky.hdr (committed)
-    python benchmarks/quality/environment_contact.py         # about 5 minutes on 2 cores
+    python benchmarks/quality/environment_contact.py [REFERENCE.npz]  # about 5 minutes on 2 cores
+
+REFERENCE.npz, where given, keeps the reference frame between runs (made if missing).
 
 Regions (ground points by their distance r from the contact point, across the ground):
 - ring: ground with 0.15 < r < 0.9, around the contact;
@@ -134,10 +136,17 @@ def main() -> None:
 
     size = (256, 192)
     scene = scenerender.load(SCENE)
-    reference = render_reference(scene, 0, spp=8, environment_samples=32)
+    cache = Path(sys.argv[1]) if len(sys.argv) > 1 else None  # an .npz keeping the reference between runs
+    if cache is not None and cache.exists():
+        kept = np.load(cache)
+        truth, mixed = kept["truth"], kept["mixed"]
+    else:
+        reference = render_reference(scene, 0, spp=8, environment_samples=32)
+        truth, mixed = reference.linear.astype(np.float64).mean(axis=2), reference.mixed
+        if cache is not None:
+            np.savez(cache, truth=truth, mixed=mixed)
     points, which = surface_points(scene.world, size)
-    masks = region_masks(points, which, reference.mixed)
-    truth = reference.linear.astype(np.float64).mean(axis=2)
+    masks = region_masks(points, which, mixed)
     results = {}
     for name, overrides in VARIANTS.items():
         errors = region_errors(gpu_linear(overrides, size).mean(axis=2), truth, masks)

@@ -21,11 +21,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from scenerender.world.environment import _area_average, equirect_directions, texel_solid_angles
-from scenerender.world.shadows import Tile, light_views
+from scenerender.world.shadows import Tile, directional_rotation, directional_view
 
 CUT_WIDTH = 128  # the image is area-averaged to at most this wide before the cut
 MAX_TEXTURE_SIDE = 16384  # what every GL 4.3 device offers (world.directional_views)
@@ -93,15 +94,6 @@ def visibility_tiles(count: int, size: int, max_side: int = MAX_TEXTURE_SIDE) ->
     return (columns * size, rows * size), tiles
 
 
-class _TowardsLight:
-    """What world.shadows.light_views reads of a directional light: the way its light travels."""
-
-    kind = "directional"
-
-    def __init__(self, direction: np.ndarray):
-        self.direction = direction
-
-
 @dataclass(frozen=True)
 class EnvironmentViews:
     """The visibility maps at one instant: ``views`` one ShadowView per direction,
@@ -123,5 +115,23 @@ def environment_views(directions: np.ndarray, weights: np.ndarray, to_image: np.
     """One orthographic ShadowView per direction (image frame, (K, 3)), turned into the
     world (``to_image``: world -> image), over the casters' whole footprint."""
     world_directions = directions @ to_image  # (to_image.T @ d) for each d
-    views = [light_views(_TowardsLight(-d), [tile], casters, everything)[0] for d, tile in zip(world_directions, tiles)]
+    if casters is None or everything is None:
+        casters = everything = np.array([[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]])
+    # to_image turns about +Y, which a view's rotation keeps up: the image frame's
+    # rotations, made once, then turned (rather than K look_rotations a frame)
+    rotations = view_rotations(directions) @ to_image
+    views = [directional_view(rotation, casters, everything, tile) for rotation, tile in zip(rotations, tiles)]
     return EnvironmentViews(views, world_directions, weights)
+
+
+@lru_cache(maxsize=4)
+def _view_rotations(key: bytes, count: int) -> np.ndarray:
+    directions = np.frombuffer(key, dtype=np.float64).reshape(count, 3)
+    return np.stack([directional_rotation(-d) for d in directions])
+
+
+def view_rotations(directions: np.ndarray) -> np.ndarray:
+    """(K, 3, 3) world -> view rotations of shadow views looking along -``directions``
+    (the light travelling from them), in the image's frame."""
+    d = np.ascontiguousarray(directions, dtype=np.float64)
+    return _view_rotations(d.tobytes(), len(d))

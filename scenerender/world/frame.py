@@ -92,6 +92,7 @@ class FrameEvaluator:
         self.aspect = size[0] / size[1]
         self.atlas = atlas
         self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio)
+        self._last_environment_views = None  # (what they were fitted to, EnvironmentViews)
 
     @cached_property
     def _windings(self) -> list:
@@ -180,9 +181,17 @@ class FrameEvaluator:
         if environment is None or not environment.visibility:
             return None
         casters = union_bounds([f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows])
+        to_image = environment.state(time).to_image
+        # the views depend on these alone: a frame where none changed keeps the last ones
+        # (fitting K views costs milliseconds; most scenes' objects stand still)
+        key = tuple(np.asarray(a).tobytes() if a is not None else None for a in (casters, bounds, to_image))
+        if self._last_environment_views is not None and self._last_environment_views[0] == key:
+            return self._last_environment_views[1]
         directions, weights = self._environment_directions
         _, tiles = visibility_tiles(len(directions), environment.visibility_map_size)
-        return environment_views(directions, weights, environment.state(time).to_image, tiles, casters, bounds)
+        views = environment_views(directions, weights, to_image, tiles, casters, bounds)
+        self._last_environment_views = (key, views)
+        return views
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:
