@@ -257,7 +257,7 @@ def sh_bands(order: int) -> np.ndarray:
 def project_sh(image: np.ndarray, order: int) -> np.ndarray:
     """((order + 1)^2, 3) coefficients of ``image`` (equirectangular radiance) on
     ``sh_basis``: the integral of radiance x basis over the sphere, texel by texel."""
-    small = _area_average(image, SH_PROJECTION_WIDTH)
+    small = area_average(image, SH_PROJECTION_WIDTH)
     height, width = small.shape[:2]
     weights = texel_solid_angles(height, width)
     grid = equirect_directions(height, width)
@@ -281,7 +281,7 @@ def diffuse_radiance(coefficients: np.ndarray, normals: np.ndarray) -> np.ndarra
     return np.maximum(out, 0.0).reshape(shape + (3,))
 
 
-def _area_average(image: np.ndarray, max_width: int) -> np.ndarray:
+def area_average(image: np.ndarray, max_width: int) -> np.ndarray:
     """``image`` shrunk by a whole factor (box filter) to at most ``max_width`` wide."""
     height, width = image.shape[:2]
     factor = 1

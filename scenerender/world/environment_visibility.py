@@ -1,14 +1,17 @@
 """How much of the environment light the scene blocks at a surface, CPU side. No GL.
 
-The environment image is split into K regions of about equal power by median cut
-(Debevec, "A median cut algorithm for light probe sampling", 2005): a region is cut across
-its longer side (its width measured at its middle row's latitude) where half its power
-lies on each side, every region in turn, largest power first, until there are K. Each
-region becomes one direction (its power-weighted centroid) with a weight (its share of
-the image's power, luminance x solid angle). Each direction gets an orthographic shadow
-map over the casters' footprint, as a directional light's (world.shadows), on one depth
-texture of K tiles; the shader (shaders/lighting/environment_visibility.glsl) turns the
-lookups into the fraction of the light that reaches a point:
+The environment image is split into K regions by median cut (Debevec, "A median cut
+algorithm for light probe sampling", 2005): the region holding the most of the measure is
+cut across its longer side (its width taken at its middle row's latitude) where half its
+measure lies on each side, until there are K. The measure is half power (channel mean x
+solid angle), half solid angle, each as a share of the whole: by power alone a bright
+patch takes most directions and leaves the dim horizon and ground, which light the lower
+half of a resting object, one or two. Each region becomes one direction (its
+power-weighted centroid) with a weight (its share of the image's power, whatever the cut
+shared out). Each direction gets an orthographic shadow map over the casters' footprint,
+as a directional light's (world.shadows), on one depth texture of K tiles; the shader
+(shaders/lighting/environment_visibility.glsl) turns the lookups into the fraction of the
+light that reaches a point:
 
     V_d = sum_k w_k max(N.l_k, 0) s_k / sum_k w_k max(N.l_k, 0)
     V_s = sum_k w_k max(N.l_k, 0) D(N.h_k) s_k / sum_k w_k max(N.l_k, 0) D(N.h_k)
@@ -25,7 +28,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from scenerender.world.environment import _area_average, equirect_directions, texel_solid_angles
+from scenerender.world.environment import area_average, equirect_directions, texel_solid_angles
 from scenerender.world.shadows import Tile, directional_rotation, directional_view
 
 CUT_WIDTH = 128  # the image is area-averaged to at most this wide before the cut
@@ -35,8 +38,9 @@ AREA_SHARE = 0.5  # the cuts share out this much solid angle beside power (see m
 
 def median_cut(image: np.ndarray, count: int, area_share: float = AREA_SHARE) -> tuple[np.ndarray, np.ndarray]:
     """((count, 3) unit directions in the image's frame, (count,) weights summing to 1):
-    the centroids and power shares of ``count`` regions of about equal power."""
-    small = _area_average(np.asarray(image, dtype=np.float64), CUT_WIDTH)
+    the centroids and power shares of ``count`` regions of about equal measure (the
+    module's docstring; ``area_share`` 0 is Debevec's equal power)."""
+    small = area_average(np.asarray(image, dtype=np.float64), CUT_WIDTH)
     while small.shape[0] * small.shape[1] < count:  # a tiny image: texels enough for every region
         small = np.repeat(np.repeat(small, 2, axis=0), 2, axis=1)
     height, width = small.shape[:2]
