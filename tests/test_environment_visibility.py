@@ -104,7 +104,7 @@ def test_ssao_does_not_darken_twice_what_visibility_blocked(gl, contact_referenc
     # SSAO scales the environment's light only where it finds more occlusion than the
     # visibility maps (the smaller of the two). Beside the contact the maps have it
     # already: the ring stays where it was without SSAO (measured -4.1 % both; multiplying
-    # the two gives -18 %). Where the maps find nothing SSAO still darkens, as it does with
+    # the two gives -16 %). Where the maps find nothing SSAO still darkens, as it does with
     # visibility off (the open ground: -8.8 % both ways, SSAO's own error on a plane seen
     # at a grazing angle)
     plain = contact_errors(gl, contact_reference)
