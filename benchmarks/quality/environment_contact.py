@@ -46,13 +46,13 @@ REGIONS = ("ring", "patch shadow", "lower half", "open ground")
 VARIANTS = {
     "visibility off": ["lights[0].visibility=false"],
     "8 directions": ["lights[0].visibility_directions=8"],
-    "16 directions": ["lights[0].visibility_directions=16"],
-    "32 directions (default)": [],
+    "16 directions (default)": [],
+    "32 directions": ["lights[0].visibility_directions=32"],
     "64 directions": ["lights[0].visibility_directions=64"],
-    "32 directions, maps 256": ["lights[0].visibility_map_size=256"],
-    "32 directions, maps 1024": ["lights[0].visibility_map_size=1024"],
+    "16 directions, maps 256": ["lights[0].visibility_map_size=256"],
+    "16 directions, maps 1024": ["lights[0].visibility_map_size=1024"],
     "SSAO, visibility off": ["lights[0].visibility=false", "render.ambient_occlusion={}"],
-    "SSAO, 32 directions": ["render.ambient_occlusion={}"],
+    "SSAO, 16 directions": ["render.ambient_occlusion={}"],
 }
 DRIFT = ["camera.position={keys: [[0, [0.0, 3.2, 6.5]], [1, [0.4, 3.2, 6.5]]]}", "output={fps: 30, frames: 31}"]
 BOUNCE = DRIFT + ["objects[0].position={keys: [[0, [0, 1, 0]], [1, [0, 1.3, 0]]]}"]
@@ -152,8 +152,8 @@ def main() -> None:
         errors = region_errors(gpu_linear(overrides, size).mean(axis=2), truth, masks)
         results[name] = {"errors": errors}
         print(name, {k: round(v * 100, 1) for k, v in errors.items()}, flush=True)
-    timed = {name: VARIANTS[name] for name in ("visibility off", "8 directions", "16 directions",
-                                                "32 directions (default)", "64 directions")}
+    timed = {name: VARIANTS[name] for name in ("visibility off", "8 directions", "16 directions (default)",
+                                                "32 directions", "64 directions")}
     for motion_name, motion in (("static", DRIFT), ("animated", BOUNCE)):
         for name, values in frame_times(timed, motion).items():
             results[name][f"{motion_name} ms"] = statistics.median(values)
