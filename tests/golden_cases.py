@@ -41,6 +41,8 @@ CASES = {
     "primitives@points": ("primitives.yaml", 30, ["render.mode=points"]),
     "gltf_pbr": ("gltf_pbr.yaml", 36, []),
     "film": ("film.yaml", 32, []),
+    # the studio environment not blocked by the scene: what gltf_pbr drew before visibility
+    "gltf_pbr@visibility_off": ("gltf_pbr.yaml", 36, ["lights[2].visibility=false"]),
 }
 
 

@@ -16,6 +16,7 @@ from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lens import lens_radius, through_lens
 from scenerender.world.environment import EnvironmentState
+from scenerender.world.environment_visibility import EnvironmentViews, environment_views, median_cut, visibility_tiles
 from scenerender.world.lights import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
@@ -75,6 +76,8 @@ class FrameState:
     materials: dict         # id(Material) -> evaluated uniforms
     environment: EnvironmentState | None = None  # the environment light's, where the scene has one
     focus_distance: float | None = None  # where the lens focuses, with camera.aperture (world.lens)
+    # the environment's visibility maps' views (world.environment_visibility), where it has them
+    environment_views: EnvironmentViews | None = None
 
     def shadowed_lights(self) -> list[int]:
         return sorted(self.shadow_views)
@@ -91,6 +94,7 @@ class FrameEvaluator:
         self.aspect = size[0] / size[1]
         self.atlas = atlas
         self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio)
+        self._last_environment_views = None  # (what they were fitted to, EnvironmentViews)
 
     @cached_property
     def _windings(self) -> list:
@@ -140,6 +144,7 @@ class FrameEvaluator:
             materials={id(m): _material_values(m, time) for m in world.materials()},
             environment=world.environment.state(time) if world.environment is not None else None,
             focus_distance=focus,
+            environment_views=self._environment_views(world, objects, bounds, time),
         )
 
     # -- camera -----------------------------------------------------------------------
@@ -190,6 +195,29 @@ class FrameEvaluator:
             rel, normals, matrices = rel[order], normals[order], matrices[order]
         return ObjectFrame(visible, rel.astype(np.float32), matrices, normals, bounds, (bounds[0] + bounds[1]) / 2.0,
                            int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding)
+
+    @cached_property
+    def _environment_directions(self) -> tuple:
+        """The environment's visibility directions and weights (median_cut), once a run."""
+        environment = self.world.environment
+        return median_cut(environment.image, environment.visibility)
+
+    def _environment_views(self, world: World, objects: list, bounds, time: float) -> EnvironmentViews | None:
+        environment = world.environment
+        if environment is None or not environment.visibility:
+            return None
+        casters = union_bounds([f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows])
+        to_image = environment.state(time).to_image
+        # the views depend on these alone: a frame where none changed keeps the last ones
+        # (fitting K views costs milliseconds; most scenes' objects stand still)
+        key = tuple(np.asarray(a).tobytes() if a is not None else None for a in (casters, bounds, to_image))
+        if self._last_environment_views is not None and self._last_environment_views[0] == key:
+            return self._last_environment_views[1]
+        directions, weights = self._environment_directions
+        _, tiles = visibility_tiles(len(directions), environment.visibility_map_size)
+        views = environment_views(directions, weights, to_image, tiles, casters, bounds)
+        self._last_environment_views = (key, views)
+        return views
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:
