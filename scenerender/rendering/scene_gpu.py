@@ -49,6 +49,7 @@ class GpuScene:
         self.shadow_buffer = ctx.buffer(reserve=_VEC4, dynamic=True)
         self._vaos: dict = {}
         self._extras: dict = {}
+        self._memories: dict = {}
         self.skybox = self._skybox()
         self.environment = (EnvironmentTextures.upload(ctx, world.environment)
                             if getattr(world, "environment", None) is not None else None)
@@ -99,6 +100,12 @@ class GpuScene:
         if key not in self._extras:
             self._extras[key] = make(self.ctx)
         return self._extras[key]
+
+    def memory(self, name: str) -> dict:
+        """A dict a pass keeps from frame to frame for the whole run, to reuse what it
+        worked out from values that did not change (never GL objects; no image depends
+        on what it holds)."""
+        return self._memories.setdefault(name, {})
 
     def release(self) -> None:
         for obj in list(self._vaos.values()) + list(self._extras.values()):

@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import moderngl
-import numpy as np
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
@@ -17,6 +16,7 @@ from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
 from scenerender.rendering.inputs import InputHandles
 from scenerender.rendering.passes.environment import EnvironmentLighting
 from scenerender.rendering.passes.data import ImageData, TargetData
+from scenerender.rendering.visible_samples import VisibleSamplesPlan, plan_visible_samples
 
 FORWARD_FRAGMENT = "mesh/forward.frag"
 DEPTH_ONLY_FRAGMENT = "mesh/depth_only.frag"
@@ -47,10 +47,10 @@ class Shading:
         if self.environment is not None:
             self.environment.bind(ctx)
 
-    def draw(self, ctx, items, mode=None, cull_hidden: bool = False) -> None:
+    def draw(self, ctx, items, mode=None, cull_hidden: bool = False, before_item=None) -> None:
         """Shade ``items`` with each material's program variant; ``cull_hidden``: skip the
         faces the camera cannot see (opaque surfaces only), and the back faces of
-        single-sided materials."""
+        single-sided materials; ``before_item(item)``, where given, runs before each draw."""
         camera = ctx.input(self.inputs.camera)
         objects = ctx.input(self.inputs.objects)
         materials = ctx.input(self.inputs.materials)
@@ -66,6 +66,8 @@ class Shading:
             bind_material(program, item.material, materials)
             if cull_hidden:
                 cull_faces(ctx.gl, objects, item)
+            if before_item is not None:
+                before_item(item)
             draw_item(objects, program, item, mode)
 
     def _program(self, ctx, material):
@@ -153,9 +155,15 @@ class OpaquePass(RenderPass):
         items = opaque_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
         solid = self.fill == "solid"  # wireframes and points show every face's edges
         try:
-            if self.prepass:
-                self._depth_prepass(ctx, items, fbo)
-            self.shading.draw(ctx, items, mode, cull_hidden=solid)
+            plan = self._depth_prepass(ctx, items, fbo) if self.prepass else None
+            if plan is None or plan.prepass_is_everything:
+                self.shading.draw(ctx, plan.order if plan else items, mode, cull_hidden=solid)
+            else:
+                # the depth of what the prepass left out is written as it is shaded; what it
+                # drew keeps its own (an alpha-masked surface's holes must stay empty)
+                def depth_writes(item):
+                    fbo.depth_mask = item.object_index not in plan.prepass
+                self.shading.draw(ctx, plan.order, mode, cull_hidden=solid, before_item=depth_writes)
         finally:
             stop_culling(gl)
             gl.wireframe = False
@@ -163,32 +171,34 @@ class OpaquePass(RenderPass):
             fbo.depth_mask = True
             gl.depth_func = ctx.depth.nearer
 
-    def _depth_prepass(self, ctx, items, fbo) -> None:
+    def _depth_prepass(self, ctx, items, fbo) -> VisibleSamplesPlan:
         """Lay down depth for the opaque items without shading, then leave the depth test at
         'equal or nearer': the shading draw that follows runs the expensive fragment shader
         only for the surface each pixel finally shows, and with visible samples its
-        post-depth coverage names the samples where that surface is seen.
+        post-depth coverage names the samples where that surface is seen. Returns the plan:
+        the items in the order the shading draw takes them, and what the prepass drew.
 
-        For visible samples alone, an item that can hide nothing drawn before it needs no
-        prepass (``skipped_by_prepass``): the shading draw then writes its depth itself, so
-        depth writes stay on where the prepass left any item out."""
+        For visible samples alone, the prepass draws only what rendering/visible_samples.py
+        says it must, and the shading draw writes the depth of the rest itself."""
         objects = ctx.input(self.shading.inputs.objects)
         camera = ctx.input(self.shading.inputs.camera)
-        skipped = skipped_by_prepass(objects, camera, items) if self.shading.visible_samples else set()
+        plan = (plan_visible_samples(objects, camera, items, objects.gpu.memory("visible samples"))
+                if self.shading.visible_samples else VisibleSamplesPlan(items, frozenset(i.object_index for i in items)))
         view_proj = camera.view_proj_relative()
         program = ctx.programs.get(MESH_VERTEX, DEPTH_ONLY_FRAGMENT)
         set_uniforms(program, u_view_proj=view_proj)
         materials = ctx.input(self.shading.inputs.materials)
         fbo.color_mask = (False, False, False, False)
         for item in items:
-            if item.object_index in skipped:
+            if item.object_index not in plan.prepass:
                 continue
             cull_faces(ctx.gl, objects, item)
             draw_item(objects, self._depth_program(ctx, program, item.material, materials, view_proj), item)
         stop_culling(ctx.gl)
         fbo.color_mask = (True, True, True, True)
-        fbo.depth_mask = bool(skipped)
+        fbo.depth_mask = False
         ctx.gl.depth_func = ctx.depth.nearer_or_equal
+        return plan
 
     @staticmethod
     def _depth_program(ctx, program, material, materials, view_proj):
@@ -202,47 +212,6 @@ class OpaquePass(RenderPass):
         set_uniforms(masked, u_view_proj=view_proj)
         bind_material(masked, material, materials)
         return masked
-
-
-def skipped_by_prepass(objects, camera, items) -> set[int]:
-    """The objects of ``items`` the visible-samples prepass may leave out: flat ones (their
-    world bounds have no thickness along an axis) with the camera on one side of their
-    plane and every other opaque object in view on that side too, touching it at most.
-    Such a surface can hide nothing, itself included, so whenever it is drawn the depth
-    buffer already holds, or will never need, what covers each of its samples: the
-    post-depth coverage is exact without its depth laid down first. A ground under the
-    objects standing on it is the case that matters: it fills most of the image, and its
-    prepass cost a quarter of the opaque pass's extra time on the benchmark scene.
-
-    Objects with an alpha-masked material stay in the prepass: the shading draw's early
-    depth writes would fill their holes."""
-    indices = sorted({item.object_index for item in items})
-    if len(indices) < 2:
-        return set()
-    masked = {item.object_index for item in items if item.material.masked}
-    bounds = np.array([objects.frames[i].bounds for i in indices])  # (n, 2, 3)
-    lo, hi = bounds[:, 0], bounds[:, 1]
-    extent = float(np.max(hi.max(axis=0) - lo.min(axis=0)))
-    tolerance = FLAT_TOLERANCE * max(extent, 1e-30)
-    eye = np.asarray(camera.position, dtype=np.float64)
-    skipped = set()
-    for row, index in enumerate(indices):
-        if index in masked:
-            continue
-        others = np.arange(len(indices)) != row
-        for axis in np.flatnonzero(hi[row] - lo[row] <= tolerance):
-            plane = 0.5 * (lo[row, axis] + hi[row, axis])
-            above = eye[axis] > plane + tolerance and np.all(lo[others, axis] >= plane - tolerance)
-            below = eye[axis] < plane - tolerance and np.all(hi[others, axis] <= plane + tolerance)
-            if above or below:
-                skipped.add(index)
-                break
-    return skipped
-
-
-# A surface counts as flat, and an object as standing on it, within this share of the size
-# of what the camera sees (float32 vertices moved by float64 transforms: about 1e-7).
-FLAT_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
