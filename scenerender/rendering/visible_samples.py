@@ -49,21 +49,37 @@ class VisibleSamplesPlan:
 
 def plan_visible_samples(objects: ObjectsInput, camera, items: list[DrawItem], last: dict | None = None) -> VisibleSamplesPlan:
     """The plan for ``items`` (opaque, nearest first, as draw.opaque_items gives them).
-    ``last``: a dict the caller keeps across frames, where the spheres' overlaps of the
-    last frame are kept (objects that do not move keep them)."""
+    ``last``: a dict the caller keeps across frames, where what objects that do not move
+    keep is kept (the spheres' overlaps of the last frame)."""
+    last = last if last is not None else {}
     indices = sorted({item.object_index for item in items})
     flat = flat_non_occluders(objects, camera, items)
     rest = [i for i in indices if i not in flat]
-    centres, radii = _bounding_spheres(objects, rest)
-    alone = _apart_as_before(centres, radii, last if last is not None else {})
-    free = {index for index, apart in zip(rest, alone) if apart and _never_covers_itself(objects, index, items)}
+    # overlaps among every opaque object shown, in the camera's view or not (the same
+    # set from frame to frame while nothing moves), the grounds drawn last aside
+    shown = [i for i in _opaque_objects(objects, last) if objects.frames[i].visible and i not in flat]
+    centres, radii = _bounding_spheres(objects, shown)
+    apart = dict(zip(shown, _apart_as_before(centres, radii, last)))
+    by_object: dict = {}
+    for item in items:
+        by_object.setdefault(item.object_index, []).append(item)
+    free = {i for i in rest if apart.get(i, False) and _never_covers_itself(objects, i, by_object[i])}
     if not free and not flat:
         return VisibleSamplesPlan(items, frozenset(indices))
     eye = np.asarray(camera.position, dtype=np.float64)
-    power = dict(zip(rest, ((centres - eye) ** 2).sum(axis=1) - radii ** 2))
+    power = dict(zip(shown, ((centres - eye) ** 2).sum(axis=1) - radii ** 2))
     order = (sorted([item for item in items if item.object_index not in flat], key=lambda it: power[it.object_index])
              + [item for item in items if item.object_index in flat])
     return VisibleSamplesPlan(order, frozenset(rest) - free)
+
+
+def _opaque_objects(objects: ObjectsInput, last: dict) -> list[int]:
+    """The objects with an opaque material (worked out once a run: whether a material is
+    transparent never changes)."""
+    if "opaque" not in last:
+        last["opaque"] = [i for i, obj in enumerate(objects.definitions)
+                          if any(not material.transparent for material in obj.materials)]
+    return last["opaque"]
 
 
 def flat_non_occluders(objects: ObjectsInput, camera, items: list[DrawItem]) -> set[int]:
@@ -143,13 +159,11 @@ def _apart(centres: np.ndarray, radii: np.ndarray) -> np.ndarray:
 
 def _never_covers_itself(objects: ObjectsInput, index: int, items: list[DrawItem]) -> bool:
     """A convex closed mesh, one instance, drawn with the faces turned away from the camera
-    culled, and no alpha-masked material."""
+    culled, and no alpha-masked material; ``items``: the object's own."""
     frame = objects.frames[index]
     if frame.count != 1 or frame.hidden_faces is None or not objects.definitions[index].mesh.is_convex():
         return False
     for item in items:
-        if item.object_index != index:
-            continue
         if item.material.masked:
             return False
         if not item.material.double_sided and single_sided_faces(objects, index) != frame.hidden_faces:

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import moderngl
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
-from scenerender.gpu.uniforms import set_uniforms
+from scenerender.gpu.uniforms import matrix_bytes, set_uniforms
 from scenerender.rendering.draw import (
     MESH_VERTEX, begin_camera_pass, bind_lights, bind_material, bind_shadow_atlas, bind_texture_units,
     cull_hidden_faces, draw_item, opaque_items, single_sided_faces, skip_faces, stop_culling, transparent_items,
@@ -54,15 +54,18 @@ class Shading:
         camera = ctx.input(self.inputs.camera)
         objects = ctx.input(self.inputs.objects)
         materials = ctx.input(self.inputs.materials)
-        view_proj = camera.view_proj_relative()
-        ambient = ctx.input(self.inputs.ambient)
-        fog = ctx.input(self.inputs.fog) if self.inputs.fog is not None else None
-        environment = self.environment.uniforms(ctx) if self.environment is not None else {}
+        frame_values = dict(u_view_proj=matrix_bytes(camera.view_proj_relative()),
+                            u_ambient=ctx.input(self.inputs.ambient),
+                            **(self.environment.uniforms(ctx) if self.environment is not None else {}))
+        if self.inputs.fog is not None:
+            fog = ctx.input(self.inputs.fog)
+            frame_values.update(u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
+        ready = set()  # the programs given frame_values in this draw (many materials share one)
         for item in items:
             program = self._program(ctx, item.material)
-            set_uniforms(program, u_view_proj=view_proj, u_ambient=ambient, **environment)
-            if fog is not None:
-                set_uniforms(program, u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
+            if id(program) not in ready:
+                set_uniforms(program, **frame_values)
+                ready.add(id(program))
             bind_material(program, item.material, materials)
             if cull_hidden:
                 cull_faces(ctx.gl, objects, item)
