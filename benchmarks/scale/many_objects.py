@@ -79,7 +79,8 @@ def scene_yaml(count: int) -> str:
         "objects:",
         f"  - {{name: ground, mesh: {{primitive: plane, size: {side * 2:.3f}}}, cast_shadows: false}}",
     ]
-    mesh = f"{{primitive: sphere, radius: {SPHERE['radius']}, segments: {SPHERE['segments']}, rings: {SPHERE['rings']}}}"
+    mesh = (f"{{primitive: sphere, radius: {SPHERE['radius']}, segments: {SPHERE['segments']},"
+            f" rings: {SPHERE['rings']}}}")
     for i, (x, y, z) in enumerate(sphere_positions(count)):
         lines.append(f"  - {{name: s{i}, mesh: {mesh}, position: [{x:.4f}, {y:.4f}, {z:.4f}],"
                      f" material: {{base_color: [0.8, 0.55, 0.35]}}}}")

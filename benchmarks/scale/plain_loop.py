@@ -129,7 +129,8 @@ def main() -> None:
     shadow_map.compare_func = "<="
     shadow_map.filter = (moderngl.LINEAR, moderngl.LINEAR)
     shadow_fbo = ctx.framebuffer(depth_attachment=shadow_map)
-    msaa = ctx.framebuffer([ctx.renderbuffer(size, 4, samples=M.SAMPLES)], ctx.depth_renderbuffer(size, samples=M.SAMPLES))
+    msaa = ctx.framebuffer([ctx.renderbuffer(size, 4, samples=M.SAMPLES)],
+                           ctx.depth_renderbuffer(size, samples=M.SAMPLES))
     resolved = ctx.framebuffer([ctx.renderbuffer(size, 4)])
     program["u_shadow"] = 0
     program["u_light_view_proj"].write(matrix(light))

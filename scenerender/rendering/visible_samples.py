@@ -47,7 +47,8 @@ class VisibleSamplesPlan:
         return len(self.prepass) == len({item.object_index for item in self.order})
 
 
-def plan_visible_samples(objects: ObjectsInput, camera, items: list[DrawItem], last: dict | None = None) -> VisibleSamplesPlan:
+def plan_visible_samples(objects: ObjectsInput, camera, items: list[DrawItem],
+                         last: dict | None = None) -> VisibleSamplesPlan:
     """The plan for ``items`` (opaque, nearest first, as draw.opaque_items gives them).
     ``last``: a dict the caller keeps across frames, where what objects that do not move
     keep is kept (the spheres' overlaps of the last frame)."""

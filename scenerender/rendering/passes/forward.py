@@ -185,8 +185,10 @@ class OpaquePass(RenderPass):
         says it must, and the shading draw writes the depth of the rest itself."""
         objects = ctx.input(self.shading.inputs.objects)
         camera = ctx.input(self.shading.inputs.camera)
-        plan = (plan_visible_samples(objects, camera, items, objects.gpu.memory("visible samples"))
-                if self.shading.visible_samples else VisibleSamplesPlan(items, frozenset(i.object_index for i in items)))
+        if self.shading.visible_samples:
+            plan = plan_visible_samples(objects, camera, items, objects.gpu.memory("visible samples"))
+        else:
+            plan = VisibleSamplesPlan(items, frozenset(item.object_index for item in items))
         view_proj = camera.view_proj_relative()
         program = ctx.programs.get(MESH_VERTEX, DEPTH_ONLY_FRAGMENT)
         set_uniforms(program, u_view_proj=view_proj)
