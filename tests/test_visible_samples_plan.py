@@ -70,6 +70,11 @@ def test_a_flat_object_with_something_beneath_it_is_no_ground():
     assert names.index("ground") in plan.prepass
 
 
+def test_an_orthographic_camera_keeps_every_object_in_the_prepass():
+    plan, names = plan_of(SPHERES_ON_GROUND, ["camera.projection=orthographic"])
+    assert plan.prepass_is_everything
+
+
 def every_object_through_the_prepass(objects, camera, items, last=None):
     """The plan before rendering/visible_samples.py: every object, nearest first."""
     return VisibleSamplesPlan(items, frozenset(item.object_index for item in items))

@@ -16,7 +16,8 @@ an object can skip the prepass where nothing it hides is drawn before it:
   power at the camera is smaller. The shading draw takes the objects in order of that
   power, so it comes first.
 
-Every other object goes through the prepass, as before. With no object left out the
+Every other object goes through the prepass, as before, and so does every object seen
+through an orthographic camera. With no object left out the
 order is the usual near-to-far one and the depth writes stop after the prepass, exactly
 as without this plan.
 """
@@ -54,6 +55,8 @@ def plan_visible_samples(objects: ObjectsInput, camera, items: list[DrawItem],
     keep is kept (the spheres' overlaps of the last frame)."""
     last = last if last is not None else {}
     indices = sorted({item.object_index for item in items})
+    if camera.orthographic:  # parallel rays: both arguments above speak of rays from an eye
+        return VisibleSamplesPlan(items, frozenset(indices))
     flat = flat_non_occluders(objects, camera, items)
     rest = [i for i in indices if i not in flat]
     # overlaps among every opaque object shown, in the camera's view or not (the same
