@@ -217,10 +217,12 @@ def _scene_overrides(with_samples: bool = True):
                    "REF_DIR is a folder of its own, never -o itself.")
 @click.option("--update-references", is_flag=True,
               help="With --check: make the references equal to this output on purpose, and say what changed.")
-@click.option("--object-ids", is_flag=True,
-              help="Also keep which object each pixel shows (OUT/.object_ids/, 16-bit PNGs and objects.json), "
+@click.option("--object-ids/--no-object-ids", default=None,
+              help="Keep which object each pixel shows (OUT/.object_ids/, 16-bit PNGs and objects.json), "
                    "so `diff` and --check name changes by object and catch small moves and material changes "
-                   "colour alone cannot. Image sequences and single images only (not MP4/GIF).")
+                   "colour alone cannot. On by default with --check (and so with --update-references) "
+                   "wherever the output can hold them (image sequences and single images, not MP4/GIF); "
+                   "--no-object-ids judges by colour alone.")
 @click.option("--workers", type=click.IntRange(1, 256), default=1, show_default=True,
               help="Render on N local processes, each with its own GL context (same files as one).")
 @click.option("--scheduler", metavar="ADDRESS",
@@ -246,7 +248,7 @@ def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, prof
     In CI:
       scenerender render scene.yaml -o out/ --check ref/             # exit 1 when frames changed
       scenerender render scene.yaml -o out/ --check ref/ --update-references
-      scenerender render scene.yaml -o out/ --object-ids --check ref/    # changes named by object
+      scenerender render scene.yaml -o out/ --no-object-ids --check ref/   # judged by colour alone
 
     Exit codes: 0 done, 1 frames changed (--check), 2 bad input or an output that cannot be
     written, 3 the machine lacks something (no OpenGL driver), 130 / 143 interrupted.

@@ -193,7 +193,7 @@ def test_diff_of_folders_uses_ids_only_where_both_sides_have_them(tmp_path):
     a, b = result.frames
     assert a.objects is not None and not a.passed and "bead moved" in a.reason
     assert b.objects is None and b.passed  # no ids for b.png: judged by colour alone, as before
-    assert "judged by object ids too: 1 of 2" in result.total_line()
+    assert "judged by object ids and colour: 1 of 2 frame(s); by colour alone: 1 (neither side" in result.total_line()
     assert result.to_json()["frames"][0]["objects"]["shift_object"] == "bead"
 
 

@@ -45,8 +45,8 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
         return FrameComparison(name, False, reason, size=size, images=images)
     metrics, maps = measure(reference, output, rule.aa_tolerance, with_flip=False, with_ssim=False)
     objects = None
-    if object_ids is not None and all(side is not None and side.ids.shape == reference.shape[:2]
-                                      for side in object_ids):
+    colour_only = why_colour_only(object_ids, reference.shape[:2])
+    if not colour_only:
         objects = measure_objects(reference, output, *object_ids, tolerance=rule.aa_tolerance)
     failures = rule.failures(metrics, objects)
     passed = not failures
@@ -60,7 +60,26 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
     if not passed:
         flip = flip_error(reference, output) if images is not None else None
         metrics = dataclasses.replace(metrics, ssim=ssim(reference, output), flip=flip)
-    return FrameComparison(name, passed, "; ".join(failures), metrics, regions, size, images, objects)
+    return FrameComparison(name, passed, "; ".join(failures), metrics, regions, size, images, objects,
+                           colour_only)
+
+
+def why_colour_only(object_ids: tuple | None, shape: tuple[int, int]) -> str:
+    """Why a frame pair is judged by its colours alone, in words, or "" when both sides
+    have object ids of its size (then it is judged by object too)."""
+    if object_ids is None:
+        return "a video frame carries no object ids"
+    reference, output = object_ids
+    if reference is None and output is None:
+        return "neither side has object ids"
+    if reference is None:
+        return ("the reference has no object ids (made without them, e.g. by scenerender 0.5.0 or with "
+                "--no-object-ids; --update-references adds them)")
+    if output is None:
+        return "the output has no object ids (rendered with --no-object-ids or as a video)"
+    if reference.ids.shape != shape or output.ids.shape != shape:
+        return "the object ids are not the size of the frames"
+    return ""
 
 
 def heatmap(reference: np.ndarray, maps: DiffMaps) -> np.ndarray:

@@ -319,7 +319,7 @@ def render_html(result: CompareResult) -> str:
     body = [
         f'<header class="{css}"><h1>{verdict}: {escape(str(result.output.path))}</h1>'
         f'{c["compared"]} frame(s) compared: {c["passed"]} pass, {c["changed"]} changed, '
-        f'{c["missing"]} missing, {c["extra"]} extra</header><main>',
+        f'{c["missing"]} missing, {c["extra"]} extra<br>{escape(result.judged_by())}</header><main>',
         '<section class="summary"><h2>Summary</h2>'
         f'<p>rule: {escape(result.rule.describe())}</p>'
         f'{_side_block("reference", result.reference)}{_side_block("output", result.output)}'

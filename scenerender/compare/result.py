@@ -36,7 +36,8 @@ class FrameImages:
 class FrameComparison:
     """One frame pair. ``reason`` says why it failed ("" when it passed); ``metrics`` is
     None when the sizes differ; ``regions`` box the connected changed tiles; ``objects``:
-    the scores by object where both sides have object ids, else None."""
+    the scores by object where both sides have object ids, else None, and ``colour_only``
+    says why."""
 
     name: str
     passed: bool
@@ -46,6 +47,7 @@ class FrameComparison:
     size: tuple[int, int] | None = None          # (width, height) of the reference frame
     images: FrameImages | None = None           # kept for frames that differ, up to a cap
     objects: ObjectMetrics | None = None
+    colour_only: str = ""   # why it was judged by its colours alone ("" when by object ids too)
 
     def attribution(self) -> str:
         """The changed pixels by object ('bunny: 482 px; new: thin_pole 111 px'), or ''."""
@@ -87,7 +89,9 @@ class FrameComparison:
                 "size": list(self.size) if self.size else None,
                 "metrics": self.metrics.to_json() if self.metrics else None,
                 "regions": [list(box) for box in self.regions],
-                "objects": self.objects.to_json() if self.objects is not None else None}
+                "objects": self.objects.to_json() if self.objects is not None else None,
+                "judged_by": "colour" if self.colour_only else "object ids and colour",
+                "colour_only_because": self.colour_only or None}
 
 
 def _area(box: Box) -> int:
@@ -130,9 +134,22 @@ class CompareResult:
                 "changed": len(self.changed), "missing": len(self.missing), "extra": len(self.extra)}
 
     def total_line(self) -> str:
-        line = self._total()
-        by_object = sum(frame.objects is not None for frame in self.frames)
-        return line + (f"; judged by object ids too: {by_object} of {len(self.frames)} frame(s)" if by_object else "")
+        return self._total() + "; " + self.judged_by()
+
+    def judged_by(self) -> str:
+        """How the frames were judged, in words: by object ids and colour, or by colour
+        alone and why (the first reason; a CI run that silently lost its ids must say so)."""
+        measured = [frame for frame in self.frames if frame.metrics is not None]
+        by_colour = [frame for frame in measured if frame.colour_only]
+        if not measured:
+            return "nothing judged"
+        if not by_colour:
+            return f"judged by object ids and colour ({len(measured)} frame(s))"
+        why = by_colour[0].colour_only
+        if len(by_colour) == len(measured):
+            return f"judged by colour alone: {why}"
+        return (f"judged by object ids and colour: {len(measured) - len(by_colour)} of {len(measured)} frame(s); "
+                f"by colour alone: {len(by_colour)} ({why})")
 
     def _total(self) -> str:
         c = self.counts()
@@ -173,5 +190,6 @@ class CompareResult:
             "frames": [frame.to_json() for frame in self.frames],
             "missing": list(self.missing),
             "extra": list(self.extra),
+            "judged_by": self.judged_by(),
             "compared_by": f"scenerender {__version__}",
         }
