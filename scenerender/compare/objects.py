@@ -32,6 +32,7 @@ sub-pixel move of a textured surface leaves residuals of both signs, which cance
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections import Counter
 from dataclasses import dataclass
@@ -54,10 +55,23 @@ SHOWN_OBJECTS = 5        # objects named in a summary line, the most changed fir
 
 @dataclass(frozen=True)
 class IdMap:
-    """One side's object ids: ``ids`` (H, W) uint16 (0: no object), ``names`` id -> name."""
+    """One side's object ids: ``ids`` (H, W) uint16 (0: no object), ``names`` id -> name;
+    ``behind``: the ids of the nearest opaque surfaces (what shows through a transparent
+    one), or None where the render kept no such layer."""
 
     ids: np.ndarray
     names: dict
+    behind: np.ndarray | None = None
+
+    def seen_through(self) -> np.ndarray | None:
+        """(H, W) bool: where a transparent surface is nearest and another object shows
+        through it; None without the layer behind."""
+        if self.behind is None:
+            return None
+        return (self.behind != self.ids) & (self.behind != 0)
+
+    def layer_behind(self) -> "IdMap":
+        return IdMap(self.behind, self.names)
 
     def label(self, object_id: int, duplicated: set) -> str:
         name = self.names.get(object_id)
@@ -155,9 +169,50 @@ def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: Id
                     tolerance: int = 1) -> ObjectMetrics:
     """The id-based scores of two (H, W, 3) uint8 frames of one shape and their id maps
     ((H, W) each). Objects are matched by name (by index where a side has no names), so a
-    reordered ``objects`` list still pairs them."""
+    reordered ``objects`` list still pairs them. Where both sides kept the layer behind
+    transparent surfaces and something shows through one, the objects seen through are
+    judged on that layer too, named "... (behind glass)"."""
+    scores, background, common = _scores(reference, output, reference_ids, output_ids, tolerance)
+    scores += _seen_through(reference, output, reference_ids, output_ids, tolerance)
+    scores.sort(key=lambda s: (-s.changed_pixels, -s.coverage, s.name))
+    one_side = max((s for s in scores if s.status != "both"), key=lambda s: s.coverage, default=None)
+    moved = max((s for s in scores if s.shift is not None), key=lambda s: s.shift, default=None)
+    inside = max((s for s in scores if s.interior is not None), key=lambda s: abs(s.interior), default=None)
+    return ObjectMetrics(
+        objects=tuple(scores), background_changed=background,
+        common_shift=(float(common[0]), float(common[1])),
+        one_side_pixels=one_side.coverage if one_side else 0, one_side_object=one_side.name if one_side else "",
+        shift=moved.shift if moved else 0.0, shift_object=moved.name if moved and moved.shift > 0 else "",
+        interior=abs(inside.interior) if inside else 0.0,
+        interior_object=inside.name if inside and inside.interior else "")
+
+
+BEHIND_GLASS = " (behind glass)"
+
+
+def _seen_through(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
+                  tolerance: int) -> list:
+    """The scores, on the layer behind, of the objects either side shows through a
+    transparent surface ([] unless both sides kept that layer and one shows something
+    through). Their colour is the glass's blend of them, the same on both sides unless
+    something changed, so they are registered and judged like any other object."""
+    through = [side.seen_through() for side in (reference_ids, output_ids)]
+    if any(mask is None for mask in through) or not (through[0].any() or through[1].any()):
+        return []
+    behind = reference_ids.layer_behind(), output_ids.layer_behind()
+    scores, _, _ = _scores(reference, output, *behind, tolerance, keep=through)
+    return [dataclasses.replace(score, name=score.name + BEHIND_GLASS) for score in scores]
+
+
+def _scores(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
+            tolerance: int, keep: list | None = None) -> tuple[list, int, np.ndarray]:
+    """Every object's ``ObjectScore`` (with ``keep``, two (H, W) bool masks: only those
+    shown under the mask of one side or the other), the changed pixels of the background,
+    and the frame's common displacement (dy, dx)."""
     labels, ref_map, out_map = _unified_labels(reference_ids, output_ids)
     count = len(labels)
+    kept = None if keep is None else {int(v) for v in np.unique(ref_map[keep[0]])} | {
+        int(v) for v in np.unique(out_map[keep[1]])}
     ref_counts = np.bincount(ref_map.ravel(), minlength=count)
     out_counts = np.bincount(out_map.ravel(), minlength=count)
     changed = np.abs(reference.astype(np.int16) - output.astype(np.int16)).max(axis=2) >= CHANGED_LEVELS
@@ -180,7 +235,7 @@ def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: Id
     interiors = {} if identical else _interior_changes(images, ref_map, out_map, displacement, tolerance)
     scores = []
     for label in range(1, count):
-        if not ref_counts[label] and not out_counts[label]:
+        if not ref_counts[label] and not out_counts[label] or kept is not None and label not in kept:
             continue
         d = displacement.get(label)
         interior, interior_pixels = interiors.get(label, (None, 0))
@@ -189,17 +244,7 @@ def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: Id
             shift=None if d is None else float(math.hypot(*(d - common))),
             displacement=None if d is None else (float(d[0]), float(d[1])),
             interior=interior, interior_pixels=interior_pixels))
-    scores.sort(key=lambda s: (-s.changed_pixels, -s.coverage, s.name))
-    one_side = max((s for s in scores if s.status != "both"), key=lambda s: s.coverage, default=None)
-    moved = max((s for s in scores if s.shift is not None), key=lambda s: s.shift, default=None)
-    inside = max((s for s in scores if s.interior is not None), key=lambda s: abs(s.interior), default=None)
-    return ObjectMetrics(
-        objects=tuple(scores), background_changed=int(changed_counts[0]),
-        common_shift=(float(common[0]), float(common[1])),
-        one_side_pixels=one_side.coverage if one_side else 0, one_side_object=one_side.name if one_side else "",
-        shift=moved.shift if moved else 0.0, shift_object=moved.name if moved and moved.shift > 0 else "",
-        interior=abs(inside.interior) if inside else 0.0,
-        interior_object=inside.name if inside and inside.interior else "")
+    return scores, int(changed_counts[0]), common
 
 
 def picture(reference: np.ndarray, reference_ids: IdMap, output_ids: IdMap, names: list[str]) -> np.ndarray:

@@ -409,7 +409,7 @@ def api_render_fn(gl) -> RenderFn:
     def render(path: Path, overrides: list, frame: int) -> Shot:
         with Renderer(load(path, overrides), gl=gl, object_ids=True) as renderer:
             result = renderer.render(frame)
-            return Shot(result.pixels, IdMap(result.object_ids, id_names(renderer.scene.world)))
+            return Shot(result.pixels, IdMap(result.object_ids, id_names(renderer.scene.world), result.object_ids_behind))
     return render
 
 

@@ -19,7 +19,7 @@ from scenerender.colorspace import srgb_encode
 from scenerender.compare.objects import IdMap
 from scenerender.errors import SourceLocation, UserError, display_path
 from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
-from scenerender.sinks.object_ids import ids_path, read_ids, read_names
+from scenerender.sinks.object_ids import behind_path, ids_path, read_ids, read_names
 from scenerender.world.environment_files import read_exr
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr")
@@ -178,7 +178,8 @@ class Side:
             return None
         if self._object_names is None:
             self._object_names = read_names(self.frame_path(name).parent)
-        return IdMap(ids, self._object_names)
+        behind = read_ids(behind_path(self.frame_path(name)))
+        return IdMap(ids, self._object_names, behind if behind is not None and behind.shape == ids.shape else None)
 
     def to_json(self) -> dict:
         return {"path": str(self.path), "kind": self.kind, "provenance": self.provenance.to_json()}

@@ -52,13 +52,15 @@ def first_non_finite(linear: np.ndarray) -> str | None:
 class FrameResult:
     """pixels: (H, W, 3) uint8 top row first; linear: (H, W, 3) float32 or None;
     object_ids: (H, W) uint16 top row first, each pixel's object index + 1 (0: none), or
-    None (passes/object_ids.py)."""
+    None (passes/object_ids.py); object_ids_behind: the same of the nearest opaque surface
+    (what a transparent surface in front lets through), or None."""
 
     index: int
     time: float
     pixels: np.ndarray
     linear: np.ndarray | None = None
     object_ids: np.ndarray | None = None
+    object_ids_behind: np.ndarray | None = None
 
 
 class GLBackend:
@@ -228,4 +230,5 @@ class GraphRenderer:
             problem = first_non_finite(linear)
             if problem is not None:
                 raise NonFiniteOutput(f"frame {index}: {problem} ({ENV_CHECK_FINITE} is on)")
-        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids)
+        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids,
+                           outputs.pop("object_ids_behind", None))

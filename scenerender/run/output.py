@@ -16,6 +16,7 @@ from scenerender.sinks import (
     remove_stale_partials,
 )
 from scenerender.sinks.base import make_folders
+from scenerender.sinks.object_ids import BEHIND
 from scenerender.sinks.object_ids import FOLDER as OBJECT_IDS_FOLDER
 
 
@@ -38,6 +39,7 @@ def make_sink(loaded, fmt: str, output: Path, size: tuple, frames: range | None 
     _create_folder(target.folder)  # a read-only or full disk is reported here, before rendering
     remove_stale_partials(target.folder)
     remove_stale_partials(target.folder / OBJECT_IDS_FOLDER)
+    remove_stale_partials(target.folder / OBJECT_IDS_FOLDER / BEHIND)
     if target.kind == "video":
         return VideoSink(target.file, target.fmt, out.fps, size, out.quality)
     scene = loaded.path.name  # objects.json names the scene file, which references carry elsewhere
