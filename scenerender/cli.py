@@ -395,6 +395,10 @@ ENVIRONMENT_SAMPLES = 4
               show_default=True,
               help="Largest allowed signed mean (levels) of any 12x12 window of what is left after each 8x8 "
                    "tile's best shift of up to 1/4 pixel: catches small and thin changes the ranges excuse.")
+@click.option("--max-still-region", type=LEVELS, metavar="LEVELS_X_PX", default=_DIFF_DEFAULTS.max_still_region,
+              show_default=True,
+              help="In a frame that did not move (the whole picture moved under 1/64 px): largest allowed sum of "
+                   "levels past the rounding over one connected region changed one way (a recolour, a shininess).")
 @click.option("--aa-tolerance", type=click.IntRange(0, 255), metavar="LEVELS", default=_DIFF_DEFAULTS.aa_tolerance,
               show_default=True,
               help="Levels of rounding forgiven on every channel, before both tests.")
@@ -410,8 +414,8 @@ ENVIRONMENT_SAMPLES = 4
               show_default=True,
               help="With object ids on both sides: largest allowed signed mean change of an object's interior, "
                    "after its own move, discounted by the change of the other sign (a shininess, a colour).")
-def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max_shift_tile, aa_tolerance,
-         min_object_pixels, max_object_shift, max_interior_change):
+def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max_shift_tile, max_still_region,
+         aa_tolerance, min_object_pixels, max_object_shift, max_interior_change):
     """Compare OUTPUT with REFERENCE: two images, two folders of frames (PNG, JPG, TGA, EXR;
     matched by file name) or two videos (MP4, GIF; matched frame by frame).
 
@@ -430,9 +434,9 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
     from scenerender.compare import DiffRule, compare_paths, write_html_report
 
     rule = DiffRule(max_tile=max_tile, max_unexplained_mean=max_unexplained_mean, max_shift_tile=max_shift_tile,
-                    aa_tolerance=aa_tolerance, min_object_pixels=min_object_pixels,
+                    max_still_region=max_still_region, aa_tolerance=aa_tolerance, min_object_pixels=min_object_pixels,
                     max_object_shift=max_object_shift, max_interior_change=max_interior_change)
-    result = compare_paths(reference, output, rule)
+    result = compare_paths(reference, output, rule, pictures=report is not None)
     if report is not None:
         write_html_report(result, report, option="--report")
     if as_json:

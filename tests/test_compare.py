@@ -114,14 +114,16 @@ def test_real_changes_fail(change):
 def test_a_looser_rule_passes_what_the_default_fails():
     moved = drawn(square_at=43)
     assert not verdict(drawn(), moved)
-    assert verdict(drawn(), moved, DiffRule(max_tile=1000, max_unexplained_mean=1000, max_shift_tile=1000))
+    assert verdict(drawn(), moved, DiffRule(max_tile=1000, max_unexplained_mean=1000, max_shift_tile=1000,
+                                            max_still_region=1e9))
 
 
 def test_the_tile_limit_catches_a_local_change_the_frame_mean_misses():
     """At 640x480 a 5x5-pixel patch 12 levels off (a lost highlight, say) adds too little to
     the frame's mean to cross its limit; the 8x8 tile holding it crosses the tile limit, which
     names it first, and so does the 12x12 window of what the best shift leaves (no shift
-    explains it). A rule with those two limits lifted passes it."""
+    explains it), and the still region (nothing else moved: 25 px, 11 levels past the
+    rounding each). A rule with those three limits lifted passes it."""
     reference = drawn(size=(640, 480))
     patched = reference.copy()
     patched[296:301, 400:405] += 12
@@ -130,8 +132,41 @@ def test_the_tile_limit_catches_a_local_change_the_frame_mean_misses():
     assert result.metrics.worst_tile_aa > DEFAULT_RULE.max_tile
     assert not result.passed and result.reason.startswith("worst 8x8 tile")
     assert result.metrics.shift_tile > DEFAULT_RULE.max_shift_tile
+    assert result.metrics.still_region == 25 * 11 and result.metrics.frame_shift < 1 / 64
     assert not verdict(reference, patched, DiffRule(max_tile=1000))
-    assert verdict(reference, patched, DiffRule(max_tile=1000, max_shift_tile=1000))
+    assert not verdict(reference, patched, DiffRule(max_tile=1000, max_shift_tile=1000))
+    assert verdict(reference, patched, DiffRule(max_tile=1000, max_shift_tile=1000, max_still_region=1e9))
+
+
+def _faceted(height=96, width=128, tint=1.0) -> np.ndarray:
+    """A finely faceted surface: each pixel a random grey between 60 and 200 levels (every
+    pixel's 3x3 neighbourhood spans a wide range), times ``tint``, beside a flat background."""
+    rng = np.random.default_rng(3)
+    image = rng.uniform(60, 200, size=(height, width)) * tint
+    image[:, : width // 4] = 90.0
+    return np.clip(np.stack([image] * 3, axis=2), 0, 255).round().astype(np.uint8)
+
+
+def test_a_faint_recolour_of_a_faceted_surface_fails_in_a_still_frame():
+    """A 5% darker faceted surface: every pixel lies inside its neighbours' colour range
+    and under half their contrast, which the allowances for moved edges forgive; nothing
+    moved (the frame's displacement reads 0), so the one-sign region fails the still limit,
+    by far. Without that limit it passes: the limit, not another, catches it."""
+    reference, darker = _faceted(), _faceted(tint=0.95)
+    result = compare_images("frame", reference, darker)
+    assert result.metrics.frame_shift < 1 / 64
+    assert result.metrics.still_region > 20 * DEFAULT_RULE.max_still_region
+    assert not result.passed and "nothing moved" in result.reason
+    assert verdict(reference, darker, DiffRule(max_still_region=math.inf))
+
+
+def test_a_still_frame_with_rounding_noise_passes():
+    """Dither of one level and an offset of one level leave nothing past the rounding."""
+    reference = _faceted()
+    rng = np.random.default_rng(0)
+    dithered = np.clip(reference.astype(np.int16) + rng.integers(-1, 2, reference.shape), 0, 255).astype(np.uint8)
+    result = compare_images("frame", reference, dithered)
+    assert result.passed and result.metrics.still_region == 0
 
 
 def _smooth_pattern(height=48, width=64, dx=0.0, dy=0.0) -> np.ndarray:
@@ -384,6 +419,7 @@ def test_json_output(tmp_path):
     assert data["rule"] == {"max_tile": DEFAULT_RULE.max_tile, "aa_tolerance": DEFAULT_RULE.aa_tolerance,
                             "max_unexplained_mean": DEFAULT_RULE.max_unexplained_mean,
                             "max_shift_tile": DEFAULT_RULE.max_shift_tile,
+                            "max_still_region": DEFAULT_RULE.max_still_region,
                             "min_object_pixels": DEFAULT_RULE.min_object_pixels,
                             "max_object_shift": DEFAULT_RULE.max_object_shift,
                             "max_interior_change": DEFAULT_RULE.max_interior_change}
@@ -395,7 +431,7 @@ def test_json_output(tmp_path):
     assert not b["passed"] and b["regions"] and b["size"] == [64, 48]
     assert a["objects"] is None and b["objects"] is None  # no object ids on either side
     assert set(b["metrics"]) == {"mean_abs", "max_abs", "worst_tile", "bad_percent", "psnr", "unexplained_mean",
-                                 "worst_tile_aa", "shift_tile", "shift_pixel", "changed_percent",
+                                 "worst_tile_aa", "shift_tile", "shift_pixel", "still_region", "frame_shift", "changed_percent",
                                  "excused_pixels", "largest_shift", "ssim", "flip"}
     assert data["report"] == str(tmp_path / "report.html")
     if flip_available():  # FLIP is computed for the changed frames, where a person looks

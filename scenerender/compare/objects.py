@@ -216,8 +216,9 @@ def _scores(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, out
     ref_counts = np.bincount(ref_map.ravel(), minlength=count)
     out_counts = np.bincount(out_map.ravel(), minlength=count)
     changed = np.abs(reference.astype(np.int16) - output.astype(np.int16)).max(axis=2) >= CHANGED_LEVELS
-    changed_counts = (np.bincount(ref_map[changed], minlength=count)
-                      + np.bincount(out_map[changed & (out_map != ref_map)], minlength=count))
+    counted = changed if keep is None else changed & (keep[0] | keep[1])  # behind glass: what shows through
+    changed_counts = (np.bincount(ref_map[counted], minlength=count)
+                      + np.bincount(out_map[counted & (out_map != ref_map)], minlength=count))
     identical = not changed.any() and np.array_equal(reference, output)
     weights = {label: int(min(ref_counts[label], out_counts[label])) for label in range(1, count)
                if ref_counts[label] and out_counts[label]}

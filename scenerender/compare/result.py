@@ -32,6 +32,18 @@ class FrameImages:
     focus_note: str = ""                # what that window holds, in words
 
 
+@dataclass(frozen=True)
+class Forgiven:
+    """A large difference a pass excused: its box (x, y, w, h), pixels and largest levels."""
+
+    box: Box
+    pixels: int
+    levels: int
+
+    def text(self) -> str:
+        return f"{self.pixels} px off by up to {self.levels} levels at {_box_text(self.box)}"
+
+
 @dataclass
 class FrameComparison:
     """One frame pair. ``reason`` says why it failed ("" when it passed); ``metrics`` is
@@ -48,6 +60,15 @@ class FrameComparison:
     images: FrameImages | None = None           # kept for frames that differ, up to a cap
     objects: ObjectMetrics | None = None
     colour_only: str = ""   # why it was judged by its colours alone ("" when by object ids too)
+    forgiven: list = field(default_factory=list)  # Forgiven: large, connected differences a pass excused
+
+    def forgiven_line(self) -> str:
+        """A passing frame's large excused differences in words ("" when none)."""
+        if not self.forgiven:
+            return ""
+        return (f"PASS {self.name}, but it excused a large, connected difference: "
+                + "; ".join(f.text() for f in self.forgiven)
+                + " (judged a sub-pixel edge shift; look at the boxes in the report)")
 
     def attribution(self) -> str:
         """The changed pixels by object ('bunny: 482 px; new: thin_pole 111 px'), or ''."""
@@ -91,6 +112,7 @@ class FrameComparison:
                 "regions": [list(box) for box in self.regions],
                 "objects": self.objects.to_json() if self.objects is not None else None,
                 "judged_by": "colour" if self.colour_only else "object ids and colour",
+                "forgiven": [{"box": list(f.box), "pixels": f.pixels, "levels": f.levels} for f in self.forgiven],
                 "colour_only_because": self.colour_only or None}
 
 
@@ -116,6 +138,7 @@ class CompareResult:
     extra: list[str] = field(default_factory=list)
     images_kept: int = 0      # frames that differ whose pictures are kept for the report
     images_dropped: int = 0   # changed frames whose pictures were not kept (cap reached)
+    pictures: bool = True     # keep what a report shows (pictures, SSIM, FLIP); False: the verdict alone
 
     @property
     def changed(self) -> list[FrameComparison]:
@@ -173,6 +196,7 @@ class CompareResult:
         ``excused``, first a line per passing frame that differs, saying what it forgave."""
         passing = [frame for frame in self.frames if frame.passed] if excused else []
         lines = [line for line in (frame.excused_line() for frame in passing) if line]
+        lines += [frame.forgiven_line() for frame in self.frames if frame.passed and frame.forgiven]
         lines += [frame.summary_line() for frame in self.changed]
         lines += [f"MISSING {name}: in the reference, not in the output" for name in self.missing]
         lines += [f"EXTRA {name}: in the output, not in the reference" for name in self.extra]

@@ -43,13 +43,16 @@ class DiffRule:
     cannot explain (an object moved or dropped, a lost shadow); the mean limit a faint change
     spread wide (a colour, the field of view); the shift window limit a small or thin change
     the ranges excuse (a bias no quarter-pixel shift makes: a shape grown, an edge turned),
-    and one strong feature only one image has (a thin pole added or removed). The object
+    and one strong feature only one image has (a thin pole added or removed); the still
+    region limit, in a frame nothing moved in, a faint change of one sign the allowances for
+    moved edges would forgive (a recolour of a faceted model, a highlight widened). The object
     limits catch an object on one side only, one moved against the frame's common
     displacement, and an interior changed one way (a shininess, a colour)."""
 
     max_tile: float = 1.0                # worst TILE x TILE block outside the neighbourhood ranges, levels
     max_unexplained_mean: float = 0.0007  # frame mean outside the neighbourhood ranges, levels
     max_shift_tile: float = 0.7          # worst |signed mean| left after a shift, any SHIFT_WINDOW-square window, levels
+    max_still_region: float = 100.0      # in a frame that did not move: levels past the tolerance summed over one one-sign region
     aa_tolerance: int = 1                # levels of rounding forgiven on every channel
     # with object ids on both sides (compare.objects)
     min_object_pixels: int = 2           # an object on this many px or more on one side and none on the other
@@ -66,6 +69,9 @@ class DiffRule:
             out.append(f"worst {TILE}x{TILE} tile {metrics.worst_tile_aa:.2f} > {self.max_tile:g} levels unexplained")
         if metrics.unexplained_mean > self.max_unexplained_mean:
             out.append(f"unexplained mean {metrics.unexplained_mean:.4f} > {self.max_unexplained_mean:g} levels")
+        if metrics.still_region > self.max_still_region:
+            out.append(f"nothing moved, yet a region changed one way: {metrics.still_region:.0f} > "
+                       f"{self.max_still_region:g} levels x px")
         if metrics.shift_tile > self.max_shift_tile:
             out.append(f"a {SHIFT_WINDOW}x{SHIFT_WINDOW} window {metrics.shift_tile:.2f} > {self.max_shift_tile:g} levels off "
                        "after the best shift")
@@ -98,7 +104,9 @@ class DiffRule:
         return (f"difference outside both 3x3 colour ranges ({self.aa_tolerance} level tolerance): worst {TILE}x{TILE} "
                 f"tile <= {self.max_tile:g} levels, frame mean <= {self.max_unexplained_mean:g} levels; difference "
                 f"left after the best shift of up to 1/4 px per {TILE}x{TILE} tile, both ways: signed mean of any "
-                f"{SHIFT_WINDOW}x{SHIFT_WINDOW} window <= {self.max_shift_tile:g} levels; where both sides have object ids, no "
+                f"{SHIFT_WINDOW}x{SHIFT_WINDOW} window <= {self.max_shift_tile:g} levels; in a frame that did not move "
+                f"(under 1/64 px), no region changed one way by more than {self.max_still_region:g} levels x px "
+                f"summed; where both sides have object ids, no "
                 f"object on {self.min_object_pixels} px or more of one side only, none moved more than "
                 f"{self.max_object_shift:g} px against the frame, no interior changed more than "
                 f"{self.max_interior_change:g} levels")
