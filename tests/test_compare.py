@@ -555,3 +555,46 @@ def test_videos_inside_folders_are_compared_frame_by_frame(tmp_path):
     assert [f.name for f in result.changed] == ["clip.gif/frame_0001"]
     assert result.missing == ["gone.gif"]
     assert result.output.provenance.scenerender == "9.9.9"
+
+
+# -- ignore regions -------------------------------------------------------------------------
+
+def _clock_pair(tmp_path: Path) -> tuple[Path, Path]:
+    """Two folders whose frame differs only in a 'clock' at the top right."""
+    reference = drawn()
+    output = reference.copy()
+    output[2:10, 50:62] = 255 - output[2:10, 50:62]
+    for folder, image in (("ref", reference), ("out", output)):
+        (tmp_path / folder).mkdir()
+        Image.fromarray(image).save(tmp_path / folder / "frame_0000.png")
+    return tmp_path / "ref", tmp_path / "out"
+
+
+def test_an_ignore_rectangle_leaves_the_clock_out_and_says_so(tmp_path):
+    ref, out = _clock_pair(tmp_path)
+    assert not compare_paths(ref, out).passed  # without it, the clock fails
+    (ref / "ignore.json").write_text(json.dumps({"rectangles": [{"x": 48, "y": 0, "w": 16, "h": 12, "why": "clock"}]}))
+    result = compare_paths(ref, out)
+    assert result.passed and result.frames[0].ignored == 16 * 12
+    assert "ignored: 192 px in 1 frame(s) (ignore.json: clock)" in result.total_line()
+    (ref / "ignore.json").write_text(json.dumps({"rectangles": [{"x": 48, "y": 0, "w": 16, "h": 12,
+                                                                 "frames": "other_*"}]}))
+    assert not compare_paths(ref, out).passed  # the pattern names other frames
+
+
+def test_an_ignore_mask_is_not_a_frame_and_leaves_its_pixels_out(tmp_path):
+    ref, out = _clock_pair(tmp_path)
+    mask = np.zeros((48, 64), np.uint8)
+    mask[0:12, 48:64] = 255
+    Image.fromarray(mask).save(ref / "ignore.png")
+    result = compare_paths(ref, out)
+    assert result.passed and [f.name for f in result.frames] == ["frame_0000.png"] and not result.missing
+    assert "ignore.png" in result.total_line()
+
+
+def test_a_malformed_ignore_file_is_bad_input_naming_it(tmp_path):
+    ref, out = _clock_pair(tmp_path)
+    (ref / "ignore.json").write_text(json.dumps({"rectangles": [{"x": 1, "y": 2, "w": "wide", "h": 3}]}))
+    result = CliRunner().invoke(main, ["diff", str(ref), str(out)])
+    assert result.exit_code == 2
+    assert "ignore.json" in result.stderr and "rectangles[0]" in result.stderr and "Traceback" not in result.output

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from scenerender.compare.ignore import read_ignore
 from scenerender.compare.metrics import DiffMaps, FrameMetrics, flip_error, measure, ssim, tile_means, window_sums
 from scenerender.compare.objects import IdMap, measure_objects, picture
 from scenerender.compare.result import Box, CompareResult, Forgiven, FrameComparison, FrameImages
@@ -221,7 +222,8 @@ def compare_paths(reference: Path, output: Path, rule: DiffRule = DEFAULT_RULE, 
     if ref_side.kind != out_side.kind:
         raise UserError(f"cannot compare {_kind_phrase(out_side)} with {_kind_phrase(ref_side)} "
                         f"{display_path(ref_side.path)}", SourceLocation(display_path(out_side.path)))
-    result = CompareResult(ref_side, out_side, rule, pictures=pictures)
+    result = CompareResult(ref_side, out_side, rule, pictures=pictures,
+                           ignore=read_ignore(ref_side.path if ref_side.kind == "folder" else ref_side.path.parent))
     if ref_side.kind == "video":
         _compare_videos(result)
     elif ref_side.kind == "folder":
@@ -243,12 +245,33 @@ def _kind_phrase(side: Side) -> str:
 def _add(result: CompareResult, name: str, reference: np.ndarray, output: np.ndarray,
          object_ids: tuple | None = None) -> None:
     keep = result.pictures and result.images_kept < MAX_KEPT_IMAGES
+    ignored = result.ignore.mask_for(name, reference.shape[:2]) if result.ignore else None
+    if ignored is not None and output.shape == reference.shape:
+        output, object_ids = _ignoring(ignored, reference, output, object_ids)
     frame = compare_images(name, reference, output, result.rule, keep_images=keep, object_ids=object_ids)
+    frame.ignored = 0 if ignored is None else int(ignored.sum())
     if frame.images is not None:
         result.images_kept += 1
     elif not frame.passed and result.pictures:
         result.images_dropped += 1
     result.frames.append(frame)
+
+
+def _ignoring(ignored: np.ndarray, reference: np.ndarray, output: np.ndarray, object_ids: tuple | None):
+    """The output with its ``ignored`` pixels (H, W bool) taken from the reference, its
+    object ids too where both sides have them of that size."""
+    output = output.copy()
+    output[ignored] = reference[ignored]
+    if object_ids is not None and all(side is not None and side.ids.shape == ignored.shape for side in object_ids):
+        ref_ids, out_ids = object_ids
+        ids = out_ids.ids.copy()
+        ids[ignored] = ref_ids.ids[ignored]
+        behind = None
+        if ref_ids.behind is not None and out_ids.behind is not None:
+            behind = out_ids.behind.copy()
+            behind[ignored] = ref_ids.behind[ignored]
+        object_ids = (ref_ids, IdMap(ids, out_ids.names, behind))
+    return output, object_ids
 
 
 def _compare_folders(result: CompareResult) -> None:

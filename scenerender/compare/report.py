@@ -279,6 +279,9 @@ def _frame_section(frame: FrameComparison, rule: DiffRule) -> str:
         if images.heatmap is not None:
             figures.append(_compare_widget(images.reference, images.output))
         parts.append('<div class="row">' + "".join(figures) + "</div>")
+    if frame.ignored:
+        parts.append(f"<p>ignored: {frame.ignored} px, taken from the reference (the reference folder's "
+                     "ignore.json / ignore.png)</p>")
     if frame.metrics is not None:
         regions = ", ".join(f"x {x}..{x + w - 1} y {y}..{y + h - 1}" for x, y, w, h in frame.regions)
         parts.append(_metrics_table(frame.metrics, rule, frame.objects))

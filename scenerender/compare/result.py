@@ -61,6 +61,7 @@ class FrameComparison:
     objects: ObjectMetrics | None = None
     colour_only: str = ""   # why it was judged by its colours alone ("" when by object ids too)
     forgiven: list = field(default_factory=list)  # Forgiven: large, connected differences a pass excused
+    ignored: int = 0        # pixels left out: the reference folder's ignore regions (compare.ignore)
 
     def forgiven_line(self) -> str:
         """A passing frame's large excused differences in words ("" when none)."""
@@ -112,6 +113,7 @@ class FrameComparison:
                 "regions": [list(box) for box in self.regions],
                 "objects": self.objects.to_json() if self.objects is not None else None,
                 "judged_by": "colour" if self.colour_only else "object ids and colour",
+                "ignored_pixels": self.ignored,
                 "forgiven": [{"box": list(f.box), "pixels": f.pixels, "levels": f.levels} for f in self.forgiven],
                 "colour_only_because": self.colour_only or None}
 
@@ -139,6 +141,7 @@ class CompareResult:
     images_kept: int = 0      # frames that differ whose pictures are kept for the report
     images_dropped: int = 0   # changed frames whose pictures were not kept (cap reached)
     pictures: bool = True     # keep what a report shows (pictures, SSIM, FLIP); False: the verdict alone
+    ignore: object = None     # compare.ignore.IgnoreRegions of the reference folder
 
     @property
     def changed(self) -> list[FrameComparison]:
@@ -157,7 +160,15 @@ class CompareResult:
                 "changed": len(self.changed), "missing": len(self.missing), "extra": len(self.extra)}
 
     def total_line(self) -> str:
-        return self._total() + "; " + self.judged_by()
+        return self._total() + "; " + self.judged_by() + self.ignored_text()
+
+    def ignored_text(self) -> str:
+        """'; ignored: 640 px in 1 frame(s) (ignore.json: clock)', or ''."""
+        frames = [frame for frame in self.frames if frame.ignored]
+        if not frames:
+            return ""
+        return (f"; ignored: {sum(f.ignored for f in frames)} px in {len(frames)} frame(s) "
+                f"({self.ignore.describe()})")
 
     def judged_by(self) -> str:
         """How the frames were judged, in words: by object ids and colour, or by colour

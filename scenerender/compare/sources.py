@@ -16,6 +16,7 @@ from typing import Iterator
 import numpy as np
 
 from scenerender.colorspace import srgb_encode
+from scenerender.compare.ignore import FILES as IGNORE_FILES
 from scenerender.compare.objects import IdMap
 from scenerender.errors import SourceLocation, UserError, display_path
 from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
@@ -191,8 +192,8 @@ def is_video_name(name: str) -> bool:
 
 def is_frame_file(path: Path) -> bool:
     """An image or video in a folder, not hidden (sidecars and the temporary files of
-    unfinished writes start with a dot)."""
-    return (path.is_file() and not path.name.startswith(".")
+    unfinished writes start with a dot) and not a reference folder's ignore mask."""
+    return (path.is_file() and not path.name.startswith(".") and path.name not in IGNORE_FILES
             and path.suffix.lower() in IMAGE_SUFFIXES + VIDEO_SUFFIXES)
 
 
