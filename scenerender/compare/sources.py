@@ -19,9 +19,7 @@ from scenerender.colorspace import srgb_encode
 from scenerender.compare.ignore import FILES as IGNORE_FILES
 from scenerender.compare.objects import IdMap
 from scenerender.errors import SourceLocation, UserError, display_path
-from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
 from scenerender.sinks.object_ids import behind_path, ids_path, read_ids, read_names
-from scenerender.world.environment_files import read_exr
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr")
 VIDEO_SUFFIXES = (".mp4", ".gif")
@@ -85,6 +83,10 @@ def srgb_bytes(linear: np.ndarray) -> np.ndarray:
 
 
 def _read_exr(path: Path) -> np.ndarray:
+    # the scene layer (pydantic models) costs a quarter second to import: only for EXR frames
+    from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
+    from scenerender.world.environment_files import read_exr
+
     return srgb_bytes(read_exr(path, DEFAULT_MAX_PIXELS))
 
 
