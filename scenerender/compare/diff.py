@@ -18,7 +18,7 @@ import numpy as np
 
 from scenerender.compare.ignore import read_ignore
 from scenerender.compare.metrics import DiffMaps, FrameMetrics, flip_error, measure, ssim, tile_means, window_sums
-from scenerender.compare.objects import IdMap, measure_objects, picture
+from scenerender.compare.objects import CHANGED_LEVELS, IdMap, measure_objects, picture
 from scenerender.compare.result import Box, CompareResult, Forgiven, FrameComparison, FrameImages
 from scenerender.compare.rule import DEFAULT_RULE, SHIFT_WINDOW, TILE, DiffRule
 from scenerender.compare.sources import Side, is_video_name, open_side, video_frames
@@ -27,10 +27,11 @@ from scenerender.errors import SourceLocation, UserError, display_path
 # Frames that differ whose pictures are kept for the report; past this only numbers are kept
 # (a long video that changed everywhere would otherwise fill memory).
 MAX_KEPT_IMAGES = 24
-# A pass says in words (and the report boxes) each connected region of this many excused
-# pixels off by more than this many levels: the moved sphere's outline, 115 levels at most.
+# A pass says in words (and the report boxes) each group of this many excused pixels off by
+# more than this many levels: the outline of a sphere moved 5 cm, 16 px over 50, up to 115.
 FORGIVEN_LEVELS = 50
-FORGIVEN_PIXELS = 16
+FORGIVEN_PIXELS = 8
+FORGIVEN_GAP = 3          # px between two such pixels of one group
 SHOWN_FORGIVEN = 3
 
 
@@ -62,8 +63,10 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
     offenders = [] if objects is None else list(dict.fromkeys(s.name for kind in rule.offenders(objects) for s in kind))
     if keep_images and (metrics.max_abs > 0 or offenders):
         shown = picture(reference, *object_ids, offenders) if offenders else None
-        images = FrameImages(reference, output, heatmap(reference, maps), shift_map(maps), shown,
-                             *focus_window(maps, metrics, rule, passed))
+        focus = focus_window(maps, metrics, rule, passed)
+        if forgiven:  # a pass's close-up shows the largest difference it forgave
+            focus = forgiven[0].box, f"the largest difference this pass excused: {forgiven[0].text()}"
+        images = FrameImages(reference, output, heatmap(reference, maps), shift_map(maps), shown, *focus)
     if not passed and images is not None:  # numbers only a report shows, for the frames it shows
         metrics = dataclasses.replace(metrics, ssim=ssim(reference, output), flip=flip_error(reference, output))
     return FrameComparison(name, passed, "; ".join(failures), metrics, regions, size, images, objects,
@@ -71,17 +74,21 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
 
 
 def forgiven_regions(maps: DiffMaps) -> list[Forgiven]:
-    """What a pass forgave that a reader must see: the 8-connected regions (largest first,
-    at most SHOWN_FORGIVEN) of FORGIVEN_PIXELS or more excused pixels off by more than
-    FORGIVEN_LEVELS: an outline moved, a thin thing shifted. A sub-pixel camera move
-    leaves such outlines too; the words and the box say what was excused, not that it is
-    wrong."""
+    """What a pass forgave that a reader must see: the groups (the largest first, at most
+    SHOWN_FORGIVEN) of FORGIVEN_PIXELS or more excused pixels off by more than
+    FORGIVEN_LEVELS lying within FORGIVEN_GAP px of each other (an outline moved, a thin
+    thing shifted: the strong part of an outline is broken where the background matches),
+    each with its box and the excused pixels off by CHANGED_LEVELS or more in it. A
+    sub-pixel camera move leaves such outlines too: the words and the box say what was
+    excused, not that it is wrong."""
     large = maps.excused & (maps.magnitude > FORGIVEN_LEVELS)
     if large.sum() < FORGIVEN_PIXELS:
         return []
     from scipy import ndimage  # only where a pass excused a large difference
 
-    labels, _ = ndimage.label(large, structure=np.ones((3, 3), bool))
+    near = ndimage.binary_dilation(large, structure=np.ones((2 * FORGIVEN_GAP + 1,) * 2, bool))
+    labels, _ = ndimage.label(near)
+    labels[~large] = 0
     sizes = np.bincount(labels.ravel())
     sizes[0] = 0
     found = []
@@ -89,8 +96,10 @@ def forgiven_regions(maps: DiffMaps) -> list[Forgiven]:
         if sizes[label] < FORGIVEN_PIXELS:
             break
         ys, xs = np.nonzero(labels == label)
-        box = (int(xs.min()), int(ys.min()), int(xs.max() - xs.min() + 1), int(ys.max() - ys.min() + 1))
-        found.append(Forgiven(box, int(sizes[label]), int(maps.magnitude[ys, xs].max())))
+        x, y = int(xs.min()), int(ys.min())
+        w, h = int(xs.max()) - x + 1, int(ys.max()) - y + 1
+        inside = maps.excused[y:y + h, x:x + w] & (maps.magnitude[y:y + h, x:x + w] >= CHANGED_LEVELS)
+        found.append(Forgiven((x, y, w, h), int(inside.sum()), int(sizes[label]), int(maps.magnitude[ys, xs].max())))
     return found
 
 

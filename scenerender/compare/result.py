@@ -34,14 +34,17 @@ class FrameImages:
 
 @dataclass(frozen=True)
 class Forgiven:
-    """A large difference a pass excused: its box (x, y, w, h), pixels and largest levels."""
+    """A large difference a pass excused: its box (x, y, w, h), the excused pixels off by 5
+    levels or more in it, those off by more than 50, and the largest difference, levels."""
 
     box: Box
     pixels: int
+    large: int
     levels: int
 
     def text(self) -> str:
-        return f"{self.pixels} px off by up to {self.levels} levels at {_box_text(self.box)}"
+        return (f"{self.pixels} px off by 5 levels or more, {self.large} of them by over 50, up to {self.levels}, "
+                f"at {_box_text(self.box)}")
 
 
 @dataclass
@@ -114,7 +117,8 @@ class FrameComparison:
                 "objects": self.objects.to_json() if self.objects is not None else None,
                 "judged_by": "colour" if self.colour_only else "object ids and colour",
                 "ignored_pixels": self.ignored,
-                "forgiven": [{"box": list(f.box), "pixels": f.pixels, "levels": f.levels} for f in self.forgiven],
+                "forgiven": [{"box": list(f.box), "pixels": f.pixels, "over_50": f.large, "levels": f.levels}
+                             for f in self.forgiven],
                 "colour_only_because": self.colour_only or None}
 
 
