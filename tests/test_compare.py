@@ -598,3 +598,37 @@ def test_a_malformed_ignore_file_is_bad_input_naming_it(tmp_path):
     result = CliRunner().invoke(main, ["diff", str(ref), str(out)])
     assert result.exit_code == 2
     assert "ignore.json" in result.stderr and "rectangles[0]" in result.stderr and "Traceback" not in result.output
+
+
+# -- what a pass excused ------------------------------------------------------------------------
+
+def _square(dx: float = 0.0, h: int = 48, w: int = 64) -> np.ndarray:
+    """A light square on a dark ground, anti-aliased (8x8 supersampling), moved ``dx`` px."""
+    ss = 8
+    y, x = np.mgrid[0:h * ss, 0:w * ss] / ss
+    inside = ((x >= 20.3 + dx) & (x < 44.3 + dx) & (y >= 12.2) & (y < 36.2)).astype(float)
+    image = inside.reshape(h, ss, w, ss).mean(axis=(1, 3)) * 230 + 10
+    return np.stack([image] * 3, axis=2).round().astype(np.uint8)
+
+
+def test_a_pass_that_excused_a_large_outline_says_so_and_boxes_it(tmp_path):
+    """The square moved 0.3 px passes (a sub-pixel shift), but its two vertical edges are
+    off by 58 levels over 23 px each: the summary says so in a line of its own, the JSON
+    lists both, the report boxes them; a shift of 0.1 px (23 levels) says nothing."""
+    (tmp_path / "ref").mkdir()
+    (tmp_path / "out").mkdir()
+    Image.fromarray(_square()).save(tmp_path / "ref" / "f.png")
+    Image.fromarray(_square(0.3)).save(tmp_path / "out" / "f.png")
+    result = compare_paths(tmp_path / "ref", tmp_path / "out")
+    assert result.passed
+    frame = result.frames[0]
+    assert [(f.box, f.large, f.levels) for f in frame.forgiven] == [((20, 13, 1, 23), 23, 58), ((44, 13, 1, 23), 23, 58)]
+    line = next(line for line in result.summary_lines() if "excused a large, connected difference" in line)
+    assert line.startswith("PASS f.png, but") and "up to 58" in line
+    write_html_report(result, tmp_path / "report.html")
+    page = (tmp_path / "report.html").read_text()
+    assert page.count('class="forgiven"') >= 2 and "excused a large, connected difference" in page
+    Image.fromarray(_square(0.1)).save(tmp_path / "out" / "f.png")
+    quiet = compare_paths(tmp_path / "ref", tmp_path / "out")
+    assert quiet.passed and not quiet.frames[0].forgiven
+    assert not any("excused a large" in line for line in quiet.summary_lines())

@@ -31,7 +31,6 @@ MAX_KEPT_IMAGES = 24
 # more than this many levels: the outline of a sphere moved 5 cm, 16 px over 50, up to 115.
 FORGIVEN_LEVELS = 50
 FORGIVEN_PIXELS = 8
-FORGIVEN_GAP = 3          # px between two such pixels of one group
 SHOWN_FORGIVEN = 3
 
 
@@ -53,8 +52,9 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
     metrics, maps = measure(reference, output, rule.aa_tolerance, with_flip=False, with_ssim=False)
     objects = None
     colour_only = why_colour_only(object_ids, reference.shape[:2])
-    if not colour_only:
-        objects = measure_objects(reference, output, *object_ids, tolerance=rule.aa_tolerance)
+    if not colour_only:  # a frame its colours fail needs its objects registered only for a report
+        register = keep_images or not rule.failures(metrics)
+        objects = measure_objects(reference, output, *object_ids, tolerance=rule.aa_tolerance, register=register)
     failures = rule.failures(metrics, objects)
     passed = not failures
     regions = [] if passed else changed_regions(maps)  # a pass outlines what it forgave instead
@@ -76,30 +76,29 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
 def forgiven_regions(maps: DiffMaps) -> list[Forgiven]:
     """What a pass forgave that a reader must see: the groups (the largest first, at most
     SHOWN_FORGIVEN) of FORGIVEN_PIXELS or more excused pixels off by more than
-    FORGIVEN_LEVELS lying within FORGIVEN_GAP px of each other (an outline moved, a thin
-    thing shifted: the strong part of an outline is broken where the background matches),
+    FORGIVEN_LEVELS in touching TILE x TILE tiles (an outline moved, a thin thing shifted;
+    the strong part of an outline is broken where the background matches, tiles join it),
     each with its box and the excused pixels off by CHANGED_LEVELS or more in it. A
     sub-pixel camera move leaves such outlines too: the words and the box say what was
     excused, not that it is wrong."""
     large = maps.excused & (maps.magnitude > FORGIVEN_LEVELS)
     if large.sum() < FORGIVEN_PIXELS:
         return []
-    from scipy import ndimage  # only where a pass excused a large difference
-
-    near = ndimage.binary_dilation(large, structure=np.ones((2 * FORGIVEN_GAP + 1,) * 2, bool))
-    labels, _ = ndimage.label(near)
-    labels[~large] = 0
-    sizes = np.bincount(labels.ravel())
-    sizes[0] = 0
+    per_tile = tile_means(large.astype(np.float32)) * TILE * TILE
+    groups = []
+    for cells in _connected_groups(per_tile > 0):
+        count = round(sum(per_tile[cell] for cell in cells))
+        if count >= FORGIVEN_PIXELS:
+            groups.append((count, cells))
     found = []
-    for label in np.argsort(-sizes)[:SHOWN_FORGIVEN]:
-        if sizes[label] < FORGIVEN_PIXELS:
-            break
-        ys, xs = np.nonzero(labels == label)
+    for count, cells in sorted(groups, key=lambda group: -group[0])[:SHOWN_FORGIVEN]:
+        in_group = np.zeros(per_tile.shape, bool)
+        in_group[tuple(np.array(cells).T)] = True
+        ys, xs = np.nonzero(large & np.repeat(np.repeat(in_group, TILE, 0), TILE, 1)[:large.shape[0], :large.shape[1]])
         x, y = int(xs.min()), int(ys.min())
         w, h = int(xs.max()) - x + 1, int(ys.max()) - y + 1
         inside = maps.excused[y:y + h, x:x + w] & (maps.magnitude[y:y + h, x:x + w] >= CHANGED_LEVELS)
-        found.append(Forgiven((x, y, w, h), int(inside.sum()), int(sizes[label]), int(maps.magnitude[ys, xs].max())))
+        found.append(Forgiven((x, y, w, h), int(inside.sum()), int(count), int(maps.magnitude[ys, xs].max())))
     return found
 
 

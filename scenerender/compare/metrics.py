@@ -38,8 +38,8 @@ a widened highlight as if it were aliasing. So the frame's displacement is estim
 moved by a fraction of a pixel moves everything one way, a recolour or a highlight moves
 nothing one way). Where it is under ``STILL_SHIFT`` pixels, no allowance is given: every
 pixel off by more than the rounding tolerance is kept with its sign (the channel of the
-largest change), and each 8-connected region of one sign is scored by the levels past the
-tolerance summed over it. Re-renders, other thread counts and workers leave nothing past
+largest change), and the levels past the tolerance of one sign are summed over every 32x32
+window (a region: as local as a connected component, and two cumulative sums). Re-renders, other thread counts and workers leave nothing past
 the rounding; a recolour, a shininess or a light leaves a region of one sign.
 """
 from __future__ import annotations
@@ -57,6 +57,7 @@ SHIFTS = tuple((dy, dx) for dy in (0.0, -0.25, 0.25) for dx in (0.0, -0.25, 0.25
 EDGE_SHARE = 0.5    # of the local contrast: 4x MSAA coverage steps, bilinear against rasterised edges
 ALIAS_SHARE = 1.0   # of the local second difference: detail finer than a pixel
 STILL_SHIFT = 1 / 64  # px: a frame whose estimated displacement is smaller did not move
+STILL_WINDOW = 32     # px: the side of the windows a still frame's one-sign change is summed over
 
 
 @dataclass(frozen=True)
@@ -262,27 +263,27 @@ def frame_displacement(reference: np.ndarray, output: np.ndarray) -> float:
 
 
 def still_regions(reference: np.ndarray, output: np.ndarray, tolerance: int) -> tuple[float, np.ndarray | None]:
-    """In a frame that did not move: the largest 8-connected region of pixels changed one way
-    past ``tolerance`` (the channel of the largest change), scored by its levels past the
-    tolerance summed -> (score, its (H, W) bool mask); (0, None) where nothing is past it."""
+    """In a frame that did not move: the pixels changed one way past ``tolerance`` (the
+    channel of the largest change), their levels past it summed over each STILL_WINDOW
+    square window, one sign at a time -> (the largest sum, the (H, W) bool mask of that
+    window's pixels of that sign); (0, None) where nothing is past the tolerance. A window,
+    not a connected component: as local, and two cumulative sums instead of a labelling."""
     signed = output.astype(np.int16) - reference.astype(np.int16)
     strongest = np.abs(signed).argmax(axis=2)[..., None]
     change = np.take_along_axis(signed, strongest, axis=2)[..., 0]
     excess = np.maximum(np.abs(change) - tolerance, 0).astype(np.float32)
     if not excess.any():
         return 0.0, None
-    from scipy import ndimage  # only where a still frame changed
-
     best, mask = 0.0, None
     for side in (change > tolerance, change < -tolerance):
-        labels, count = ndimage.label(side, structure=np.ones((3, 3), bool))
-        if not count:
+        if not side.any():
             continue
-        sums = np.bincount(labels.ravel(), weights=excess.ravel(), minlength=count + 1)
-        sums[0] = 0
-        label = int(sums.argmax())
-        if sums[label] > best:
-            best, mask = float(sums[label]), labels == label
+        sums = window_sums(np.where(side, excess, 0), STILL_WINDOW)
+        row, col = np.unravel_index(int(np.argmax(sums)), sums.shape)
+        if sums[row, col] > best:
+            best = float(sums[row, col])
+            mask = np.zeros(side.shape, bool)
+            mask[row:row + STILL_WINDOW, col:col + STILL_WINDOW] = side[row:row + STILL_WINDOW, col:col + STILL_WINDOW]
     return best, mask
 
 
