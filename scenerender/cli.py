@@ -397,7 +397,7 @@ ENVIRONMENT_SAMPLES = 4
                    "tile's best shift of up to 1/4 pixel: catches small and thin changes the ranges excuse.")
 @click.option("--max-still-region", type=LEVELS, metavar="LEVELS_X_PX", default=_DIFF_DEFAULTS.max_still_region,
               show_default=True,
-              help="In a frame that did not move (the whole picture moved under 1/64 px): largest allowed sum of "
+              help="In a frame that did not move (the whole picture moved under 1/128 px): largest allowed sum of "
                    "levels past the rounding over one connected region changed one way (a recolour, a shininess).")
 @click.option("--aa-tolerance", type=click.IntRange(0, 255), metavar="LEVELS", default=_DIFF_DEFAULTS.aa_tolerance,
               show_default=True,

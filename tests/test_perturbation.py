@@ -58,7 +58,7 @@ def test_the_colours_alone_passed_what_the_object_ids_catch(scores, scene, case)
     """The five changes no shift statistic separates from a quarter-pixel jitter: the colour
     limits before the still region passed them; the object ids fail them, at least twice an
     object limit; and the still region limit, in a frame that did not move, catches all but
-    the sphere moved 5 cm (its move reads as the frame's, 0.04 px, past 1/64)."""
+    the sphere moved 5 cm (its move reads as the frame's, 0.04 px, past 1/128)."""
     score = scores[(scene, case)]
     assert not suite.WITHOUT_STILL.failures(score.metrics), "the colours alone already caught it"
     still = score.metrics.still_region > DEFAULT_RULE.max_still_region

@@ -56,7 +56,7 @@ PIXEL_THRESHOLD = 24  # levels: a "bad" pixel in the plain (not shift-compensate
 SHIFTS = tuple((dy, dx) for dy in (0.0, -0.25, 0.25) for dx in (0.0, -0.25, 0.25))  # pixels; no shift first
 EDGE_SHARE = 0.5    # of the local contrast: 4x MSAA coverage steps, bilinear against rasterised edges
 ALIAS_SHARE = 1.0   # of the local second difference: detail finer than a pixel
-STILL_SHIFT = 1 / 64  # px: a frame whose estimated displacement is smaller did not move
+STILL_SHIFT = 1 / 128  # px: a frame whose estimated displacement is smaller did not move
 STILL_WINDOW = 32     # px: the side of the windows a still frame's one-sign change is summed over
 
 

@@ -179,7 +179,7 @@ def metrics_rows(metrics: FrameMetrics, rule: DiffRule, objects=None) -> list[tu
          f"<= {rule.max_shift_tile:g}", metrics.shift_tile <= rule.max_shift_tile),
         ("still frame: largest region changed one way (levels x px)", _fmt(metrics.still_region, 1),
          f"<= {rule.max_still_region:g}", metrics.still_region <= rule.max_still_region),
-        ("how far the whole frame moved (px; under 1/64: still)", _fmt(metrics.frame_shift, 3), "", None),
+        ("how far the whole frame moved (px; under 1/128: still)", _fmt(metrics.frame_shift, 3), "", None),
         ("worst pixel after the best shift (levels)", _fmt(metrics.shift_pixel, 1), "", None),
         ("pixels excused (edge shifts and rounding)", str(metrics.excused_pixels), "", None),
         ("largest shift a tile took (px)", _fmt(metrics.largest_shift, 2), "", None),

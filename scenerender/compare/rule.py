@@ -105,7 +105,7 @@ class DiffRule:
                 f"tile <= {self.max_tile:g} levels, frame mean <= {self.max_unexplained_mean:g} levels; difference "
                 f"left after the best shift of up to 1/4 px per {TILE}x{TILE} tile, both ways: signed mean of any "
                 f"{SHIFT_WINDOW}x{SHIFT_WINDOW} window <= {self.max_shift_tile:g} levels; in a frame that did not move "
-                f"(under 1/64 px), no region changed one way by more than {self.max_still_region:g} levels x px "
+                f"(under 1/128 px), no region changed one way by more than {self.max_still_region:g} levels x px "
                 f"summed; where both sides have object ids, no "
                 f"object on {self.min_object_pixels} px or more of one side only, none moved more than "
                 f"{self.max_object_shift:g} px against the frame, no interior changed more than "
