@@ -419,9 +419,12 @@ def diff(reference, output, report, as_json, max_tile, max_unexplained_mean, max
     """Compare OUTPUT with REFERENCE: two images, two folders of frames (PNG, JPG, TGA, EXR;
     matched by file name) or two videos (MP4, GIF; matched frame by frame).
 
-    Frames both sides rendered with --object-ids are also judged by object: the changed
-    pixels are named by the objects they belong to, and an object that appeared or went, moved
-    against the frame or changed inside fails the frame.
+    Frames both sides kept object ids for (render --check keeps them by default) are also
+    judged by object: the changed pixels are named by the objects they belong to, and an
+    object that appeared or went, moved against the frame or changed inside (also behind
+    glass) fails the frame. The total line says when frames were judged by colour alone, and
+    why. A reference folder's ignore.json (rectangles) and ignore.png (a mask) name pixels
+    left out of the verdict. Without --report only the verdict is computed (no SSIM or FLIP).
 
     Prints one line per changed, missing or extra frame and a total line. Exits 0 when every
     frame matches, 1 when a frame changed (a different size counts as changed) or is missing

@@ -17,7 +17,12 @@ change the colours catch fails a colour limit by twice that limit or more. A cap
 worst pixel was measured too and left out: nothing in the corpus fails by it alone, and its
 noise (a thin lamp arm under jitter, 78 levels) lies close to the thin changes it would catch.
 
-Where both sides were rendered with object ids (``render --object-ids``), three more limits
+The still region limit judges a frame the whole of which moved under 1/128 px (re-renders,
+thread counts, workers: nothing past the rounding): the largest one-sign sum of levels past
+the rounding over a 32x32 window may be 100 levels x px. Camera moves of 1/256 px, which
+read as still, score 53-79; a halved shininess 924-975, a 3-px bead moved 1 px 134.
+
+Where both sides were rendered with object ids (``render --check`` keeps them), three more limits
 judge each object (scenerender.compare.objects): one covering pixels on one side only, one
 moved against the rest of the frame, one whose interior changed colour. They catch what no
 image statistic separates from a sub-pixel camera move: a 3-px bead moved 1 px, a sphere
