@@ -127,8 +127,8 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         view_format = "rgba32f" if options.want_linear else "rgba8"
         final = _add_view(graph, world, settings.mode, inputs, gbuffer, ao, shadow_passes, size, view_format)
         linear = final if options.want_linear else None  # the values themselves, not a colour
-    ids = graph.add(ObjectIdPass(size, inputs.camera, inputs.objects)).color if options.object_ids else None
-    graph.add(ReadbackPass(final, size, linear, ids))
+    ids = graph.add(ObjectIdPass(size, inputs.camera, inputs.objects)) if options.object_ids else None
+    graph.add(ReadbackPass(final, size, linear, ids and ids.color, ids and ids.behind))
     return graph, inputs
 
 
