@@ -25,6 +25,7 @@ TEXTURE_UNITS = {
     "u_shadow_atlas": 4, "u_ao": 5, "u_skybox": 6, "u_gbuffer": 7, "u_noise": 8, "u_color": 9, "u_atlas": 10,
     "u_shadow_atlas_2": 11, "u_metallic_roughness_map": 12, "u_occlusion_map": 13, "u_emissive_map": 14,
     "u_roughness_map": 15, "u_metallic_map": 16, "u_env_diffuse": 17, "u_env_specular": 18, "u_env_source": 19,
+    "u_shadow_depth": 20, "u_shadow_depth_2": 21,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")
@@ -56,6 +57,14 @@ class SceneFeatures:
     point_shadow_pages: tuple = ()
     spot_shadow_pages: tuple = ()
     shadow_pages: int = 1
+    # per light type, in light order: whether the light has a size (lighting/sized.glsl),
+    # and its soft shadow's blocker-search and filter reads (0: no soft shadow)
+    dir_sized: tuple = ()
+    point_sized: tuple = ()
+    spot_sized: tuple = ()
+    dir_soft: tuple = ()
+    point_soft: tuple = ()
+    spot_soft: tuple = ()
     # the environment light's prefiltered image, (levels, strip width, strip height), or
     # None; ``environment_classic``: Phong and Blinn-Phong materials get its diffuse term
     environment: tuple | None = None
@@ -77,8 +86,15 @@ class SceneFeatures:
             ambient_occlusion=render.ambient_occlusion is not None,
             shadow_footprint_samples=_footprint_samples(samples),
             **first_views,
+            **_sized_lights(world.lights),
             **_environment_features(world.environment),
         )
+
+    @property
+    def soft_shadows(self) -> bool:
+        """Whether a shadowed light has a size: then the shaders read the atlas as plain
+        depth too (lighting/soft_shadows.glsl)."""
+        return any(blockers for blockers, _ in self.dir_soft + self.point_soft + self.spot_soft)
 
     def lighting_defines(self) -> dict:
         defines = {"N_DIR_LIGHTS": self.n_dir, "N_POINT_LIGHTS": self.n_point, "N_SPOT_LIGHTS": self.n_spot}
@@ -96,8 +112,29 @@ class SceneFeatures:
                 defines["SHADOW_FOOTPRINT_SAMPLES"] = self.shadow_footprint_samples
             if self.n_shadow_views * SHADOW_VIEW_BYTES <= UNIFORM_BLOCK_BYTES:
                 defines["N_SHADOW_VIEWS"] = self.n_shadow_views
+            if self.soft_shadows:
+                defines.update(self._soft_shadow_defines())
+        defines.update(self._sized_defines())
         if self.light_bytes <= UNIFORM_BLOCK_BYTES:
             defines["LIGHTS_IN_UNIFORM_BLOCK"] = True
+        return defines
+
+    def _sized_defines(self) -> dict:
+        """Which lights of each type have a size, where any has (none in a scene of points)."""
+        defines = {}
+        for kind in ("dir", "point", "spot"):
+            sized = getattr(self, f"{kind}_sized")
+            if any(sized):
+                defines[f"{kind.upper()}_LIGHT_SIZED"] = ", ".join("true" if v else "false" for v in sized)
+        return defines
+
+    def _soft_shadow_defines(self) -> dict:
+        defines = {"SOFT_SHADOWS": True}
+        for kind in ("dir", "point", "spot"):
+            soft = getattr(self, f"{kind}_soft")
+            if any(blockers for blockers, _ in soft):
+                defines[f"{kind.upper()}_SOFT_BLOCKERS"] = ", ".join(str(b) for b, _ in soft)
+                defines[f"{kind.upper()}_SOFT_FILTER"] = ", ".join(str(f) for _, f in soft)
         return defines
 
     @property
@@ -133,6 +170,19 @@ class SceneFeatures:
         if self.environment_footprint:
             defines["ENV_FOOTPRINT"] = True
         return defines
+
+
+def _sized_lights(lights) -> dict:
+    """Per light type, in light order: whether each light has a size, and (blocker reads,
+    filter reads) of its soft shadow, (0, 0) unless it is shadowed and has a size."""
+    key = {"directional": "dir", "point": "point", "spot": "spot"}
+    found = {f"{kind}_{what}": [] for kind in key.values() for what in ("sized", "soft")}
+    for light in lights:
+        kind = key[light.kind]
+        found[f"{kind}_sized"].append(light.sized)
+        soft = light.sized and light.shadow is not None
+        found[f"{kind}_soft"].append((light.shadow.blocker_samples, light.shadow.filter_samples) if soft else (0, 0))
+    return {name: tuple(values) for name, values in found.items()}
 
 
 def _environment_features(environment) -> dict:

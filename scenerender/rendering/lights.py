@@ -66,13 +66,14 @@ def _pack_light_arrays(frame: FrameState, first_view: tuple) -> bytes:
     for light, first in zip(frame.lights, first_view):
         shadow = [float(first), 0.0, 0.0, 0.0]
         color = [*light.color, 0.0]
+        size = light.definition.size  # 0 for a point: the bytes lights always had
         if light.kind == "directional":
-            dirs.append([*light.direction, 0.0, *color, *shadow])
+            dirs.append([*light.direction, size, *color, *shadow])
         elif light.kind == "point":
-            points.append([*(light.position - cam), 1.0, *color, *light.definition.attenuation, 0.0, *shadow])
+            points.append([*(light.position - cam), 1.0, *color, *light.definition.attenuation, size, *shadow])
         else:
             spots.append([*(light.position - cam), 1.0, *light.direction, 0.0, *color,
-                          *light.definition.attenuation, 0.0, light.cos_inner, light.cos_outer, 0.0, 0.0,
+                          *light.definition.attenuation, size, light.cos_inner, light.cos_outer, 0.0, 0.0,
                           *shadow])
     parts = [np.asarray(group, dtype=np.float64).reshape(-1) for group in (dirs, points, spots) if group]
     parts.append(np.zeros(4))  # lights_end

@@ -70,6 +70,8 @@ KEYS: dict[str, Key] = {
     "render.shadows.pcf": Key("Filter width in texels: N x N percentage-closer filtering; 1 gives hard, aliased edges. "
                               "Spot lights default to 5 unless this is set.", "5"),
     "render.shadows.bias": Key("Depth bias, as a fraction of the light view's depth range; removes shadow acne.", "0.005"),
+    "render.shadows.blocker_samples": Key("Lights with a size (`radius`, `angular_diameter`): depth-map reads that look for the casters between a point and the light, the first step of a soft shadow. No effect on other lights.", "16"),
+    "render.shadows.filter_samples": Key("Lights with a size: comparison reads averaged over the penumbra, which is sharp where a caster meets the receiver and widens with the distance between them. No effect on other lights.", "32"),
     "render.shadows.slope_bias": Key("Extra bias where light grazes the surface: the bias used is max(bias, slope_bias (1 - N.L)).", "0.05"),
     # -- output ---------------------------------------------------------------------------
     "output.fps": Key("Frames per second: frame i is at time i / fps.", "24"),
@@ -99,6 +101,9 @@ KEYS: dict[str, Key] = {
     "lights[].shadows": Key("Cast shadows (`true`), or a mapping overriding `render.shadows` for this light.", "{size: 1024}"),
     "lights[].attenuation": Key("Falloff with distance d: light x 1 / (c + l d + q d^2), as [c, l, q]; `[1, 0, 0]` is no falloff.", "[1.0, 0.09, 0.032]"),
     "lights[directional].direction": Key("The way the light travels (from the light towards the scene); need not be unit length.", "[-1, -1, -0.5]"),
+    "lights[directional].angular_diameter": Key("Degrees the light's disc spans seen from the scene (the sun: 0.53): soft shadows and wider highlights, the same power. 0: a point.", "0.53"),
+    "lights[point].radius": Key("A sphere light of this radius (scene units) with the same power: soft shadows, sphere-shaped highlights. 0: a point.", "0.3"),
+    "lights[spot].radius": Key("A sphere light of this radius (scene units) with the same power and cone: soft shadows, sphere-shaped highlights. 0: a point.", "0.1"),
     "lights[point].position": Key("Where the light is; shadows use a cube map.", "[2, 3, 1]"),
     "lights[spot].position": Key("Where the light is; required unless `attach: camera` (then it is in camera space, default the eye).", "[0, 5, 0]"),
     "lights[spot].direction": Key("The way the cone points. Not set: along -Z, which with `attach: camera` is where the camera looks.", "[0, -1, 0]"),

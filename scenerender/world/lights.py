@@ -39,6 +39,13 @@ class LightDef:
     outer_angle: Track | None = None
     attach_camera: bool = False
     shadow: ShadowMapSettings | None = None
+    # the light's size: a sphere's radius (point, spot: scene units), or the tangent of
+    # the half angle its disc spans (directional); 0 a point, as it always was
+    size: float = 0.0
+
+    @property
+    def sized(self) -> bool:
+        return self.size > 0.0
 
 
 @dataclass(frozen=True)
@@ -110,7 +117,8 @@ def _merged_shadow(option, defaults, kind: str):
     if option is not True:
         values.update({k: v for k, v in option.model_dump().items() if v is not None})
     merged = type(defaults).model_validate(values)  # checks the combination
-    return ShadowMapSettings(merged.size, merged.pcf, merged.bias, merged.slope_bias)
+    return ShadowMapSettings(merged.size, merged.pcf, merged.bias, merged.slope_bias, merged.blocker_samples,
+                             merged.filter_samples)
 
 
 def _from_spec(index: int, light, shadows_default) -> LightDef:
@@ -122,15 +130,17 @@ def _from_spec(index: int, light, shadows_default) -> LightDef:
         return LightDef(**common)
     shadow = _merged_shadow(light.shadows, shadows_default, light.type)
     if light.type == "directional":
-        return LightDef(**common, direction=light.direction, shadow=shadow)
+        return LightDef(**common, direction=light.direction, shadow=shadow,
+                        size=math.tan(math.radians(0.5 * light.angular_diameter)))
     if light.type == "point":
-        return LightDef(**common, position=light.position, attenuation=light.attenuation, shadow=shadow)
+        return LightDef(**common, position=light.position, attenuation=light.attenuation, shadow=shadow,
+                        size=float(light.radius))
     attach = light.attach == "camera"
     position = light.position or Track.constant((0.0, 0.0, 0.0), kind="vector")
     direction = light.direction or Track.constant((0.0, 0.0, -1.0), kind="vector")
     return LightDef(**common, position=position, direction=direction, attenuation=light.attenuation,
                     inner_angle=light.inner_angle, outer_angle=light.outer_angle, attach_camera=attach,
-                    shadow=shadow)
+                    shadow=shadow, size=float(light.radius))
 
 
 def split_ambient(defs: list[LightDef]) -> tuple[list[LightDef], list[LightDef]]:

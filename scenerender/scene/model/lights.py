@@ -45,6 +45,7 @@ class _LightBase(StrictModel):
 class DirectionalLight(_LightBase):
     type: Literal["directional"]
     direction: AnimatedDirection = (-1.0, -1.0, -0.5)
+    angular_diameter: number(0, 20) = 0.0  # degrees the light's disc spans (the sun: 0.53); 0 a point
     shadows: ShadowsOption = False
 
 
@@ -52,6 +53,7 @@ class PointLight(_LightBase):
     type: Literal["point"]
     position: AnimatedVec3 = (0.0, 3.0, 0.0)
     attenuation: Attenuation = (1.0, 0.0, 0.0)
+    radius: number(0) = 0.0  # a sphere light of this radius; 0 a point
     shadows: ShadowsOption = False
 
 
@@ -63,6 +65,7 @@ class SpotLight(_LightBase):
     inner_angle: animated_number(0, 89.9) = 12.5
     outer_angle: animated_number(0, 89.9, lo_open=True) = 17.5
     attach: choice("camera") | None = None
+    radius: number(0) = 0.0  # a sphere light of this radius; 0 a point
     shadows: ShadowsOption = False
 
     @model_validator(mode="after")

@@ -1,0 +1,108 @@
+// Percentage-closer soft shadows (Fernando 2005) for lights with a size: a blocker search
+// finds the mean depth of what lies between the point and the light, the penumbra's width
+// follows from it by similar triangles, and a comparison filter that wide gives the
+// fraction of the light seen. The penumbra is sharp where a caster meets its receiver and
+// widens with the distance between them. Included only where a shadowed light has a size
+// (SOFT_SHADOWS); the atlas is read twice over: through its comparison sampler
+// (u_shadow_atlas) and as plain depth (u_shadow_depth, the same texture with comparison
+// off), which the blocker search needs.
+
+uniform sampler2D u_shadow_depth;
+#if SHADOW_PAGES > 1
+uniform sampler2D u_shadow_depth_2;
+#endif
+
+// Plain depth at atlas uv on ``page`` (a compile-time constant where callers pass one).
+float stored_depth(int page, vec2 uv) {
+#if SHADOW_PAGES > 1
+    return page == 0 ? textureLod(u_shadow_depth, uv, 0.0).r : textureLod(u_shadow_depth_2, uv, 0.0).r;
+#else
+    return textureLod(u_shadow_depth, uv, 0.0).r;
+#endif
+}
+
+float compared_depth(int page, vec2 uv, float depth) {
+#if SHADOW_PAGES > 1
+    return page == 0 ? textureLod(u_shadow_atlas, vec3(uv, depth), 0.0) : textureLod(u_shadow_atlas_2, vec3(uv, depth), 0.0);
+#else
+    return textureLod(u_shadow_atlas, vec3(uv, depth), 0.0);
+#endif
+}
+
+// Point k of ``count`` spread evenly over the unit disc (a Vogel spiral: golden-angle
+// turns, radius sqrt of the area share), turned by ``turn`` radians.
+vec2 disc_point(int k, int count, float turn) {
+    float radius = sqrt((float(k) + 0.5) / float(count));
+    float angle = float(k) * 2.39996323 + turn;
+    return radius * vec2(cos(angle), sin(angle));
+}
+
+// A turn per pixel (interleaved gradient noise, Jimenez 2014), so neighbouring pixels'
+// spirals differ and the filter's few samples blur into noise rather than bands.
+float pixel_turn() {
+    return 6.28318531 * fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715))));
+}
+
+// The widest search and filter, in texels: a sixteenth of the view's tile.
+const float SOFT_MAX_FRACTION = 0.0625;
+
+// Fraction of a sized light reaching p, for one view. size: the sphere's radius (point,
+// spot), or the tangent of a directional light's half angle. blockers, filters: the reads
+// of each step (compile-time constants of the light: render.shadows.blocker_samples,
+// filter_samples). Bias as shadow_lookup's, plus the receiver's own change in depth over
+// each read's offset, so a tilted receiver does not shadow itself across a wide filter.
+float shadow_lookup_soft(int index, int page, int blockers, int filters, vec3 p, vec3 n, float n_dot_l,
+                         bool perspective, bool radial, float size) {
+    vec4 light = shadow_views[index].light;
+    vec4 depth_params = shadow_views[index].depth;
+    vec4 texel_world = shadow_views[index].texel;
+    vec4 tile = shadow_views[index].tile;
+    vec2 texel = shadow_views[index].sampling.xy;
+    float cos_l = clamp(n_dot_l, 1e-4, 1.0);
+    float grazing = sqrt(clamp(1.0 - cos_l * cos_l, 0.0, 1.0));
+    float texel_size = perspective ? texel_world.x * distance(p, light.xyz) : texel_world.y;
+    float tan_angle = min(grazing / cos_l, 10.0);
+    float bias = texel_size * (depth_params.z + depth_params.w * tan_angle) * depth_params.y;
+    float slope = texel_size * tan_angle * depth_params.y;  // the receiver's depth change per texel
+    vec4 q = shadow_views[index].to_atlas * vec4(p, 1.0);
+    vec2 uv = perspective ? q.xy / q.w : q.xy;
+    float receiver = radial ? (distance(p, light.xyz) - depth_params.x) * depth_params.y : q.z;
+    if ((perspective && q.w <= 0.0) || receiver > 1.0 || any(lessThan(uv, tile.xy)) || any(greaterThan(uv, tile.zw))) {
+        return 1.0;
+    }
+    float range = 1.0 / depth_params.y;
+    float near = max(depth_params.x, 1e-6);
+    float d_receiver = depth_params.x + receiver * range;
+    float widest = SOFT_MAX_FRACTION * (tile.z - tile.x) / texel.x;
+    // where a caster between the near plane and p could be: the cone from p to the light's
+    // disc, cut at the near plane, in texels of the map
+    float search = perspective ? size * (1.0 / near - 1.0 / max(d_receiver, near)) / texel_world.x
+                               : size * receiver * range / texel_world.y;
+    search = clamp(search, 1.0, widest);
+    float turn = pixel_turn();
+    float blocker_sum = 0.0;
+    float blocker_count = 0.0;
+    for (int k = 0; k < blockers; ++k) {
+        vec2 offset = disc_point(k, blockers, turn) * search;
+        vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
+        float depth = stored_depth(page, tap);
+        bool blocks = depth < receiver - bias - slope * length(offset);
+        blocker_sum += blocks ? depth : 0.0;
+        blocker_count += blocks ? 1.0 : 0.0;
+    }
+    if (blocker_count == 0.0) {
+        return 1.0;
+    }
+    float d_blocker = depth_params.x + blocker_sum / blocker_count * range;
+    // the light's disc seen from p through the blockers' plane: its radius there, in texels
+    float penumbra = perspective ? size * (d_receiver - d_blocker) / max(d_blocker, near)
+                                 : size * (d_receiver - d_blocker);
+    float radius = clamp(penumbra / max(texel_size, 1e-30), 0.5 * float(max(int(shadow_views[index].sampling.z) - 1, 1)), widest);
+    float lit = 0.0;
+    for (int k = 0; k < filters; ++k) {
+        vec2 offset = disc_point(k, filters, turn + 1.0) * radius;
+        vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
+        lit += compared_depth(page, tap, receiver - bias - slope * length(offset));
+    }
+    return lit / float(filters);
+}
