@@ -74,9 +74,14 @@ float shadow_lookup_soft(int index, int page, int blockers, int filters, vec3 p,
     float near = max(depth_params.x, 1e-6);
     float d_receiver = depth_params.x + receiver * range;
     float widest = SOFT_MAX_FRACTION * (tile.z - tile.x) / texel.x;
-    // where a caster between the near plane and p could be: the cone from p to the light's
-    // disc, cut at the near plane, in texels of the map
-    float search = perspective ? size * (1.0 / near - 1.0 / max(d_receiver, near)) / texel_world.x
+    // Texels of the map across the light's disc seen from p through a plane at depth d:
+    // perspective, size (1 / d - 1 / d_receiver) on the view's image plane at distance 1
+    // (depths along the view's axis; a radial depth times the cosine of p's angle off the
+    // axis, q.w / distance, is one), over its texel there; orthographic, size (d_receiver - d)
+    // over the texel. The search covers every caster from the near plane on.
+    float axial = radial ? q.w / max(d_receiver, 1e-20) : 1.0;
+    float per_inverse_depth = size / (axial * texel_world.x);
+    float search = perspective ? per_inverse_depth * (1.0 / near - 1.0 / max(d_receiver, near))
                                : size * receiver * range / texel_world.y;
     search = clamp(search, 1.0, widest);
     float turn = pixel_turn();
@@ -94,10 +99,10 @@ float shadow_lookup_soft(int index, int page, int blockers, int filters, vec3 p,
         return 1.0;
     }
     float d_blocker = depth_params.x + blocker_sum / blocker_count * range;
-    // the light's disc seen from p through the blockers' plane: its radius there, in texels
-    float penumbra = perspective ? size * (d_receiver - d_blocker) / max(d_blocker, near)
-                                 : size * (d_receiver - d_blocker);
-    float radius = clamp(penumbra / max(texel_size, 1e-30), 0.5 * float(max(int(shadow_views[index].sampling.z) - 1, 1)), widest);
+    // the light's disc seen from p through the blockers' plane, in texels: the penumbra
+    float penumbra = perspective ? per_inverse_depth * (1.0 / max(d_blocker, near) - 1.0 / d_receiver)
+                                 : size * (d_receiver - d_blocker) / texel_world.y;
+    float radius = clamp(penumbra, 0.5 * float(max(int(shadow_views[index].sampling.z) - 1, 1)), widest);
     float lit = 0.0;
     for (int k = 0; k < filters; ++k) {
         vec2 offset = disc_point(k, filters, turn + 1.0) * radius;
