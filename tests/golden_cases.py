@@ -37,6 +37,7 @@ CASES = {
     "primitives": ("primitives.yaml", 30, []),
     "primitives@phong": ("primitives.yaml", 30, ["render.shading=phong"]),
     "gltf_pbr": ("gltf_pbr.yaml", 36, []),
+    "soft_light": ("soft_light.yaml", 0, []),
 }
 
 

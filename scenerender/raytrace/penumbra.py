@@ -64,3 +64,10 @@ def penumbra_errors(reference, linear: np.ndarray, light: int = 0) -> dict:
     umbra = masks["umbra"]
     out["umbra_leak"] = 100.0 * float((gpu[umbra] - ref[umbra]).mean()) / open_level if umbra.any() else None
     return out
+
+
+def penumbra_columns(reference, linear: np.ndarray) -> dict:
+    """The band's numbers for the bench table of a frame whose first shadowed light has a
+    size: {"penumbra_rms", "penumbra_bias"}."""
+    errors = penumbra_errors(reference, linear)
+    return {"penumbra_rms": errors["penumbra_rms"], "penumbra_bias": errors["penumbra_bias"]}
