@@ -63,7 +63,8 @@ KEYS: dict[str, Key] = {
     "render.ambient_occlusion.samples": Key("Samples per pixel; more is smoother and slower.", "32"),
     "render.ambient_occlusion.strength": Key("How strongly occlusion darkens ambient light (0 = none).", "1.5"),
     "render.shadows.size": Key("Width and height of each shadow map in texels (a point light has six). Spot lights "
-                               "default to 1024 unless this is set: their map covers only the cone. A directional "
+                               "default to 1024 unless this is set: their map covers only the cone; so do lights with "
+                               "a size, whose soft shadows blur what a larger map would sharpen. A directional "
                                "light's map covers the shadow casters the camera can see; where only the camera "
                                "moves, it may instead cover them all, drawn once at up to twice this size, when "
                                "its texels then come out no larger in any frame.", "4096"),

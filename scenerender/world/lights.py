@@ -104,16 +104,25 @@ def _default_rig() -> list[LightDef]:
 # 1.25 against 1.26 %) at about half the time, while for point and directional lights
 # 1024 px costs accuracy (0.86 -> 1.02 %), so their default stays 2048 px.
 SPOT_SHADOW_DEFAULTS = {"size": 1024, "pcf": 5}
+# A light with a size: its soft shadow blurs what a larger map would sharpen. Chosen by
+# `scenerender bench benchmarks/quality/scenes/sized_lights.yaml` (sized_lights.md): a
+# 1024 px map leaves the penumbra band's error where 2048 px has it (7.3 %) at well under
+# half the time of drawing the map, 512 px too (7.2 %), kept for contacts finer than that
+# scene's. More blocker or filter reads than 16 and 32 gain nothing measurable there.
+SIZED_SHADOW_DEFAULTS = {"size": 1024}
 
 
-def _merged_shadow(option, defaults, kind: str):
+def _merged_shadow(option, defaults, kind: str, sized: bool = False):
     """``shadows: true`` -> render.shadows; a mapping -> render.shadows with its keys over
-    it. Keys nobody set take the light type's own default (SPOT_SHADOW_DEFAULTS)."""
+    it. Keys nobody set take the light type's own default (SPOT_SHADOW_DEFAULTS), and a
+    light with a size SIZED_SHADOW_DEFAULTS."""
     if option is False or option is None:
         return None
     values = defaults.model_dump()
     if kind == "spot":
         values.update({k: v for k, v in SPOT_SHADOW_DEFAULTS.items() if k not in defaults.model_fields_set})
+    if sized:
+        values.update({k: v for k, v in SIZED_SHADOW_DEFAULTS.items() if k not in defaults.model_fields_set})
     if option is not True:
         values.update({k: v for k, v in option.model_dump().items() if v is not None})
     merged = type(defaults).model_validate(values)  # checks the combination
@@ -128,7 +137,8 @@ def _from_spec(index: int, light, shadows_default) -> LightDef:
                   enabled=light.enabled)
     if light.type == "ambient":
         return LightDef(**common)
-    shadow = _merged_shadow(light.shadows, shadows_default, light.type)
+    sized = getattr(light, "radius", 0.0) > 0.0 or getattr(light, "angular_diameter", 0.0) > 0.0
+    shadow = _merged_shadow(light.shadows, shadows_default, light.type, sized)
     if light.type == "directional":
         return LightDef(**common, direction=light.direction, shadow=shadow,
                         size=math.tan(math.radians(0.5 * light.angular_diameter)))
