@@ -199,3 +199,15 @@ def test_a_bad_size_is_exit_2_naming_the_key(tmp_path, key, value):
     assert result.exit_code == 2, result.output
     assert f"lights[0].{key}" in result.stderr and "s.yaml:2" in result.stderr, result.stderr
     assert "Traceback" not in result.stderr
+
+
+def test_a_sized_lights_map_is_1024_px_unless_the_scene_sets_it():
+    """SIZED_SHADOW_DEFAULTS (chosen on benchmarks/quality/sized_lights.md); a point light
+    keeps render.shadows' 2048."""
+    sizes = {}
+    for radius in (0.0, 0.3):
+        scene = box_scene(overrides=[f"lights[0].radius={radius}"])
+        sizes[radius] = scene.world.lights[0].shadow.size
+    assert sizes == {0.0: 2048, 0.3: 1024}
+    chosen = box_scene(overrides=["render.shadows.size=4096"])
+    assert chosen.world.lights[0].shadow.size == 4096
