@@ -429,6 +429,11 @@ class _FrameScene:
         gives each point one direction drawn over it (sized_lights); attenuation and the
         spot cone are taken at its centre, as on the GPU."""
         size = light.definition.size
+        if light.definition.area:
+            centre = light.position - self.frame.camera.position
+            l, weight, reach = sized_lights.area_directions(centre, light.direction, light.kind,
+                                                            light.definition.extent, p, self.light_rng)
+            return l, light.color[None, :] * weight[:, None], np.ones(len(p)), reach
         if light.kind == "directional":
             l = np.broadcast_to(-light.direction, p.shape)
             radiance = np.broadcast_to(light.color, p.shape)

@@ -1,4 +1,5 @@
-"""Lights with a size in the reference: directions drawn over the light's solid angle.
+"""Lights with a size in the reference: directions drawn over the light's solid angle, or
+points over an area light's surface.
 
 A point or spot light with a ``radius`` is a uniform sphere, a directional light with an
 ``angular_diameter`` a disc of that angular size at infinity (the same cone of directions as
@@ -16,6 +17,7 @@ import numpy as np
 
 from scenerender.raytrace import shading
 from scenerender.raytrace.environment import tangent_frame
+from scenerender.world.lights import area_axes
 
 # A point inside the sphere sees (almost) a whole hemisphere of it.
 MAX_SIN2 = 0.9999
@@ -50,3 +52,27 @@ def disc_directions(direction: np.ndarray, tan_half: float, count: int, rng) -> 
     to_centre = np.broadcast_to(-np.asarray(direction, dtype=np.float64), (count, 3))
     l, weight, _ = sphere_directions(np.ascontiguousarray(to_centre), tan_half, rng)
     return l, weight
+
+
+def area_directions(centre: np.ndarray, direction: np.ndarray, kind: str, extent: tuple, p: np.ndarray,
+                    rng) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A one-sided rectangle or disk facing ``direction``, centred at ``centre`` (3,), seen
+    from points ``p`` (P, 3): one point drawn uniformly over its surface per sample point.
+    (l (P, 3) unit towards it, weight (P,) = cos at the light x area / (pi d^2), reach (P,)
+    the distance to it). Its radiance is colour x intensity / pi, so the weight's mean is the
+    form factor (docs/scene-notes.md, "Area lights")."""
+    u, v = area_axes(np.asarray(direction, dtype=np.float64))
+    half_u, half_v = extent
+    r1, r2 = rng.random((2, len(p)))
+    if kind == "rect":
+        offsets = ((2.0 * r1 - 1.0) * half_u)[:, None] * u + ((2.0 * r2 - 1.0) * half_v)[:, None] * v
+        area = 4.0 * half_u * half_v
+    else:
+        radius, angle = half_u * np.sqrt(r1), 2.0 * np.pi * r2
+        offsets = (radius * np.cos(angle))[:, None] * u + (radius * np.sin(angle))[:, None] * v
+        area = np.pi * half_u * half_u
+    to_light = centre[None, :] + offsets - p
+    distance = np.maximum(np.linalg.norm(to_light, axis=1), 1e-20)
+    l = to_light / distance[:, None]
+    facing = np.maximum(-(l @ np.asarray(direction, dtype=np.float64)), 0.0)
+    return l, facing * area / (np.pi * distance * distance), distance

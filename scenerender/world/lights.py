@@ -22,8 +22,9 @@ DEFAULT_AMBIENT = (0.12, 0.12, 0.12)
 class LightDef:
     """One light of the scene, its animatable values as Tracks.
 
-    kind: "directional" | "point" | "spot" | "ambient".  path: its key path in the scene
-    (for messages). shadow: its ShadowMapSettings when it casts shadows, else None.
+    kind: "directional" | "point" | "spot" | "rect" | "disk" | "ambient".  path: its key
+    path in the scene (for messages). shadow: its ShadowMapSettings when it casts shadows,
+    else None. extent: an area light's (half width, half height), a disk's (radius, radius).
     """
 
     kind: str
@@ -42,10 +43,30 @@ class LightDef:
     # the light's size: a sphere's radius (point, spot: scene units), or the tangent of
     # the half angle its disc spans (directional); 0 a point, as it always was
     size: float = 0.0
+    extent: tuple = (0.0, 0.0)
 
     @property
     def sized(self) -> bool:
         return self.size > 0.0
+
+    @property
+    def area(self) -> bool:
+        """A one-sided rectangle or disk (AREA_KINDS)."""
+        return self.kind in AREA_KINDS
+
+
+# one-sided lights with a surface: a rectangle (width x height) and a disk
+AREA_KINDS = ("rect", "disk")
+
+
+def area_axes(direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(u, v) unit axes of an area light facing ``direction``: u (its width) is the world's
+    X turned with it, Z where the light faces along X; v = direction x u."""
+    reference = np.array([1.0, 0.0, 0.0]) if abs(direction[0]) < 0.99 else np.array([0.0, 0.0, 1.0])
+    v = np.cross(direction, reference)
+    v /= np.linalg.norm(v)
+    u = np.cross(v, direction)
+    return u / np.linalg.norm(u), v
 
 
 @dataclass(frozen=True)
@@ -137,7 +158,8 @@ def _from_spec(index: int, light, shadows_default) -> LightDef:
                   enabled=light.enabled)
     if light.type == "ambient":
         return LightDef(**common)
-    sized = getattr(light, "radius", 0.0) > 0.0 or getattr(light, "angular_diameter", 0.0) > 0.0
+    sized = (light.type in AREA_KINDS or getattr(light, "radius", 0.0) > 0.0
+             or getattr(light, "angular_diameter", 0.0) > 0.0)
     shadow = _merged_shadow(light.shadows, shadows_default, light.type, sized)
     if light.type == "directional":
         return LightDef(**common, direction=light.direction, shadow=shadow,
@@ -145,12 +167,27 @@ def _from_spec(index: int, light, shadows_default) -> LightDef:
     if light.type == "point":
         return LightDef(**common, position=light.position, attenuation=light.attenuation, shadow=shadow,
                         size=float(light.radius))
+    if light.type in AREA_KINDS:
+        return _area_from_spec(light, common, shadow)
     attach = light.attach == "camera"
     position = light.position or Track.constant((0.0, 0.0, 0.0), kind="vector")
     direction = light.direction or Track.constant((0.0, 0.0, -1.0), kind="vector")
     return LightDef(**common, position=position, direction=direction, attenuation=light.attenuation,
                     inner_angle=light.inner_angle, outer_angle=light.outer_angle, attach_camera=attach,
                     shadow=shadow, size=float(light.radius))
+
+
+def _area_from_spec(light, common: dict, shadow) -> LightDef:
+    """A rectangle or disk; its size for soft shadows is the radius of the disk of the same
+    area."""
+    if light.type == "rect":
+        extent = (0.5 * float(light.width), 0.5 * float(light.height))
+        size = math.sqrt(light.width * light.height / math.pi)
+    else:
+        extent = (float(light.radius), float(light.radius))
+        size = float(light.radius)
+    return LightDef(**common, position=light.position, direction=light.direction, shadow=shadow, size=size,
+                    extent=extent)
 
 
 def split_ambient(defs: list[LightDef]) -> tuple[list[LightDef], list[LightDef]]:

@@ -151,10 +151,15 @@ class ShadowView:
                 and np.array_equal(self.projection, other.projection))
 
 
+# lights whose shadow is a cube map from their centre, radial depth: point lights, and the
+# one-sided area lights (rect, disk), whose light reaches all of the half space before them
+CUBE_MAP_KINDS = ("point", "rect", "disk")
+
+
 def view_count(light) -> int:
     """How many shadow views a shadowed light (LightDef) has: six cube faces for a point
     light, one for the others."""
-    return 6 if light.kind == "point" else 1
+    return 6 if light.kind in CUBE_MAP_KINDS else 1
 
 
 def first_shadow_views(lights: list) -> tuple:

@@ -24,6 +24,10 @@ const int spot_shadow_view[N_SPOT_LIGHTS] = int[](SPOT_SHADOW_VIEWS);
 const int spot_shadow_taps[N_SPOT_LIGHTS] = int[](SPOT_SHADOW_TAPS);
 const int spot_shadow_page[N_SPOT_LIGHTS] = int[](SPOT_SHADOW_PAGES);
 #endif
+#ifdef AREA_SHADOW_VIEWS
+const int area_shadow_view[N_AREA_LIGHTS] = int[](AREA_SHADOW_VIEWS);
+const int area_shadow_page[N_AREA_LIGHTS] = int[](AREA_SHADOW_PAGES);
+#endif
 #ifdef SOFT_SHADOWS
 #include "lighting/soft_shadows.glsl"
 // Per light, the reads of its soft shadow's blocker search and filter, 0 for a point light
@@ -39,6 +43,10 @@ const int point_soft_filter[N_POINT_LIGHTS] = int[](POINT_SOFT_FILTER);
 #ifdef SPOT_SOFT_BLOCKERS
 const int spot_soft_blockers[N_SPOT_LIGHTS] = int[](SPOT_SOFT_BLOCKERS);
 const int spot_soft_filter[N_SPOT_LIGHTS] = int[](SPOT_SOFT_FILTER);
+#endif
+#ifdef AREA_SOFT_BLOCKERS
+const int area_soft_blockers[N_AREA_LIGHTS] = int[](AREA_SOFT_BLOCKERS);
+const int area_soft_filter[N_AREA_LIGHTS] = int[](AREA_SOFT_FILTER);
 #endif
 #endif
 #endif
@@ -66,8 +74,11 @@ vec3 shade_one(vec3 l, vec3 radiance, vec3 n, vec3 v, Surface s) {
 
 // Lights with a size (lighting/sized.glsl), and which ones have one: compile-time constants,
 // only in scenes with such a light
-#if defined(DIR_LIGHT_SIZED) || defined(POINT_LIGHT_SIZED) || defined(SPOT_LIGHT_SIZED)
+#if defined(DIR_LIGHT_SIZED) || defined(POINT_LIGHT_SIZED) || defined(SPOT_LIGHT_SIZED) || defined(N_AREA_LIGHTS)
 #include "lighting/sized.glsl"
+#endif
+#ifdef N_AREA_LIGHTS
+#include "lighting/area.glsl"
 #endif
 #ifdef DIR_LIGHT_SIZED
 const bool dir_sized[N_DIR_LIGHTS] = bool[](DIR_LIGHT_SIZED);
@@ -168,6 +179,23 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         }
 #endif
         total += SHADE_ONE(l, radiance);
+    }
+#endif
+#ifdef N_AREA_LIGHTS
+    for (int i = 0; i < N_AREA_LIGHTS; ++i) {
+        AreaLight light = area_lights[i];
+        vec3 to_light = light.position.xyz - p;
+        // one-sided: nothing behind its plane, nor on a surface facing away from all of it
+        if (dot(to_light, light.normal.xyz) >= 0.0 || !area_above_horizon(light, p, n)) {
+            continue;
+        }
+        vec3 radiance = light.color.rgb;
+#ifdef AREA_SOFT_BLOCKERS
+        if (area_shadow_view[i] >= 0) {
+            radiance *= shadow_lookup_shaped(area_shadow_view[i] + cube_face(-to_light), area_shadow_page[i], area_soft_blockers[i], area_soft_filter[i], p, n, max(dot(n, safe_normalize(to_light, n)), 0.0), true, true, light.normal.w, light.axis_u.xyz, light.axis_v.xyz, !area_is_disk(light));
+        }
+#endif
+        total += SHADE_AREA(light, radiance);
     }
 #endif
     return total;

@@ -51,8 +51,18 @@ const float SOFT_MAX_FRACTION = 0.0625;
 // of each step (compile-time constants of the light: render.shadows.blocker_samples,
 // filter_samples). Bias as shadow_lookup's, plus the receiver's own change in depth over
 // each read's offset, so a tilted receiver does not shadow itself across a wide filter.
-float shadow_lookup_soft(int index, int page, int blockers, int filters, vec3 p, vec3 n, float n_dot_l,
-                         bool perspective, bool radial, float size) {
+// A point of the square [-1, 1]^2, k of ``count`` (the R2 sequence, shifted by ``shift``):
+// the filter of a rectangle light.
+vec2 square_point(int k, float shift) {
+    return 2.0 * fract(vec2(0.5 + shift) + float(k) * vec2(0.7548776662, 0.5698402910)) - 1.0;
+}
+
+// Rectangle and disk lights pass their half axes (world vectors, ``extent_u``,
+// ``extent_v``; zero for a sphere) and whether they are a rectangle: the filter then takes
+// the light's own shape, its axes carried onto the map at p, instead of a disc of radius
+// ``size``.
+float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 p, vec3 n, float n_dot_l,
+                           bool perspective, bool radial, float size, vec3 extent_u, vec3 extent_v, bool square) {
     vec4 light = shadow_views[index].light;
     vec4 depth_params = shadow_views[index].depth;
     vec4 texel_world = shadow_views[index].texel;
@@ -81,6 +91,19 @@ float shadow_lookup_soft(int index, int page, int blockers, int filters, vec3 p,
     // over the texel. The search covers every caster from the near plane on.
     float axial = radial ? q.w / max(d_receiver, 1e-20) : 1.0;
     float per_inverse_depth = size / (axial * texel_world.x);
+    // a shaped light's half axes on the map, in texels per unit of 1 / d (radial depths:
+    // over the cosine, as above): how a move across the light moves p's projection, times
+    // p's depth along the axis, q.w
+    bool shaped = dot(extent_u, extent_u) > 0.0;
+    vec2 axis_u = vec2(0.0);
+    vec2 axis_v = vec2(0.0);
+    if (shaped) {
+        vec4 q_u = shadow_views[index].to_atlas * vec4(extent_u, 0.0);
+        vec4 q_v = shadow_views[index].to_atlas * vec4(extent_v, 0.0);
+        axis_u = (q_u.xy - uv * q_u.w) / (texel * axial);
+        axis_v = (q_v.xy - uv * q_v.w) / (texel * axial);
+        per_inverse_depth = length(axis_u) + length(axis_v);
+    }
     float search = perspective ? per_inverse_depth * (1.0 / near - 1.0 / max(d_receiver, near))
                                : size * receiver * range / texel_world.y;
     search = clamp(search, 1.0, widest);
@@ -102,12 +125,25 @@ float shadow_lookup_soft(int index, int page, int blockers, int filters, vec3 p,
     // the light's disc seen from p through the blockers' plane, in texels: the penumbra
     float penumbra = perspective ? per_inverse_depth * (1.0 / max(d_blocker, near) - 1.0 / d_receiver)
                                  : size * (d_receiver - d_blocker) / texel_world.y;
-    float radius = clamp(penumbra, 0.5 * float(max(int(shadow_views[index].sampling.z) - 1, 1)), widest);
+    float narrowest = 0.5 * float(max(int(shadow_views[index].sampling.z) - 1, 1));
+    float radius = clamp(penumbra, narrowest, widest);
+    // a shaped light's axes at the blockers' depth, each at least the pcf filter's half width
+    float scale = perspective ? 1.0 / max(d_blocker, near) - 1.0 / d_receiver : 0.0;
+    vec2 along_u = axis_u * clamp(scale, narrowest / max(length(axis_u), 1e-20), widest / max(length(axis_u), 1e-20));
+    vec2 along_v = axis_v * clamp(scale, narrowest / max(length(axis_v), 1e-20), widest / max(length(axis_v), 1e-20));
     float lit = 0.0;
     for (int k = 0; k < filters; ++k) {
-        vec2 offset = disc_point(k, filters, turn + 1.0) * radius;
+        vec2 unit = square ? square_point(k, turn * 0.159154943) : disc_point(k, filters, turn + 1.0);
+        vec2 offset = shaped ? along_u * unit.x + along_v * unit.y : unit * radius;
         vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
         lit += compared_depth(page, tap, receiver - bias - slope * length(offset));
     }
     return lit / float(filters);
+}
+
+// A sphere light (or a sun): a disc of radius ``size``.
+float shadow_lookup_soft(int index, int page, int blockers, int filters, vec3 p, vec3 n, float n_dot_l,
+                         bool perspective, bool radial, float size) {
+    return shadow_lookup_shaped(index, page, blockers, filters, p, n, n_dot_l, perspective, radial, size,
+                                vec3(0.0), vec3(0.0), false);
 }

@@ -1,4 +1,5 @@
-"""``lights:``: directional, point, spot, ambient and environment lights, chosen by ``type``."""
+"""``lights:``: directional, point, spot, rectangle, disk, ambient and environment lights,
+chosen by ``type``."""
 from __future__ import annotations
 
 from typing import Annotated, Literal
@@ -80,6 +81,28 @@ class SpotLight(_LightBase):
         return self
 
 
+class RectLight(_LightBase):
+    """A one-sided rectangle of light facing ``direction``; ``width`` runs along the world's
+    X axis turned with it (for a light facing straight down, along X), ``height`` across."""
+
+    type: Literal["rect"]
+    position: AnimatedVec3 = (0.0, 3.0, 0.0)
+    direction: AnimatedDirection = (0.0, -1.0, 0.0)
+    width: number(0, lo_open=True) = 1.0
+    height: number(0, lo_open=True) = 1.0
+    shadows: ShadowsOption = False
+
+
+class DiskLight(_LightBase):
+    """A one-sided disk of light facing ``direction``."""
+
+    type: Literal["disk"]
+    position: AnimatedVec3 = (0.0, 3.0, 0.0)
+    direction: AnimatedDirection = (0.0, -1.0, 0.0)
+    radius: number(0, lo_open=True) = 0.5
+    shadows: ShadowsOption = False
+
+
 class AmbientLight(_LightBase):
     type: Literal["ambient"]
     color: AnimatedColor = (0.25, 0.25, 0.25)
@@ -106,5 +129,6 @@ class EnvironmentLight(_LightBase):
 
 
 LightSpec = tagged_union("type", "light", {"directional": DirectionalLight, "point": PointLight,
-                                           "spot": SpotLight, "ambient": AmbientLight,
+                                           "spot": SpotLight, "rect": RectLight, "disk": DiskLight,
+                                           "ambient": AmbientLight,
                                            "environment": EnvironmentLight})
