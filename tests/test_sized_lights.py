@@ -9,6 +9,7 @@ Images are 160 x 120, the reference 8 x 8 samples a pixel (about 5 s each)."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -213,10 +214,13 @@ def test_a_size_adds_its_defines_and_changes_the_frame(gl, light, key, value):
     assert not np.array_equal(gpu_pixels(box_scene(light), gl), gpu_pixels(sized, gl))
 
 
-@pytest.mark.parametrize("key, value", [("radius", "-1"), ("angular_diameter", "30")])
-def test_a_bad_size_is_exit_2_naming_the_key(tmp_path, key, value):
-    light = SIZE_ZERO_LIGHTS[0][0] if key == "radius" else SIZE_ZERO_LIGHTS[2][0]
-    light = light[:-1] + f", {key}: {value}}}"
+@pytest.mark.parametrize("light, key, value", [
+    (SIZE_ZERO_LIGHTS[0][0], "radius", "-1"), (SIZE_ZERO_LIGHTS[2][0], "angular_diameter", "30"),
+    (RECT_LIGHT, "width", "0"), (DISK_LIGHT, "radius", "-0.5"), (RECT_LIGHT, "attenuation", "[1, 0, 0]"),
+])
+def test_a_bad_size_is_exit_2_naming_the_key(tmp_path, light, key, value):
+    given = re.search(rf"\b{key}: [^,}}]+", light)
+    light = light.replace(given.group(0), f"{key}: {value}") if given else light[:-1] + f", {key}: {value}}}"
     (tmp_path / "s.yaml").write_text(f"lights:\n  - {light}\nobjects: []\n")
     result = CliRunner().invoke(main, ["validate", str(tmp_path / "s.yaml")])
     assert result.exit_code == 2, result.output
