@@ -92,8 +92,8 @@ float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 
     float axial = radial ? q.w / max(d_receiver, 1e-20) : 1.0;
     float per_inverse_depth = size / (axial * texel_world.x);
     // a shaped light's half axes on the map, in texels per unit of 1 / d (radial depths:
-    // over the cosine, as above): how a move across the light moves p's projection, times
-    // p's depth along the axis, q.w
+    // over the cosine, as above): how a move along each axis moves p's projection, times
+    // p's depth along the view's axis (q.w, which cancels: (q_u.xy - uv q_u.w) / q.w x q.w)
     bool shaped = dot(extent_u, extent_u) > 0.0;
     vec2 axis_u = vec2(0.0);
     vec2 axis_v = vec2(0.0);
