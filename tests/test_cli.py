@@ -49,8 +49,8 @@ def run_module(*args, cwd):
 
 
 def frame_files(folder) -> list[str]:
-    """What a render wrote, less its hidden run manifest."""
-    return sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
+    """The frames a render wrote: less its hidden run manifest and the frames' cameras.json."""
+    return sorted(p.name for p in folder.iterdir() if not p.name.startswith(".") and p.name != "cameras.json")
 
 
 def write_png(path, pixels):

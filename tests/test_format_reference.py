@@ -154,6 +154,10 @@ def _own_mapping(table: Table, key: str, value) -> dict:
         elif row.default == "required":
             mapping[row.name] = _yaml_value(KEYS[entry_for(row.path, KEYS)].example)
     mapping[key] = value
+    if table.path == "camera" and key == "pose":  # a pose places the camera instead of a position
+        mapping.pop("position", None)
+    if table.path == "camera.pose" and key == "convention":  # a pose needs its matrix
+        mapping["camera_to_world"] = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]]
     return mapping
 
 

@@ -20,6 +20,7 @@ from scenerender.rendering.passes.object_ids import MAX_OBJECT_IDS
 from scenerender.rendering.pipeline import GraphOptions, build_graph
 from scenerender.rendering.profile import CPU_SETUP
 from scenerender.rendering.scene_gpu import GpuScene
+from scenerender.world.camera_data import camera_record
 from scenerender.world.frame import FrameEvaluator, FrameState
 from scenerender.world.inputs import redrawn_shadow_maps
 from scenerender.world.shadows import plan_atlas
@@ -59,6 +60,7 @@ class FrameResult:
     pixels: np.ndarray
     linear: np.ndarray | None = None
     object_ids: np.ndarray | None = None
+    camera: dict | None = None  # the frame's camera as cameras.json records it (world/camera_data.py)
 
 
 class GLBackend:
@@ -228,4 +230,10 @@ class GraphRenderer:
             problem = first_non_finite(linear)
             if problem is not None:
                 raise NonFiniteOutput(f"frame {index}: {problem} ({ENV_CHECK_FINITE} is on)")
-        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids)
+        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids,
+                           camera_record(frame.camera, self.size, index, time))
+
+    def camera_record(self, index: int) -> dict:
+        """Frame ``index``'s camera as cameras.json records it, without rendering it."""
+        time = self.frame_time(index)
+        return camera_record(self.evaluator.evaluate(index, time).camera, self.size, index, time)

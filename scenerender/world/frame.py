@@ -88,7 +88,7 @@ class FrameEvaluator:
         self.size = size
         self.aspect = size[0] / size[1]
         self.atlas = atlas
-        self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio)
+        self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio, world.settings.size)
 
     @cached_property
     def _windings(self) -> list:
