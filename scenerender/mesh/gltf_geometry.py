@@ -84,6 +84,12 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list) -> d
             "uv": uv if uv is not None and len(uv) == count else None, "material": name, "colors": colors}
 
 
+def accessor_reader(header: dict, binary: bytes | None, read_file):
+    """``read(index, width)`` -> accessor ``index`` of the file as an array (see
+    ``_Accessors.read``), each buffer read once: for the animations' keys."""
+    return _Accessors(header, binary, read_file).read
+
+
 class _Accessors:
     """Accessor arrays of one file, each buffer read once."""
 
