@@ -44,7 +44,7 @@ def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
         raise NotReadHere("compressed or quantized geometry")
     reader = _Accessors(header, binary, read_file)
     parts = []
-    for node, transform in _placed_nodes(header):
+    for index, node, transform in placed_nodes(header):
         mesh_index = node.get("mesh")
         if mesh_index is None:
             continue
@@ -54,7 +54,7 @@ def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
         for primitive in meshes[mesh_index].get("primitives", []):
             part = _primitive(primitive, reader, material_names)
             if part is not None:
-                parts.append({**part, "transform": transform})
+                parts.append({**part, "transform": transform, "node": index})
     return parts
 
 
@@ -137,9 +137,11 @@ class _Accessors:
         return np.array(view)  # a copy: the buffer's bytes are not kept alive by the mesh
 
 
-def _placed_nodes(header: dict):
-    """(node, world transform (4, 4) float64) for every node of the default scene (all root
-    nodes where the file has no scenes), depth first in the file's order."""
+def placed_nodes(header: dict, changed: dict | None = None):
+    """(index, node, world transform (4, 4) float64) for every node of the default scene
+    (all root nodes where the file has no scenes), depth first in the file's order.
+    ``changed``: node index -> {"translation" | "rotation" | "scale": value} replacing the
+    file's own (an animation at one instant)."""
     nodes = header.get("nodes", [])
     scenes = header.get("scenes", [])
     if scenes:
@@ -156,8 +158,8 @@ def _placed_nodes(header: dict):
         if not (isinstance(index, int) and 0 <= index < len(nodes)) or depth > _MAX_DEPTH:
             raise GltfProblem(f"node {index!r} is not in the file, or the hierarchy runs in a circle")
         node = nodes[index]
-        world = parent @ _local(node)
-        yield node, world
+        world = parent @ _local({**node, **changed[index]} if changed and index in changed else node)
+        yield index, node, world
         stack.extend((child, world, depth + 1) for child in reversed(node.get("children", [])))
 
 

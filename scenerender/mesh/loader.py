@@ -19,7 +19,8 @@ from scenerender.mesh.cache import load_obj_cached
 from scenerender.mesh.data import MeshData
 from scenerender.mesh.data import MeshGroup
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
-from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, vertex_colors
+from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, split_glb, vertex_colors
+from scenerender.mesh.gltf_animation import read_clips
 from scenerender.mesh.gltf_geometry import read_parts
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
 from scenerender.mesh.obj import parse_obj
@@ -69,6 +70,50 @@ def load_mesh(
             SourceLocation(shown),
         )
     return _finished(mesh, normals, normalize, shown)
+
+
+def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, assets: AssetPolicy,
+                    budget: TriangleBudget) -> list[tuple[int, MeshData]]:
+    """A glTF file for its animations: [(node index, the node's mesh in the file's space at
+    rest)], one mesh per node that holds one, so that each can move with its node. Raises
+    UserError where the file needs trimesh (which keeps no nodes)."""
+    path = Path(path)
+    shown = display_path(path)
+    _check_mesh_file(path, assets, SourceLocation(shown))
+    raw = read_regular_file(path, "mesh file")
+    read_file = _policy_reader(path, assets)
+    gltf = _read_gltf(raw, path, read_file, warnings)
+    parts = _gltf_parts_here(raw, read_file, gltf)
+    if parts is None:
+        raise UserError("cannot play its animations: its geometry is stored in a way only trimesh reads "
+                        "(sparse, compressed or non-triangle primitives), and trimesh keeps no nodes",
+                        SourceLocation(shown))
+    nodes: dict = {}
+    for part in parts:
+        nodes.setdefault(part["node"], []).append(part)
+    meshes = []
+    for node, node_parts in nodes.items():
+        mesh = _finished(_joined(node_parts, gltf, shown), normals, False, shown)
+        budget.charge(mesh.triangle_count, SourceLocation(shown))
+        meshes.append((node, mesh))
+    return meshes
+
+
+def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list]:
+    """(the glTF JSON, its animation clips: mesh.gltf_animation.Clip) of the file ``path``,
+    its buffers read through ``assets``. Raises UserError naming the file where they are
+    malformed."""
+    path = Path(path)
+    shown = display_path(path)
+    _check_mesh_file(path, assets, SourceLocation(shown))
+    raw = read_regular_file(path, "mesh file")
+    try:
+        header, _ = split_glb(raw)
+        return header, read_clips(raw, _policy_reader(path, assets))
+    except UserError:
+        raise  # a buffer outside the allowed folders
+    except Exception as exc:  # noqa: BLE001 - GltfProblem, or malformed JSON values
+        raise UserError(f"cannot read its animations: {_short(exc)}", SourceLocation(shown)) from None
 
 
 def _check_mesh_file(path: Path, assets: AssetPolicy, where: SourceLocation) -> None:

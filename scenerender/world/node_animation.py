@@ -1,0 +1,93 @@
+"""A glTF clip played on an object: each node that holds a mesh becomes a part of the object
+that moves with its node (and so with every animated node above it).
+
+A part's mesh is the node's geometry where the file places it at rest (world transform
+W_rest); at time t the node's world transform is W(t), the file's hierarchy with the clip's
+values at the clip's time, so the part is drawn with W(t) W_rest^-1 after the object's own
+transform and instances: world = M_object M_instance W(t) W_rest^-1.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from scenerender.animation import Track
+from scenerender.errors import display_path
+from scenerender.mesh.gltf_animation import Clip, clip_time
+from scenerender.mesh.loader import read_gltf_clips
+from scenerender.scene.model.object_animation import GLTF_SUFFIXES
+from scenerender.mesh.gltf_geometry import placed_nodes
+
+# Marks a part as moving for everything that asks which inputs animate (animated_keys): its
+# value is not used, only that it changes.
+_MOVING = Track([0.0, 1.0], [0.0, 1.0], ["linear", "linear"])
+
+
+@dataclass
+class ClipPlayer:
+    """One object's clip: the file's node hierarchy and the clip, played as ``animation``
+    says (speed, offset, loop). Node transforms are worked out once per time asked."""
+
+    header: dict
+    clip: Clip
+    speed: float
+    offset: float
+    loop: bool
+    _cached: tuple = field(default=(None, None), repr=False)
+
+    def node_worlds(self, t: float) -> dict:
+        """node index -> its (4, 4) float64 world transform in the file at scene time ``t``."""
+        if self._cached[0] != t:
+            local = clip_time(t, self.clip.duration, self.speed, self.offset, self.loop)
+            changed = self.clip.node_values(local)
+            self._cached = (t, {index: world for index, _, world in placed_nodes(self.header, changed)})
+        return self._cached[1]
+
+
+@dataclass
+class NodeMotion:
+    """How one part moves: W(t) W_rest^-1 of its node (see the module docstring)."""
+
+    player: ClipPlayer
+    node: int
+    rest_inverse: np.ndarray
+    moving: Track = _MOVING
+
+    def __call__(self, t: float) -> np.ndarray:
+        return self.player.node_worlds(t)[self.node] @ self.rest_inverse
+
+
+def find_clip(clips: list[Clip], wanted) -> Clip | None:
+    """The clip ``wanted`` names: an index into the file's animations, or a name."""
+    if isinstance(wanted, int):
+        return clips[wanted] if wanted < len(clips) else None
+    return next((clip for clip in clips if clip.name == wanted), None)
+
+
+def clips_text(clips: list[Clip]) -> str:
+    """'#0 'spin' (2 s), #1 (0.5 s)': each clip's index, name and duration."""
+    return ", ".join(f"#{c.index}{' ' + repr(c.name) if c.name else ''} ({c.duration:g} s)" for c in clips)
+
+
+def node_motions(header: dict, player: ClipPlayer, nodes: list[int]) -> dict:
+    """node -> NodeMotion for each of ``nodes`` (the nodes holding meshes)."""
+    rest = {index: world for index, _, world in placed_nodes(header)}
+    # pinv: a node scaled to nothing at rest has no inverse (and no visible geometry)
+    return {node: NodeMotion(player, node, np.linalg.pinv(rest[node])) for node in nodes}
+
+
+def clip_lines(loaded) -> list[str]:
+    """One line per glTF file the scene's objects use that holds animations: its clips
+    with their durations (what ``scenerender validate`` lists)."""
+    lines, seen = [], set()
+    for obj in loaded.spec.objects:
+        mesh = obj.mesh
+        if not (isinstance(mesh, Path) and mesh.suffix.lower() in GLTF_SUFFIXES) or mesh in seen:
+            continue
+        seen.add(mesh)
+        _, clips = read_gltf_clips(mesh, loaded.assets)
+        if clips:
+            lines.append(f"  {display_path(mesh)}: clips {clips_text(clips)}")
+    return lines
