@@ -127,3 +127,21 @@ def test_frames_of_a_playing_clip_equal_frames_drawn_from_scratch(gl, tmp_path):
     alone = [render(gl, scene, frames=(i,), base_dir=tmp_path)[0] for i in (0, 1, 2, 5)]
     assert all(np.array_equal(a, b) for a, b in zip(run, alone))
     assert not np.array_equal(run[1], run[2])
+
+
+def test_parts_the_clip_does_not_move_stay_still(tmp_path):
+    from conftest import scene
+
+    _fan(tmp_path / "fan.glb")
+    world = scene(_scene("fan.glb", "animation: {clip: spin}"), base_dir=tmp_path).world
+    parts = {obj.name: obj.motion for obj in world.objects}
+    assert parts["fan1/hub"] is None and parts["fan1/blades"] is not None  # spin turns the blades alone
+    world = scene(_scene("fan.glb", "animation: {clip: both}"), base_dir=tmp_path).world
+    assert all(obj.motion is not None for obj in world.objects[1:])  # the hub moves, and with it the blades
+
+
+def test_normalize_and_a_clip_do_not_go_together(tmp_path):
+    _fan(tmp_path / "fan.glb")
+    (tmp_path / "s.yaml").write_text(_scene("fan.glb", "animation: {clip: 0}\n    normalize: true"), encoding="utf-8")
+    result = CliRunner().invoke(main, ["validate", str(tmp_path / "s.yaml")])
+    assert result.exit_code == 2 and "objects[1].normalize: normalize rescales the mesh at rest" in result.stderr

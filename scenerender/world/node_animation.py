@@ -72,10 +72,26 @@ def clips_text(clips: list[Clip]) -> str:
 
 
 def node_motions(header: dict, player: ClipPlayer, nodes: list[int]) -> dict:
-    """node -> NodeMotion for each of ``nodes`` (the nodes holding meshes)."""
+    """node -> NodeMotion for each of ``nodes`` (the nodes holding meshes) that the clip
+    moves (it drives the node or a node above it), None for the others, which stay where
+    the file puts them, still (drawn and cached exactly as without the clip)."""
     rest = {index: world for index, _, world in placed_nodes(header)}
+    driven = {channel.node for channel in player.clip.channels if channel.path in ("translation", "rotation", "scale")}
+    parents = {child: index for index, node in enumerate(header.get("nodes", [])) for child in node.get("children", [])}
     # pinv: a node scaled to nothing at rest has no inverse (and no visible geometry)
-    return {node: NodeMotion(player, node, np.linalg.pinv(rest[node])) for node in nodes}
+    return {node: NodeMotion(player, node, np.linalg.pinv(rest[node])) if _moved(node, driven, parents) else None
+            for node in nodes}
+
+
+def _moved(node: int, driven: set, parents: dict) -> bool:
+    """Whether ``node`` or a node above it is ``driven``."""
+    seen = set()
+    while node is not None and node not in seen:
+        if node in driven:
+            return True
+        seen.add(node)
+        node = parents.get(node)
+    return False
 
 
 def clip_lines(loaded) -> list[str]:

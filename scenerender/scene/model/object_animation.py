@@ -45,3 +45,7 @@ def check_animated_mesh(obj) -> None:
     if not (isinstance(mesh, str) and mesh.lower().endswith(GLTF_SUFFIXES)):
         raise PydanticCustomError("animation", "animation plays the clips of a glTF file (.gltf, .glb), and this "
                                   "object's mesh is not one", {"subpath": ("animation",)})
+    if obj.normalize:
+        raise PydanticCustomError("animation", "normalize rescales the mesh at rest, which the clip's node "
+                                  "transforms know nothing of; remove it (give the object a scale instead)",
+                                  {"subpath": ("normalize",)})
