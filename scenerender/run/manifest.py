@@ -205,8 +205,8 @@ class Manifest:
                  "bytes": file.stat().st_size, "sha256": file_digest(file)}
         if ids is not None:
             entry["object_ids"] = {"bytes": ids.stat().st_size, "sha256": file_digest(ids)}
-        if cameras:
-            entry["cameras"] = cameras
+        if cameras:  # as JSON text: a record's 40 numbers would be 40 lines of the indented manifest
+            entry["cameras"] = [json.dumps(camera) for camera in cameras]
         self.data["frames"][name] = entry
         if time.monotonic() - self._last_save >= SAVE_INTERVAL:
             self.save()
@@ -221,9 +221,9 @@ class Manifest:
         frame file there, in file order, each named by its file and scene."""
         records = []
         for name, entry in sorted(self.data["frames"].items()):
-            for camera in entry.get("cameras") or ():
+            for text in entry.get("cameras") or ():
                 file = {"file": name} if self.path.name == FOLDER_SIDECAR else {}
-                records.append({**file, "scene": entry.get("scene"), **camera})
+                records.append({**file, "scene": entry.get("scene"), **_camera(text)})
         if self.cameras_file is not None:
             write_cameras(self.cameras_file, records)
 
@@ -234,6 +234,15 @@ class Manifest:
         # manifest, and no temporary file is left behind
         with atomic_path(self.path) as temp:
             write_file(temp, (json.dumps(self.data, indent=1, sort_keys=True) + "\n").encode("utf-8"))
+
+
+def _camera(text) -> dict:
+    """A camera record the manifest keeps as JSON text; {} where it is unreadable."""
+    try:
+        record = json.loads(text)
+    except (TypeError, ValueError):
+        return {}
+    return record if isinstance(record, dict) else {}
 
 
 def _unaltered(file: Path, entry: dict) -> bool:
