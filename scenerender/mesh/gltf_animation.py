@@ -180,3 +180,36 @@ def clip_time(t: float, duration: float, speed: float, offset: float, loop: bool
         local = math.fmod(local, duration)
         return local + duration if local < 0.0 else local
     return min(max(local, 0.0), duration)
+
+
+@dataclass(frozen=True)
+class Skin:
+    """``skins[i]``: the joint nodes and each joint's inverse bind matrix (J, 4, 4) float64
+    (identity where the file gives none). A vertex with joints j and weights w is placed at
+    sum_k w_k W(j_k) IBM(j_k) v, W the joint node's world transform."""
+
+    joints: tuple
+    inverse_binds: np.ndarray
+
+
+def read_skins(raw: bytes, read_file=None) -> list[Skin]:
+    """The skins of the glTF file ``raw``. Raises GltfProblem where one is malformed."""
+    header, binary = split_glb(raw)
+    skins = header.get("skins", []) or []
+    if not skins:
+        return []
+    read = accessor_reader(header, binary, read_file)
+    node_count = len(header.get("nodes", []))
+    found = []
+    for i, skin in enumerate(skins):
+        joints = skin.get("joints", [])
+        if not joints or not all(isinstance(j, int) and 0 <= j < node_count for j in joints):
+            raise GltfProblem(f"skins[{i}] names joints that are not nodes of the file")
+        if skin.get("inverseBindMatrices") is None:
+            binds = np.tile(np.eye(4), (len(joints), 1, 1))
+        else:  # column-major in the file
+            binds = read(skin["inverseBindMatrices"], 16).astype(np.float64).reshape(-1, 4, 4).transpose(0, 2, 1)
+        if len(binds) != len(joints):
+            raise GltfProblem(f"skins[{i}] has {len(binds)} inverse bind matrices for {len(joints)} joints")
+        found.append(Skin(tuple(joints), binds))
+    return found

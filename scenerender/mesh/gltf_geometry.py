@@ -21,7 +21,7 @@ import numpy as np
 from scenerender.mesh.gltf import GltfProblem, buffer_view_bytes, rgba_colors, split_glb
 
 _DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
-_WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
+_WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 # extensions that change how geometry is stored: the file goes to trimesh
 _GEOMETRY_EXTENSIONS = ("KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization",
                         "EXT_mesh_gpu_instancing")
@@ -54,7 +54,7 @@ def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
         for primitive in meshes[mesh_index].get("primitives", []):
             part = _primitive(primitive, reader, material_names)
             if part is not None:
-                parts.append({**part, "transform": transform, "node": index})
+                parts.append({**part, "transform": transform, "node": index, "skin": node.get("skin")})
     return parts
 
 
@@ -79,7 +79,11 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list) -> d
     colors = rgba_colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
     material = primitive.get("material")
     name = material_names[material] if isinstance(material, int) and 0 <= material < len(material_names) else None
-    return {"vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
+    skinning = {}
+    if "JOINTS_0" in attributes and "WEIGHTS_0" in attributes:  # used only where a clip plays the skin
+        skinning = {"joints": reader.read(attributes["JOINTS_0"], 4).astype(np.float64),
+                    "weights": reader.read(attributes["WEIGHTS_0"], 4).astype(np.float64)}
+    return {**skinning, "vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
             "normals": normals.astype(np.float64) if normals is not None and len(normals) == count else None,
             "uv": uv if uv is not None and len(uv) == count else None, "material": name, "colors": colors}
 

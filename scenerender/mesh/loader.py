@@ -20,7 +20,7 @@ from scenerender.mesh.data import MeshData
 from scenerender.mesh.data import MeshGroup
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
 from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, split_glb, vertex_colors
-from scenerender.mesh.gltf_animation import read_clips
+from scenerender.mesh.gltf_animation import read_clips, read_skins
 from scenerender.mesh.gltf_geometry import read_parts
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
 from scenerender.mesh.obj import parse_obj
@@ -73,10 +73,14 @@ def load_mesh(
 
 
 def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, assets: AssetPolicy,
-                    budget: TriangleBudget) -> list[tuple[int, MeshData]]:
+                    budget: TriangleBudget) -> list[tuple[int, MeshData, dict | None]]:
     """A glTF file for its animations: [(node index, the node's mesh in the file's space at
-    rest)], one mesh per node that holds one, so that each can move with its node. Raises
-    UserError where the file needs trimesh (which keeps no nodes)."""
+    rest, its skinning or None)], one mesh per node that holds one, so that each can move
+    with its node. A node with a skin whose primitives all carry JOINTS_0 and WEIGHTS_0
+    keeps its mesh in the mesh's own space (the skin places it, the node's transform is
+    ignored, as the specification says), with skinning {"skin": index, "joints": (N, 4),
+    "weights": (N, 4)} per vertex. Raises UserError where the file needs trimesh (which
+    keeps no nodes)."""
     path = Path(path)
     shown = display_path(path)
     _check_mesh_file(path, assets, SourceLocation(shown))
@@ -93,23 +97,34 @@ def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, as
         nodes.setdefault(part["node"], []).append(part)
     meshes = []
     for node, node_parts in nodes.items():
+        skinned = node_parts[0]["skin"] is not None and all("joints" in p for p in node_parts)
+        if skinned:
+            node_parts = [{**p, "transform": np.eye(4)} for p in node_parts]
         mesh = _finished(_joined(node_parts, gltf, shown), normals, False, shown)
         budget.charge(mesh.triangle_count, SourceLocation(shown))
-        meshes.append((node, mesh))
+        skinning = None
+        if skinned:
+            skinning = {"skin": node_parts[0]["skin"], "joints": np.concatenate([p["joints"] for p in node_parts]),
+                        "weights": np.concatenate([p["weights"] for p in node_parts])}
+            if len(skinning["joints"]) != mesh.vertex_count:
+                raise UserError("cannot play its skin: the normals mode changed the vertices; use normals: auto "
+                                "with a file that stores normals", SourceLocation(shown))
+        meshes.append((node, mesh, skinning))
     return meshes
 
 
-def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list]:
-    """(the glTF JSON, its animation clips: mesh.gltf_animation.Clip) of the file ``path``,
-    its buffers read through ``assets``. Raises UserError naming the file where they are
-    malformed."""
+def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list, list]:
+    """(the glTF JSON, its animation clips, its skins: mesh.gltf_animation.Clip, Skin) of
+    the file ``path``, its buffers read through ``assets``. Raises UserError naming the file
+    where they are malformed."""
     path = Path(path)
     shown = display_path(path)
     _check_mesh_file(path, assets, SourceLocation(shown))
     raw = read_regular_file(path, "mesh file")
     try:
         header, _ = split_glb(raw)
-        return header, read_clips(raw, _policy_reader(path, assets))
+        read_file = _policy_reader(path, assets)
+        return header, read_clips(raw, read_file), read_skins(raw, read_file)
     except UserError:
         raise  # a buffer outside the allowed folders
     except Exception as exc:  # noqa: BLE001 - GltfProblem, or malformed JSON values

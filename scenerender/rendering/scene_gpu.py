@@ -4,9 +4,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import moderngl
 import numpy as np
 
 from scenerender.gpu.meshes import INSTANCE_FLOATS, GpuMesh, instance_bytes
+from scenerender.gpu.shaders import assemble
 from scenerender.gpu.textures import TextureCache, environment_texture
 from scenerender.rendering.inputs import LightsInput
 from scenerender.rendering.lights import PackedLights
@@ -49,6 +51,7 @@ class GpuScene:
         self.shadow_buffer = ctx.buffer(reserve=_VEC4, dynamic=True)
         self._vaos: dict = {}
         self._extras: dict = {}
+        self.skins = self._skins()
         self.skybox = self._skybox()
         self.environment = (EnvironmentTextures.upload(ctx, world.environment)
                             if getattr(world, "environment", None) is not None else None)
@@ -64,6 +67,11 @@ class GpuScene:
                 meshes[obj.mesh_key] = GpuMesh(self.ctx, obj.mesh, needs_tangents[obj.mesh_key])
         return meshes
 
+    def _skins(self) -> dict:
+        """object index -> GpuSkin for each skinned glTF part (none in most scenes)."""
+        return {i: GpuSkin(self.ctx, obj.skin, self.meshes[obj.mesh_key]) for i, obj in enumerate(self.world.objects)
+                if obj.skin is not None}
+
     def _skybox(self):
         faces = self.world.settings.skybox
         return self.textures.cube_map(list(faces)) if faces is not None else None
@@ -76,6 +84,9 @@ class GpuScene:
         for buffer, state in zip(self.instance_buffers, frame.objects):
             if state.visible:
                 buffer.write(instance_bytes(state.models_rel, state.normals))
+        for index, skin in self.skins.items():
+            if frame.objects[index].visible:
+                skin.pose(frame.objects[index].skin)
         self._write(self.shadow_buffer, lights.views)
         self._write(self.light_buffer, lights.lights)
         return LightsInput(self.light_buffer, self.shadow_buffer, lights.first_view)
@@ -98,6 +109,8 @@ class GpuScene:
         self._extras.clear()
         if self.environment is not None:
             self.environment.release()
+        for skin in self.skins.values():
+            skin.release()
         for mesh in self.meshes.values():
             mesh.release()
         for buffer in self.instance_buffers + list(self.eye_relative_buffers.values()) + [self.light_buffer,
@@ -140,3 +153,34 @@ class GpuScene:
             self.eye_relative_buffers[object_index] = self.ctx.buffer(reserve=count * INSTANCE_FLOATS * 4, dynamic=True)
         return self.eye_relative_buffers[object_index]
 
+
+
+class GpuSkin:
+    """Skins one part on the GPU (shaders/mesh/skin.vert): its rest vertices and joints
+    stay in buffers of their own; ``pose`` writes the skinned vertices over the mesh's
+    vertex buffer by transform feedback, in the layout every pass reads."""
+
+    def __init__(self, ctx, skin, mesh: GpuMesh):
+        self.mesh = mesh
+        self.rest = ctx.buffer(mesh.vertices.read())
+        joints = np.hstack([skin.joints, skin.weights]).astype(np.float32)
+        self.joints = ctx.buffer(np.ascontiguousarray(joints).tobytes())
+        source = assemble("mesh/skin.vert", {"JOINT_COUNT": len(skin.skin.joints)})
+        self.program = ctx.program(vertex_shader=source, varyings=["out_position", "out_normal", "out_uv"])
+        self.vao = ctx.vertex_array(self.program, [(self.rest, "3f 3f 2f", "in_position", "in_normal", "in_uv"),
+                                                   (self.joints, "4f 4f", "in_joints", "in_weights")])
+        self.count = mesh.mesh.vertex_count
+        # Mesa runs transform feedback only with a complete framebuffer bound, and before
+        # a frame's first pass none may be: a 1 x 1 one of its own (nothing is drawn to it)
+        self.target = ctx.renderbuffer((1, 1))
+        self.framebuffer = ctx.framebuffer(color_attachments=[self.target])
+
+    def pose(self, palette: np.ndarray) -> None:
+        """Skin the vertices with the joint matrices ``palette`` (J, 4, 4)."""
+        self.program["u_joints"].write(np.ascontiguousarray(palette.transpose(0, 2, 1), dtype=np.float32).tobytes())
+        self.framebuffer.use()
+        self.vao.transform(self.mesh.vertices, moderngl.POINTS, vertices=self.count)
+
+    def release(self) -> None:
+        for item in (self.vao, self.program, self.rest, self.joints, self.framebuffer, self.target):
+            item.release()

@@ -23,7 +23,7 @@ from scenerender.world.directional_views import fixed_view_sizes
 from scenerender.world.environment import EnvironmentDef, environment_def
 from scenerender.world.images import ImageStore
 from scenerender.world.lights import LightDef, light_defs, split_ambient
-from scenerender.world.node_animation import ClipPlayer, clips_text, find_clip, node_motions
+from scenerender.world.node_animation import ClipPlayer, clips_text, find_clip, node_motions, skin_motion
 from scenerender.world.settings import OutlineSettings, RenderSettings
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance
 from scenerender.world.reach import check_placements
@@ -159,7 +159,7 @@ class _Loader:
         if obj.animation is None:
             return [self.build_object(index, obj)]
         path = ("objects", index)
-        header, clips = read_gltf_clips(obj.mesh, self.scene.assets)
+        header, clips, skins = read_gltf_clips(obj.mesh, self.scene.assets)
         meshes = load_gltf_nodes(obj.mesh, normals=obj.normals, warnings=self.warnings,
                                  assets=self.scene.assets, budget=self.budget)
         clip = find_clip(clips, obj.animation.clip)
@@ -169,11 +169,24 @@ class _Loader:
                                path + ("animation", "clip"), self.scene.source)
         spec = obj.animation
         player = ClipPlayer(header, clip, spec.speed, spec.offset, spec.loop)
-        motions = node_motions(header, player, [node for node, _ in meshes])
+        motions = node_motions(header, player, [node for node, _, skinning in meshes if skinning is None])
         nodes = header.get("nodes", [])
         name = obj.name or _default_name(obj, index)
-        return [self.build_object(index, obj, (("node", node), mesh), f"{name}/{nodes[node].get('name') or node}",
-                                  motions[node]) for node, mesh in meshes]
+        parts = []
+        for node, mesh, skinning in meshes:
+            part = self.build_object(index, obj, (("node", node), mesh), f"{name}/{nodes[node].get('name') or node}",
+                                     motions.get(node))
+            if skinning is not None:
+                part.skin = self._skin(player, skins, skinning, path)
+            parts.append(part)
+        return parts
+
+    def _skin(self, player, skins: list, skinning: dict, path: tuple):
+        try:
+            return skin_motion(player, skins, skinning)
+        except (ValueError, IndexError) as exc:
+            raise single_error(f"cannot play the glTF skin: {exc}",
+                               path + ("mesh",), self.scene.source) from None
 
     def build_object(self, index: int, obj, loaded: tuple | None = None, name: str | None = None,
                      motion=None) -> RenderObject:

@@ -49,6 +49,7 @@ class ObjectFrame:
     in_view: int
     hidden_faces: str | None = None
     winding: int = 0
+    skin: np.ndarray | None = None  # (J, 4, 4) float32 joint matrices of a skinned part (world.node_animation)
 
     @property
     def count(self) -> int:
@@ -93,7 +94,8 @@ class FrameEvaluator:
     @cached_property
     def _windings(self) -> list:
         """+1 / -1 for closed, opaque surfaces (their winding), 0 for the rest."""
-        return [obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) else 0
+        # a skinned part's joints may fold or mirror it: all its faces may show
+        return [obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) and obj.skin is None else 0
                 for obj in self.world.objects]
 
     @cached_property
@@ -101,12 +103,12 @@ class FrameEvaluator:
         """Objects that never move: index -> their placement (see _placement), so a frame's
         work for them is the camera-relative shift and the view test. Made on the first
         frame: an evaluator asked only for cameras never needs them."""
-        return {i: self._placement(obj, obj.matrices(0.0), self._windings[i])
+        return {i: self._placement(obj, obj.matrices(0.0), self._windings[i], 0.0)
                 for i, obj in enumerate(self.world.objects) if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
 
     def evaluate(self, index: int, time: float) -> FrameState:
         world = self.world
-        placements = [self._fixed.get(i) or self._placement(obj, obj.matrices(time), self._windings[i])
+        placements = [self._fixed.get(i) or self._placement(obj, obj.matrices(time), self._windings[i], time)
                       for i, obj in enumerate(world.objects)]
         visible = [bool(obj.visible(time)) for obj in world.objects]
         bounds = union_bounds([p[2] for p, v in zip(placements, visible) if v])
@@ -119,7 +121,7 @@ class FrameEvaluator:
             self.rig.first_bounds = start if start is not None else np.array([[-1.0] * 3, [1.0] * 3])
         camera = self.rig.at(time, bounds)
         planes = frustum_planes(camera.view_proj_relative())
-        objects = [self._object(obj, p, v, camera, planes) for obj, p, v in zip(world.objects, placements, visible)]
+        objects = [self._object(obj, p, v, camera, planes, time) for obj, p, v in zip(world.objects, placements, visible)]
         lights = evaluate_lights(world.lights, time, camera)
         render = world.render
         fog = render.fog
@@ -144,26 +146,27 @@ class FrameEvaluator:
 
     # -- objects and shadows -------------------------------------------------------------
     @staticmethod
-    def _placement(obj, matrices: np.ndarray, winding: int) -> tuple:
+    def _placement(obj, matrices: np.ndarray, winding: int, t: float) -> tuple:
         """(matrices (K, 4, 4) float64, normal matrices (K, 3, 3) float32, world bounds (2, 3),
         winding): the surface's ``winding`` where its instances all keep it, reversed where
         they all mirror it, else 0."""
         if winding:
             signs = np.sign(np.linalg.det(matrices[:, :3, :3]))
             winding *= int(signs[0]) if np.all(signs == signs[0]) else 0
-        return matrices, normal_matrices(matrices).astype(np.float32), obj.world_bounds(matrices), winding
+        return matrices, normal_matrices(matrices).astype(np.float32), obj.world_bounds(matrices, t), winding
 
     @staticmethod
-    def _object(obj, placement: tuple, visible: bool, camera: CameraState, planes: np.ndarray) -> ObjectFrame:
+    def _object(obj, placement: tuple, visible: bool, camera: CameraState, planes: np.ndarray, t: float) -> ObjectFrame:
         matrices, normals, bounds, winding = placement
         rel = matrices.copy()
         rel[:, :3, 3] -= camera.position
-        inside = instances_in_view(obj.mesh.bounds(), rel, planes)
+        inside = instances_in_view(obj.local_bounds(t), rel, planes)
         order = np.argsort(~inside, kind="stable")  # in-view instances first
         if len(order) > 1:
             rel, normals, matrices = rel[order], normals[order], matrices[order]
         return ObjectFrame(visible, rel.astype(np.float32), matrices, normals, bounds, (bounds[0] + bounds[1]) / 2.0,
-                           int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding)
+                           int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding,
+                           obj.skin.palette(t).astype(np.float32) if obj.skin is not None else None)
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:

@@ -15,9 +15,10 @@ import numpy as np
 
 from scenerender.animation import Track
 from scenerender.errors import display_path
-from scenerender.mesh.gltf_animation import Clip, clip_time
+from scenerender.mesh.gltf_animation import Clip, Skin, clip_time
 from scenerender.mesh.loader import read_gltf_clips
 from scenerender.scene.model.object_animation import GLTF_SUFFIXES
+from scenerender.world.transforms import transformed_bounds, union_bounds
 from scenerender.mesh.gltf_geometry import placed_nodes
 
 # Marks a part as moving for everything that asks which inputs animate (animated_keys): its
@@ -103,7 +104,48 @@ def clip_lines(loaded) -> list[str]:
         if not (isinstance(mesh, Path) and mesh.suffix.lower() in GLTF_SUFFIXES) or mesh in seen:
             continue
         seen.add(mesh)
-        _, clips = read_gltf_clips(mesh, loaded.assets)
+        _, clips, _ = read_gltf_clips(mesh, loaded.assets)
         if clips:
             lines.append(f"  {display_path(mesh)}: clips {clips_text(clips)}")
     return lines
+
+
+@dataclass
+class SkinMotion:
+    """A skinned node's part: its vertices (in the mesh's own space) placed by the joints,
+    sum_k w_k P_jk v with P_j = W_j(t) IBM_j; the node's own transform is not used.
+
+    joints (N, 4) float32 joint slots per vertex; weights (N, 4) float32, each row scaled
+    to sum 1 (the specification asks for that; the bounds below rely on it)."""
+
+    player: ClipPlayer
+    skin: Skin
+    joints: np.ndarray
+    weights: np.ndarray
+    moving: Track = _MOVING
+
+    def palette(self, t: float) -> np.ndarray:
+        """(J, 4, 4) float64: P_j = W_j(t) IBM_j for each joint slot j."""
+        worlds = self.player.node_worlds(t)
+        return np.stack([worlds[node] for node in self.skin.joints]) @ self.skin.inverse_binds
+
+    def bounds(self, t: float, rest: np.ndarray) -> np.ndarray:
+        """(2, 3) bounds of the skinned vertices at ``t``: each vertex is a weighted mean of
+        its joints' placements of it, so it lies inside the union of the boxes the used
+        joints make of the mesh's ``rest`` bounds."""
+        palette = self.palette(t)
+        used = np.unique(self.joints[self.weights > 0]).astype(int)
+        return union_bounds([transformed_bounds(rest, palette[j][None]) for j in used])
+
+
+def skin_motion(player: ClipPlayer, skins: list[Skin], skinning: dict) -> SkinMotion:
+    """The SkinMotion of a part whose ``skinning`` (mesh.loader.load_gltf_nodes) names one
+    of ``skins``."""
+    skin = skins[skinning["skin"]]
+    joints = skinning["joints"]
+    if joints.size and (joints.min() < 0 or joints.max() >= len(skin.joints)):
+        raise ValueError(f"a vertex names joint {int(joints.max())}, the skin has {len(skin.joints)}")
+    weights = np.asarray(skinning["weights"], dtype=np.float64)
+    totals = weights.sum(axis=1, keepdims=True)
+    weights = np.where(totals > 0, weights / np.where(totals > 0, totals, 1.0), [[1.0, 0.0, 0.0, 0.0]])
+    return SkinMotion(player, skin, joints.astype(np.float32), weights.astype(np.float32))

@@ -80,6 +80,7 @@ class RenderObject:
     outline: OutlineSettings | None
     instances: InstanceSet
     motion: object = None  # world.node_animation.NodeMotion: a glTF node's part that a clip moves
+    skin: object = None    # world.node_animation.SkinMotion: a skinned glTF node's part, placed by its joints
 
     def object_matrix(self, t: float) -> np.ndarray:
         return model_matrix(self.position(t), self.rotation(t), _scale3(self.scale(t)))
@@ -90,5 +91,12 @@ class RenderObject:
         placed = self.object_matrix(t)[None] @ self.instances.matrices(t)
         return placed if self.motion is None else placed @ self.motion(t)
 
-    def world_bounds(self, matrices: np.ndarray) -> np.ndarray:
-        return transformed_bounds(self.mesh.bounds(), matrices)
+    def local_bounds(self, t: float = 0.0) -> np.ndarray:
+        """(2, 3) bounds of the mesh as drawn at ``t``, before the object's transform: a
+        skinned part's joints move its vertices."""
+        rest = self.mesh.bounds()
+        return rest if self.skin is None else self.skin.bounds(t, rest)
+
+    def world_bounds(self, matrices: np.ndarray, t: float = 0.0) -> np.ndarray:
+        """World bounds of the instances placed by ``matrices``, the object's at ``t``."""
+        return transformed_bounds(self.local_bounds(t), matrices)
