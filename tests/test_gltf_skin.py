@@ -1,6 +1,7 @@
-"""Skinned glTF meshes playing a clip: JOINTS_0 / WEIGHTS_0 and inverseBindMatrices, skinned
-on the GPU by transform feedback (shaders/mesh/skin.vert) before the frame's passes run.
-The skinned vertices, read back from the GPU, equal a CPU skinning of the same joints."""
+"""Skinned and morphed glTF meshes playing a clip: JOINTS_0 / WEIGHTS_0 and
+inverseBindMatrices, morph targets and their animated weights, posed on the GPU by
+transform feedback (shaders/mesh/deform.vert) before the frame's passes run. The posed
+vertices, read back from the GPU, equal a CPU skinning and morphing of the same inputs."""
 from __future__ import annotations
 
 import math
@@ -38,14 +39,30 @@ def _column(segments: int = 8):
     return positions, normals, np.array(faces), joints, weights
 
 
-def _skinned_glb(path):
+def _targets():
+    """Two morph targets of the column: (2, N, 3) position and normal deltas."""
+    positions, normals, _, _, _ = _column()
+    widen = positions * [0.5, 0.0, 0.0]
+    stretch = np.stack([np.zeros(len(positions)), positions[:, 1] * 0.3, positions[:, 0]], axis=1)
+    turn = np.stack([np.zeros(len(normals)), np.full(len(normals), 0.4), np.zeros(len(normals))], axis=1)
+    return np.stack([widen, stretch]), np.stack([np.zeros_like(turn), turn])
+
+
+MORPH_KEYS = np.array([[0.0, 0.0], [1.0, 0.5]])  # the targets' weights at t = 0 and 1
+
+
+def _skinned_glb(path, skinned: bool = True, morphed: bool = False):
     positions, normals, faces, joints, weights = _column()
     builder = GlbBuilder()
-    primitive = {"attributes": {"POSITION": builder.accessor(positions, "VEC3"),
-                                "NORMAL": builder.accessor(normals, "VEC3"),
-                                "JOINTS_0": builder.accessor(joints, "VEC4", 5123),
-                                "WEIGHTS_0": builder.accessor(weights, "VEC4")},
+    attributes = {"POSITION": builder.accessor(positions, "VEC3"), "NORMAL": builder.accessor(normals, "VEC3")}
+    if skinned:
+        attributes.update(JOINTS_0=builder.accessor(joints, "VEC4", 5123), WEIGHTS_0=builder.accessor(weights, "VEC4"))
+    primitive = {"attributes": attributes,
                  "indices": builder.accessor(faces.reshape(-1), "SCALAR", 5125, target=34963)}
+    if morphed:
+        moved, turned = _targets()
+        primitive["targets"] = [{"POSITION": builder.accessor(moved[t], "VEC3"),
+                                 "NORMAL": builder.accessor(turned[t], "VEC3")} for t in range(2)]
     mesh = builder.mesh(primitive)
     upper = builder.node(root=False, name="upper", translation=[0, 1, 0])
     root = builder.node(name="root", children=[upper])
@@ -53,9 +70,13 @@ def _skinned_glb(path):
     ibm = builder.accessor(binds.transpose(0, 2, 1).reshape(-1, 16), "MAT4", target=None)
     builder.json["skins"] = [{"joints": [root, upper], "inverseBindMatrices": ibm}]
     # the node holding the mesh is far away: a skinned mesh ignores its node's transform
-    builder.node(mesh, name="column", skin=0, translation=[50, 0, 0])
+    column = builder.node(mesh, name="column", translation=[50, 0, 0] if skinned else [2, 0, 0],
+                          **({"skin": 0} if skinned else {}))
     quarter = [0.0, 0.0, math.sin(math.radians(BEND) / 2), math.cos(math.radians(BEND) / 2)]
-    builder.animation("bend", [(upper, "rotation", [0.0, 1.0], [[0, 0, 0, 1], quarter], "LINEAR")])
+    channels = [(upper, "rotation", [0.0, 1.0], [[0, 0, 0, 1], quarter], "LINEAR")]
+    if morphed:
+        channels.append((column, "weights", [0.0, 1.0], MORPH_KEYS.reshape(-1), "LINEAR"))
+    builder.animation("bend", channels)
     return builder.write(path)
 
 
@@ -72,9 +93,20 @@ def _rotation_z(degrees):
     return m
 
 
-def cpu_skinning(t: float) -> np.ndarray:
-    """The column's vertices at clip time t, skinned here: sum_k w_k W_k IBM_k v."""
-    positions, _, _, joints, weights = _column()
+def cpu_morphing(t: float) -> tuple[np.ndarray, np.ndarray]:
+    """The column's positions and unit normals at clip time t, morphed here: v + sum_i m_i dv_i."""
+    positions, normals, _, _, _ = _column()
+    u = min(t, 1.0)
+    m = (1 - u) * MORPH_KEYS[0] + u * MORPH_KEYS[1]
+    moved, turned = _targets()
+    normals = normals + np.tensordot(m, turned, axes=1)
+    return positions + np.tensordot(m, moved, axes=1), normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def cpu_skinning(t: float, positions: np.ndarray | None = None) -> np.ndarray:
+    """The column's vertices (or ``positions``) at clip time t, skinned here: sum_k w_k W_k IBM_k v."""
+    rest, _, _, joints, weights = _column()
+    positions = rest if positions is None else positions
     worlds = [np.eye(4), _translation(0, 1, 0) @ _rotation_z(BEND * min(t, 1.0))]
     binds = [np.eye(4), np.linalg.inv(_translation(0, 1, 0))]
     palette = [w @ b for w, b in zip(worlds, binds)]
@@ -102,7 +134,7 @@ def test_gpu_skinned_vertices_equal_a_cpu_skinning(gl, tmp_path, frame):
     with scenerender.Renderer(scene(SCENE.replace("ANIMATION", "animation: {clip: bend, loop: false}"), base_dir=tmp_path),
                               gl=gl) as renderer:
         renderer.render(frame)
-        skin = next(iter(renderer._renderer.scene.skins.values()))
+        skin = next(iter(renderer._renderer.scene.deforms.values()))
         vertices = np.frombuffer(skin.mesh.vertices.read(), dtype=np.float32).reshape(-1, 8)
     expected = cpu_skinning(frame / 4.0)
     assert np.abs(vertices[:, :3] - expected).max() < 1e-4
@@ -127,5 +159,35 @@ def test_without_a_clip_the_file_renders_as_before(gl, tmp_path):
     and nothing is skinned, as scenerender drew such files before."""
     _skinned_glb(tmp_path / "arm.glb")
     loaded = scene(SCENE.replace("ANIMATION", ""), base_dir=tmp_path)
-    assert loaded.world.objects[0].skin is None
+    assert loaded.world.objects[0].deform is None
     assert loaded.world.objects[0].mesh.bounds()[0][0] > 49.0
+
+
+def _posed(gl, tmp_path, frame: int) -> np.ndarray:
+    with scenerender.Renderer(scene(SCENE.replace("ANIMATION", "animation: {clip: bend, loop: false}"),
+                                    base_dir=tmp_path), gl=gl) as renderer:
+        renderer.render(frame)
+        deform = next(iter(renderer._renderer.scene.deforms.values()))
+        return np.frombuffer(deform.mesh.vertices.read(), dtype=np.float32).reshape(-1, 8)
+
+
+@pytest.mark.parametrize("frame", [1, 3, 4])
+def test_gpu_morphed_vertices_equal_a_cpu_morphing(gl, tmp_path, frame):
+    _skinned_glb(tmp_path / "arm.glb", skinned=False, morphed=True)
+    vertices = _posed(gl, tmp_path, frame)
+    positions, normals = cpu_morphing(frame / 4.0)
+    assert np.abs(vertices[:, :3] - positions).max() < 1e-4
+    assert np.abs(vertices[:, 3:6] - normals).max() < 1e-4
+    # the part is then placed by its node (x = 2), not left at the origin
+    part = scene(SCENE.replace("ANIMATION", "animation: {clip: bend, loop: false}"),
+                 base_dir=tmp_path).world.objects[0]
+    assert part.matrices(0.25)[0][0, 3] == pytest.approx(2.0)
+    bounds = part.local_bounds(frame / 4.0)
+    assert np.all(bounds[0] <= positions.min(axis=0) + 1e-9) and np.all(bounds[1] >= positions.max(axis=0) - 1e-9)
+
+
+def test_a_skinned_and_morphed_part_is_morphed_then_skinned(gl, tmp_path):
+    _skinned_glb(tmp_path / "arm.glb", skinned=True, morphed=True)
+    vertices = _posed(gl, tmp_path, 2)
+    morphed, _ = cpu_morphing(0.5)
+    assert np.abs(vertices[:, :3] - cpu_skinning(0.5, morphed)).max() < 1e-4

@@ -54,7 +54,8 @@ def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
         for primitive in meshes[mesh_index].get("primitives", []):
             part = _primitive(primitive, reader, material_names)
             if part is not None:
-                parts.append({**part, "transform": transform, "node": index, "skin": node.get("skin")})
+                parts.append({**part, "transform": transform, "node": index, "skin": node.get("skin"),
+                              "morph_weights": node.get("weights", meshes[mesh_index].get("weights"))})
     return parts
 
 
@@ -79,10 +80,12 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list) -> d
     colors = rgba_colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
     material = primitive.get("material")
     name = material_names[material] if isinstance(material, int) and 0 <= material < len(material_names) else None
-    skinning = {}
-    if "JOINTS_0" in attributes and "WEIGHTS_0" in attributes:  # used only where a clip plays the skin
+    skinning = {}  # used only where a clip plays the file (mesh.loader.load_gltf_nodes)
+    if "JOINTS_0" in attributes and "WEIGHTS_0" in attributes:
         skinning = {"joints": reader.read(attributes["JOINTS_0"], 4).astype(np.float64),
                     "weights": reader.read(attributes["WEIGHTS_0"], 4).astype(np.float64)}
+    if primitive.get("targets"):
+        skinning["targets"] = [_target(target, reader, count) for target in primitive["targets"]]
     return {**skinning, "vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
             "normals": normals.astype(np.float64) if normals is not None and len(normals) == count else None,
             "uv": uv if uv is not None and len(uv) == count else None, "material": name, "colors": colors}
@@ -92,6 +95,17 @@ def accessor_reader(header: dict, binary: bytes | None, read_file):
     """``read(index, width)`` -> accessor ``index`` of the file as an array (see
     ``_Accessors.read``), each buffer read once: for the animations' keys."""
     return _Accessors(header, binary, read_file).read
+
+
+def _target(target: dict, reader: "_Accessors", count: int) -> dict:
+    """A morph target's POSITION and NORMAL deltas, (count, 3) float64 each (zeros where absent)."""
+    deltas = {}
+    for key, name in (("POSITION", "positions"), ("NORMAL", "normals")):
+        values = reader.read(target[key], 3).astype(np.float64) if key in target else np.zeros((count, 3))
+        if len(values) != count:
+            raise GltfProblem(f"a morph target's {key} has {len(values)} values for {count} vertices")
+        deltas[name] = values
+    return deltas
 
 
 class _Accessors:

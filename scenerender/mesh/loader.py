@@ -74,13 +74,13 @@ def load_mesh(
 
 def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, assets: AssetPolicy,
                     budget: TriangleBudget) -> list[tuple[int, MeshData, dict | None]]:
-    """A glTF file for its animations: [(node index, the node's mesh in the file's space at
-    rest, its skinning or None)], one mesh per node that holds one, so that each can move
-    with its node. A node with a skin whose primitives all carry JOINTS_0 and WEIGHTS_0
-    keeps its mesh in the mesh's own space (the skin places it, the node's transform is
-    ignored, as the specification says), with skinning {"skin": index, "joints": (N, 4),
-    "weights": (N, 4)} per vertex. Raises UserError where the file needs trimesh (which
-    keeps no nodes)."""
+    """A glTF file for its animations: [(node index, the node's mesh at rest, its
+    deformation or None)], one mesh per node that holds one, so that each can move with its
+    node. A node whose vertices move themselves (a skin, morph targets: see _deformation)
+    keeps its mesh in the mesh's own space: a skin places it (the node's transform is
+    ignored, as the specification says), else the node's transform after the morph. The
+    others are where the file puts them at rest. Raises UserError where the file needs
+    trimesh (which keeps no nodes)."""
     path = Path(path)
     shown = display_path(path)
     _check_mesh_file(path, assets, SourceLocation(shown))
@@ -97,20 +97,38 @@ def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, as
         nodes.setdefault(part["node"], []).append(part)
     meshes = []
     for node, node_parts in nodes.items():
-        skinned = node_parts[0]["skin"] is not None and all("joints" in p for p in node_parts)
-        if skinned:
+        deform = _deformation(node_parts)
+        if deform:  # the mesh's own space: the joints, or the node's transform after the morph, place it
             node_parts = [{**p, "transform": np.eye(4)} for p in node_parts]
         mesh = _finished(_joined(node_parts, gltf, shown), normals, False, shown)
         budget.charge(mesh.triangle_count, SourceLocation(shown))
-        skinning = None
-        if skinned:
-            skinning = {"skin": node_parts[0]["skin"], "joints": np.concatenate([p["joints"] for p in node_parts]),
-                        "weights": np.concatenate([p["weights"] for p in node_parts])}
-            if len(skinning["joints"]) != mesh.vertex_count:
-                raise UserError("cannot play its skin: the normals mode changed the vertices; use normals: auto "
-                                "with a file that stores normals", SourceLocation(shown))
-        meshes.append((node, mesh, skinning))
+        if deform and len(node_parts) and sum(len(p["vertices"]) for p in node_parts) != mesh.vertex_count:
+            raise UserError("cannot play its skin or morph targets: the normals mode changed the vertices; use "
+                            "normals: auto with a file that stores normals", SourceLocation(shown))
+        meshes.append((node, mesh, deform or None))
     return meshes
+
+
+def _deformation(parts: list[dict]) -> dict:
+    """What moves a node's vertices themselves: {"skin", "joints" (N, 4), "weights" (N, 4)}
+    where the node has a skin and every primitive JOINTS_0 and WEIGHTS_0; {"morph":
+    {"positions", "normals": (T, N, 3), "weights": (T,)}} where every primitive has the same
+    number T of morph targets; both, or {} (a rigid part)."""
+    deform: dict = {}
+    if parts[0]["skin"] is not None and all("joints" in p for p in parts):
+        deform.update(skin=parts[0]["skin"], joints=np.concatenate([p["joints"] for p in parts]),
+                      weights=np.concatenate([p["weights"] for p in parts]))
+    counts = {len(p.get("targets") or ()) for p in parts}
+    if len(counts) == 1 and counts != {0}:
+        count = counts.pop()
+        defaults = parts[0].get("morph_weights")
+        defaults = np.asarray(defaults, dtype=np.float64) if defaults is not None else np.zeros(count)
+        if defaults.shape != (count,):
+            defaults = np.zeros(count)
+        deform["morph"] = {key: np.stack([np.concatenate([p["targets"][t][key] for p in parts]) for t in range(count)])
+                           for key in ("positions", "normals")}
+        deform["morph"]["weights"] = defaults
+    return deform
 
 
 def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list, list]:

@@ -51,7 +51,7 @@ class GpuScene:
         self.shadow_buffer = ctx.buffer(reserve=_VEC4, dynamic=True)
         self._vaos: dict = {}
         self._extras: dict = {}
-        self.skins = self._skins()
+        self.deforms = self._deforms()
         self.skybox = self._skybox()
         self.environment = (EnvironmentTextures.upload(ctx, world.environment)
                             if getattr(world, "environment", None) is not None else None)
@@ -67,10 +67,11 @@ class GpuScene:
                 meshes[obj.mesh_key] = GpuMesh(self.ctx, obj.mesh, needs_tangents[obj.mesh_key])
         return meshes
 
-    def _skins(self) -> dict:
-        """object index -> GpuSkin for each skinned glTF part (none in most scenes)."""
-        return {i: GpuSkin(self.ctx, obj.skin, self.meshes[obj.mesh_key]) for i, obj in enumerate(self.world.objects)
-                if obj.skin is not None}
+    def _deforms(self) -> dict:
+        """object index -> GpuDeform for each glTF part with a skin or morph targets that a
+        clip plays (none in most scenes)."""
+        return {i: GpuDeform(self.ctx, obj.deform, self.meshes[obj.mesh_key])
+                for i, obj in enumerate(self.world.objects) if obj.deform is not None}
 
     def _skybox(self):
         faces = self.world.settings.skybox
@@ -84,9 +85,10 @@ class GpuScene:
         for buffer, state in zip(self.instance_buffers, frame.objects):
             if state.visible:
                 buffer.write(instance_bytes(state.models_rel, state.normals))
-        for index, skin in self.skins.items():
-            if frame.objects[index].visible:
-                skin.pose(frame.objects[index].skin)
+        for index, deform in self.deforms.items():
+            state = frame.objects[index]
+            if state.visible:
+                deform.pose(state.skin, state.morph)
         self._write(self.shadow_buffer, lights.views)
         self._write(self.light_buffer, lights.lights)
         return LightsInput(self.light_buffer, self.shadow_buffer, lights.first_view)
@@ -109,8 +111,8 @@ class GpuScene:
         self._extras.clear()
         if self.environment is not None:
             self.environment.release()
-        for skin in self.skins.values():
-            skin.release()
+        for deform in self.deforms.values():
+            deform.release()
         for mesh in self.meshes.values():
             mesh.release()
         for buffer in self.instance_buffers + list(self.eye_relative_buffers.values()) + [self.light_buffer,
@@ -155,32 +157,49 @@ class GpuScene:
 
 
 
-class GpuSkin:
-    """Skins one part on the GPU (shaders/mesh/skin.vert): its rest vertices and joints
-    stay in buffers of their own; ``pose`` writes the skinned vertices over the mesh's
-    vertex buffer by transform feedback, in the layout every pass reads."""
+class GpuDeform:
+    """Poses one part whose vertices move themselves (shaders/mesh/deform.vert): its rest
+    vertices, joints and morph deltas stay in buffers of their own; ``pose`` writes the
+    posed vertices over the mesh's vertex buffer by transform feedback, in the layout
+    every pass reads."""
 
-    def __init__(self, ctx, skin, mesh: GpuMesh):
+    MORPH_BINDING = 5  # the MorphDeltas storage block, bound only while posing
+
+    def __init__(self, ctx, deform, mesh: GpuMesh):
         self.mesh = mesh
-        self.rest = ctx.buffer(mesh.vertices.read())
-        joints = np.hstack([skin.joints, skin.weights]).astype(np.float32)
-        self.joints = ctx.buffer(np.ascontiguousarray(joints).tobytes())
-        source = assemble("mesh/skin.vert", {"JOINT_COUNT": len(skin.skin.joints)})
-        self.program = ctx.program(vertex_shader=source, varyings=["out_position", "out_normal", "out_uv"])
-        self.vao = ctx.vertex_array(self.program, [(self.rest, "3f 3f 2f", "in_position", "in_normal", "in_uv"),
-                                                   (self.joints, "4f 4f", "in_joints", "in_weights")])
         self.count = mesh.mesh.vertex_count
+        self.rest = ctx.buffer(mesh.vertices.read())
+        defines, content, self.buffers = {}, [(self.rest, "3f 3f 2f", "in_position", "in_normal", "in_uv")], [self.rest]
+        if deform.skin is not None:
+            defines.update(SKINNED=True, JOINT_COUNT=len(deform.skin.joints))
+            joints = ctx.buffer(np.ascontiguousarray(np.hstack([deform.joints, deform.weights]), dtype=np.float32))
+            content.append((joints, "4f 4f", "in_joints", "in_weights"))
+            self.buffers.append(joints)
+        self.deltas = None
+        if deform.targets is not None:
+            defines["MORPH_TARGETS"] = len(deform.targets)
+            self.deltas = ctx.buffer(np.ascontiguousarray(deform.targets, dtype=np.float32))
+            self.buffers.append(self.deltas)
+        self.program = ctx.program(vertex_shader=assemble("mesh/deform.vert", defines),
+                                   varyings=["out_position", "out_normal", "out_uv"])
+        self.vao = ctx.vertex_array(self.program, content)
         # Mesa runs transform feedback only with a complete framebuffer bound, and before
         # a frame's first pass none may be: a 1 x 1 one of its own (nothing is drawn to it)
         self.target = ctx.renderbuffer((1, 1))
         self.framebuffer = ctx.framebuffer(color_attachments=[self.target])
 
-    def pose(self, palette: np.ndarray) -> None:
-        """Skin the vertices with the joint matrices ``palette`` (J, 4, 4)."""
-        self.program["u_joints"].write(np.ascontiguousarray(palette.transpose(0, 2, 1), dtype=np.float32).tobytes())
+    def pose(self, palette: np.ndarray | None, weights: np.ndarray | None) -> None:
+        """Pose the vertices with the joint matrices ``palette`` (J, 4, 4) and the morph
+        target ``weights`` (T,), each None where the part has none."""
+        if palette is not None:
+            self.program["u_joints"].write(np.ascontiguousarray(palette.transpose(0, 2, 1), dtype=np.float32))
+        if weights is not None:
+            self.program["u_morph"].write(np.ascontiguousarray(weights, dtype=np.float32))
+            self.program["u_vertex_count"].value = self.count
+            self.deltas.bind_to_storage_buffer(self.MORPH_BINDING)
         self.framebuffer.use()
         self.vao.transform(self.mesh.vertices, moderngl.POINTS, vertices=self.count)
 
     def release(self) -> None:
-        for item in (self.vao, self.program, self.rest, self.joints, self.framebuffer, self.target):
+        for item in (self.vao, self.program, *self.buffers, self.framebuffer, self.target):
             item.release()

@@ -23,7 +23,7 @@ from scenerender.world.directional_views import fixed_view_sizes
 from scenerender.world.environment import EnvironmentDef, environment_def
 from scenerender.world.images import ImageStore
 from scenerender.world.lights import LightDef, light_defs, split_ambient
-from scenerender.world.node_animation import ClipPlayer, clips_text, find_clip, node_motions, skin_motion
+from scenerender.world.node_animation import ClipPlayer, clips_text, deformation, find_clip, node_motions
 from scenerender.world.settings import OutlineSettings, RenderSettings
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance
 from scenerender.world.reach import check_placements
@@ -169,21 +169,22 @@ class _Loader:
                                path + ("animation", "clip"), self.scene.source)
         spec = obj.animation
         player = ClipPlayer(header, clip, spec.speed, spec.offset, spec.loop)
-        motions = node_motions(header, player, [node for node, _, skinning in meshes if skinning is None])
+        motions = node_motions(header, player, [node for node, _, deform in meshes if deform is None],
+                               [node for node, _, deform in meshes if deform is not None and "skin" not in deform])
         nodes = header.get("nodes", [])
         name = obj.name or _default_name(obj, index)
         parts = []
-        for node, mesh, skinning in meshes:
+        for node, mesh, deform in meshes:
             part = self.build_object(index, obj, (("node", node), mesh), f"{name}/{nodes[node].get('name') or node}",
                                      motions.get(node))
-            if skinning is not None:
-                part.skin = self._skin(player, skins, skinning, path)
+            if deform is not None:
+                part.deform = self._deformation(player, skins, node, deform, path)
             parts.append(part)
         return parts
 
-    def _skin(self, player, skins: list, skinning: dict, path: tuple):
+    def _deformation(self, player, skins: list, node: int, deform: dict, path: tuple):
         try:
-            return skin_motion(player, skins, skinning)
+            return deformation(player, skins, node, deform)
         except (ValueError, IndexError) as exc:
             raise single_error(f"cannot play the glTF skin: {exc}",
                                path + ("mesh",), self.scene.source) from None

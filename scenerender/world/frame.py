@@ -49,7 +49,8 @@ class ObjectFrame:
     in_view: int
     hidden_faces: str | None = None
     winding: int = 0
-    skin: np.ndarray | None = None  # (J, 4, 4) float32 joint matrices of a skinned part (world.node_animation)
+    skin: np.ndarray | None = None   # (J, 4, 4) float32 joint matrices of a skinned part (world.node_animation)
+    morph: np.ndarray | None = None  # (T,) float32 morph target weights of a morphed part
 
     @property
     def count(self) -> int:
@@ -94,8 +95,8 @@ class FrameEvaluator:
     @cached_property
     def _windings(self) -> list:
         """+1 / -1 for closed, opaque surfaces (their winding), 0 for the rest."""
-        # a skinned part's joints may fold or mirror it: all its faces may show
-        return [obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) and obj.skin is None else 0
+        # a skin or morph targets may fold or mirror a part: all its faces may show
+        return [obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) and obj.deform is None else 0
                 for obj in self.world.objects]
 
     @cached_property
@@ -166,7 +167,7 @@ class FrameEvaluator:
             rel, normals, matrices = rel[order], normals[order], matrices[order]
         return ObjectFrame(visible, rel.astype(np.float32), matrices, normals, bounds, (bounds[0] + bounds[1]) / 2.0,
                            int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding,
-                           obj.skin.palette(t).astype(np.float32) if obj.skin is not None else None)
+                           *_deformed(obj, t))
 
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:
@@ -179,6 +180,16 @@ class FrameEvaluator:
         for index, tiles in sorted(self.atlas.tiles.items()):
             views[index] = light_views(lights[index], tiles, casters, bounds, None if index in fixed else visible)
         return views
+
+
+def _deformed(obj, t: float) -> tuple:
+    """(joint matrices, morph weights) of a part whose vertices move themselves, float32."""
+    deform = obj.deform
+    if deform is None:
+        return None, None
+    palette, weights = deform.palette(t), deform.morph_weights(t)
+    return (palette.astype(np.float32) if palette is not None else None,
+            np.asarray(weights, dtype=np.float32) if weights is not None else None)
 
 
 def hidden_faces(winding: int, bounds: np.ndarray, camera: CameraState) -> str | None:

@@ -72,16 +72,19 @@ def clips_text(clips: list[Clip]) -> str:
     return ", ".join(f"#{c.index}{' ' + repr(c.name) if c.name else ''} ({c.duration:g} s)" for c in clips)
 
 
-def node_motions(header: dict, player: ClipPlayer, nodes: list[int]) -> dict:
-    """node -> NodeMotion for each of ``nodes`` (the nodes holding meshes) that the clip
-    moves (it drives the node or a node above it), None for the others, which stay where
-    the file puts them, still (drawn and cached exactly as without the clip)."""
+def node_motions(header: dict, player: ClipPlayer, nodes: list[int], unplaced: list[int] = ()) -> dict:
+    """node -> NodeMotion for each of ``nodes`` (the nodes holding meshes placed at rest)
+    that the clip moves (it drives the node or a node above it), None for the others,
+    which stay where the file puts them, still (drawn and cached exactly as without the
+    clip); and for each of ``unplaced`` (meshes in their own space: morphed parts), the
+    node's whole world transform W(t)."""
     rest = {index: world for index, _, world in placed_nodes(header)}
+    placing = {node: NodeMotion(player, node, np.eye(4)) for node in unplaced}
     driven = {channel.node for channel in player.clip.channels if channel.path in ("translation", "rotation", "scale")}
     parents = {child: index for index, node in enumerate(header.get("nodes", [])) for child in node.get("children", [])}
     # pinv: a node scaled to nothing at rest has no inverse (and no visible geometry)
-    return {node: NodeMotion(player, node, np.linalg.pinv(rest[node])) if _moved(node, driven, parents) else None
-            for node in nodes}
+    return {**{node: NodeMotion(player, node, np.linalg.pinv(rest[node])) if _moved(node, driven, parents) else None
+               for node in nodes}, **placing}
 
 
 def _moved(node: int, driven: set, parents: dict) -> bool:
@@ -111,41 +114,74 @@ def clip_lines(loaded) -> list[str]:
 
 
 @dataclass
-class SkinMotion:
-    """A skinned node's part: its vertices (in the mesh's own space) placed by the joints,
-    sum_k w_k P_jk v with P_j = W_j(t) IBM_j; the node's own transform is not used.
+class Deformation:
+    """A part whose vertices move themselves, in the mesh's own space, before anything
+    else places them: morph targets first (v + sum_i m_i dv_i, normals likewise), then the
+    skin (sum_k w_k P_jk v with P_j = W_j(t) IBM_j). Either may be absent.
 
-    joints (N, 4) float32 joint slots per vertex; weights (N, 4) float32, each row scaled
-    to sum 1 (the specification asks for that; the bounds below rely on it)."""
+    skin: the file's Skin or None; joints (N, 4) float32 joint slots per vertex; weights
+    (N, 4) float32, each row scaled to sum 1 (the specification asks for that; the bounds
+    rely on it). targets: (T, N, 6) float32 position and normal deltas, or None; node:
+    the node whose ``weights`` channel animates them; rest_weights (T,): its own weights."""
 
     player: ClipPlayer
-    skin: Skin
-    joints: np.ndarray
-    weights: np.ndarray
+    node: int
+    skin: Skin | None = None
+    joints: np.ndarray | None = None
+    weights: np.ndarray | None = None
+    targets: np.ndarray | None = None
+    rest_weights: np.ndarray | None = None
     moving: Track = _MOVING
 
-    def palette(self, t: float) -> np.ndarray:
-        """(J, 4, 4) float64: P_j = W_j(t) IBM_j for each joint slot j."""
+    def palette(self, t: float) -> np.ndarray | None:
+        """(J, 4, 4) float64: P_j = W_j(t) IBM_j for each joint slot j; None without a skin."""
+        if self.skin is None:
+            return None
         worlds = self.player.node_worlds(t)
         return np.stack([worlds[node] for node in self.skin.joints]) @ self.skin.inverse_binds
 
+    def morph_weights(self, t: float) -> np.ndarray | None:
+        """(T,) float64: the targets' weights at ``t`` (the clip's ``weights`` channel of the
+        node, else the node's or mesh's own); None without targets."""
+        if self.targets is None:
+            return None
+        local = clip_time(t, self.player.clip.duration, self.player.speed, self.player.offset, self.player.loop)
+        for channel in self.player.clip.channels:
+            if channel.node == self.node and channel.path == "weights":
+                return channel(local).reshape(-1)[:len(self.targets)]
+        return self.rest_weights
+
     def bounds(self, t: float, rest: np.ndarray) -> np.ndarray:
-        """(2, 3) bounds of the skinned vertices at ``t``: each vertex is a weighted mean of
-        its joints' placements of it, so it lies inside the union of the boxes the used
-        joints make of the mesh's ``rest`` bounds."""
+        """(2, 3) bounds of the deformed vertices at ``t``: the rest bounds grown by each
+        target's largest delta times its weight, then, with a skin, the union of the boxes
+        the used joints make of that (each vertex is a weighted mean of its joints'
+        placements of it)."""
+        box = rest
+        weights = self.morph_weights(t)
+        if weights is not None:
+            reach = np.abs(weights)[:, None] * np.abs(self.targets[:, :, :3]).max(axis=1)
+            box = np.stack([rest[0] - reach.sum(axis=0), rest[1] + reach.sum(axis=0)])
         palette = self.palette(t)
+        if palette is None:
+            return box
         used = np.unique(self.joints[self.weights > 0]).astype(int)
-        return union_bounds([transformed_bounds(rest, palette[j][None]) for j in used])
+        return union_bounds([transformed_bounds(box, palette[j][None]) for j in used])
 
 
-def skin_motion(player: ClipPlayer, skins: list[Skin], skinning: dict) -> SkinMotion:
-    """The SkinMotion of a part whose ``skinning`` (mesh.loader.load_gltf_nodes) names one
-    of ``skins``."""
-    skin = skins[skinning["skin"]]
-    joints = skinning["joints"]
-    if joints.size and (joints.min() < 0 or joints.max() >= len(skin.joints)):
-        raise ValueError(f"a vertex names joint {int(joints.max())}, the skin has {len(skin.joints)}")
-    weights = np.asarray(skinning["weights"], dtype=np.float64)
-    totals = weights.sum(axis=1, keepdims=True)
-    weights = np.where(totals > 0, weights / np.where(totals > 0, totals, 1.0), [[1.0, 0.0, 0.0, 0.0]])
-    return SkinMotion(player, skin, joints.astype(np.float32), weights.astype(np.float32))
+def deformation(player: ClipPlayer, skins: list[Skin], node: int, deform: dict) -> Deformation:
+    """The Deformation of a part from mesh.loader.load_gltf_nodes' ``deform``."""
+    found = Deformation(player, node)
+    if "skin" in deform:
+        skin = skins[deform["skin"]]
+        joints = deform["joints"]
+        if joints.size and (joints.min() < 0 or joints.max() >= len(skin.joints)):
+            raise ValueError(f"a vertex names joint {int(joints.max())}, the skin has {len(skin.joints)}")
+        weights = np.asarray(deform["weights"], dtype=np.float64)
+        totals = weights.sum(axis=1, keepdims=True)
+        weights = np.where(totals > 0, weights / np.where(totals > 0, totals, 1.0), [[1.0, 0.0, 0.0, 0.0]])
+        found.skin, found.joints, found.weights = skin, joints.astype(np.float32), weights.astype(np.float32)
+    if "morph" in deform:
+        morph = deform["morph"]
+        found.targets = np.concatenate([morph["positions"], morph["normals"]], axis=2).astype(np.float32)
+        found.rest_weights = morph["weights"]
+    return found

@@ -80,7 +80,7 @@ class RenderObject:
     outline: OutlineSettings | None
     instances: InstanceSet
     motion: object = None  # world.node_animation.NodeMotion: a glTF node's part that a clip moves
-    skin: object = None    # world.node_animation.SkinMotion: a skinned glTF node's part, placed by its joints
+    deform: object = None  # world.node_animation.Deformation: a glTF part's skin or morph targets
 
     def object_matrix(self, t: float) -> np.ndarray:
         return model_matrix(self.position(t), self.rotation(t), _scale3(self.scale(t)))
@@ -93,9 +93,9 @@ class RenderObject:
 
     def local_bounds(self, t: float = 0.0) -> np.ndarray:
         """(2, 3) bounds of the mesh as drawn at ``t``, before the object's transform: a
-        skinned part's joints move its vertices."""
+        skin's joints and morph targets move its vertices."""
         rest = self.mesh.bounds()
-        return rest if self.skin is None else self.skin.bounds(t, rest)
+        return rest if self.deform is None else self.deform.bounds(t, rest)
 
     def world_bounds(self, matrices: np.ndarray, t: float = 0.0) -> np.ndarray:
         """World bounds of the instances placed by ``matrices``, the object's at ``t``."""
