@@ -7,7 +7,9 @@ integer colours), placed by a node hierarchy of matrices or translation,
 rotation and scale. What it does not read, ``NotReadHere`` says, and the loader hands the
 file to trimesh instead: sparse accessors, other primitive modes (points, lines, strips,
 fans), compressed or quantized geometry (Draco, meshopt, KHR_mesh_quantization), GPU
-instancing, primitives with extensions. Morph targets are ignored, as trimesh does.
+instancing, primitives with extensions. Skins and morph targets are read only for a file
+whose clips play (``deformations``, mesh.loader.load_gltf_nodes); otherwise they are
+ignored, as trimesh does.
 
 The parts come out as the trimesh path gives them (mesh.loader._raw_parts): vertices,
 faces, the normals the file stores (else None), TEXCOORD_0 with v flipped (trimesh's
@@ -32,10 +34,11 @@ class NotReadHere(Exception):
     """The file uses something this reader leaves to trimesh."""
 
 
-def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
+def read_parts(raw: bytes, read_file, material_names: list, deformations: bool = False) -> list[dict]:
     """The triangle parts of the glTF file ``raw`` (GLB or text) in world space order of its
     default scene's nodes, depth first. ``read_file(uri)`` reads an external buffer;
     ``material_names``: the names mesh.gltf gave the file's materials, by index.
+    ``deformations``: also read each primitive's JOINTS_0, WEIGHTS_0 and morph targets.
 
     Raises NotReadHere where trimesh must read the file, GltfProblem where it is malformed."""
     header, binary = split_glb(raw)
@@ -52,14 +55,14 @@ def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
         if not (isinstance(mesh_index, int) and 0 <= mesh_index < len(meshes)):
             raise GltfProblem(f"a node names mesh {mesh_index!r}, the file has {len(meshes)}")
         for primitive in meshes[mesh_index].get("primitives", []):
-            part = _primitive(primitive, reader, material_names)
+            part = _primitive(primitive, reader, material_names, deformations)
             if part is not None:
                 parts.append({**part, "transform": transform, "node": index, "skin": node.get("skin"),
                               "morph_weights": node.get("weights", meshes[mesh_index].get("weights"))})
     return parts
 
 
-def _primitive(primitive: dict, reader: "_Accessors", material_names: list) -> dict | None:
+def _primitive(primitive: dict, reader: "_Accessors", material_names: list, deformations: bool) -> dict | None:
     if primitive.get("mode", 4) != 4:
         raise NotReadHere("a primitive that is not a triangle list")
     if primitive.get("extensions"):
@@ -80,11 +83,11 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list) -> d
     colors = rgba_colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
     material = primitive.get("material")
     name = material_names[material] if isinstance(material, int) and 0 <= material < len(material_names) else None
-    skinning = {}  # used only where a clip plays the file (mesh.loader.load_gltf_nodes)
-    if "JOINTS_0" in attributes and "WEIGHTS_0" in attributes:
+    skinning = {}  # read only where a clip plays the file (mesh.loader.load_gltf_nodes)
+    if deformations and "JOINTS_0" in attributes and "WEIGHTS_0" in attributes:
         skinning = {"joints": reader.read(attributes["JOINTS_0"], 4).astype(np.float64),
                     "weights": reader.read(attributes["WEIGHTS_0"], 4).astype(np.float64)}
-    if primitive.get("targets"):
+    if deformations and primitive.get("targets"):
         skinning["targets"] = [_target(target, reader, count) for target in primitive["targets"]]
     return {**skinning, "vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
             "normals": normals.astype(np.float64) if normals is not None and len(normals) == count else None,

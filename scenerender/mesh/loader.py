@@ -87,7 +87,7 @@ def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, as
     raw = read_regular_file(path, "mesh file")
     read_file = _policy_reader(path, assets)
     gltf = _read_gltf(raw, path, read_file, warnings)
-    parts = _gltf_parts_here(raw, read_file, gltf)
+    parts = _gltf_parts_here(raw, read_file, gltf, deformations=True)
     if parts is None:
         raise UserError("cannot play its animations: its geometry is stored in a way only trimesh reads "
                         "(sparse, compressed or non-triangle primitives), and trimesh keeps no nodes",
@@ -199,14 +199,14 @@ def _load_other_format(path: Path, assets: AssetPolicy, budget: TriangleBudget, 
     return _joined(_trimesh_parts(path, raw, assets, gltf, warnings), gltf, shown)
 
 
-def _gltf_parts_here(raw: bytes, read_file, gltf: GltfFile | None) -> list[dict] | None:
+def _gltf_parts_here(raw: bytes, read_file, gltf: GltfFile | None, deformations: bool = False) -> list[dict] | None:
     """The glTF file's parts read without trimesh, or None where trimesh must read it
     (what mesh.gltf_geometry leaves to it, or a file it finds malformed: trimesh then
     gives the reason the user sees, as for every other format)."""
     names = [material.name for material in gltf.materials] if gltf is not None else []
     try:
         with np.errstate(all="ignore"):
-            return read_parts(raw, read_file, names)
+            return read_parts(raw, read_file, names, deformations)
     except UserError:
         raise  # a file it names outside the allowed folders
     except Exception:  # noqa: BLE001 - NotReadHere, GltfProblem, or malformed JSON values
