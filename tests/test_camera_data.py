@@ -264,3 +264,46 @@ def test_bad_camera_is_one_line_naming_file_line_and_key(tmp_path, camera, messa
     assert "Traceback" not in result.output
     assert len(result.stderr.splitlines()) == 1
     assert "bad.yaml:2:" in result.stderr and message in result.stderr, result.stderr
+
+
+def _turned(degrees: float, position) -> list:
+    """camera -> world (opengl axes) turned about y by ``degrees`` and placed at ``position``."""
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return [[c, 0, s, position[0]], [0, 1, 0, position[1]], [-s, 0, c, position[2]], [0, 0, 0, 1]]
+
+
+@pytest.mark.gl
+def test_a_keyed_pose_is_exact_at_its_keys_and_rigid_between(gl, tmp_path):
+    first, last = _turned(0.0, [0, 1, 5]), _turned(40.0, [2, 1, 5])
+    scene = tmp_path / "keyed.yaml"
+    scene.write_text(f"""
+render: {{size: [48, 32], samples: 1}}
+output: {{frames: 5, fps: 4}}
+camera:
+  pose:
+    camera_to_world: {{keys: [[0, {json.dumps(first)}], [1, {json.dumps(last)}]]}}
+    convention: opengl
+objects:
+  - mesh: {{primitive: box}}
+""", encoding="utf-8")
+    assert cli("render", scene, "-o", tmp_path / "out").exit_code == 0
+    frames = json.loads((tmp_path / "out" / "cameras.json").read_text())["frames"]
+    for frame, key in ((0, first), (4, last)):
+        pose = np.array(frames[frame]["world_to_camera"]["opengl"])
+        assert np.allclose(pose @ np.array(key), np.eye(4), atol=1e-12)
+    middle = np.linalg.inv(np.array(frames[2]["world_to_camera"]["opengl"]))
+    assert np.allclose(middle[:3, :3].T @ middle[:3, :3], np.eye(3), atol=1e-12)
+    assert np.allclose(middle[:3, 3], [1, 1, 5])
+    angle = math.degrees(math.atan2(middle[0, 2], middle[0, 0]))
+    assert 15.0 < angle < 25.0  # turned part of the way (the nearest rotation to the blended matrix)
+
+
+def test_a_keyed_pose_checks_each_key(tmp_path):
+    scene = tmp_path / "bad.yaml"
+    bent = _turned(0.0, [0, 1, 5])
+    bent[0][0] = 2.0
+    scene.write_text(f"camera:\n  pose:\n    camera_to_world: {{keys: [[0, {json.dumps(_turned(0, [0, 1, 5]))}], "
+                     f"[1, {json.dumps(bent)}]]}}\nobjects:\n  - mesh: {{primitive: box}}\n", encoding="utf-8")
+    result = cli("validate", scene)
+    assert result.exit_code == 2
+    assert "camera.pose.camera_to_world.keys[1][1]: the upper-left 3 x 3 must be a rotation" in result.stderr, result.stderr

@@ -96,7 +96,7 @@ KEYS: dict[str, Key] = {
     "camera.intrinsics.fy": Key("Focal length in pixels along y (height / (2 tan(fov / 2))).", "800"),
     "camera.intrinsics.cx": Key("Principal point's x in pixels from the image's left edge.", "640"),
     "camera.intrinsics.cy": Key("Principal point's y in pixels from the image's top edge.", "360"),
-    "camera.pose": Key("Where the camera is and how it turns, as one rigid 4 x 4 matrix (rows first), instead of `position`/`target`/`yaw`/`pitch`/`up`. Give `camera_to_world` or `world_to_camera`.",
+    "camera.pose": Key("Where the camera is and how it turns, as one rigid 4 x 4 matrix (rows first; or keys of them, each frame then the nearest rotation to the blend), instead of `position`/`target`/`yaw`/`pitch`/`up`. Give `camera_to_world` or `world_to_camera`.",
                        "{camera_to_world: [[1, 0, 0, 0], [0, -1, 0, 1], [0, 0, -1, 5], [0, 0, 0, 1]], convention: opencv}"),
     "camera.pose.camera_to_world": Key("Camera -> world: its columns are the camera's axes in the world, its last column the eye.",
                                        "[[1, 0, 0, 0], [0, 1, 0, 1], [0, 0, 1, 5], [0, 0, 0, 1]]"),

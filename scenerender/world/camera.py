@@ -222,7 +222,7 @@ class CameraRig:
         where given, else from the position and where it looks."""
         spec = self.spec
         if spec is not None and spec.pose is not None:
-            return pose_placement(spec.pose)
+            return pose_placement(spec.pose, t)
         up = np.asarray(spec.up if spec is not None else (0.0, 1.0, 0.0), dtype=np.float64)
         position, forward = self._aim(t, fov)
         return position, look_rotation(forward, up)

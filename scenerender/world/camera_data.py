@@ -46,10 +46,12 @@ def intrinsics_projection(intrinsics, size: tuple, near: float, far: float) -> n
     return m
 
 
-def pose_placement(pose) -> tuple[np.ndarray, np.ndarray]:
+def pose_placement(pose, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """(position (3,), world -> view rotation (3, 3), rows right, up, back) of a
-    ``camera.pose`` (scene.model.camera_data.PoseSpec), float64."""
-    to_world = pose.camera_to_world_matrix()
+    ``camera.pose`` (scene.model.camera_data.PoseSpec) at time ``t``, float64. Keyed
+    matrices are interpolated number by number; the nearest rotation to the result is the
+    camera's turn (exact at the keys)."""
+    to_world = pose.camera_to_world_matrix(t)
     axes = to_world[:3, :3]  # columns: the camera's axes in the world
     if pose.convention == "opencv":
         axes = axes @ GL_TO_CV

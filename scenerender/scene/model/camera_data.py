@@ -11,7 +11,7 @@ from pydantic_core import PydanticCustomError
 
 from scenerender.scene.describe import describe
 from scenerender.scene.strict import StrictModel
-from scenerender.scene.values import choice, number, vector_item
+from scenerender.scene.values import animated, choice, number, vector_item
 
 # How far a pose's 3 x 3 part may be from a rotation (|R^T R - I| and |det R - 1|): the
 # rounding of a matrix printed with 7 significant digits, well inside.
@@ -43,17 +43,28 @@ def _validate_matrix(value):
     return tuple(rows)
 
 
-Matrix4 = Annotated[tuple, PlainValidator(_validate_matrix), WithJsonSchema({
-    "type": "array", "minItems": 4, "maxItems": 4,
-    "items": {"type": "array", "items": {"type": "number"}, "minItems": 4, "maxItems": 4}})]
+def _validate_rigid(value):
+    """A rigid 4 x 4 matrix (rows) -> its 16 numbers, rows first (a track's key value)."""
+    rows = _validate_matrix(value)
+    problem = rigid_problem(np.array(rows, dtype=np.float64))
+    if problem:
+        raise PydanticCustomError("camera_pose", "{problem}", {"problem": problem})
+    return tuple(v for row in rows for v in row)
+
+
+_MATRIX_SCHEMA = {"type": "array", "minItems": 4, "maxItems": 4,
+                  "items": {"type": "array", "items": {"type": "number"}, "minItems": 4, "maxItems": 4}}
+# A matrix, or keys of matrices: interpolated number by number with the track's
+# interpolation, then the nearest rotation taken (world.camera_data.pose_placement).
+AnimatedMatrix4 = animated(_validate_rigid, _MATRIX_SCHEMA, "vector")
 
 
 class PoseSpec(StrictModel):
-    """Where the camera is and how it turns, as one rigid matrix: ``camera_to_world`` or
-    ``world_to_camera``, with the camera's axes in ``convention``."""
+    """Where the camera is and how it turns, as one rigid matrix (or keys of them):
+    ``camera_to_world`` or ``world_to_camera``, with the camera's axes in ``convention``."""
 
-    camera_to_world: Matrix4 | None = None
-    world_to_camera: Matrix4 | None = None
+    camera_to_world: AnimatedMatrix4 | None = None
+    world_to_camera: AnimatedMatrix4 | None = None
     convention: choice("opencv", "opengl") = "opencv"
 
     @model_validator(mode="after")
@@ -62,17 +73,14 @@ class PoseSpec(StrictModel):
         if len(given) != 1:
             raise PydanticCustomError("camera_pose", "give one of camera_to_world or world_to_camera"
                                       + (", not both" if given else ""), {"subpath": tuple(given[1:])})
-        key = given[0]
-        problem = rigid_problem(np.array(getattr(self, key), dtype=np.float64))
-        if problem:
-            raise PydanticCustomError("camera_pose", "{problem}", {"problem": problem, "subpath": (key,)})
         return self
 
-    def camera_to_world_matrix(self) -> np.ndarray:
-        """(4, 4) float64 camera -> world, the camera's axes in ``convention``."""
+    def camera_to_world_matrix(self, t: float = 0.0) -> np.ndarray:
+        """(4, 4) float64 camera -> world at time ``t``, the camera's axes in ``convention``
+        (between keys not yet rigid: see pose_placement)."""
         if self.camera_to_world is not None:
-            return np.array(self.camera_to_world, dtype=np.float64)
-        return rigid_inverse(np.array(self.world_to_camera, dtype=np.float64))
+            return np.asarray(self.camera_to_world(t), dtype=np.float64).reshape(4, 4)
+        return rigid_inverse(np.asarray(self.world_to_camera(t), dtype=np.float64).reshape(4, 4))
 
 
 def rigid_problem(matrix: np.ndarray) -> str | None:
