@@ -191,3 +191,18 @@ def test_a_skinned_and_morphed_part_is_morphed_then_skinned(gl, tmp_path):
     vertices = _posed(gl, tmp_path, 2)
     morphed, _ = cpu_morphing(0.5)
     assert np.abs(vertices[:, :3] - cpu_skinning(0.5, morphed)).max() < 1e-4
+
+
+def test_frames_of_a_skinned_clip_equal_frames_drawn_from_scratch(gl, tmp_path):
+    """Posed vertices feed every pass, shadow maps too: a run's frames equal each frame
+    rendered on its own (nothing drawn from them is kept from an earlier frame)."""
+    from conftest import render
+
+    _skinned_glb(tmp_path / "arm.glb", skinned=True, morphed=True)
+    text = SCENE.replace("ANIMATION", "animation: {clip: bend, loop: false}").replace(
+        "objects:", "lights: [{type: directional, direction: [-0.3, -1, -0.5], shadows: true}]\nobjects:\n"
+                    "  - mesh: {primitive: plane, size: 6}")
+    run = render(gl, text, frames=(0, 1, 3), base_dir=tmp_path)
+    alone = [render(gl, text, frames=(i,), base_dir=tmp_path)[0] for i in (0, 1, 3)]
+    assert all(np.array_equal(a, b) for a, b in zip(run, alone))
+    assert not np.array_equal(run[0], run[2])
