@@ -11,7 +11,7 @@ import pytest
 
 from gltf_files import GlbBuilder, sphere
 from scenerender.mesh.gltf import GltfProblem
-from scenerender.mesh.gltf_animation import clip_time, read_clips
+from scenerender.mesh.gltf_animation import clip_time, read_clips, read_skins
 
 TIMES = np.array([0.0, 0.75, 2.0])  # float32 holds these exactly
 ROTATIONS = np.array([[0.0, 0.0, 0.0, 1.0],
@@ -137,3 +137,22 @@ def test_the_example_animated_glb_is_what_its_generator_writes_and_has_its_clips
     found = read_clips(stored)
     assert [(c.name, c.duration) for c in found] == [("spin", 2.0), ("bend", 2.0), ("tick", 2.0), ("all", 2.0)]
     assert {ch.interpolation for ch in found[3].channels} == {"STEP", "LINEAR", "CUBICSPLINE"}
+    assert {ch.path for ch in found[3].channels} == {"rotation", "weights"}
+    assert len(read_skins(stored)) == 1
+
+
+@pytest.mark.gl
+def test_the_example_animated_glb_plays(gl):
+    """Its skinned tube, one-target morph and rigid parts pose and draw, and move."""
+    from conftest import render
+
+    scene = """
+render: {size: [80, 60], samples: 1}
+output: {frames: 4, fps: 4}
+camera: {position: [0, 1.3, 3.2], target: [0, 0.8, 0], fov: 50}
+objects:
+  - mesh: assets/models/fan_and_arm.glb
+    animation: {clip: all}
+"""
+    first, later = render(gl, scene, frames=(0, 3))
+    assert not np.array_equal(first, later)

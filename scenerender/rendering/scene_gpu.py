@@ -195,7 +195,8 @@ class GpuDeform:
             self.program["u_joints"].write(np.ascontiguousarray(palette.transpose(0, 2, 1), dtype=np.float32))
         if weights is not None:
             self.program["u_morph"].write(np.ascontiguousarray(weights, dtype=np.float32))
-            self.program["u_vertex_count"].value = self.count
+            if "u_vertex_count" in self.program:  # one target: the compiler folds 0 * count away
+                self.program["u_vertex_count"].value = self.count
             self.deltas.bind_to_storage_buffer(self.MORPH_BINDING)
         self.framebuffer.use()
         self.vao.transform(self.mesh.vertices, moderngl.POINTS, vertices=self.count)

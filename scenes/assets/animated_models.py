@@ -1,5 +1,6 @@
 """Writes models/fan_and_arm.glb: a desk fan and a two-bone arm whose glTF animation clips
-show each interpolation (STEP, LINEAR, CUBICSPLINE) moving a node and its subtree.
+show each interpolation (STEP, LINEAR, CUBICSPLINE) moving a node and its subtree, a skin
+and a morph target.
 
 Generated here from boxes (numpy only; the output is byte-identical each run), part of the
 project under its licence (MIT)::
@@ -8,8 +9,9 @@ project under its licence (MIT)::
 
 Clips (play one with ``animation: {clip: NAME}`` on an object whose mesh is the file):
   spin  2 s  LINEAR rotation: the fan's rotor turns once (keys every quarter turn, slerp)
-  bend  2 s  CUBICSPLINE rotation of the elbow (the forearm and hand follow), with a
-             LINEAR swing of the shoulder
+  bend  2 s  CUBICSPLINE rotation of the elbow (the skinned tube bends, the hand
+             follows), a LINEAR swing of the shoulder and the hand's grip (a morph
+             target's weight, LINEAR)
   tick  2 s  STEP rotation: the fan's head snaps between three angles
   all   2 s  the three at once
 """
@@ -23,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 OUT = Path(__file__).resolve().parent / "models" / "fan_and_arm.glb"
-FLOAT, UINT = 5126, 5125
+FLOAT, UINT, USHORT = 5126, 5125, 5123
 
 
 def box(size, center=(0.0, 0.0, 0.0)):
@@ -78,7 +80,7 @@ class Glb:
         self.binary = bytearray()
 
     def accessor(self, values, kind: str, component: int = FLOAT, target: int | None = None) -> int:
-        data = np.ascontiguousarray(values, dtype=np.float32 if component == FLOAT else np.uint32)
+        data = np.ascontiguousarray(values, dtype={FLOAT: np.float32, UINT: np.uint32, USHORT: np.uint16}[component])
         while len(self.binary) % 4:
             self.binary += b"\0"
         view = {"buffer": 0, "byteOffset": len(self.binary), "byteLength": data.nbytes}
@@ -99,13 +101,26 @@ class Glb:
             "baseColorFactor": [*color, 1.0], "metallicFactor": metallic, "roughnessFactor": roughness}})
         return len(self.json["materials"]) - 1
 
-    def mesh(self, name: str, geometry, material: int) -> int:
+    def mesh(self, name: str, geometry, material: int, skin=None, targets=()) -> int:
+        """skin: (joints (N, 4), weights (N, 4)); targets: position deltas (N, 3) each."""
         positions, normals, faces = geometry
-        self.json["meshes"].append({"name": name, "primitives": [{
-            "attributes": {"POSITION": self.accessor(positions, "VEC3", target=34962),
-                           "NORMAL": self.accessor(normals, "VEC3", target=34962)},
-            "indices": self.accessor(faces.reshape(-1), "SCALAR", UINT, target=34963), "material": material}]})
+        attributes = {"POSITION": self.accessor(positions, "VEC3", target=34962),
+                      "NORMAL": self.accessor(normals, "VEC3", target=34962)}
+        if skin is not None:
+            attributes["JOINTS_0"] = self.accessor(skin[0], "VEC4", USHORT, target=34962)
+            attributes["WEIGHTS_0"] = self.accessor(skin[1], "VEC4", target=34962)
+        primitive = {"attributes": attributes, "material": material,
+                     "indices": self.accessor(faces.reshape(-1), "SCALAR", UINT, target=34963)}
+        if len(targets):
+            primitive["targets"] = [{"POSITION": self.accessor(delta, "VEC3", target=34962)} for delta in targets]
+        self.json["meshes"].append({"name": name, "primitives": [primitive]})
         return len(self.json["meshes"]) - 1
+
+    def skin(self, joints: list, inverse_binds: np.ndarray) -> int:
+        """A skin over the ``joints`` nodes, their (J, 4, 4) inverse bind matrices (rows first)."""
+        binds = self.accessor(np.asarray(inverse_binds).transpose(0, 2, 1).reshape(-1, 16), "MAT4")
+        self.json.setdefault("skins", []).append({"joints": list(joints), "inverseBindMatrices": binds})
+        return len(self.json["skins"]) - 1
 
     def node(self, name: str, mesh: int | None = None, children=(), root: bool = False, **fields) -> int:
         node = {"name": name, **fields}
@@ -124,7 +139,8 @@ class Glb:
         for node, path, times, values, interpolation in channels:
             values = np.asarray(values, dtype=np.float64)
             clip["samplers"].append({"input": self.accessor(times, "SCALAR"),
-                                     "output": self.accessor(values, f"VEC{values.shape[1]}"),
+                                     "output": self.accessor(values, "SCALAR" if values.shape[1] == 1
+                                                             else f"VEC{values.shape[1]}"),
                                      "interpolation": interpolation})
             clip["channels"].append({"sampler": len(clip["samplers"]) - 1, "target": {"node": node, "path": path}})
         self.json["animations"].append(clip)
@@ -161,24 +177,59 @@ def fan(glb: Glb) -> tuple[int, int, int]:
     return root, head_node, rotor
 
 
+def tube(length: float, width: float, rings: int):
+    """A square tube along +X from 0 to ``length``, ``rings`` rings of 4 vertices, capped:
+    (positions, normals, faces), smooth sides."""
+    half = width / 2.0
+    corners = np.array([[half, half], [-half, half], [-half, -half], [half, -half]])  # (y, z), turning about +X
+    positions, normals, faces = [], [], []
+    for k in range(rings):
+        x = length * k / (rings - 1)
+        for y, z in corners:
+            positions.append([x, y, z])
+            normals.append([0.0, y / half / math.sqrt(2.0), z / half / math.sqrt(2.0)])
+    for k in range(rings - 1):
+        for side in range(4):
+            a, b = 4 * k + side, 4 * k + (side + 1) % 4
+            faces += [[a, b, a + 4], [b, b + 4, a + 4]]
+    last = 4 * (rings - 1)
+    faces += [[0, 2, 1], [0, 3, 2], [last, last + 1, last + 2], [last, last + 2, last + 3]]
+    return np.array(positions), np.array(normals), np.array(faces)
+
+
 def arm(glb: Glb) -> tuple[int, int, int]:
-    """(shoulder, elbow, hand): a two-bone arm on a post at x = 0.9, 0.5 m bones along +X."""
-    skin = glb.material("arm", (0.85, 0.55, 0.35), roughness=0.8)
+    """(shoulder, elbow, hand): a two-bone arm on a post at x = 0.6, 0.5 m bones along +X:
+    one skinned tube over the shoulder and elbow joints (the elbow bends it smoothly), a
+    hand whose morph target closes its grip."""
+    skin_colour = glb.material("arm", (0.85, 0.55, 0.35), roughness=0.8)
     joint = glb.material("joint", (0.2, 0.2, 0.22), metallic=1.0, roughness=0.4)
     post = glb.mesh("post", box((0.12, 1.0, 0.12), (0, 0.5, 0)), joint)
-    bone = glb.mesh("bone", joined(box((0.5, 0.1, 0.1), (0.25, 0, 0)), box((0.14, 0.14, 0.14))), skin)
-    hand = glb.mesh("hand", box((0.16, 0.06, 0.14), (0.08, 0, 0)), joint)
+    positions, normals, faces = tube(1.0, 0.1, 21)
+    bend = np.clip((positions[:, 0] - 0.42) / 0.16, 0.0, 1.0)  # shoulder to elbow over 16 cm about the elbow
+    joints = np.tile([0, 1, 0, 0], (len(positions), 1))
+    weights = np.stack([1.0 - bend, bend, 0 * bend, 0 * bend], axis=1)
+    shoulder_at = np.array([0.6, 1.05, 0.0])  # where the tube sits at rest, in the file's space
+    geometry = (positions + shoulder_at, normals, faces)
+    tube_mesh = glb.mesh("arm_tube", geometry, skin_colour, skin=(joints, weights))
+    hand_geometry = box((0.16, 0.06, 0.14), (0.08, 0, 0))
+    grip = np.where(hand_geometry[0][:, [0]] > 0.1, [0.0, -0.04, 0.0], 0.0) * np.sign(hand_geometry[0][:, [1]])
+    hand = glb.mesh("hand", hand_geometry, joint, targets=[grip])
     hand_node = glb.node("hand", hand, translation=[0.5, 0.0, 0.0])
-    elbow = glb.node("elbow", bone, children=[hand_node], translation=[0.5, 0.0, 0.0])
-    shoulder = glb.node("shoulder", bone, children=[elbow], translation=[0.0, 1.05, 0.0])
+    elbow = glb.node("elbow", children=[hand_node], translation=[0.5, 0.0, 0.0])
+    shoulder = glb.node("shoulder", children=[elbow], translation=[0.0, 1.05, 0.0])
     glb.node("arm", post, children=[shoulder], root=True, translation=[0.6, 0.0, 0.0])
+    rest = [np.eye(4), np.eye(4)]
+    for matrix, offset in zip(rest, (shoulder_at, shoulder_at + [0.5, 0.0, 0.0])):
+        matrix[:3, 3] = -offset  # the inverse of each joint's world transform at rest (translations only)
+    skin = glb.skin([shoulder, elbow], np.stack(rest))
+    glb.node("arm_skin", tube_mesh, root=True, skin=skin)
     return shoulder, elbow, hand_node
 
 
 def build() -> bytes:
     glb = Glb()
     _, head, rotor = fan(glb)
-    shoulder, elbow, _ = arm(glb)
+    shoulder, elbow, hand = arm(glb)
     quarter_turns = [axis_angle((0, 0, 1), -90 * k) for k in range(5)]
     glb.clip("spin", [(rotor, "rotation", np.linspace(0.0, 2.0, 5), quarter_turns, "LINEAR")])
     # the elbow bends up to 100 degrees and back, eased by the spline's tangents
@@ -186,14 +237,17 @@ def build() -> bytes:
     zero = [0.0, 0.0, 0.0, 0.0]
     cubic = [zero, bent[0], zero, zero, bent[1], zero, zero, bent[2], zero]  # in-tangent, value, out-tangent
     swing = [axis_angle((0, 1, 0), a) for a in (-30.0, 30.0, -30.0)]
+    grip = [[0.0], [1.0], [0.0]]  # the hand closes as the elbow bends
     glb.clip("bend", [(elbow, "rotation", [0.0, 1.0, 2.0], cubic, "CUBICSPLINE"),
-                      (shoulder, "rotation", [0.0, 1.0, 2.0], swing, "LINEAR")])
+                      (shoulder, "rotation", [0.0, 1.0, 2.0], swing, "LINEAR"),
+                      (hand, "weights", [0.0, 1.0, 2.0], grip, "LINEAR")])
     snaps = [axis_angle((0, 1, 0), a) for a in (-35.0, 0.0, 35.0, 35.0)]
     tick = (head, "rotation", [0.0, 0.67, 1.33, 2.0], snaps, "STEP")
     glb.clip("tick", [tick])
     glb.clip("all", [(rotor, "rotation", np.linspace(0.0, 2.0, 5), quarter_turns, "LINEAR"),
                      (elbow, "rotation", [0.0, 1.0, 2.0], cubic, "CUBICSPLINE"),
-                     (shoulder, "rotation", [0.0, 1.0, 2.0], swing, "LINEAR"), tick])
+                     (shoulder, "rotation", [0.0, 1.0, 2.0], swing, "LINEAR"),
+                     (hand, "weights", [0.0, 1.0, 2.0], grip, "LINEAR"), tick])
     return glb.bytes()
 
 
