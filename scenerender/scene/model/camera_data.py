@@ -1,20 +1,18 @@
 """The camera keys a data set needs: ``camera.intrinsics`` (a pinhole's focal lengths and
 principal point in pixels, OpenCV's convention) and ``camera.pose`` (a 4 x 4 matrix in a
-named axis convention). See docs/scene-notes.md, "Intrinsics and poses"."""
+named axis convention). See docs/scene-notes.md, "Intrinsics, poses and cameras.json"."""
 from __future__ import annotations
 
-from typing import Annotated
-
 import numpy as np
-from pydantic import PlainValidator, WithJsonSchema, model_validator
+from pydantic import model_validator
 from pydantic_core import PydanticCustomError
 
 from scenerender.scene.describe import describe
 from scenerender.scene.strict import StrictModel
 from scenerender.scene.values import animated, choice, number, vector_item
 
-# How far a pose's 3 x 3 part may be from a rotation (|R^T R - I| and |det R - 1|): the
-# rounding of a matrix printed with 7 significant digits, well inside.
+# How far a pose's 3 x 3 part may be from orthonormal (the largest entry of |R^T R - I|):
+# the rounding of a matrix printed with 7 significant digits lies well inside.
 ROTATION_TOLERANCE = 1e-5
 
 Pixels = number(0, lo_open=True)
