@@ -5,6 +5,11 @@ A part's mesh is the node's geometry where the file places it at rest (world tra
 W_rest); at time t the node's world transform is W(t), the file's hierarchy with the clip's
 values at the clip's time, so the part is drawn with W(t) W_rest^-1 after the object's own
 transform and instances: world = M_object M_instance W(t) W_rest^-1.
+
+A part whose vertices move themselves (a skin, morph targets: ``Deformation``) keeps its
+mesh in the mesh's own space instead; the GPU poses its vertices each frame
+(rendering/scene_gpu.py GpuDeform), and a morphed part without a skin is then placed by
+its node's whole world transform W(t).
 """
 from __future__ import annotations
 
