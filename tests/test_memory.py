@@ -74,9 +74,11 @@ def test_running_out_of_memory_is_one_line_and_exit_2(tmp_path, monkeypatch, ste
     monkeypatch.setattr(*target, _out_of_memory)
     result = _render_in_process(scene, tmp_path / "out")
     assert result.exit_code == 2, result.output
-    assert "internal error" not in result.stderr and len(result.stderr.strip().splitlines()) == 1
+    # the run's first progress line names the GL renderer; the error is one line after it
+    lines = [line for line in result.stderr.strip().splitlines() if not line.startswith("GL renderer: ")]
+    assert "internal error" not in result.stderr and len(lines) == 1
     if step == "elsewhere":
-        assert result.stderr.startswith("error: not enough memory to finish")
+        assert lines[0].startswith("error: not enough memory to finish")
     else:
         assert "big.png: not enough memory to" in result.stderr
 
