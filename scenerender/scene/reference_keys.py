@@ -59,6 +59,7 @@ KEYS: dict[str, Key] = {
     "render.bloom.radius": Key("The glow's Gaussian standard deviation, as a fraction of the image height.", "0.03"),
     "render.film_samples": Key("Sub-frames averaged per frame (in linear light) when `camera.shutter` or `camera.aperture` is set: times spread over the shutter interval and points on the lens. More is smoother and slower.", "32"),
     "render.depth_of_field": Key("How `camera.aperture` is filmed: `sub_frames` averages views from points of the lens (`film_samples` of them; exact as the count grows); `gather`, far faster, blurs each frame by every pixel's circle of confusion from the depth buffer (edges between near and far are approximate).", "gather"),
+    "render.motion_blur": Key("How `camera.shutter` is filmed: `sub_frames` averages instants spread over the open shutter (`film_samples` of them; exact as the count grows); `velocity`, far faster, renders one instant with each pixel's motion over the shutter and blurs the image along it (where moving edges cross, approximate).", "velocity"),
     "render.fog.color": Key("The colour distant surfaces fade to (mixed in linear light).", "[0.7, 0.75, 0.8]"),
     "render.fog.density": Key("rho in `exp(-d rho)` (`exp`) or `exp(-(d rho)^2)` (`exp2`), d the distance from the eye.", "0.08"),
     "render.fog.mode": Key("Falloff with distance: exponential, squared exponential, or linear from `start` to `end`.", "linear"),
