@@ -31,6 +31,10 @@ from scenerender.raytrace import render_reference  # noqa: E402
 from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
 
 
+# settings of how the GPU films the camera, which the reference does not read
+FILMING_KEYS = ("render.film_samples", "render.depth_of_field", "render.motion_blur")
+
+
 def rmse_percent(a: np.ndarray, b: np.ndarray, scale: float = 1.0) -> float:
     return 100.0 * float(np.sqrt(np.mean(((a.astype(np.float64) - b.astype(np.float64)) / scale) ** 2)))
 
@@ -64,10 +68,11 @@ def timings(scene: str, sets: list, variants: list, frames: int, rounds: int, gl
 
 def errors(scene: str, sets: list, variants: list, frame: int, spp: int, shutter_samples: int, gl) -> dict:
     """name -> (linear RMSE %, 8-bit RMSE %) of ``frame`` against the reference of the
-    variant's settings (one reference per distinct setting besides render.film_samples)."""
+    variant's settings (one reference per distinct setting besides how the renderer films
+    them: render.film_samples, render.depth_of_field, render.motion_blur)."""
     references, found = {}, {}
     for name, overrides in variants:
-        key = tuple(o for o in overrides if not o.startswith("render.film_samples"))
+        key = tuple(o for o in overrides if not o.startswith(FILMING_KEYS))
         loaded = scenerender.load(scene, sets + overrides)
         if key not in references:
             started = time.perf_counter()
