@@ -23,9 +23,10 @@ float in_front(float a, float b) {
     return clamp((b - a) / (SOFT_DEPTH * min(a, b)), 0.0, 1.0);
 }
 
-// the share of a colour moving with smear radius `radius` that lands `distance` away, per pixel of path
+// the share of a colour moving with smear radius `radius` that lands `distance` away, per
+// pixel of path: its path's end covers part of a pixel (a very bright colour shows it)
 float spread(float distance, float radius) {
-    return distance <= radius ? 0.5 / radius : 0.0;
+    return clamp(radius + 0.5 - distance, 0.0, 1.0) * 0.5 / radius;
 }
 
 // interleaved gradient noise (Jimenez 2014): a per-pixel offset of the taps, so their
