@@ -25,7 +25,7 @@ TEXTURE_UNITS = {
     "u_shadow_atlas": 4, "u_ao": 5, "u_skybox": 6, "u_gbuffer": 7, "u_noise": 8, "u_color": 9, "u_atlas": 10,
     "u_shadow_atlas_2": 11, "u_metallic_roughness_map": 12, "u_occlusion_map": 13, "u_emissive_map": 14,
     "u_roughness_map": 15, "u_metallic_map": 16, "u_env_diffuse": 17, "u_env_specular": 18, "u_env_source": 19,
-    "u_original": 20, "u_velocity": 21, "u_tiles": 22,
+    "u_original": 20, "u_velocity": 21, "u_velocity_tiles": 22,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")

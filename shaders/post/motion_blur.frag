@@ -1,7 +1,7 @@
 // Motion blur along the velocity buffer (render.motion_blur: velocity;
 // rendering/passes/motion_blur.py), after McGuire et al., "A reconstruction filter for
 // plausible motion blur" (I3D 2012). Each pixel X reads TAPS points Y along its
-// neighbourhood's longest smear v_N (u_tiles), from X - v_N to X + v_N. A point whose
+// neighbourhood's longest smear v_N (u_velocity_tiles), from X - v_N to X + v_N. A point whose
 // colour moves with smear radius r spreads it evenly over 2r pixels of its path, so a tap
 // standing for `spacing` pixels adds spacing / (2r) of its colour where its path covers X:
 //  - Y in front of X: by Y's own smear (a moving object in front blurs over X);
@@ -12,7 +12,7 @@
 // Depths compare softly over SOFT_DEPTH of their distance.
 uniform sampler2D u_color;
 uniform sampler2D u_velocity;  // rg: smear radius vector (pixels), b: view depth
-uniform sampler2D u_tiles;     // rg: the neighbourhood's longest smear
+uniform sampler2D u_velocity_tiles;  // rg: the neighbourhood's longest smear
 out vec4 frag_color;
 
 const float SOFT_DEPTH = 0.02;
@@ -38,7 +38,7 @@ float jitter(vec2 p) {
 void main() {
     ivec2 x = ivec2(gl_FragCoord.xy);
     vec4 centre = texelFetch(u_color, x, 0);
-    vec2 leading = texelFetch(u_tiles, x / TILE, 0).xy;
+    vec2 leading = texelFetch(u_velocity_tiles, x / TILE, 0).xy;
     float reach = length(leading);
     if (reach <= SMALLEST_RADIUS) {
         frag_color = centre;

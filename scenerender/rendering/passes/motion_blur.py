@@ -132,7 +132,7 @@ class MotionBlurGatherPass(RenderPass):
         bind_texture_units(program)
         ctx.image(self.color).use(TEXTURE_UNITS["u_color"])
         ctx.image(self.velocity).use(TEXTURE_UNITS["u_velocity"])
-        ctx.image(self.tiles).use(TEXTURE_UNITS["u_tiles"])
+        ctx.image(self.tiles).use(TEXTURE_UNITS["u_velocity_tiles"])
         ctx.fullscreen(program)
 
 
