@@ -101,3 +101,24 @@ def test_unset_renders_the_bytes_it_rendered_before(gl):
         plain = renderer.render(1).pixels
     assert np.array_equal(_render(gl, 0.0), plain)
     assert np.array_equal(_render(gl, overrides=()), _render(gl, overrides=("render.motion_blur=sub_frames",)))
+
+
+def test_a_still_shot_keeps_its_motion_cached_and_draws_what_a_fresh_frame_draws(gl):
+    """The box and the camera still, the box's colour animated: the motion (none) and the
+    velocity passes are static, drawn on the first frame only; the blurred frames equal
+    frames drawn from scratch."""
+    text = MOVING_BOX.format(shutter=0.5, fps=10, end=0.2).replace(
+        "{keys: [[0, [-4, 0, 0]], [0.2, [4, 0, 0]]]}", "[0, 0, 0]").replace(
+        "diffuse: [1, 1, 1]", "diffuse: {keys: [[0, [1, 1, 1]], [0.2, [0.2, 0.5, 1]]]}")
+    scene = scenerender.Scene.from_yaml(text, ".", [VELOCITY])
+    compiled = graph_report(scene).compiled
+    assert all(compiled.is_static(compiled.node(name).render_pass)
+               for name in ("velocity", "velocity_tiles", "velocity_neighbours"))
+    assert not compiled.is_static(compiled.node("motion_blur").render_pass)
+    frames = {}
+    for cache in (True, False):
+        with scenerender.Renderer(scene, gl=gl, cache_static_passes=cache, profile=True) as renderer:
+            frames[cache] = [renderer.render(index).pixels for index in range(3)]
+            runs = len(renderer.timings["velocity"])
+        assert runs == (1 if cache else 3)
+    assert all(np.array_equal(a, b) for a, b in zip(frames[True], frames[False]))
