@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from PIL import Image
 
 import scenerender
 from scenerender.raytrace import render_reference
@@ -122,3 +123,32 @@ def test_a_still_shot_keeps_its_motion_cached_and_draws_what_a_fresh_frame_draws
             runs = len(renderer.timings["velocity"])
         assert runs == (1 if cache else 3)
     assert all(np.array_equal(a, b) for a, b in zip(frames[True], frames[False]))
+
+
+def test_a_turning_camera_smears_the_skybox_too(gl, tmp_path):
+    """A camera turning 24 degrees a frame past the edge between two faces of a skybox (no
+    objects): the skybox moves only as the camera turns, and the velocity blur smears the
+    edge as 64 sub-frames do. RMSE (of 255) against them: under half the instant's
+    (measured 0.15 % against 2.8 %; 2.8 % without the skybox's motion)."""
+    sky = tmp_path / "sky"
+    sky.mkdir()
+    for face, colour in {"posx": 40, "negx": 230, "posy": 120, "negy": 120, "posz": 40, "negz": 40}.items():
+        Image.new("RGB", (8, 8), (colour,) * 3).save(sky / f"{face}.png")
+    turning = {
+        "render": {"size": [160, 120], "skybox": "sky"}, "output": {"fps": 10, "duration": 0.2},
+        "camera": {"position": [0, 0, 0], "target": {"keys": [[0, [-0.75, 0, -1.3]], [0.2, [-1.3, 0, -0.75]]]},
+                   "fov": 60, "shutter": 0.5},
+        "lights": [], "objects": [],
+    }
+
+    def render(*overrides):
+        with scenerender.Renderer(scenerender.Scene.from_dict(turning, base_dir=tmp_path, overrides=list(overrides)),
+                                  gl=gl) as renderer:
+            return renderer.render(1).pixels.astype(np.float64)
+
+    filmed = render("render.film_samples=64")
+    velocity = render(VELOCITY)
+    instant = render("camera.shutter=0")
+    to_velocity, to_instant = (np.sqrt(np.mean((frame - filmed) ** 2)) / 255.0 for frame in (velocity, instant))
+    print(f"against 64 sub-frames: velocity {to_velocity:.4f}, the instant {to_instant:.4f}")
+    assert to_velocity < 0.5 * to_instant, (to_velocity, to_instant)

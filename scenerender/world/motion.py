@@ -20,14 +20,19 @@ from scenerender.world.settings import DATA_MODES
 @dataclass(frozen=True)
 class ShutterMotion:
     """open, close: (N, 4, 4) float64, one per object of ``World.objects``: a camera-relative
-    world point at the frame's time -> clip space at the shutter's opening, at its closing."""
+    world point at the frame's time -> clip space at the shutter's opening, at its closing.
+    sky_open, sky_close: (4, 4) a direction (w = 0) -> clip space then: the skybox, infinitely
+    far, moves only as the camera turns."""
 
     open: np.ndarray
     close: np.ndarray
+    sky_open: np.ndarray
+    sky_close: np.ndarray
 
     def same_as(self, other) -> bool:
-        return (isinstance(other, ShutterMotion) and np.array_equal(self.open, other.open)
-                and np.array_equal(self.close, other.close))
+        return isinstance(other, ShutterMotion) and all(
+            np.array_equal(getattr(self, name), getattr(other, name))
+            for name in ("open", "close", "sky_open", "sky_close"))
 
 
 def blurs_by_velocity(world) -> bool:
@@ -69,11 +74,13 @@ def shutter_motion(objects, time: float, open_seconds: float, origin: np.ndarray
     transform (their own tracks, if any, do not blur)."""
     opening, closing = time - open_seconds / 2.0, time + open_seconds / 2.0
     to_world = translation(origin)
-    clip_open, clip_close = world_to_clip(camera_at(opening)), world_to_clip(camera_at(closing))
+    camera_open, camera_close = camera_at(opening), camera_at(closing)
+    clip_open, clip_close = world_to_clip(camera_open), world_to_clip(camera_close)
     opens, closes = [], []
     for obj in objects:
         now = obj.object_matrix(time)
         opens.append(clip_open @ carried(obj.object_matrix(opening), now) @ to_world)
         closes.append(clip_close @ carried(obj.object_matrix(closing), now) @ to_world)
     empty = np.zeros((0, 4, 4))
-    return ShutterMotion(np.array(opens) if opens else empty, np.array(closes) if closes else empty)
+    return ShutterMotion(np.array(opens) if opens else empty, np.array(closes) if closes else empty,
+                         camera_open.view_proj_relative(), camera_close.view_proj_relative())

@@ -53,9 +53,15 @@ void main() {
     float front_weight = 0.0;
     vec3 rest_sum = centre.rgb * (0.5 / radius_x);
     float rest_weight = 0.5 / radius_x;
+    // every other tap along the pixel's own motion, where it has one (after Guertin et al.,
+    // "A fast and stable feature-aware motion blur filter", 2014): where motion turns
+    // across the neighbourhood (a camera turning: the corners move along curves), the
+    // longest smear alone would lead the taps off the pixel's own path
+    vec2 own = length(here.xy) > 1.0 ? normalize(here.xy) * reach : leading;
     for (int i = 0; i < TAPS; ++i) {
         float t = (float(i) + 0.5 + offset) / float(TAPS) * 2.0 - 1.0;
-        ivec2 y = clamp(x + ivec2(round(leading * t)), ivec2(0), last);
+        vec2 along = (i % 2 == 0) ? leading : own;
+        ivec2 y = clamp(x + ivec2(round(along * t)), ivec2(0), last);
         if (y == x) {
             continue;
         }

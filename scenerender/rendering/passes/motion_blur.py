@@ -13,6 +13,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import moderngl
+import numpy as np
+
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
@@ -21,6 +24,7 @@ from scenerender.rendering.draw import (
 )
 from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.passes.data import ImageData, TargetData
+from scenerender.rendering.passes.sky import SKY_VERTEX
 
 # The largest blur, as the radius of a pixel's smear (half its motion over the shutter) in
 # pixels: longer motion is cut to it, keeping its direction. It is also the tile size, so
@@ -43,12 +47,14 @@ def tile_count(size: tuple) -> tuple:
 class VelocityPass(RenderPass):
     """Every object in the camera's view, depth-tested, one sample a pixel: its smear (half
     its motion over the shutter, in pixels) in rg and its distance along the view axis in
-    b, into an rgba32f image; (0, 0, EMPTY_DEPTH) where nothing was drawn."""
+    b, into an rgba32f image; where nothing was drawn, the skybox's motion (``sky``: the
+    scene has one) or none, at EMPTY_DEPTH."""
 
     size: tuple
     camera: Handle
     objects: Handle
     motion: Handle
+    sky: bool = False
 
     name = "velocity"
 
@@ -58,14 +64,20 @@ class VelocityPass(RenderPass):
                           builder.create("velocity_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
     def describe(self) -> str:
-        return f"screen motion over the shutter, up to {MAX_BLUR_RADIUS} px either way"
+        sky = ", the skybox's too" if self.sky else ""
+        return f"screen motion over the shutter, up to {MAX_BLUR_RADIUS} px either way{sky}"
+
+    def defines(self) -> dict:
+        return {"MAX_RADIUS": float(MAX_BLUR_RADIUS), "EMPTY_DEPTH": EMPTY_DEPTH}
 
     def execute(self, ctx, data: TargetData) -> None:
         begin_camera_pass(ctx, [data.color], data.depth, (0.0, 0.0, EMPTY_DEPTH, 0.0))
-        program = ctx.programs.get(MESH_VERTEX, "mesh/velocity.frag", {"MAX_RADIUS": float(MAX_BLUR_RADIUS)})
         camera, motion = ctx.input(self.camera), ctx.input(self.motion)
-        set_uniforms(program, u_view_proj=camera.view_proj_relative(), u_forward=camera.forward,
-                     u_half_size=(self.size[0] / 2.0, self.size[1] / 2.0))
+        half_size = (self.size[0] / 2.0, self.size[1] / 2.0)
+        if self.sky:
+            self._draw_sky(ctx, camera, motion, half_size)
+        program = ctx.programs.get(MESH_VERTEX, "mesh/velocity.frag", self.defines())
+        set_uniforms(program, u_view_proj=camera.view_proj_relative(), u_forward=camera.forward, u_half_size=half_size)
         objects = ctx.input(self.objects)
         try:
             for index in objects.in_camera_view():
@@ -74,6 +86,16 @@ class VelocityPass(RenderPass):
                 objects.draw(program, index)
         finally:
             stop_culling(ctx.gl)
+
+    def _draw_sky(self, ctx, camera, motion, half_size) -> None:
+        """The skybox's motion over the whole image; the objects are then drawn over it."""
+        program = ctx.programs.get(SKY_VERTEX, "mesh/velocity.frag", {**self.defines(), "SKY": True})
+        set_uniforms(program, u_inverse_view_proj=np.linalg.inv(camera.view_proj_relative()),
+                     u_ndc_near_far=ctx.depth.ndc_near_far, u_open=motion.sky_open, u_close=motion.sky_close,
+                     u_half_size=half_size)
+        ctx.gl.disable(moderngl.DEPTH_TEST)
+        ctx.fullscreen(program)
+        ctx.gl.enable(moderngl.DEPTH_TEST)
 
 
 @dataclass(frozen=True)
@@ -138,7 +160,8 @@ class MotionBlurGatherPass(RenderPass):
 
 def add_velocity_blur(graph, color: Handle, inputs, size: tuple) -> Handle:
     """The passes of the velocity blur of ``color`` (resolved linear light); its result."""
-    velocity = graph.add(VelocityPass(size, inputs.camera, inputs.objects, inputs.motion)).color
+    velocity = graph.add(VelocityPass(size, inputs.camera, inputs.objects, inputs.motion,
+                                      sky=inputs.skybox is not None)).color
     tiles = graph.add(VelocityTilesPass(velocity, size, neighbours=False)).image
     neighbourhood = graph.add(VelocityTilesPass(tiles, size, neighbours=True)).image
     return graph.add(MotionBlurGatherPass(color, velocity, neighbourhood, size)).image
