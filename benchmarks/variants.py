@@ -17,6 +17,8 @@ one of:
   no-face-culling  every face of closed surfaces drawn, also those the camera cannot see
   no-visible-samples  shadows over all of a pixel's MSAA samples, with no depth prepass to
                    tell which ones the surface shows in (pipeline.visible_samples_pay)
+  full-prepass     visible samples with every opaque object through the depth prepass, as
+                   before rendering/visible_samples.py left out what cannot hide anything
 
     cp -r shaders /tmp/shaders-before   # then edit shaders/
     python benchmarks/variants.py scenes/showcase.yaml --variant before@/tmp/shaders-before
@@ -36,7 +38,9 @@ import scenerender  # noqa: E402
 from scenerender.gpu import shaders  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
 from scenerender.rendering import features  # noqa: E402
+from scenerender.rendering.passes import forward  # noqa: E402
 from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
+from scenerender.rendering.visible_samples import VisibleSamplesPlan  # noqa: E402
 from scenerender.world import frame  # noqa: E402
 
 
@@ -50,6 +54,19 @@ class NoFaceCulling(GraphRenderer):
             return super().render(index)
         finally:
             frame.hidden_faces = original
+
+
+class FullPrepass(GraphRenderer):
+    """Visible samples with every opaque object drawn in the depth prepass, nearest first."""
+
+    def render(self, index: int):
+        original = forward.plan_visible_samples
+        forward.plan_visible_samples = lambda objects, camera, items, last=None: VisibleSamplesPlan(
+            items, frozenset(item.object_index for item in items))
+        try:
+            return super().render(index)
+        finally:
+            forward.plan_visible_samples = original
 
 
 @contextmanager
@@ -81,6 +98,8 @@ def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tu
     if variant == "no-visible-samples":
         world = scenerender.load(scene_path, base_overrides).world
         return variant, GraphRenderer(world, gl, profile=True, tuning={"visible_samples": False})
+    if variant == "full-prepass":
+        return variant, FullPrepass(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if variant == "no-face-culling":
         return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if "@" in variant and "=" not in variant:

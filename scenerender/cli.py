@@ -236,10 +236,12 @@ def _scene_overrides(with_samples: bool = True):
                    "REF_DIR is a folder of its own, never -o itself.")
 @click.option("--update-references", is_flag=True,
               help="With --check: make the references equal to this output on purpose, and say what changed.")
-@click.option("--object-ids", is_flag=True,
-              help="Also keep which object each pixel shows (OUT/.object_ids/, 16-bit PNGs and objects.json), "
+@click.option("--object-ids/--no-object-ids", default=None,
+              help="Keep which object each pixel shows (OUT/.object_ids/, 16-bit PNGs and objects.json), "
                    "so `diff` and --check name changes by object and catch small moves and material changes "
-                   "colour alone cannot. Image sequences and single images only (not MP4/GIF).")
+                   "colour alone cannot. On by default with --check (and so with --update-references) "
+                   "wherever the output can hold them (image sequences and single images, not MP4/GIF); "
+                   "--no-object-ids judges by colour alone.")
 @click.option("--workers", type=click.IntRange(1, 256), default=1, show_default=True,
               help="Render on N local processes, each with its own GL context (same files as one).")
 @click.option("--scheduler", metavar="ADDRESS",
@@ -269,7 +271,7 @@ def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, prof
     In CI:
       scenerender render scene.yaml -o out/ --check ref/             # exit 1 when frames changed
       scenerender render scene.yaml -o out/ --check ref/ --update-references
-      scenerender render scene.yaml -o out/ --object-ids --check ref/    # changes named by object
+      scenerender render scene.yaml -o out/ --no-object-ids --check ref/   # judged by colour alone
 
     Exit codes: 0 done, 1 frames changed (--check), 2 bad input or an output that cannot be
     written, 3 the machine lacks something (no OpenGL driver; no GPU with --require-gpu),
@@ -414,9 +416,12 @@ def diff(reference, output, report, as_json, **limits):
     """Compare OUTPUT with REFERENCE: two images, two folders of frames (PNG, JPG, TGA, EXR;
     matched by file name) or two videos (MP4, GIF; matched frame by frame).
 
-    Frames both sides rendered with --object-ids are also judged by object: the changed
-    pixels are named by the objects they belong to, and an object that appeared or went, moved
-    against the frame or changed inside fails the frame.
+    Frames both sides kept object ids for (render --check keeps them by default) are also
+    judged by object: the changed pixels are named by the objects they belong to, and an
+    object that appeared or went, moved against the frame or changed inside (also behind
+    glass) fails the frame. The total line says when frames were judged by colour alone, and
+    why. A reference folder's ignore.json (rectangles) and ignore.png (a mask) name pixels
+    left out of the verdict. Without --report only the verdict is computed (no SSIM or FLIP).
 
     Prints one line per changed, missing or extra frame and a total line. Exits 0 when every
     frame matches, 1 when a frame changed (a different size counts as changed) or is missing
@@ -428,7 +433,7 @@ def diff(reference, output, report, as_json, **limits):
 
     from scenerender.compare import compare_paths, write_html_report
 
-    result = compare_paths(reference, output, DiffRule(**limits))
+    result = compare_paths(reference, output, DiffRule(**limits), pictures=report is not None)
     if report is not None:
         write_html_report(result, report, option="--report")
     if as_json:
@@ -497,7 +502,8 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
               show_default=True, help="Folder for NAME.md (table), NAME.json and NAME.png (plot). " + MAKES_PARENTS)
 @click.option("--knob", "knobs", multiple=True,
               type=click.Choice(["samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size",
-                                 "sh_order", "env_samples", "env_footprint", "film_samples", "motion_blur"]),
+                                 "sh_order", "env_samples", "env_footprint", "env_visibility", "env_directions",
+                                 "env_map_size", "film_samples", "motion_blur"]),
               help="Sweep only these knobs (repeatable; default all).")
 @click.option("--frames", type=click.IntRange(1, 1000), default=3, show_default=True,
               help="Timed frames per variant and round (after one warm-up frame).")

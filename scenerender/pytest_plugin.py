@@ -35,18 +35,20 @@ class SceneRegression:
         self.update = update
 
     def check(self, scene, overrides=(), frames: str | None = None, name: str | None = None, rule=None,
-              object_ids: bool = False):
+              object_ids: bool = True):
         """Render ``scene`` (a path, relative to the test file's folder or the working
         directory, or a ``scenerender.Scene``) and compare its frames with the references.
 
         overrides: ``--set`` style strings (``"render.size=[160,120]"``); frames: "A:B";
         name: the reference folder's name (default: the test's name; give one per scene
-        when a test checks several); rule: a ``scenerender.compare.DiffRule``; object_ids:
-        keep the frames' object ids with the references too, so changes are named by object
-        and judged by object (a reference without ids is judged by colour alone).
+        when a test checks several); rule: a ``scenerender.compare.DiffRule``; object_ids
+        (default on): keep the frames' object ids with the references too, so changes are
+        named and judged by object (a video cannot hold them, and a reference without ids
+        is judged by colour alone, which the failure and the report say); False: colour alone.
         Returns the ``references.CheckResult``; fails the test on any change.
         """
         from scenerender.api import Scene, render_to
+        from scenerender.run.job import WHERE_POSSIBLE
         from scenerender.run.references import check_output, has_references, reference_path
 
         label = _safe_name(name or self.test_name)
@@ -57,7 +59,7 @@ class SceneRegression:
             options["overrides"] = list(overrides)
         elif overrides:
             raise ValueError("overrides apply when a scene is loaded: pass them to scenerender.load")
-        render_to(scene, output, overwrite=True, object_ids=object_ids, **options)
+        render_to(scene, output, overwrite=True, object_ids=WHERE_POSSIBLE if object_ids else False, **options)
         target, root = _only_output(output), self.test_dir / "scene_references" / label
         reference = reference_path(target, root)
         if not self.update and not has_references(reference):

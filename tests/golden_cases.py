@@ -1,7 +1,9 @@
 """The golden-image cases: which scene, frame and settings each reference image shows.
 
 References live in tests/golden/ and are made by `make goldens` (tests/golden_update.py)
-on Mesa llvmpipe; look at every image you commit.
+on Mesa llvmpipe; look at every image you commit. Each keeps its object ids beside it, as
+`render --check` does (tests/golden/.object_ids/: NAME.png, behind/NAME.png, NAME.json),
+so the goldens are judged by object too.
 
 Tolerance: the default rule of `scenerender diff` (scenerender.compare.DEFAULT_RULE): no
 8x8 block averaging more than 1 level of difference outside the other image's 3x3 colour
@@ -12,6 +14,7 @@ tests/test_golden.py shows each plausible regression failing.
 """
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 GOLDEN_DIR = Path(__file__).resolve().parent / "golden"
@@ -41,7 +44,12 @@ CASES = {
     "primitives@points": ("primitives.yaml", 30, ["render.mode=points"]),
     "gltf_pbr": ("gltf_pbr.yaml", 36, []),
     "film": ("film.yaml", 32, []),
+    # the studio environment not blocked by the scene: what gltf_pbr drew before visibility
+    "gltf_pbr@visibility_off": ("gltf_pbr.yaml", 36, ["lights[2].visibility=false"]),
 }
+
+
+IDS_DIR = GOLDEN_DIR / ".object_ids"
 
 
 def reference_path(name: str) -> Path:
@@ -50,7 +58,42 @@ def reference_path(name: str) -> Path:
 
 def render_case(gl, name: str, extra=()):
     """Render golden case ``name`` (plus ``extra`` overrides) -> (H, W, 3) uint8."""
-    from conftest import render_one
+    return render_case_with_ids(gl, name, extra)[0]
 
-    scene, frame, overrides = CASES[name]
-    return render_one(gl, SCENES / scene, [SIZE, *overrides, *extra], frame)
+
+def render_case_with_ids(gl, name: str, extra=()):
+    """Render golden case ``name`` (plus ``extra`` overrides) with its object ids ->
+    ((H, W, 3) uint8, compare.objects.IdMap), as `render --check` keeps them."""
+    import scenerender
+    from conftest import scene
+    from scenerender.compare.objects import IdMap
+    from scenerender.world.id_names import id_names
+
+    scene_file, frame, overrides = CASES[name]
+    with scenerender.Renderer(scene(SCENES / scene_file, [SIZE, *overrides, *extra]), gl=gl,
+                              object_ids=True) as renderer:
+        result = renderer.render(frame)
+        return result.pixels, IdMap(result.object_ids, id_names(renderer.scene.world), result.object_ids_behind)
+
+
+def reference_ids(name: str):
+    """The object ids kept with golden case ``name`` (compare.objects.IdMap), or None."""
+    from scenerender.compare.objects import IdMap
+    from scenerender.sinks.object_ids import read_ids
+
+    ids, behind = read_ids(IDS_DIR / f"{name}.png"), read_ids(IDS_DIR / "behind" / f"{name}.png")
+    if ids is None:
+        return None
+    names = json.loads((IDS_DIR / f"{name}.json").read_text(encoding="utf-8"))
+    return IdMap(ids, {int(k): v for k, v in names.items()}, behind)
+
+
+def write_reference_ids(name: str, ids) -> None:
+    """Keep ``ids`` (an IdMap) with golden case ``name``: 16-bit PNGs and the names."""
+    from scenerender.sinks.images import encode_grey16_png
+
+    (IDS_DIR / "behind").mkdir(parents=True, exist_ok=True)
+    (IDS_DIR / f"{name}.png").write_bytes(encode_grey16_png(ids.ids))
+    (IDS_DIR / "behind" / f"{name}.png").write_bytes(encode_grey16_png(ids.behind))
+    (IDS_DIR / f"{name}.json").write_text(json.dumps({str(k): v for k, v in sorted(ids.names.items())}, indent=1)
+                                          + "\n", encoding="utf-8")

@@ -12,7 +12,7 @@ sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
 
 from PIL import Image  # noqa: E402
 
-from golden_cases import CASES, GOLDEN_DIR, reference_path, render_case  # noqa: E402
+from golden_cases import CASES, GOLDEN_DIR, reference_path, render_case_with_ids, write_reference_ids  # noqa: E402
 from scenerender.gpu.context import create_context  # noqa: E402
 
 
@@ -24,8 +24,10 @@ def main() -> None:
     if unknown:
         sys.exit(f"no golden case {', '.join(unknown)}; the cases: {', '.join(sorted(CASES))}")
     for name in names:
-        Image.fromarray(render_case(gl, name)).save(reference_path(name), optimize=True)
-        print("wrote", reference_path(name))
+        pixels, ids = render_case_with_ids(gl, name)
+        Image.fromarray(pixels).save(reference_path(name), optimize=True)
+        write_reference_ids(name, ids)
+        print("wrote", reference_path(name), "and its object ids")
 
 
 if __name__ == "__main__":

@@ -306,7 +306,7 @@ def test_diff_identical_images(scenes):
     write_png(scenes / "b.png", pixels)
     result = cli("diff", "a.png", "b.png")
     assert result.exit_code == 0
-    assert result.stdout == "PASS: 1 frame(s) match (identical)\n"
+    assert result.stdout == "PASS: 1 frame(s) match (identical); judged by colour alone: neither side has object ids\n"
 
 
 def test_diff_different_images(scenes):
@@ -318,7 +318,8 @@ def test_diff_different_images(scenes):
     result = cli("diff", "a.png", "b.png", "--report", "report.html")
     assert result.exit_code == 1
     assert result.stdout.startswith("CHANGED b.png: worst 8x8 tile")
-    assert "FAIL: 1 of 1 frame(s) changed, 0 missing, 0 extra\nreport: report.html" in result.stdout
+    assert "FAIL: 1 of 1 frame(s) changed, 0 missing, 0 extra; judged by colour alone" in result.stdout
+    assert result.stdout.endswith("\nreport: report.html\n")
     assert "data:image/png;base64," in (scenes / "report.html").read_text()
 
 

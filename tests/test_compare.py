@@ -114,14 +114,16 @@ def test_real_changes_fail(change):
 def test_a_looser_rule_passes_what_the_default_fails():
     moved = drawn(square_at=43)
     assert not verdict(drawn(), moved)
-    assert verdict(drawn(), moved, DiffRule(max_tile=1000, max_unexplained_mean=1000, max_shift_tile=1000))
+    assert verdict(drawn(), moved, DiffRule(max_tile=1000, max_unexplained_mean=1000, max_shift_tile=1000,
+                                            max_still_region=1e9))
 
 
 def test_the_tile_limit_catches_a_local_change_the_frame_mean_misses():
     """At 640x480 a 5x5-pixel patch 12 levels off (a lost highlight, say) adds too little to
     the frame's mean to cross its limit; the 8x8 tile holding it crosses the tile limit, which
     names it first, and so does the 12x12 window of what the best shift leaves (no shift
-    explains it). A rule with those two limits lifted passes it."""
+    explains it), and the still region (nothing else moved: 25 px, 11 levels past the
+    rounding each). A rule with those three limits lifted passes it."""
     reference = drawn(size=(640, 480))
     patched = reference.copy()
     patched[296:301, 400:405] += 12
@@ -130,8 +132,41 @@ def test_the_tile_limit_catches_a_local_change_the_frame_mean_misses():
     assert result.metrics.worst_tile_aa > DEFAULT_RULE.max_tile
     assert not result.passed and result.reason.startswith("worst 8x8 tile")
     assert result.metrics.shift_tile > DEFAULT_RULE.max_shift_tile
+    assert result.metrics.still_region == 25 * 11 and result.metrics.frame_shift < 1 / 128
     assert not verdict(reference, patched, DiffRule(max_tile=1000))
-    assert verdict(reference, patched, DiffRule(max_tile=1000, max_shift_tile=1000))
+    assert not verdict(reference, patched, DiffRule(max_tile=1000, max_shift_tile=1000))
+    assert verdict(reference, patched, DiffRule(max_tile=1000, max_shift_tile=1000, max_still_region=1e9))
+
+
+def _faceted(height=96, width=128, tint=1.0) -> np.ndarray:
+    """A finely faceted surface: each pixel a random grey between 60 and 200 levels (every
+    pixel's 3x3 neighbourhood spans a wide range), times ``tint``, beside a flat background."""
+    rng = np.random.default_rng(3)
+    image = rng.uniform(60, 200, size=(height, width)) * tint
+    image[:, : width // 4] = 90.0
+    return np.clip(np.stack([image] * 3, axis=2), 0, 255).round().astype(np.uint8)
+
+
+def test_a_faint_recolour_of_a_faceted_surface_fails_in_a_still_frame():
+    """A 5% darker faceted surface: every pixel lies inside its neighbours' colour range
+    and under half their contrast, which the allowances for moved edges forgive; nothing
+    moved (the frame's displacement reads 0), so the one-sign region fails the still limit,
+    by far. Without that limit it passes: the limit, not another, catches it."""
+    reference, darker = _faceted(), _faceted(tint=0.95)
+    result = compare_images("frame", reference, darker)
+    assert result.metrics.frame_shift < 1 / 128
+    assert result.metrics.still_region > 20 * DEFAULT_RULE.max_still_region
+    assert not result.passed and "nothing moved" in result.reason
+    assert verdict(reference, darker, DiffRule(max_still_region=1e30))
+
+
+def test_a_still_frame_with_rounding_noise_passes():
+    """Dither of one level and an offset of one level leave nothing past the rounding."""
+    reference = _faceted()
+    rng = np.random.default_rng(0)
+    dithered = np.clip(reference.astype(np.int16) + rng.integers(-1, 2, reference.shape), 0, 255).astype(np.uint8)
+    result = compare_images("frame", reference, dithered)
+    assert result.passed and result.metrics.still_region == 0
 
 
 def _smooth_pattern(height=48, width=64, dx=0.0, dy=0.0) -> np.ndarray:
@@ -189,7 +224,7 @@ def test_folders_match_by_name_and_list_missing_and_extra(tmp_path):
     assert lines[0].startswith("CHANGED frame_0001.png: worst 8x8 tile")
     assert "MISSING frame_0002.png: in the reference, not in the output" in lines
     assert "EXTRA frame_0003.png: in the output, not in the reference" in lines
-    assert lines[-1] == "FAIL: 1 of 2 frame(s) changed, 1 missing, 1 extra"
+    assert lines[-1] == "FAIL: 1 of 2 frame(s) changed, 1 missing, 1 extra; judged by colour alone: neither side has object ids"
     assert result.reference.provenance.gl_renderer.startswith("llvmpipe")
     assert result.output.provenance.gl_renderer == "unknown"
 
@@ -384,6 +419,7 @@ def test_json_output(tmp_path):
     assert data["rule"] == {"max_tile": DEFAULT_RULE.max_tile, "aa_tolerance": DEFAULT_RULE.aa_tolerance,
                             "max_unexplained_mean": DEFAULT_RULE.max_unexplained_mean,
                             "max_shift_tile": DEFAULT_RULE.max_shift_tile,
+                            "max_still_region": DEFAULT_RULE.max_still_region,
                             "min_object_pixels": DEFAULT_RULE.min_object_pixels,
                             "max_object_shift": DEFAULT_RULE.max_object_shift,
                             "max_interior_change": DEFAULT_RULE.max_interior_change}
@@ -395,7 +431,7 @@ def test_json_output(tmp_path):
     assert not b["passed"] and b["regions"] and b["size"] == [64, 48]
     assert a["objects"] is None and b["objects"] is None  # no object ids on either side
     assert set(b["metrics"]) == {"mean_abs", "max_abs", "worst_tile", "bad_percent", "psnr", "unexplained_mean",
-                                 "worst_tile_aa", "shift_tile", "shift_pixel", "changed_percent",
+                                 "worst_tile_aa", "shift_tile", "shift_pixel", "still_region", "frame_shift", "changed_percent",
                                  "excused_pixels", "largest_shift", "ssim", "flip"}
     assert data["report"] == str(tmp_path / "report.html")
     if flip_available():  # FLIP is computed for the changed frames, where a person looks
@@ -519,3 +555,80 @@ def test_videos_inside_folders_are_compared_frame_by_frame(tmp_path):
     assert [f.name for f in result.changed] == ["clip.gif/frame_0001"]
     assert result.missing == ["gone.gif"]
     assert result.output.provenance.scenerender == "9.9.9"
+
+
+# -- ignore regions -------------------------------------------------------------------------
+
+def _clock_pair(tmp_path: Path) -> tuple[Path, Path]:
+    """Two folders whose frame differs only in a 'clock' at the top right."""
+    reference = drawn()
+    output = reference.copy()
+    output[2:10, 50:62] = 255 - output[2:10, 50:62]
+    for folder, image in (("ref", reference), ("out", output)):
+        (tmp_path / folder).mkdir()
+        Image.fromarray(image).save(tmp_path / folder / "frame_0000.png")
+    return tmp_path / "ref", tmp_path / "out"
+
+
+def test_an_ignore_rectangle_leaves_the_clock_out_and_says_so(tmp_path):
+    ref, out = _clock_pair(tmp_path)
+    assert not compare_paths(ref, out).passed  # without it, the clock fails
+    (ref / "ignore.json").write_text(json.dumps({"rectangles": [{"x": 48, "y": 0, "w": 16, "h": 12, "why": "clock"}]}))
+    result = compare_paths(ref, out)
+    assert result.passed and result.frames[0].ignored == 16 * 12
+    assert "ignored: 192 px in 1 frame(s) (ignore.json: clock)" in result.total_line()
+    (ref / "ignore.json").write_text(json.dumps({"rectangles": [{"x": 48, "y": 0, "w": 16, "h": 12,
+                                                                 "frames": "other_*"}]}))
+    assert not compare_paths(ref, out).passed  # the pattern names other frames
+
+
+def test_an_ignore_mask_is_not_a_frame_and_leaves_its_pixels_out(tmp_path):
+    ref, out = _clock_pair(tmp_path)
+    mask = np.zeros((48, 64), np.uint8)
+    mask[0:12, 48:64] = 255
+    Image.fromarray(mask).save(ref / "ignore.png")
+    result = compare_paths(ref, out)
+    assert result.passed and [f.name for f in result.frames] == ["frame_0000.png"] and not result.missing
+    assert "ignore.png" in result.total_line()
+
+
+def test_a_malformed_ignore_file_is_bad_input_naming_it(tmp_path):
+    ref, out = _clock_pair(tmp_path)
+    (ref / "ignore.json").write_text(json.dumps({"rectangles": [{"x": 1, "y": 2, "w": "wide", "h": 3}]}))
+    result = CliRunner().invoke(main, ["diff", str(ref), str(out)])
+    assert result.exit_code == 2
+    assert "ignore.json" in result.stderr and "rectangles[0]" in result.stderr and "Traceback" not in result.output
+
+
+# -- what a pass excused ------------------------------------------------------------------------
+
+def _square(dx: float = 0.0, h: int = 48, w: int = 64) -> np.ndarray:
+    """A light square on a dark ground, anti-aliased (8x8 supersampling), moved ``dx`` px."""
+    ss = 8
+    y, x = np.mgrid[0:h * ss, 0:w * ss] / ss
+    inside = ((x >= 20.3 + dx) & (x < 44.3 + dx) & (y >= 12.2) & (y < 36.2)).astype(float)
+    image = inside.reshape(h, ss, w, ss).mean(axis=(1, 3)) * 230 + 10
+    return np.stack([image] * 3, axis=2).round().astype(np.uint8)
+
+
+def test_a_pass_that_excused_a_large_outline_says_so_and_boxes_it(tmp_path):
+    """The square moved 0.3 px passes (a sub-pixel shift), but its two vertical edges are
+    off by 58 levels over 23 px each: the summary says so in a line of its own, the JSON
+    lists both, the report boxes them; a shift of 0.1 px (23 levels) says nothing."""
+    (tmp_path / "ref").mkdir()
+    (tmp_path / "out").mkdir()
+    Image.fromarray(_square()).save(tmp_path / "ref" / "f.png")
+    Image.fromarray(_square(0.3)).save(tmp_path / "out" / "f.png")
+    result = compare_paths(tmp_path / "ref", tmp_path / "out")
+    assert result.passed
+    frame = result.frames[0]
+    assert [(f.box, f.large, f.levels) for f in frame.forgiven] == [((20, 13, 1, 23), 23, 58), ((44, 13, 1, 23), 23, 58)]
+    line = next(line for line in result.summary_lines() if "excused a large, connected difference" in line)
+    assert line.startswith("PASS f.png, but") and "up to 58" in line
+    write_html_report(result, tmp_path / "report.html")
+    page = (tmp_path / "report.html").read_text()
+    assert page.count('class="forgiven"') >= 2 and "excused a large, connected difference" in page
+    Image.fromarray(_square(0.1)).save(tmp_path / "out" / "f.png")
+    quiet = compare_paths(tmp_path / "ref", tmp_path / "out")
+    assert quiet.passed and not quiet.frames[0].forgiven
+    assert not any("excused a large" in line for line in quiet.summary_lines())

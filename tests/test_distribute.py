@@ -26,7 +26,7 @@ def render(output, *args):
 
 
 def frame_bytes(folder: Path) -> dict:
-    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if not p.name.startswith(".")}
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if not p.name.startswith(".") and p.is_file()}
 
 
 @pytest.fixture(scope="module")
@@ -58,6 +58,8 @@ def test_local_workers_keep_the_same_object_ids(tmp_path):
     two = render(tmp_path / "two", "--frames", "0:6", "--object-ids", "--workers", "2")
     assert frame_bytes(two / ".object_ids") == frame_bytes(one / ".object_ids")
     assert len(frame_bytes(two / ".object_ids")) == 7  # six frames' ids and objects.json
+    assert frame_bytes(two / ".object_ids" / "behind") == frame_bytes(one / ".object_ids" / "behind")
+    assert len(frame_bytes(two / ".object_ids" / "behind")) == 6
     again = CliRunner().invoke(main, ["render", SCENE, "-o", str(two), *SMALL, "--frames", "0:6", "--object-ids",
                                       "--workers", "2"])
     assert "nothing to do" in again.stderr  # the manifest vouches for the ids the workers wrote

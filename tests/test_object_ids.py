@@ -193,7 +193,7 @@ def test_diff_of_folders_uses_ids_only_where_both_sides_have_them(tmp_path):
     a, b = result.frames
     assert a.objects is not None and not a.passed and "bead moved" in a.reason
     assert b.objects is None and b.passed  # no ids for b.png: judged by colour alone, as before
-    assert "judged by object ids too: 1 of 2" in result.total_line()
+    assert "judged by object ids and colour: 1 of 2 frame(s); by colour alone: 1 (neither side" in result.total_line()
     assert result.to_json()["frames"][0]["objects"]["shift_object"] == "bead"
 
 
@@ -263,7 +263,8 @@ def test_default_graphs_have_no_object_id_pass():
         assert "object_ids" not in compiled.pass_names + compiled.culled_names
         assert all(name != "object_ids" for _, name, _ in compiled.resources())
         with_ids = plan(world, (64, 48), samples, object_ids=True).compiled
-        assert "object_ids" in with_ids.pass_names and with_ids.node("readback").reads[-1].name == "object_ids"
+        assert "object_ids" in with_ids.pass_names and [r.name for r in with_ids.node("readback").reads[-2:]] == [
+            "object_ids", "object_ids_behind"]
 
 
 # -- render --object-ids, diff, resume, references ------------------------------------------------
@@ -283,7 +284,9 @@ def cli(*args):
 def test_render_with_ids_then_diff_names_the_object(project):
     assert cli("render", "scene.yaml", "-o", "ref", "--object-ids", "-q").exit_code == 0
     ids_folder = project / "ref" / ".object_ids"
-    assert sorted(p.name for p in ids_folder.iterdir()) == ["frame_0000.png", "frame_0001.png", "objects.json"]
+    assert sorted(p.name for p in ids_folder.iterdir()) == ["behind", "frame_0000.png", "frame_0001.png",
+                                                             "objects.json"]
+    assert sorted(p.name for p in (ids_folder / "behind").iterdir()) == ["frame_0000.png", "frame_0001.png"]
     names = json.loads((ids_folder / "objects.json").read_text())
     assert names["objects"] == {"1": "wall", "2": "ball", "3": "box inline at (0.8, 0, 0)"}
     assert names["scene"] == "scene.yaml"
@@ -325,7 +328,9 @@ def test_an_object_inserted_first_is_the_only_new_one(project):
     objects = json.loads(result.output)["frames"][0]["objects"]["objects"]
     assert {o["name"]: o["status"] for o in objects if o["status"] != "both"} == \
         {"sphere inline at (0.1, 0.75, 0.5)": "new"}
-    assert {o["name"] for o in objects if o["status"] == "both"} == {"wall", "ball", "box inline at (0.8, 0, 0)"}
+    # the wall shows through the glass box: judged on the layer behind too
+    assert {o["name"] for o in objects if o["status"] == "both"} == {"wall", "ball", "box inline at (0.8, 0, 0)",
+                                                                     "wall (behind glass)"}
 
 
 @pytest.mark.gl
@@ -357,7 +362,9 @@ def test_update_references_keeps_the_ids_and_check_names_the_object(project):
     created = cli("render", "scene.yaml", "-o", "out", "--object-ids", "--check", "ref", "--update-references")
     assert created.exit_code == 0, created.stderr
     assert sorted(p.name for p in (project / "ref" / ".object_ids").iterdir()) == \
-        ["frame_0000.png", "frame_0001.png", "objects.json"]
+        ["behind", "frame_0000.png", "frame_0001.png", "objects.json"]
+    assert sorted(p.name for p in (project / "ref" / ".object_ids" / "behind").iterdir()) == \
+        ["frame_0000.png", "frame_0001.png"]
     (project / "scene.yaml").write_text(SCENE + "  - name: speck\n    mesh: {primitive: sphere, radius: 0.1}\n"
                                                "    position: [0, 0.8, 0]\n    material: {diffuse: [0.3, 0.3, 0.3]}\n")
     checked = cli("render", "scene.yaml", "-o", "out", "--object-ids", "--check", "ref")

@@ -16,9 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
+from scenerender.compare.ignore import read_ignore
 from scenerender.compare.metrics import DiffMaps, FrameMetrics, flip_error, measure, ssim, tile_means, window_sums
-from scenerender.compare.objects import IdMap, measure_objects, picture
-from scenerender.compare.result import Box, CompareResult, FrameComparison, FrameImages
+from scenerender.compare.objects import CHANGED_LEVELS, IdMap, measure_objects, picture
+from scenerender.compare.result import Box, CompareResult, Forgiven, FrameComparison, FrameImages
 from scenerender.compare.rule import DEFAULT_RULE, SHIFT_WINDOW, TILE, DiffRule
 from scenerender.compare.sources import Side, is_video_name, open_side, video_frames
 from scenerender.errors import SourceLocation, UserError, display_path
@@ -26,6 +27,11 @@ from scenerender.errors import SourceLocation, UserError, display_path
 # Frames that differ whose pictures are kept for the report; past this only numbers are kept
 # (a long video that changed everywhere would otherwise fill memory).
 MAX_KEPT_IMAGES = 24
+# A pass says in words (and the report boxes) each group of this many excused pixels off by
+# more than this many levels: the outline of a sphere moved 5 cm, 16 px over 50, up to 115.
+FORGIVEN_LEVELS = 50
+FORGIVEN_PIXELS = 8
+SHOWN_FORGIVEN = 3
 
 
 def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: DiffRule = DEFAULT_RULE,
@@ -33,8 +39,8 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
                    ) -> FrameComparison:
     """Judge one frame pair, each (H, W, 3) uint8. Pictures are kept (when ``keep_images``)
     for every frame that differs at all, passing or not, so a report can show what a pass
-    excused. SSIM is computed for failing frames only, and FLIP (slow: about 0.4 s at
-    640x480) only for failing frames whose pictures are kept, the ones a person looks at.
+    excused. SSIM and FLIP (slow: 0.6 s and 0.4 s at 1080p and 640x480) only for failing
+    frames whose pictures are kept, the ones a person looks at: without a report, neither.
     ``object_ids``: both sides' object ids (compare.objects.IdMap, or None); where both
     sides have them for the frame, the difference is named by object and the rule's object
     limits apply too; else the frame is judged by its colours alone."""
@@ -45,22 +51,73 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
         return FrameComparison(name, False, reason, size=size, images=images)
     metrics, maps = measure(reference, output, rule.aa_tolerance, with_flip=False, with_ssim=False)
     objects = None
-    if object_ids is not None and all(side is not None and side.ids.shape == reference.shape[:2]
-                                      for side in object_ids):
-        objects = measure_objects(reference, output, *object_ids, tolerance=rule.aa_tolerance)
+    colour_only = why_colour_only(object_ids, reference.shape[:2])
+    if not colour_only:  # a frame its colours fail needs its objects registered only for a report
+        register = keep_images or not rule.failures(metrics)
+        objects = measure_objects(reference, output, *object_ids, tolerance=rule.aa_tolerance, register=register)
     failures = rule.failures(metrics, objects)
     passed = not failures
-    regions = [] if passed else changed_regions(maps)  # a pass outlines nothing: its pictures show what it excused
+    regions = [] if passed else changed_regions(maps)  # a pass outlines what it forgave instead
+    forgiven = forgiven_regions(maps) if passed and metrics.max_abs > FORGIVEN_LEVELS else []
     images = None
     offenders = [] if objects is None else list(dict.fromkeys(s.name for kind in rule.offenders(objects) for s in kind))
     if keep_images and (metrics.max_abs > 0 or offenders):
         shown = picture(reference, *object_ids, offenders) if offenders else None
-        images = FrameImages(reference, output, heatmap(reference, maps), shift_map(maps), shown,
-                             *focus_window(maps, metrics, rule, passed))
-    if not passed:
-        flip = flip_error(reference, output) if images is not None else None
-        metrics = dataclasses.replace(metrics, ssim=ssim(reference, output), flip=flip)
-    return FrameComparison(name, passed, "; ".join(failures), metrics, regions, size, images, objects)
+        focus = focus_window(maps, metrics, rule, passed)
+        if forgiven:  # a pass's close-up shows the largest difference it forgave
+            focus = forgiven[0].box, f"the largest difference this pass excused: {forgiven[0].text()}"
+        images = FrameImages(reference, output, heatmap(reference, maps), shift_map(maps), shown, *focus)
+    if not passed and images is not None:  # numbers only a report shows, for the frames it shows
+        metrics = dataclasses.replace(metrics, ssim=ssim(reference, output), flip=flip_error(reference, output))
+    return FrameComparison(name, passed, "; ".join(failures), metrics, regions, size, images, objects,
+                           colour_only, forgiven)
+
+
+def forgiven_regions(maps: DiffMaps) -> list[Forgiven]:
+    """What a pass forgave that a reader must see: the groups (the largest first, at most
+    SHOWN_FORGIVEN) of FORGIVEN_PIXELS or more excused pixels off by more than
+    FORGIVEN_LEVELS in touching TILE x TILE tiles (an outline moved, a thin thing shifted;
+    the strong part of an outline is broken where the background matches, tiles join it),
+    each with its box and the excused pixels off by CHANGED_LEVELS or more in it. A
+    sub-pixel camera move leaves such outlines too: the words and the box say what was
+    excused, not that it is wrong."""
+    large = maps.excused & (maps.magnitude > FORGIVEN_LEVELS)
+    if large.sum() < FORGIVEN_PIXELS:
+        return []
+    per_tile = tile_means(large.astype(np.float32)) * TILE * TILE
+    groups = []
+    for cells in _connected_groups(per_tile > 0):
+        count = round(sum(per_tile[cell] for cell in cells))
+        if count >= FORGIVEN_PIXELS:
+            groups.append((count, cells))
+    found = []
+    for count, cells in sorted(groups, key=lambda group: -group[0])[:SHOWN_FORGIVEN]:
+        in_group = np.zeros(per_tile.shape, bool)
+        in_group[tuple(np.array(cells).T)] = True
+        ys, xs = np.nonzero(large & np.repeat(np.repeat(in_group, TILE, 0), TILE, 1)[:large.shape[0], :large.shape[1]])
+        x, y = int(xs.min()), int(ys.min())
+        w, h = int(xs.max()) - x + 1, int(ys.max()) - y + 1
+        inside = maps.excused[y:y + h, x:x + w] & (maps.magnitude[y:y + h, x:x + w] >= CHANGED_LEVELS)
+        found.append(Forgiven((x, y, w, h), int(inside.sum()), int(count), int(maps.magnitude[ys, xs].max())))
+    return found
+
+
+def why_colour_only(object_ids: tuple | None, shape: tuple[int, int]) -> str:
+    """Why a frame pair is judged by its colours alone, in words, or "" when both sides
+    have object ids of its size (then it is judged by object too)."""
+    if object_ids is None:
+        return "a video frame carries no object ids"
+    reference, output = object_ids
+    if reference is None and output is None:
+        return "neither side has object ids"
+    if reference is None:
+        return ("the reference has no object ids (made without them, e.g. by scenerender 0.5.0 or with "
+                "--no-object-ids; --update-references adds them)")
+    if output is None:
+        return "the output has no object ids (rendered with --no-object-ids or as a video)"
+    if reference.ids.shape != shape or output.ids.shape != shape:
+        return "the object ids are not the size of the frames"
+    return ""
 
 
 def heatmap(reference: np.ndarray, maps: DiffMaps) -> np.ndarray:
@@ -165,13 +222,16 @@ def _connected_groups(mask: np.ndarray) -> list[list[tuple[int, int]]]:
 
 # -- paths ----------------------------------------------------------------------------------
 
-def compare_paths(reference: Path, output: Path, rule: DiffRule = DEFAULT_RULE) -> CompareResult:
-    """Compare two images, two folders of frames or two videos (MP4/GIF) under ``rule``."""
+def compare_paths(reference: Path, output: Path, rule: DiffRule = DEFAULT_RULE, pictures: bool = True
+                  ) -> CompareResult:
+    """Compare two images, two folders of frames or two videos (MP4/GIF) under ``rule``.
+    ``pictures``: keep what a report shows (the pictures, SSIM, FLIP); without, only the verdict."""
     ref_side, out_side = open_side(Path(reference)), open_side(Path(output))
     if ref_side.kind != out_side.kind:
         raise UserError(f"cannot compare {_kind_phrase(out_side)} with {_kind_phrase(ref_side)} "
                         f"{display_path(ref_side.path)}", SourceLocation(display_path(out_side.path)))
-    result = CompareResult(ref_side, out_side, rule)
+    result = CompareResult(ref_side, out_side, rule, pictures=pictures,
+                           ignore=read_ignore(ref_side.path if ref_side.kind == "folder" else ref_side.path.parent))
     if ref_side.kind == "video":
         _compare_videos(result)
     elif ref_side.kind == "folder":
@@ -192,13 +252,34 @@ def _kind_phrase(side: Side) -> str:
 
 def _add(result: CompareResult, name: str, reference: np.ndarray, output: np.ndarray,
          object_ids: tuple | None = None) -> None:
-    keep = result.images_kept < MAX_KEPT_IMAGES
+    keep = result.pictures and result.images_kept < MAX_KEPT_IMAGES
+    ignored = result.ignore.mask_for(name, reference.shape[:2]) if result.ignore else None
+    if ignored is not None and output.shape == reference.shape:
+        output, object_ids = _ignoring(ignored, reference, output, object_ids)
     frame = compare_images(name, reference, output, result.rule, keep_images=keep, object_ids=object_ids)
+    frame.ignored = 0 if ignored is None else int(ignored.sum())
     if frame.images is not None:
         result.images_kept += 1
-    elif not frame.passed:
+    elif not frame.passed and result.pictures:
         result.images_dropped += 1
     result.frames.append(frame)
+
+
+def _ignoring(ignored: np.ndarray, reference: np.ndarray, output: np.ndarray, object_ids: tuple | None):
+    """The output with its ``ignored`` pixels (H, W bool) taken from the reference, its
+    object ids too where both sides have them of that size."""
+    output = output.copy()
+    output[ignored] = reference[ignored]
+    if object_ids is not None and all(side is not None and side.ids.shape == ignored.shape for side in object_ids):
+        ref_ids, out_ids = object_ids
+        ids = out_ids.ids.copy()
+        ids[ignored] = ref_ids.ids[ignored]
+        behind = None
+        if ref_ids.behind is not None and out_ids.behind is not None:
+            behind = out_ids.behind.copy()
+            behind[ignored] = ref_ids.behind[ignored]
+        object_ids = (ref_ids, IdMap(ids, out_ids.names, behind))
+    return output, object_ids
 
 
 def _compare_folders(result: CompareResult) -> None:

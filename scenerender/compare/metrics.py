@@ -30,6 +30,17 @@ window larger than a tile); its worst pixel is reported too. The shares and the 
 chosen on the perturbation corpus (docs/diff-margins.md, "The shift limit"): they put the
 weakest change the shift limit alone catches 4.6 times above the worst noise, against 1.65
 times for the previous shares (a quarter of each) and 8x8 windows.
+
+*A still frame's coherent change* (faint changes on detailed surfaces). Both allowances above
+are for edges that moved; where nothing moved they forgive a recolour of a faceted model or
+a widened highlight as if it were aliasing. So the frame's displacement is estimated first
+(least squares of the difference against the image gradient, over the whole frame: a camera
+moved by a fraction of a pixel moves everything one way, a recolour or a highlight moves
+nothing one way). Where it is under ``STILL_SHIFT`` pixels, no allowance is given: every
+pixel off by more than the rounding tolerance is kept with its sign (the channel of the
+largest change), and the levels past the tolerance of one sign are summed over every 32x32
+window (a region: as local as a connected component, and two cumulative sums). Re-renders, other thread counts and workers leave nothing past
+the rounding; a recolour, a shininess or a light leaves a region of one sign.
 """
 from __future__ import annotations
 
@@ -45,6 +56,8 @@ PIXEL_THRESHOLD = 24  # levels: a "bad" pixel in the plain (not shift-compensate
 SHIFTS = tuple((dy, dx) for dy in (0.0, -0.25, 0.25) for dx in (0.0, -0.25, 0.25))  # pixels; no shift first
 EDGE_SHARE = 0.5    # of the local contrast: 4x MSAA coverage steps, bilinear against rasterised edges
 ALIAS_SHARE = 1.0   # of the local second difference: detail finer than a pixel
+STILL_SHIFT = 1 / 128  # px: a frame whose estimated displacement is smaller did not move
+STILL_WINDOW = 32     # px: the side of the windows a still frame's one-sign change is summed over
 
 
 @dataclass(frozen=True)
@@ -62,6 +75,8 @@ class FrameMetrics:
     worst_tile_aa: float     # largest mean of it over any TILE x TILE block, levels
     shift_tile: float        # largest |signed mean| of the difference left after a shift, any SHIFT_WINDOW-square window
     shift_pixel: float       # largest |difference left after a shift| of any pixel, levels
+    still_region: float      # in a frame that did not move: the largest one-sign region's levels past the tolerance, summed
+    frame_shift: float       # px: the frame's estimated displacement (how far the whole picture moved)
     changed_percent: float   # % of pixels with a difference either view leaves unexplained
     excused_pixels: int      # pixels that differ by more than the tolerance, all of it explained
     largest_shift: float     # largest shift (pixels) a tile with an excused pixel needed (0: none needed)
@@ -73,7 +88,7 @@ class FrameMetrics:
         out = asdict(self)
         out["psnr"] = None if math.isinf(self.psnr) else round(self.psnr, 3)
         for key in ("mean_abs", "worst_tile", "bad_percent", "worst_tile_aa", "shift_tile", "shift_pixel",
-                    "changed_percent", "largest_shift", "flip"):
+                    "still_region", "frame_shift", "changed_percent", "largest_shift", "flip"):
             if out[key] is not None:
                 out[key] = round(out[key], 4)
         out["unexplained_mean"] = round(self.unexplained_mean, 6)
@@ -91,11 +106,13 @@ class DiffMaps:
     residual: np.ndarray     # (H, W) float32: signed difference left after the best shift (output - reference)
     shifts: np.ndarray       # (ceil(H/TILE), ceil(W/TILE), 2) float32: each tile's best (dy, dx), pixels
     tolerance: int           # levels of rounding forgiven
+    still: np.ndarray | None = None  # (H, W) bool: the largest one-sign region of a still frame, or None
 
     @property
     def changed(self) -> np.ndarray:
         """(H, W) bool: pixels with a difference either view leaves unexplained."""
-        return (self.unexplained > 0) | (self.residual != 0)
+        changed = (self.unexplained > 0) | (self.residual != 0)
+        return changed if self.still is None else changed | self.still
 
     @property
     def excused(self) -> np.ndarray:
@@ -229,6 +246,47 @@ def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int, ra
     return np.take_along_axis(per_pixel, strongest, axis=2)[..., 0], shifts
 
 
+def frame_displacement(reference: np.ndarray, output: np.ndarray) -> float:
+    """How far (px) the whole picture moved from ``reference`` to ``output``: the least-squares
+    (dy, dx) with output - reference = -(dy d/dy + dx d/dx) of the mean image, over every
+    pixel, grey levels. Edges bias it (a step is not linear over a pixel) but not its
+    direction: a quarter-pixel camera move reads 0.1 to 0.3, a recolour about 0."""
+    ref, out = reference.astype(np.float32).mean(axis=2), output.astype(np.float32).mean(axis=2)
+    mean = (ref + out) * 0.5
+    gy, gx = np.gradient(mean)
+    d = out - ref
+    a = np.array([[float((gy * gy).sum()), float((gy * gx).sum())], [float((gy * gx).sum()), float((gx * gx).sum())]])
+    b = -np.array([float((gy * d).sum()), float((gx * d).sum())])
+    if np.linalg.det(a) <= 1e-9 * max(a[0, 0] * a[1, 1], 1.0):
+        return 0.0
+    return float(np.hypot(*np.linalg.solve(a, b)))
+
+
+def still_regions(reference: np.ndarray, output: np.ndarray, tolerance: int) -> tuple[float, np.ndarray | None]:
+    """In a frame that did not move: the pixels changed one way past ``tolerance`` (the
+    channel of the largest change), their levels past it summed over each STILL_WINDOW
+    square window, one sign at a time -> (the largest sum, the (H, W) bool mask of that
+    window's pixels of that sign); (0, None) where nothing is past the tolerance. A window,
+    not a connected component: as local, and two cumulative sums instead of a labelling."""
+    signed = output.astype(np.int16) - reference.astype(np.int16)
+    strongest = np.abs(signed).argmax(axis=2)[..., None]
+    change = np.take_along_axis(signed, strongest, axis=2)[..., 0]
+    excess = np.maximum(np.abs(change) - tolerance, 0).astype(np.float32)
+    if not excess.any():
+        return 0.0, None
+    best, mask = 0.0, None
+    for side in (change > tolerance, change < -tolerance):
+        if not side.any():
+            continue
+        sums = window_sums(np.where(side, excess, 0), STILL_WINDOW)
+        row, col = np.unravel_index(int(np.argmax(sums)), sums.shape)
+        if sums[row, col] > best:
+            best = float(sums[row, col])
+            mask = np.zeros(side.shape, bool)
+            mask[row:row + STILL_WINDOW, col:col + STILL_WINDOW] = side[row:row + STILL_WINDOW, col:col + STILL_WINDOW]
+    return best, mask
+
+
 def _ranges(reference: np.ndarray, output: np.ndarray) -> tuple:
     """Both images' 3x3 neighbourhood ranges, (low, high) each, int16: what both views use."""
     return neighbourhood_range(reference.astype(np.int16)), neighbourhood_range(output.astype(np.int16))
@@ -321,6 +379,7 @@ def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
     magnitude = diff.max(axis=2)
     identical = not magnitude.any()
     rows, cols = -(-magnitude.shape[0] // TILE), -(-magnitude.shape[1] // TILE)
+    still, still_mask, moved = 0.0, None, 0.0
     if identical:
         unexplained = np.zeros(magnitude.shape, np.float32)
         residual, shifts = unexplained.copy(), np.zeros((rows, cols, 2), np.float32)
@@ -328,7 +387,11 @@ def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
         ranges = _ranges(reference, output)  # both views read them: worked out once
         unexplained = unexplained_difference(reference, output, aa_tolerance, ranges)
         residual, shifts = shift_residual(reference, output, aa_tolerance, ranges)
-    maps = DiffMaps(magnitude, unexplained, residual, shifts, aa_tolerance)
+        if magnitude.max() > aa_tolerance:
+            moved = frame_displacement(reference, output)
+            if moved < STILL_SHIFT:
+                still, still_mask = still_regions(reference, output, aa_tolerance)
+    maps = DiffMaps(magnitude, unexplained, residual, shifts, aa_tolerance, still_mask)
     excused = maps.excused
     excused_tiles = tile_means(excused.astype(np.float32)) > 0
     metrics = FrameMetrics(
@@ -341,6 +404,8 @@ def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
         worst_tile_aa=float(tile_means(unexplained).max()),
         shift_tile=worst_window_bias(residual),
         shift_pixel=float(np.abs(residual).max()),
+        still_region=still,
+        frame_shift=moved,
         changed_percent=100.0 * float(maps.changed.mean()),
         excused_pixels=int(excused.sum()),
         largest_shift=float(np.abs(shifts[excused_tiles]).max()) if excused_tiles.any() else 0.0,

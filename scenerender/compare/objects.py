@@ -32,12 +32,12 @@ sub-pixel move of a textured surface leaves residuals of both signs, which cance
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 CHANGED_LEVELS = 5       # a pixel off by this many levels on some channel counts as changed
 INTERIOR_RADIUS = 2      # interior pixels: the object's own within this many pixels, both sides
@@ -54,10 +54,23 @@ SHOWN_OBJECTS = 5        # objects named in a summary line, the most changed fir
 
 @dataclass(frozen=True)
 class IdMap:
-    """One side's object ids: ``ids`` (H, W) uint16 (0: no object), ``names`` id -> name."""
+    """One side's object ids: ``ids`` (H, W) uint16 (0: no object), ``names`` id -> name;
+    ``behind``: the ids of the nearest opaque surfaces (what shows through a transparent
+    one), or None where the render kept no such layer."""
 
     ids: np.ndarray
     names: dict
+    behind: np.ndarray | None = None
+
+    def seen_through(self) -> np.ndarray | None:
+        """(H, W) bool: where a transparent surface is nearest and another object shows
+        through it; None without the layer behind."""
+        if self.behind is None:
+            return None
+        return (self.behind != self.ids) & (self.behind != 0)
+
+    def layer_behind(self) -> "IdMap":
+        return IdMap(self.behind, self.names)
 
     def label(self, object_id: int, duplicated: set) -> str:
         name = self.names.get(object_id)
@@ -152,23 +165,67 @@ class ObjectMetrics:
 
 
 def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
-                    tolerance: int = 1) -> ObjectMetrics:
+                    tolerance: int = 1, register: bool = True) -> ObjectMetrics:
     """The id-based scores of two (H, W, 3) uint8 frames of one shape and their id maps
     ((H, W) each). Objects are matched by name (by index where a side has no names), so a
-    reordered ``objects`` list still pairs them."""
+    reordered ``objects`` list still pairs them. Where both sides kept the layer behind
+    transparent surfaces and something shows through one, the objects seen through are
+    judged on that layer too, named "... (behind glass)". Without ``register`` (a verdict
+    already failed by its colours, no report asked) only the attribution and the objects on
+    one side are worked out: no moves, no interiors."""
+    scores, background, common = _scores(reference, output, reference_ids, output_ids, tolerance, register=register)
+    scores += _seen_through(reference, output, reference_ids, output_ids, tolerance, register)
+    scores.sort(key=lambda s: (-s.changed_pixels, -s.coverage, s.name))
+    one_side = max((s for s in scores if s.status != "both"), key=lambda s: s.coverage, default=None)
+    moved = max((s for s in scores if s.shift is not None), key=lambda s: s.shift, default=None)
+    inside = max((s for s in scores if s.interior is not None), key=lambda s: abs(s.interior), default=None)
+    return ObjectMetrics(
+        objects=tuple(scores), background_changed=background,
+        common_shift=(float(common[0]), float(common[1])),
+        one_side_pixels=one_side.coverage if one_side else 0, one_side_object=one_side.name if one_side else "",
+        shift=moved.shift if moved else 0.0, shift_object=moved.name if moved and moved.shift > 0 else "",
+        interior=abs(inside.interior) if inside else 0.0,
+        interior_object=inside.name if inside and inside.interior else "")
+
+
+BEHIND_GLASS = " (behind glass)"
+
+
+def _seen_through(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
+                  tolerance: int, register: bool = True) -> list:
+    """The scores, on the layer behind, of the objects either side shows through a
+    transparent surface ([] unless both sides kept that layer and one shows something
+    through). Their colour is the glass's blend of them, the same on both sides unless
+    something changed, so they are registered and judged like any other object."""
+    through = [side.seen_through() for side in (reference_ids, output_ids)]
+    if any(mask is None for mask in through) or not (through[0].any() or through[1].any()):
+        return []
+    behind = reference_ids.layer_behind(), output_ids.layer_behind()
+    scores, _, _ = _scores(reference, output, *behind, tolerance, keep=through, register=register)
+    return [dataclasses.replace(score, name=score.name + BEHIND_GLASS) for score in scores]
+
+
+def _scores(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
+            tolerance: int, keep: list | None = None, register: bool = True) -> tuple[list, int, np.ndarray]:
+    """Every object's ``ObjectScore`` (with ``keep``, two (H, W) bool masks: only those
+    shown under the mask of one side or the other), the changed pixels of the background,
+    and the frame's common displacement (dy, dx)."""
     labels, ref_map, out_map = _unified_labels(reference_ids, output_ids)
     count = len(labels)
+    kept = None if keep is None else {int(v) for v in np.unique(ref_map[keep[0]])} | {
+        int(v) for v in np.unique(out_map[keep[1]])}
     ref_counts = np.bincount(ref_map.ravel(), minlength=count)
     out_counts = np.bincount(out_map.ravel(), minlength=count)
     changed = np.abs(reference.astype(np.int16) - output.astype(np.int16)).max(axis=2) >= CHANGED_LEVELS
-    changed_counts = (np.bincount(ref_map[changed], minlength=count)
-                      + np.bincount(out_map[changed & (out_map != ref_map)], minlength=count))
-    identical = not changed.any() and np.array_equal(reference, output)
+    counted = changed if keep is None else changed & (keep[0] | keep[1])  # behind glass: what shows through
+    changed_counts = (np.bincount(ref_map[counted], minlength=count)
+                      + np.bincount(out_map[counted & (out_map != ref_map)], minlength=count))
+    identical = not register or (not changed.any() and np.array_equal(reference, output))  # nothing to register
     weights = {label: int(min(ref_counts[label], out_counts[label])) for label in range(1, count)
                if ref_counts[label] and out_counts[label]}
     images = None if identical else _Images.of(reference, output)
     displacement = {} if identical else _displacements(images, ref_map, out_map, weights)
-    for label in weights:
+    for label in weights if register else ():  # unregistered objects have no move (None), not no move (0)
         displacement.setdefault(label, np.zeros(2))
     common = _common_shift(displacement, weights)
     # an object found away from the rest is registered again from the common displacement:
@@ -180,7 +237,7 @@ def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: Id
     interiors = {} if identical else _interior_changes(images, ref_map, out_map, displacement, tolerance)
     scores = []
     for label in range(1, count):
-        if not ref_counts[label] and not out_counts[label]:
+        if not ref_counts[label] and not out_counts[label] or kept is not None and label not in kept:
             continue
         d = displacement.get(label)
         interior, interior_pixels = interiors.get(label, (None, 0))
@@ -189,17 +246,7 @@ def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: Id
             shift=None if d is None else float(math.hypot(*(d - common))),
             displacement=None if d is None else (float(d[0]), float(d[1])),
             interior=interior, interior_pixels=interior_pixels))
-    scores.sort(key=lambda s: (-s.changed_pixels, -s.coverage, s.name))
-    one_side = max((s for s in scores if s.status != "both"), key=lambda s: s.coverage, default=None)
-    moved = max((s for s in scores if s.shift is not None), key=lambda s: s.shift, default=None)
-    inside = max((s for s in scores if s.interior is not None), key=lambda s: abs(s.interior), default=None)
-    return ObjectMetrics(
-        objects=tuple(scores), background_changed=int(changed_counts[0]),
-        common_shift=(float(common[0]), float(common[1])),
-        one_side_pixels=one_side.coverage if one_side else 0, one_side_object=one_side.name if one_side else "",
-        shift=moved.shift if moved else 0.0, shift_object=moved.name if moved and moved.shift > 0 else "",
-        interior=abs(inside.interior) if inside else 0.0,
-        interior_object=inside.name if inside and inside.interior else "")
+    return scores, int(changed_counts[0]), common
 
 
 def picture(reference: np.ndarray, reference_ids: IdMap, output_ids: IdMap, names: list[str]) -> np.ndarray:
@@ -293,13 +340,20 @@ def bounding_boxes(label_map: np.ndarray) -> dict:
     if not len(labels):
         return boxes
     count = int(labels.max()) + 1
-    low_y, low_x = np.full(count, label_map.shape[0]), np.full(count, label_map.shape[1])
-    high_y, high_x = np.full(count, -1), np.full(count, -1)
-    np.minimum.at(low_y, labels, ys)
-    np.minimum.at(low_x, labels, xs)
-    np.maximum.at(high_y, labels, ys)
-    np.maximum.at(high_x, labels, xs)
-    for label in np.unique(labels):
+    height, width = label_map.shape
+    present = np.unique(labels)
+    extents = []
+    for places, side in ((ys, height), (xs, width)):
+        if count * side <= 1 << 25:  # which rows (columns) hold each label: a count, not ufunc.at
+            held = np.bincount(labels.astype(np.int64) * side + places, minlength=count * side).reshape(count, side) > 0
+            low, high = held.argmax(axis=1), side - 1 - held[:, ::-1].argmax(axis=1)
+        else:
+            low, high = np.full(count, side), np.full(count, -1)
+            np.minimum.at(low, labels, places)
+            np.maximum.at(high, labels, places)
+        extents.append((low, high))
+    (low_y, high_y), (low_x, high_x) = extents
+    for label in present:
         boxes[int(label)] = (slice(int(low_y[label]), int(high_y[label]) + 1),
                              slice(int(low_x[label]), int(high_x[label]) + 1))
     return boxes
@@ -311,8 +365,15 @@ def square_filter(image: np.ndarray, side: int, reduce, pad: str) -> np.ndarray:
     outside the image is ``pad``: "edge" (the nearest pixel) or "constant" (zero, False)."""
     half = side // 2
     padded = np.pad(image, half, mode=pad)
-    rows = reduce(sliding_window_view(padded, side, axis=0), axis=-1)
-    return reduce(sliding_window_view(rows, side, axis=1), axis=-1)
+    pairwise = np.minimum if reduce is np.min else np.maximum  # elementwise over shifted views: no strided reduce
+    height, width = image.shape
+    rows = padded[0:height]
+    for offset in range(1, side):
+        rows = pairwise(rows, padded[offset:offset + height])
+    out = rows[:, 0:width]
+    for offset in range(1, side):
+        out = pairwise(out, rows[:, offset:offset + width])
+    return out
 
 
 def _register(images: _Images, origin: tuple, in_ref: np.ndarray, in_out: np.ndarray, others: np.ndarray,

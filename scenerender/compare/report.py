@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from scenerender.compare.diff import FORGIVEN_LEVELS
 from scenerender.compare.metrics import PIXEL_THRESHOLD, FrameMetrics
 from scenerender.compare.objects import PICTURE_COLOURS
 from scenerender.compare.result import CompareResult, FrameComparison
@@ -52,6 +53,8 @@ figure { margin: 0; } figcaption { font-size: 12px; color: #555; }
 .frame { position: relative; display: inline-block; line-height: 0; }
 .frame img { image-rendering: pixelated; display: block; }
 .box { position: absolute; border: 2px solid #ffd400; box-shadow: 0 0 0 1px #000; box-sizing: border-box; }
+.forgiven { position: absolute; border: 2px solid #ff2bd6; box-shadow: 0 0 0 1px #000; box-sizing: border-box; }
+.warn { color: #8a4b00; background: #fff4d6; padding: 4px 8px; border-left: 4px solid #ff2bd6; }
 .focus { position: absolute; border: 2px dashed #00e5ff; box-shadow: 0 0 0 1px #000; box-sizing: border-box; }
 .closeup { border-left: 4px solid #00b8d4; padding-left: 10px; }
 .stack { position: relative; display: inline-block; line-height: 0; }
@@ -99,7 +102,9 @@ def _boxes(frame: FrameComparison) -> str:
     if not frame.size:
         return ""
     focus = [frame.images.focus] if frame.images is not None and frame.images.focus else []
-    return _outlines(frame.regions, frame.size, "box") + _outlines(focus, frame.size, "focus")
+    return (_outlines(frame.regions, frame.size, "box") + _outlines([f.box for f in frame.forgiven], frame.size,
+                                                                    "forgiven")
+            + _outlines(focus, frame.size, "focus"))
 
 
 def _outlines(boxes, size: tuple[int, int], css: str) -> str:
@@ -172,6 +177,9 @@ def metrics_rows(metrics: FrameMetrics, rule: DiffRule, objects=None) -> list[tu
          metrics.unexplained_mean <= rule.max_unexplained_mean),
         (f"worst {SHIFT_WINDOW}x{SHIFT_WINDOW} window after the best shift (levels, signed mean)", _fmt(metrics.shift_tile),
          f"<= {rule.max_shift_tile:g}", metrics.shift_tile <= rule.max_shift_tile),
+        ("still frame: largest region changed one way (levels x px)", _fmt(metrics.still_region, 1),
+         f"<= {rule.max_still_region:g}", metrics.still_region <= rule.max_still_region),
+        ("how far the whole frame moved (px; under 1/128: still)", _fmt(metrics.frame_shift, 3), "", None),
         ("worst pixel after the best shift (levels)", _fmt(metrics.shift_pixel, 1), "", None),
         ("pixels excused (edge shifts and rounding)", str(metrics.excused_pixels), "", None),
         ("largest shift a tile took (px)", _fmt(metrics.largest_shift, 2), "", None),
@@ -247,6 +255,10 @@ def _frame_section(frame: FrameComparison, rule: DiffRule) -> str:
     kind = "changed" if not frame.passed else "excused"
     headline = (f'<p class="reason">{escape(frame.reason)}</p>' if not frame.passed
                 else f'<p class="ok">passes: {escape(frame.excused_line().split(": ", 1)[-1])}</p>')
+    if frame.forgiven:
+        headline += (f'<p class="warn">This pass excused a large, connected difference (boxed in magenta): '
+                     f'{escape("; ".join(f.text() for f in frame.forgiven))}. The rule took it for a sub-pixel '
+                     'edge shift; if nothing should have moved, look closely.</p>')
     parts = [f'<section class="{kind}" id="{escape(frame.name)}"><h2>{escape(frame.name)}</h2>{headline}']
     images = frame.images
     if images is None:
@@ -267,6 +279,9 @@ def _frame_section(frame: FrameComparison, rule: DiffRule) -> str:
         if images.heatmap is not None:
             figures.append(_compare_widget(images.reference, images.output))
         parts.append('<div class="row">' + "".join(figures) + "</div>")
+    if frame.ignored:
+        parts.append(f"<p>ignored: {frame.ignored} px, taken from the reference (the reference folder's "
+                     "ignore.json / ignore.png)</p>")
     if frame.metrics is not None:
         regions = ", ".join(f"x {x}..{x + w - 1} y {y}..{y + h - 1}" for x, y, w, h in frame.regions)
         parts.append(_metrics_table(frame.metrics, rule, frame.objects))
@@ -309,6 +324,15 @@ def _names_section(title: str, names: list[str]) -> str:
     return f'<section class="listing"><h2 class="bad">{escape(title)} ({len(names)})</h2><ul>{items}</ul></section>'
 
 
+def _forgiven_note(result: CompareResult) -> str:
+    """For the header: how many passing frames excused a large, connected difference."""
+    count = sum(1 for frame in result.frames if frame.passed and frame.forgiven)
+    if not count:
+        return ""
+    return (f'<br><b>but {count} passing frame(s) excused a large, connected difference (over '
+            f'{FORGIVEN_LEVELS} levels): boxed in magenta below</b>')
+
+
 def render_html(result: CompareResult) -> str:
     """The whole report page as text."""
     c = result.counts()
@@ -319,7 +343,8 @@ def render_html(result: CompareResult) -> str:
     body = [
         f'<header class="{css}"><h1>{verdict}: {escape(str(result.output.path))}</h1>'
         f'{c["compared"]} frame(s) compared: {c["passed"]} pass, {c["changed"]} changed, '
-        f'{c["missing"]} missing, {c["extra"]} extra</header><main>',
+        f'{c["missing"]} missing, {c["extra"]} extra<br>{escape(result.judged_by())}{_forgiven_note(result)}'
+        '</header><main>',
         '<section class="summary"><h2>Summary</h2>'
         f'<p>rule: {escape(result.rule.describe())}</p>'
         f'{_side_block("reference", result.reference)}{_side_block("output", result.output)}'

@@ -32,11 +32,27 @@ class FrameImages:
     focus_note: str = ""                # what that window holds, in words
 
 
+@dataclass(frozen=True)
+class Forgiven:
+    """A large difference a pass excused: its box (x, y, w, h), the excused pixels off by 5
+    levels or more in it, those off by more than 50, and the largest difference, levels."""
+
+    box: Box
+    pixels: int
+    large: int
+    levels: int
+
+    def text(self) -> str:
+        return (f"{self.pixels} px off by 5 levels or more, {self.large} of them by over 50, up to {self.levels}, "
+                f"at {_box_text(self.box)}")
+
+
 @dataclass
 class FrameComparison:
     """One frame pair. ``reason`` says why it failed ("" when it passed); ``metrics`` is
     None when the sizes differ; ``regions`` box the connected changed tiles; ``objects``:
-    the scores by object where both sides have object ids, else None."""
+    the scores by object where both sides have object ids, else None, and ``colour_only``
+    says why."""
 
     name: str
     passed: bool
@@ -46,6 +62,17 @@ class FrameComparison:
     size: tuple[int, int] | None = None          # (width, height) of the reference frame
     images: FrameImages | None = None           # kept for frames that differ, up to a cap
     objects: ObjectMetrics | None = None
+    colour_only: str = ""   # why it was judged by its colours alone ("" when by object ids too)
+    forgiven: list = field(default_factory=list)  # Forgiven: large, connected differences a pass excused
+    ignored: int = 0        # pixels left out: the reference folder's ignore regions (compare.ignore)
+
+    def forgiven_line(self) -> str:
+        """A passing frame's large excused differences in words ("" when none)."""
+        if not self.forgiven:
+            return ""
+        return (f"PASS {self.name}, but it excused a large, connected difference: "
+                + "; ".join(f.text() for f in self.forgiven)
+                + " (judged a sub-pixel edge shift; look at the boxes in the report)")
 
     def attribution(self) -> str:
         """The changed pixels by object ('bunny: 482 px; new: thin_pole 111 px'), or ''."""
@@ -87,7 +114,12 @@ class FrameComparison:
                 "size": list(self.size) if self.size else None,
                 "metrics": self.metrics.to_json() if self.metrics else None,
                 "regions": [list(box) for box in self.regions],
-                "objects": self.objects.to_json() if self.objects is not None else None}
+                "objects": self.objects.to_json() if self.objects is not None else None,
+                "judged_by": "colour" if self.colour_only else "object ids and colour",
+                "ignored_pixels": self.ignored,
+                "forgiven": [{"box": list(f.box), "pixels": f.pixels, "over_50": f.large, "levels": f.levels}
+                             for f in self.forgiven],
+                "colour_only_because": self.colour_only or None}
 
 
 def _area(box: Box) -> int:
@@ -112,6 +144,8 @@ class CompareResult:
     extra: list[str] = field(default_factory=list)
     images_kept: int = 0      # frames that differ whose pictures are kept for the report
     images_dropped: int = 0   # changed frames whose pictures were not kept (cap reached)
+    pictures: bool = True     # keep what a report shows (pictures, SSIM, FLIP); False: the verdict alone
+    ignore: object = None     # compare.ignore.IgnoreRegions of the reference folder
 
     @property
     def changed(self) -> list[FrameComparison]:
@@ -130,9 +164,30 @@ class CompareResult:
                 "changed": len(self.changed), "missing": len(self.missing), "extra": len(self.extra)}
 
     def total_line(self) -> str:
-        line = self._total()
-        by_object = sum(frame.objects is not None for frame in self.frames)
-        return line + (f"; judged by object ids too: {by_object} of {len(self.frames)} frame(s)" if by_object else "")
+        return self._total() + "; " + self.judged_by() + self.ignored_text()
+
+    def ignored_text(self) -> str:
+        """'; ignored: 640 px in 1 frame(s) (ignore.json: clock)', or ''."""
+        frames = [frame for frame in self.frames if frame.ignored]
+        if not frames:
+            return ""
+        return (f"; ignored: {sum(f.ignored for f in frames)} px in {len(frames)} frame(s) "
+                f"({self.ignore.describe()})")
+
+    def judged_by(self) -> str:
+        """How the frames were judged, in words: by object ids and colour, or by colour
+        alone and why (the first reason; a CI run that silently lost its ids must say so)."""
+        measured = [frame for frame in self.frames if frame.metrics is not None]
+        by_colour = [frame for frame in measured if frame.colour_only]
+        if not measured:
+            return "nothing judged"
+        if not by_colour:
+            return f"judged by object ids and colour ({len(measured)} frame(s))"
+        why = by_colour[0].colour_only
+        if len(by_colour) == len(measured):
+            return f"judged by colour alone: {why}"
+        return (f"judged by object ids and colour: {len(measured) - len(by_colour)} of {len(measured)} frame(s); "
+                f"by colour alone: {len(by_colour)} ({why})")
 
     def _total(self) -> str:
         c = self.counts()
@@ -156,6 +211,7 @@ class CompareResult:
         ``excused``, first a line per passing frame that differs, saying what it forgave."""
         passing = [frame for frame in self.frames if frame.passed] if excused else []
         lines = [line for line in (frame.excused_line() for frame in passing) if line]
+        lines += [frame.forgiven_line() for frame in self.frames if frame.passed and frame.forgiven]
         lines += [frame.summary_line() for frame in self.changed]
         lines += [f"MISSING {name}: in the reference, not in the output" for name in self.missing]
         lines += [f"EXTRA {name}: in the output, not in the reference" for name in self.extra]
@@ -173,5 +229,6 @@ class CompareResult:
             "frames": [frame.to_json() for frame in self.frames],
             "missing": list(self.missing),
             "extra": list(self.extra),
+            "judged_by": self.judged_by(),
             "compared_by": f"scenerender {__version__}",
         }

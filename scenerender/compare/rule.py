@@ -17,7 +17,12 @@ change the colours catch fails a colour limit by twice that limit or more. A cap
 worst pixel was measured too and left out: nothing in the corpus fails by it alone, and its
 noise (a thin lamp arm under jitter, 78 levels) lies close to the thin changes it would catch.
 
-Where both sides were rendered with object ids (``render --object-ids``), three more limits
+The still region limit judges a frame the whole of which moved under 1/128 px (re-renders,
+thread counts, workers: nothing past the rounding): the largest one-sign sum of levels past
+the rounding over a 32x32 window may be 100 levels x px. Camera moves of 1/256 px, which
+read as still, score 53-79; a halved shininess 924-975, a 3-px bead moved 1 px 134.
+
+Where both sides were rendered with object ids (``render --check`` keeps them), three more limits
 judge each object (scenerender.compare.objects): one covering pixels on one side only, one
 moved against the rest of the frame, one whose interior changed colour. They catch what no
 image statistic separates from a sub-pixel camera move: a 3-px bead moved 1 px, a sphere
@@ -51,7 +56,9 @@ class DiffRule:
     cannot explain (an object moved or dropped, a lost shadow); the mean limit a faint change
     spread wide (a colour, the field of view); the shift window limit a small or thin change
     the ranges excuse (a bias no quarter-pixel shift makes: a shape grown, an edge turned),
-    and one strong feature only one image has (a thin pole added or removed). The object
+    and one strong feature only one image has (a thin pole added or removed); the still
+    region limit, in a frame nothing moved in, a faint change of one sign the allowances for
+    moved edges would forgive (a recolour of a faceted model, a highlight widened). The object
     limits catch an object on one side only, one moved against the frame's common
     displacement, and an interior changed one way (a shininess, a colour)."""
 
@@ -66,6 +73,10 @@ class DiffRule:
                                   "Largest allowed signed mean (levels) of any 12x12 window of what is left after "
                                   "each 8x8 tile's best shift of up to 1/4 pixel: catches small and thin changes "
                                   "the ranges excuse.")
+    max_still_region: float = limit(100.0, LEVELS, "LEVELS_X_PX",
+                                    "In a frame that did not move (the whole picture moved under 1/128 px): largest "
+                                    "allowed sum of levels past the rounding over one connected region changed one "
+                                    "way (a recolour, a shininess).")
     aa_tolerance: int = limit(1, TOLERANCE_LEVELS, "LEVELS",
                               "Levels of rounding forgiven on every channel, before both tests.")
     # with object ids on both sides (compare.objects)
@@ -98,6 +109,9 @@ class DiffRule:
             out.append(f"worst {TILE}x{TILE} tile {metrics.worst_tile_aa:.2f} > {self.max_tile:g} levels unexplained")
         if metrics.unexplained_mean > self.max_unexplained_mean:
             out.append(f"unexplained mean {metrics.unexplained_mean:.4f} > {self.max_unexplained_mean:g} levels")
+        if metrics.still_region > self.max_still_region:
+            out.append(f"nothing moved, yet a region changed one way: {metrics.still_region:.0f} > "
+                       f"{self.max_still_region:g} levels x px")
         if metrics.shift_tile > self.max_shift_tile:
             out.append(f"a {SHIFT_WINDOW}x{SHIFT_WINDOW} window {metrics.shift_tile:.2f} > {self.max_shift_tile:g} levels off "
                        "after the best shift")
@@ -130,7 +144,9 @@ class DiffRule:
         return (f"difference outside both 3x3 colour ranges ({self.aa_tolerance} level tolerance): worst {TILE}x{TILE} "
                 f"tile <= {self.max_tile:g} levels, frame mean <= {self.max_unexplained_mean:g} levels; difference "
                 f"left after the best shift of up to 1/4 px per {TILE}x{TILE} tile, both ways: signed mean of any "
-                f"{SHIFT_WINDOW}x{SHIFT_WINDOW} window <= {self.max_shift_tile:g} levels; where both sides have object ids, no "
+                f"{SHIFT_WINDOW}x{SHIFT_WINDOW} window <= {self.max_shift_tile:g} levels; in a frame that did not move "
+                f"(under 1/128 px), no region changed one way by more than {self.max_still_region:g} levels x px "
+                f"summed; where both sides have object ids, no "
                 f"object on {self.min_object_pixels} px or more of one side only, none moved more than "
                 f"{self.max_object_shift:g} px against the frame, no interior changed more than "
                 f"{self.max_interior_change:g} levels")

@@ -16,11 +16,10 @@ from typing import Iterator
 import numpy as np
 
 from scenerender.colorspace import srgb_encode
+from scenerender.compare.ignore import FILES as IGNORE_FILES
 from scenerender.compare.objects import IdMap
 from scenerender.errors import SourceLocation, UserError, display_path
-from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
-from scenerender.sinks.object_ids import ids_path, read_ids, read_names
-from scenerender.world.environment_files import read_exr
+from scenerender.sinks.object_ids import behind_path, ids_path, read_ids, read_names
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr")
 VIDEO_SUFFIXES = (".mp4", ".gif")
@@ -84,6 +83,10 @@ def srgb_bytes(linear: np.ndarray) -> np.ndarray:
 
 
 def _read_exr(path: Path) -> np.ndarray:
+    # the scene layer (pydantic models) costs a quarter second to import: only for EXR frames
+    from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
+    from scenerender.world.environment_files import read_exr
+
     return srgb_bytes(read_exr(path, DEFAULT_MAX_PIXELS))
 
 
@@ -178,7 +181,8 @@ class Side:
             return None
         if self._object_names is None:
             self._object_names = read_names(self.frame_path(name).parent)
-        return IdMap(ids, self._object_names)
+        behind = read_ids(behind_path(self.frame_path(name)))
+        return IdMap(ids, self._object_names, behind if behind is not None and behind.shape == ids.shape else None)
 
     def to_json(self) -> dict:
         return {"path": str(self.path), "kind": self.kind, "provenance": self.provenance.to_json()}
@@ -190,8 +194,8 @@ def is_video_name(name: str) -> bool:
 
 def is_frame_file(path: Path) -> bool:
     """An image or video in a folder, not hidden (sidecars and the temporary files of
-    unfinished writes start with a dot)."""
-    return (path.is_file() and not path.name.startswith(".")
+    unfinished writes start with a dot) and not a reference folder's ignore mask."""
+    return (path.is_file() and not path.name.startswith(".") and path.name not in IGNORE_FILES
             and path.suffix.lower() in IMAGE_SUFFIXES + VIDEO_SUFFIXES)
 
 

@@ -81,8 +81,18 @@ def instance_bytes(models_rel: np.ndarray, normals: np.ndarray) -> bytes:
 
     GLSL matrices are column-major, so each matrix is written transposed.
     """
+    return _instance_data(models_rel, normals).tobytes()
+
+
+def instance_rows(models_rel: np.ndarray, normals: np.ndarray) -> list[bytes]:
+    """instance_bytes of each instance on its own: K byte strings of 25 floats."""
+    data = _instance_data(models_rel, normals)
+    return [row.tobytes() for row in data]
+
+
+def _instance_data(models_rel: np.ndarray, normals: np.ndarray) -> np.ndarray:
     k = len(models_rel)
     data = np.empty((k, INSTANCE_FLOATS), dtype=np.float32)
     data[:, :16] = np.swapaxes(models_rel, 1, 2).reshape(k, 16)
     data[:, 16:] = np.swapaxes(normals, 1, 2).reshape(k, 9)
-    return data.tobytes()
+    return data

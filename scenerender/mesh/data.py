@@ -52,6 +52,8 @@ class MeshData:
     images: dict = field(default_factory=dict)
     _bounds: np.ndarray | None = field(default=None, init=False, repr=False, compare=False)
     _winding: int | None = field(default=None, init=False, repr=False, compare=False)
+    _sphere: tuple | None = field(default=None, init=False, repr=False, compare=False)
+    _convex: bool | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not self.groups:
@@ -86,7 +88,52 @@ class MeshData:
             self._winding = closed_winding(self.positions, self.indices)
         return self._winding
 
+    def bounding_sphere(self) -> tuple[np.ndarray, float]:
+        """(centre (3,) float64, radius): a sphere around every position, centred on the
+        bounds. Computed once."""
+        if self._sphere is None:
+            centre = self.bounds().mean(axis=0)
+            offsets = self.positions.astype(np.float64) - centre
+            radius = float(np.sqrt((offsets ** 2).sum(axis=1).max())) if len(offsets) else 0.0
+            self._sphere = (centre, radius)
+        return self._sphere
+
+    def is_convex(self) -> bool:
+        """Whether the mesh is a closed surface with every position on or behind every
+        triangle's plane (within float32 rounding): seen from outside, its front faces
+        never cover one another. False, unchecked, for meshes over CONVEX_CHECK_LIMIT
+        triangle-vertex pairs. Computed once."""
+        if self._convex is None:
+            self._convex = (self.closed_winding() != 0
+                            and len(self.indices) * len(self.positions) <= CONVEX_CHECK_LIMIT
+                            and _all_behind_faces(self.positions, self.indices, self.closed_winding()))
+        return self._convex
+
     def record_winding(self, winding: int) -> None:
         """Set what ``closed_winding`` returns, known from an earlier analysis of the same
         positions and indices (the mesh cache keeps it)."""
         self._winding = int(winding)
+
+
+# is_convex checks every vertex against every face: up to this many pairs (a 256-triangle
+# sphere has 256 x 146; a 4,096-triangle model about 8M) before it answers "not known".
+CONVEX_CHECK_LIMIT = 20_000_000
+
+
+def _all_behind_faces(positions: np.ndarray, indices: np.ndarray, winding: int) -> bool:
+    """Every position on or behind every triangle's plane, the outside being the side its
+    ``winding`` (+1 counter-clockwise, -1 clockwise seen from outside) faces."""
+    p = positions.astype(np.float64)
+    a, b, c = (p[indices[:, k]] for k in range(3))
+    normals = np.cross(b - a, c - a) * float(winding)
+    lengths = np.linalg.norm(normals, axis=1)
+    keep = lengths > 0.0
+    normals, a = normals[keep] / lengths[keep, None], a[keep]
+    size = float(np.ptp(p, axis=0).max()) if len(p) else 0.0
+    tolerance = 1e-5 * max(size, 1e-30)
+    for start in range(0, len(normals), 1024):  # (faces, vertices) a block at a time
+        block = normals[start:start + 1024]
+        heights = p @ block.T - (a[start:start + 1024] * block).sum(axis=1)
+        if heights.max() > tolerance:
+            return False
+    return True

@@ -30,14 +30,18 @@ def opaque_items(objects: ObjectsInput, camera) -> list[DrawItem]:
     """Visible opaque groups, nearest object first, so the depth test rejects hidden
     fragments before they are shaded."""
     items = [item for item in _items(objects) if not item.material.transparent]
-    return sorted(items, key=lambda item: _distance(objects, camera, item.object_index))
+    distance = _distances(objects, camera, sorted({item.object_index for item in items}))
+    return sorted(items, key=lambda item: distance[item.object_index])
 
 
-def _distance(objects: ObjectsInput, camera, index: int) -> float:
-    """Distance from the camera to the nearest point of an object's bounds."""
-    lo, hi = objects.frames[index].bounds
-    nearest = np.clip(camera.position, lo, hi)
-    return float(np.linalg.norm(nearest - camera.position))
+def _distances(objects: ObjectsInput, camera, indices: list[int]) -> dict:
+    """Object index -> distance from the camera to the nearest point of its bounds."""
+    if not indices:
+        return {}
+    bounds = np.array([objects.frames[i].bounds for i in indices])
+    eye = np.asarray(camera.position, dtype=np.float64)
+    nearest = np.clip(eye, bounds[:, 0], bounds[:, 1])
+    return dict(zip(indices, np.sqrt(((nearest - eye) ** 2).sum(axis=1)).tolist()))
 
 
 def transparent_items(objects: ObjectsInput, camera) -> list[DrawItem]:

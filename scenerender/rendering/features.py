@@ -25,7 +25,8 @@ TEXTURE_UNITS = {
     "u_shadow_atlas": 4, "u_ao": 5, "u_skybox": 6, "u_gbuffer": 7, "u_noise": 8, "u_color": 9, "u_atlas": 10,
     "u_shadow_atlas_2": 11, "u_metallic_roughness_map": 12, "u_occlusion_map": 13, "u_emissive_map": 14,
     "u_roughness_map": 15, "u_metallic_map": 16, "u_env_diffuse": 17, "u_env_specular": 18, "u_env_source": 19,
-    "u_original": 20, "u_velocity": 21, "u_velocity_tiles": 22,
+    "u_original": 20,
+    "u_env_visibility": 21, "u_velocity": 22, "u_velocity_tiles": 23,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")
@@ -62,6 +63,7 @@ class SceneFeatures:
     environment: tuple | None = None
     environment_classic: bool = False
     environment_footprint: bool = False
+    environment_visibility: int = 0  # directions the scene's occlusion of it is sampled in
 
     @classmethod
     def of(cls, world, samples: int = 1, atlas=None) -> "SceneFeatures":
@@ -133,6 +135,11 @@ class SceneFeatures:
         defines = {"HAS_ENVIRONMENT": True, **specular_layout_defines(self.environment)}
         if self.environment_footprint:
             defines["ENV_FOOTPRINT"] = True
+        if self.environment_visibility:
+            defines["ENV_VISIBILITY"] = self.environment_visibility
+            # GGX alpha no narrower than the directions' spacing: about the angular radius
+            # of one direction's share of the sphere, sqrt(4 pi / K / pi)
+            defines["ENV_VIS_MIN_ALPHA"] = f"{min(1.0, (4.0 / self.environment_visibility) ** 0.5):.6f}"
         return defines
 
 
@@ -140,7 +147,7 @@ def _environment_features(environment) -> dict:
     if environment is None:
         return {}
     return {"environment": specular_layout(environment), "environment_classic": environment.classic,
-            "environment_footprint": environment.footprint}
+            "environment_footprint": environment.footprint, "environment_visibility": environment.visibility}
 
 
 def environment_shades(classic: bool, model: str) -> bool:

@@ -47,6 +47,7 @@ class InputHandles:
     environment: Handle | None = None      # EnvironmentState: colour x intensity, rotation
     environment_map: Handle | None = None  # scene_gpu.EnvironmentTextures: static
     lens: Handle | None = None  # LensInput, for render.depth_of_field: gather
+    environment_views: Handle | None = None  # world.environment_visibility.EnvironmentViews
     motion: Handle | None = None  # world.motion.ShutterMotion, for render.motion_blur: velocity
 
     def shading(self) -> tuple:
@@ -62,7 +63,8 @@ class InputHandles:
         """Every input handle, in import order."""
         found = [self.camera, self.objects, self.materials, self.background, self.ambient, *self.per_light,
                  *(handle for _, handle in self.shadow_views), self.lights, self.fog, self.outlines, self.skybox,
-                 self.exposure, self.environment, self.environment_map, self.lens, self.motion]
+                 self.exposure, self.environment, self.environment_map, self.lens,
+                 self.environment_views, self.motion]
         return [handle for handle in found if handle is not None]
 
 
@@ -83,6 +85,7 @@ def import_inputs(graph: FrameGraph, world) -> InputHandles:
         fog=imported(inputs.fog), outlines=imported(inputs.outlines), skybox=imported(inputs.skybox),
         exposure=imported(inputs.exposure), environment=imported(inputs.environment),
         environment_map=imported(inputs.environment_map), lens=imported(inputs.lens),
+        environment_views=imported(inputs.environment_views),
         motion=imported(inputs.motion),
     )
 
@@ -213,6 +216,8 @@ def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, 
         spec = world.spec.camera
         radius = lens_radius(frame.camera, spec.aperture, frame.focus_distance, spec.sensor_width)
         values[handles.lens.resource] = LensInput(radius, frame.focus_distance)
+    if handles.environment_views is not None:
+        values[handles.environment_views.resource] = frame.environment_views
     if handles.motion is not None:
         values[handles.motion.resource] = frame.motion
     return values

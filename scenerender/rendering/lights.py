@@ -109,6 +109,29 @@ def _shadow_view_row(view, to_world: np.ndarray, settings, page_size) -> np.ndar
     ])
 
 
+@dataclass(frozen=True)
+class _VisibilityMapSettings:
+    """The shadow settings of the environment's visibility maps: one bilinear tap each."""
+
+    pcf: int = 2
+    bias: float = 0.0
+    slope_bias: float = 0.0
+
+
+def environment_view_uniforms(views, camera_position: np.ndarray, page_size: tuple) -> tuple[bytes, bytes, bytes]:
+    """The environment's visibility maps (world.environment_visibility) as the shader reads
+    them (shaders/lighting/environment_visibility.glsl): each view's camera-relative world
+    -> (map u, v, linear depth) matrix, its (texel world size, 1 / depth range,
+    constant bias, slope bias) and its tile (min u, v, max u, v), float32 bytes of K of each."""
+    to_world = np.eye(4)
+    to_world[:3, 3] = camera_position
+    rows = np.asarray([_shadow_view_row(view, to_world, _VisibilityMapSettings(), page_size) for view in views])
+    # the row's parts: to_atlas (0-15), depth (24-27: near, 1 / range, biases), texel (32-35)
+    params = np.stack([rows[:, 33], rows[:, 25], rows[:, 26], rows[:, 27]], axis=1)
+    return (rows[:, :16].astype(np.float32).tobytes(), params.astype(np.float32).tobytes(),
+            rows[:, 20:24].astype(np.float32).tobytes())
+
+
 # The constant depth bias every lookup gets, in shadow texels: covers the depth a texel's
 # centre and a point elsewhere in it can differ by on a surface facing the light.
 BASE_BIAS_TEXELS = 0.5

@@ -25,10 +25,11 @@ from scenerender.rendering.passes.output import (
     NO_TONE, OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass, ToneCurve,
 )
 from scenerender.rendering.passes.shadow import ShadowMapPass
-from scenerender.rendering.passes.sky import NO_SKY, SkyboxPass, SkyUnder
+from scenerender.rendering.passes.sky import NO_SKY, EnvironmentSky, SkyboxPass, SkyUnder
 from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
+from scenerender.world.environment_visibility import visibility_tiles
 from scenerender.world.frame import FrameEvaluator
 from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
@@ -85,14 +86,14 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
            else hdr_target_pays(options, settings.output_transform,
                                 tone is not NO_TONE or bloom is not None or lens_blur or velocity_blur))
     # with MSAA the resolve adds the sky behind the samples; without, a pass draws it (passes/sky.py)
-    sky = (SkyUnder(inputs.camera, inputs.skybox)
-           if inputs.skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY)
+    skybox = _sky(world, inputs)
+    sky = SkyUnder(inputs.camera, skybox) if skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY
     opaque = graph.add(OpaquePass(size, samples, shading, inputs.background, fill, prepass,
                                   "rgba16f" if hdr else "srgba8", settings.line_width, settings.point_size,
                                   sky_behind=sky is not NO_SKY))
     color, depth = opaque.color, opaque.depth
-    if inputs.skybox is not None and sky is NO_SKY:
-        color = graph.add(SkyboxPass(color, depth, inputs.camera, inputs.skybox)).image
+    if skybox is not None and sky is NO_SKY:
+        color = graph.add(SkyboxPass(color, depth, inputs.camera, skybox)).image
     lines_and_points = (fill, settings.line_width, settings.point_size)  # how wireframe and points draw
     if inputs.outlines is not None:
         color = graph.add(OutlinePass(color, depth, inputs.camera, inputs.objects, inputs.outlines,
@@ -130,9 +131,17 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         view_format = "rgba32f" if options.want_linear else "rgba8"
         final = _add_view(graph, world, settings.mode, inputs, gbuffer, ao, shadow_passes, size, view_format)
         linear = final if options.want_linear else None  # the values themselves, not a colour
-    ids = graph.add(ObjectIdPass(size, inputs.camera, inputs.objects)).color if options.object_ids else None
-    graph.add(ReadbackPass(final, size, linear, ids))
+    ids = graph.add(ObjectIdPass(size, inputs.camera, inputs.objects)) if options.object_ids else None
+    graph.add(ReadbackPass(final, size, linear, ids and ids.color, ids and ids.behind))
     return graph, inputs
+
+
+def _sky(world, inputs: InputHandles):
+    """What the sky shows: the environment light's image where it says ``background:
+    true``, else render.skybox's cube map, else nothing (None)."""
+    if world.environment is not None and world.environment.background:
+        return EnvironmentSky(inputs.environment, inputs.environment_map)
+    return inputs.skybox
 
 
 def _tone_curve(world, inputs: InputHandles) -> ToneCurve:
@@ -165,7 +174,16 @@ def _environment_lighting(graph, world, inputs: InputHandles) -> EnvironmentLigh
         return None
     specular = graph.add(EnvironmentPrefilterPass(inputs.environment_map, specular_layout(environment),
                                                   environment.samples)).image
-    return EnvironmentLighting(inputs.environment, inputs.environment_map, specular)
+    visibility = None
+    if inputs.environment_views is not None:
+        page_size, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size)
+        note = f"{environment.visibility} directions of the environment, {tiles[0].size}px each"
+        visibility = graph.add(ShadowMapPass(f"{environment.name} visibility", "directional", tiles[0].size, 2, 0,
+                                             page_size, inputs.environment_views, inputs.objects, None,
+                                             _masked_materials(world, inputs, casters_only=True),
+                                             page_name="environment_visibility", note=note)).atlas
+    return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
+                               visibility)
 
 
 def prepass_pays(world, atlas, size, samples: int) -> bool:

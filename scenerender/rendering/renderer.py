@@ -54,13 +54,15 @@ def first_non_finite(linear: np.ndarray) -> str | None:
 class FrameResult:
     """pixels: (H, W, 3) uint8 top row first; linear: (H, W, 3) float32 or None;
     object_ids: (H, W) uint16 top row first, each pixel's object index + 1 (0: none), or
-    None (passes/object_ids.py)."""
+    None (passes/object_ids.py); object_ids_behind: the same of the nearest opaque surface
+    (what a transparent surface in front lets through), or None."""
 
     index: int
     time: float
     pixels: np.ndarray
     linear: np.ndarray | None = None
     object_ids: np.ndarray | None = None
+    object_ids_behind: np.ndarray | None = None
 
 
 class GLBackend:
@@ -215,18 +217,19 @@ class GraphRenderer:
     def render(self, index: int) -> FrameResult:
         time = self.frame_time(index)
         if self.film is None:
-            pixels, linear, ids = self._run_graph(index, time)
+            pixels, linear, ids, behind = self._run_graph(index, time)
         else:
-            pixels, linear, ids = self._film(index, time)
+            pixels, linear, ids, behind = self._film(index, time)
         if self.check_finite and linear is not None:
             problem = first_non_finite(linear)
             if problem is not None:
                 raise NonFiniteOutput(f"frame {index}: {problem} ({ENV_CHECK_FINITE} is on)")
-        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids)
+        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids, behind)
 
     def _run_graph(self, index: int, time: float, lens_point: tuple | None = None) -> tuple:
         """Run the graph for the scene at ``time`` (seen from ``lens_point`` of the lens,
-        world.lens): (pixels, linear or None, object ids or None)."""
+        world.lens): (pixels, linear or None, object ids or None, the object ids behind
+        transparent surfaces or None)."""
         started = perf_counter()
         frame = self.evaluator.evaluate(index, time, lens_point)
         self.backend.inputs = self.import_frame(frame)
@@ -240,7 +243,8 @@ class GraphRenderer:
             self.depth.end_frame()
         self._rendered_any = True
         outputs = self.backend.outputs
-        return outputs.pop("pixels"), outputs.pop("linear", None), outputs.pop("object_ids", None)
+        return (outputs.pop("pixels"), outputs.pop("linear", None), outputs.pop("object_ids", None),
+                outputs.pop("object_ids_behind", None))
 
     def _film(self, index: int, time: float) -> tuple:
         """The frame through the shutter and the lens: the mean in linear light of the
@@ -248,9 +252,9 @@ class GraphRenderer:
         curve and the output transform once, in NumPy (colorspace), as the output pass
         would. Object ids are the sub-frame's nearest the frame's time."""
         samples = self.film.samples_over(1.0 / float(self.world.output.fps))
-        total, ids, nearest = None, None, None
+        total, ids, nearest = None, (None, None), None
         for sample in samples:
-            _, linear, sample_ids = self._run_graph(index, time + sample.time_offset, sample.lens)
+            _, linear, *sample_ids = self._run_graph(index, time + sample.time_offset, sample.lens)
             total = linear.astype(np.float64) if total is None else total + linear
             if nearest is None or abs(sample.time_offset) < nearest:
                 ids, nearest = sample_ids, abs(sample.time_offset)
@@ -258,4 +262,4 @@ class GraphRenderer:
         settings = self.world.settings
         display = tone_map(linear, settings.tone_map, float(self.world.render.exposure(time)))
         pixels = encode_output(display, settings.output_transform, settings.gamma)
-        return pixels, linear.astype(np.float32), ids
+        return (pixels, linear.astype(np.float32), *ids)

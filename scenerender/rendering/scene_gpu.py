@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from scenerender.gpu.meshes import INSTANCE_FLOATS, GpuMesh, instance_bytes
+from scenerender.gpu.meshes import INSTANCE_FLOATS, GpuMesh, instance_bytes, instance_rows
 from scenerender.gpu.textures import TextureCache, environment_texture
 from scenerender.rendering.inputs import LightsInput
 from scenerender.rendering.lights import PackedLights
@@ -49,6 +49,7 @@ class GpuScene:
         self.shadow_buffer = ctx.buffer(reserve=_VEC4, dynamic=True)
         self._vaos: dict = {}
         self._extras: dict = {}
+        self._memories: dict = {}
         self.skybox = self._skybox()
         self.environment = (EnvironmentTextures.upload(ctx, world.environment)
                             if getattr(world, "environment", None) is not None else None)
@@ -73,8 +74,17 @@ class GpuScene:
         """Write ``frame``'s instance transforms and the packed ``lights`` into the run's
         buffers; returns the value of the graph's ``lights`` input over them. Called by
         GraphRenderer.import_frame before the frame's passes run, and nowhere else."""
+        singles = [(buffer, state) for buffer, state in zip(self.instance_buffers, frame.objects)
+                   if state.visible and state.count == 1]
+        if singles:
+            # one conversion for every single-instance object, then one write each: a scene of
+            # many separate objects pays no per-object array work here
+            rows = instance_rows(np.concatenate([state.models_rel for _, state in singles]),
+                                 np.concatenate([state.normals for _, state in singles]))
+            for (buffer, _), row in zip(singles, rows):
+                buffer.write(row)
         for buffer, state in zip(self.instance_buffers, frame.objects):
-            if state.visible:
+            if state.visible and state.count != 1:
                 buffer.write(instance_bytes(state.models_rel, state.normals))
         self._write(self.shadow_buffer, lights.views)
         self._write(self.light_buffer, lights.lights)
@@ -90,6 +100,12 @@ class GpuScene:
         if key not in self._extras:
             self._extras[key] = make(self.ctx)
         return self._extras[key]
+
+    def memory(self, name: str) -> dict:
+        """A dict a pass keeps from frame to frame for the whole run, to reuse what it
+        worked out from values that did not change (never GL objects; no image depends
+        on what it holds)."""
+        return self._memories.setdefault(name, {})
 
     def release(self) -> None:
         for obj in list(self._vaos.values()) + list(self._extras.values()):

@@ -4,6 +4,7 @@ This is what ``scenerender render`` does, without the command-line parsing.
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,6 +20,9 @@ from scenerender.run.references import check_output, require_apart_before_render
 from scenerender.run.session import Renderer, Scene, load
 from scenerender.run.workers import render_with_workers
 from scenerender.world.id_names import id_names
+
+
+WHERE_POSSIBLE = "where possible"  # RenderOptions.object_ids: keep them unless the output is a video
 
 
 @dataclass
@@ -37,7 +41,9 @@ class RenderOptions:
     workers: int = 1                 # local worker processes, each with its own GL context
     scheduler: str | None = None     # a Dask scheduler address: render on that cluster's workers
     update_references: bool = False  # with check: rewrite the references from this output
-    object_ids: bool = False         # keep each frame's object ids beside it (sinks/object_ids.py)
+    # keep each frame's object ids beside it (sinks/object_ids.py): True (a video is a UserError),
+    # False, WHERE_POSSIBLE (not in a video), or None: WHERE_POSSIBLE with ``check``, else False
+    object_ids: bool | str | None = None
     require_gpu: bool | None = None  # a software GL renderer is exit 3; None: SCENERENDER_REQUIRE_GPU decides
 
 
@@ -87,6 +93,12 @@ def object_names(world) -> dict:
     return id_names(world)
 
 
+def ids_wanted(options: RenderOptions) -> bool:
+    """Whether a run asks for object ids: on request, and by default wherever a verdict is
+    asked (``check``), so a change colours alone cannot see is judged by object too."""
+    return bool(options.object_ids) if options.object_ids is not None else options.check is not None
+
+
 def _silent(text: str) -> None:
     """Where ``render_to``'s lines go: the caller reads the summary instead."""
 
@@ -121,14 +133,16 @@ def _run_loaded(scene: Scene, overrides: list, options: RenderOptions, echo, not
     loaded = scene.loaded
     spec = loaded.spec
     frames = parse_frame_range(options.frames, spec.output.frame_count)
-    names = object_names(scene.world) if options.object_ids else None
-    sink = make_sink(loaded, spec.output.format, Path(options.output), spec.render.size, frames, names)
+    names = object_names(scene.world) if ids_wanted(options) else None
+    sink = make_sink(loaded, spec.output.format, Path(options.output), spec.render.size, frames, names,
+                     ids_required=options.object_ids is True)
+    keeps_ids = getattr(sink, "object_ids", False)
     if options.check is not None:  # before planning, which may delete out-of-date frames
         require_apart_before_rendering(sink.target, sink.is_sequence, Path(options.check))
-    plan = plan_frames(sink, frames, fingerprint(loaded, overrides, options.object_ids), loaded.path.as_posix(),
+    plan = plan_frames(sink, frames, fingerprint(loaded, overrides, keeps_ids), loaded.path.as_posix(),
                        options.overwrite, echo)
     if plan.todo:
-        summary = _render_due(scene, plan, options)
+        summary = _render_due(scene, plan, dataclasses.replace(options, object_ids=keeps_ids))
     else:
         summary = RenderSummary(0, len(frames), 0.0, sink.describe())
     echo(summary.line())

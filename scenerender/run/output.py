@@ -16,27 +16,30 @@ from scenerender.sinks import (
     remove_stale_partials,
 )
 from scenerender.sinks.base import make_folders
+from scenerender.sinks.object_ids import BEHIND
 from scenerender.sinks.object_ids import FOLDER as OBJECT_IDS_FOLDER
 
 
 def make_sink(loaded, fmt: str, output: Path, size: tuple, frames: range | None = None,
-              object_names: dict | None = None):
+              object_names: dict | None = None, ids_required: bool = True):
     """The sink ``-o output`` asks for (see ``resolve_output``): a video file, one image
     file, or an image sequence in a folder. Temporary files a killed run left in the
     target folder are removed here, before anything is decided about resuming.
     ``object_names`` (id -> name): keep each frame's object ids too (``--object-ids``),
-    which a video cannot (a UserError naming the fix)."""
+    which a video cannot: a UserError naming the fix when ``ids_required`` (``--object-ids``
+    given), else the video is written without them (its frames are judged by colour)."""
     out = loaded.spec.output
     count = len(frames) if frames is not None else out.frame_count
     with output_errors(output):  # e.g. a name too long to even look up
         target = resolve_output(Path(output), fmt, "format" in out.model_fields_set, count, loaded.name)
-    if object_names is not None and target.kind == "video":
+    if object_names is not None and target.kind == "video" and ids_required:
         raise UserError(f"--object-ids keeps each frame's ids in a PNG beside the frame, which a {target.fmt.upper()} "
                         "video cannot hold; render an image sequence instead (e.g. -o out/ --format png)",
                         SourceLocation("--object-ids"))
     _create_folder(target.folder)  # a read-only or full disk is reported here, before rendering
     remove_stale_partials(target.folder)
     remove_stale_partials(target.folder / OBJECT_IDS_FOLDER)
+    remove_stale_partials(target.folder / OBJECT_IDS_FOLDER / BEHIND)
     if target.kind == "video":
         return VideoSink(target.file, target.fmt, out.fps, size, out.quality)
     scene = loaded.path.name  # objects.json names the scene file, which references carry elsewhere

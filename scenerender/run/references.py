@@ -20,7 +20,7 @@ from scenerender.errors import SourceLocation, UserError, display_path
 from scenerender.gpu.context import create_context
 from scenerender.run.manifest import read_sidecar, sidecar_for
 from scenerender.sinks.base import atomic_path, make_folders, output_errors
-from scenerender.sinks.object_ids import ids_path, names_path
+from scenerender.sinks.object_ids import behind_path, ids_path, names_path
 
 # GL_RENDERER text -> key, first match wins. Mesa's software rasterisers name themselves;
 # vendor drivers put the vendor first ("NVIDIA H100 80GB HBM3/PCIe/SSE2").
@@ -188,21 +188,29 @@ def _sync_ids(output: Path, reference: Path, copied: set, kept: set, removed: se
     none for the frames ``removed``. objects.json comes along."""
     written = 0
     for name in sorted(copied | kept):
-        source, destination = ids_path(output / name), ids_path(reference / name)
-        if name in kept and destination.is_file():
+        if name in kept and ids_path(reference / name).is_file():
             continue
-        if source.is_file():
-            if not destination.is_file() or not filecmp.cmp(source, destination, shallow=False):
-                _copy(source, destination)
-                written += 1
-        elif destination.is_file():
-            destination.unlink()
+        written += _sync_file(ids_path(output / name), ids_path(reference / name))
+        _sync_file(behind_path(output / name), behind_path(reference / name))
     for name in sorted(removed):
         ids_path(reference / name).unlink(missing_ok=True)
+        behind_path(reference / name).unlink(missing_ok=True)
     names, kept_names = names_path(output), names_path(reference)
     if names.is_file() and not (kept_names.is_file() and filecmp.cmp(names, kept_names, shallow=False)):
         _copy(names, kept_names)
     return [f"object ids of {written} frame(s)"] if written else []
+
+
+def _sync_file(source: Path, destination: Path) -> int:
+    """Make ``destination`` a copy of ``source``, or absent where ``source`` is -> 1 when
+    it was written."""
+    if source.is_file():
+        if not destination.is_file() or not filecmp.cmp(source, destination, shallow=False):
+            _copy(source, destination)
+            return 1
+    elif destination.is_file():
+        destination.unlink()
+    return 0
 
 
 def _copy(source: Path, destination: Path) -> None:

@@ -28,7 +28,7 @@ from scenerender.rendering.renderer import FrameResult
 from scenerender.run.loop import render_into
 from scenerender.run.session import Renderer, load
 from scenerender.sinks import ImageSequenceSink
-from scenerender.sinks.object_ids import ids_path
+from scenerender.sinks.object_ids import behind_path, ids_path
 
 CHUNKS_PER_WORKER = 4  # small enough to balance uneven frames, large enough to amortise start-up
 STAGED_PATTERN = "frame_{frame:08d}"
@@ -174,6 +174,7 @@ def render_with_workers(scene, options, plan, progress) -> None:
         if sequence:
             plan.sink.path_for(index).unlink(missing_ok=True)
             ids_path(plan.sink.path_for(index)).unlink(missing_ok=True)
+            behind_path(plan.sink.path_for(index)).unlink(missing_ok=True)
     source = scene.source
     if source is None:
         raise UserError("rendering on several workers needs a scene file (workers load it themselves); "

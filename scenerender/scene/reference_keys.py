@@ -123,6 +123,10 @@ KEYS: dict[str, Key] = {
     "lights[environment].sh_order": Key("Spherical-harmonic bands of its diffuse term, 0-4.", "3"),
     "lights[environment].samples": Key("GGX samples a texel of each rough prefiltered level.", "32"),
     "lights[environment].footprint": Key("Average a reflection over the pixel's spread of directions (a sun in a smooth metal no longer sparkles); off, the exact BRDF. Measured against the reference in docs/scene-notes.md.", "true"),
+    "lights[environment].visibility": Key("The scene blocks its light, diffuse and specular (an object stands in its own shadow of the sky); `false`: every surface gets the whole environment, as before. Method and error in docs/scene-notes.md.", "false"),
+    "lights[environment].visibility_directions": Key("Directions the image is split into by median cut, each with a shadow map; more: softer, truer shadows, more time per pixel (1-64).", "64"),
+    "lights[environment].visibility_map_size": Key("Texels a side of each direction's shadow map, fitted to the shadow casters' bounds.", "1024"),
+    "lights[environment].background": Key("Draw the image behind the scene, turned by `rotation` and times colour x intensity, in place of render.skybox.", "true"),
     # -- materials ------------------------------------------------------------------------
     "materials.<name>.ambient": Key("Ka: how much of the ambient light the surface colour reflects. Not set: the MTL value, else `[1, 1, 1]`.", "[0.5, 0.5, 0.5]"),
     "materials.<name>.diffuse": Key("Kd: the surface colour (alpha included). Not set: the MTL value, else `[0.8, 0.8, 0.8]`.", "[0.6, 0.4, 0.2]"),

@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from scenerender.sinks.base import FrameSink, atomic_path, write_file
+from scenerender.sinks.base import FrameSink, atomic_path, make_folders, write_file
 from scenerender.sinks.names import name_template_problem
-from scenerender.sinks.object_ids import ids_path, write_names
+from scenerender.sinks.object_ids import behind_path, ids_path, write_names
 
 SUFFIXES = {"png": ".png", "jpg": ".jpg", "tga": ".tga", "exr": ".exr"}
 # the suffixes an `-o` file name may end in, and the format each means
@@ -110,11 +110,24 @@ class ImageSequenceSink(FrameSink):
                 write_names(path.parent, self.scene, self.object_names)
             with atomic_path(ids_path(path)) as temp:
                 write_file(temp, encode_grey16_png(frame.object_ids))
+            self._write_behind(path, getattr(frame, "object_ids_behind", None))
         else:
             ids_path(path).unlink(missing_ok=True)  # another render's ids would misname this frame
+            behind_path(path).unlink(missing_ok=True)
         with atomic_path(path) as temp:
             write_file(temp, data)
         self.written += 1
+
+    @staticmethod
+    def _write_behind(path: Path, ids) -> None:
+        """The layer behind transparent surfaces (sinks/object_ids.py), or none."""
+        where = behind_path(path)
+        if ids is None:
+            where.unlink(missing_ok=True)
+            return
+        make_folders(where.parent)
+        with atomic_path(where) as temp:
+            write_file(temp, encode_grey16_png(ids))
 
     def describe(self) -> str:
         return str(self.folder)

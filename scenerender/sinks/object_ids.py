@@ -7,6 +7,10 @@ the object it shows in the scene's ``objects`` + 1, 0 for none. ``OUT/.object_id
 names them: ``{"format": 1, "scene": "garden.yaml", "objects": {"1": "ground", ...}}``. The
 folder starts with a dot, so nothing that lists frames sees it. A single image ``-o still.png``
 keeps its ids the same way, in ``.object_ids/`` beside it.
+
+The layer behind, ``OUT/.object_ids/behind/frame_0003.png`` (same encoding), names the
+nearest opaque object at each pixel: where a transparent surface is nearest, the object
+seen through it. Renders before it have none: their frames are judged by the first layer.
 """
 from __future__ import annotations
 
@@ -20,6 +24,7 @@ from scenerender.sinks.base import atomic_path, write_file
 
 FOLDER = ".object_ids"
 NAMES_FILE = "objects.json"
+BEHIND = "behind"
 FORMAT = 1
 
 
@@ -27,6 +32,12 @@ def ids_path(frame: Path) -> Path:
     """Where the ids of the frame file ``frame`` are kept."""
     frame = Path(frame)
     return frame.parent / FOLDER / (frame.stem + ".png")
+
+
+def behind_path(frame: Path) -> Path:
+    """Where the ids of the nearest opaque surfaces of the frame file ``frame`` are kept."""
+    frame = Path(frame)
+    return frame.parent / FOLDER / BEHIND / (frame.stem + ".png")
 
 
 def names_path(folder: Path) -> Path:

@@ -4,9 +4,10 @@ in-process and measured against the CPU reference.
 One knob changes at a time from the scene's own settings (the "default" row): MSAA
 samples, shadow map size, PCF size, shadow bias, ambient occlusion on/off, image size;
 then a few shadow map size and PCF pairs together ("combined"); with an environment light,
-its prefilter size, spherical-harmonic order, prefilter samples and footprint filter; with
-a shutter or an aperture, the sub-frames a frame (render.film_samples); with a shutter, the
-other way of filming it (render.motion_blur: sub_frames or velocity). What is made once a run
+its prefilter size, spherical-harmonic order, prefilter samples and footprint filter, and
+its visibility (off, and its directions and map size); with a shutter or an aperture, the
+sub-frames a frame (render.film_samples); with a shutter, the other way of filming it
+(render.motion_blur: sub_frames or velocity). What is made once a run
 (the prefiltered environment) is timed apart, in ``once_ms``.
 Timing: every variant keeps its renderer open and the variants take turns frame by frame
 (so a slow spell of a shared machine spreads over all of them), frames 1..F of the scene
@@ -40,8 +41,11 @@ SH_ORDERS = (1, 2, 3, 4)
 PREFILTER_SAMPLES = (32, 128, 256, 512, 1024)
 # sub-frames a frame where the camera has a shutter or an aperture (world/lens.py)
 FILM_SAMPLES = (1, 2, 4, 8, 16, 32, 64)
+VISIBILITY_DIRECTIONS = (8, 16, 32, 64)
+VISIBILITY_MAP_SIZES = (256, 512, 1024)
 KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size", "sh_order",
-         "env_samples", "env_footprint", "film_samples", "motion_blur")
+         "env_samples", "env_footprint", "env_visibility", "env_directions", "env_map_size", "film_samples",
+         "motion_blur")
 ONCE_PASSES = ("environment_prefilter",)  # passes a run makes once, whose cost is not per frame
 
 
@@ -130,6 +134,14 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
         each("env_samples", "prefilter samples {}", f"{key}.samples", PREFILTER_SAMPLES, environment.samples)
         add("env_footprint", "footprint " + ("off" if environment.footprint else "on"),
             f"{key}.footprint={'false' if environment.footprint else 'true'}", False, True)
+        seen = bool(environment.visibility)
+        add("env_visibility", "visibility " + ("off" if seen else "on"),
+            f"{key}.visibility={'false' if seen else 'true'}", False, True)
+        if seen:
+            each("env_directions", "{} directions", f"{key}.visibility_directions", VISIBILITY_DIRECTIONS,
+                 environment.visibility)
+            each("env_map_size", "visibility maps {}", f"{key}.visibility_map_size", VISIBILITY_MAP_SIZES,
+                 environment.visibility_map_size)
     camera = scene.world.spec.camera
     if camera is not None and (camera.shutter > 0 or camera.aperture is not None):
         each("film_samples", "{} sub-frames", "render.film_samples", FILM_SAMPLES, spec.film_samples)

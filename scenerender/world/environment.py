@@ -50,6 +50,11 @@ class EnvironmentDef:
     sh_order: the highest spherical-harmonic band of the diffuse term (0..4).
     samples: GGX samples a texel of each rough prefiltered level.
     footprint: the specular lookup widened to the pixel's spread of reflection directions.
+    visibility: how many directions the scene's occlusion of the light is sampled in, each
+    with a shadow map of ``visibility_map_size`` texels a side (world.environment_visibility);
+    0: the scene does not block it.
+    background: the image is drawn behind the scene (turned by ``rotation``, times colour x
+    intensity), in place of the skybox.
     """
 
     name: str
@@ -64,6 +69,9 @@ class EnvironmentDef:
     sh_order: int = 4
     samples: int = 512
     footprint: bool = False
+    visibility: int = 0
+    visibility_map_size: int = 512
+    background: bool = False
 
     @cached_property
     def sh(self) -> np.ndarray:
@@ -126,7 +134,8 @@ def environment_def(scene, images, sky_faces) -> EnvironmentDef | None:
                                scene.source) from None
     return EnvironmentDef(light.name or f"environment{index}", path, image, light.color, light.intensity,
                           light.enabled, light.rotation, light.classic, light.prefilter_size, light.sh_order,
-                          light.samples, light.footprint)
+                          light.samples, light.footprint, light.visibility_directions if light.visibility else 0,
+                          light.visibility_map_size, light.background)
 
 
 def skybox_image(faces, images) -> np.ndarray:
@@ -248,7 +257,7 @@ def sh_bands(order: int) -> np.ndarray:
 def project_sh(image: np.ndarray, order: int) -> np.ndarray:
     """((order + 1)^2, 3) coefficients of ``image`` (equirectangular radiance) on
     ``sh_basis``: the integral of radiance x basis over the sphere, texel by texel."""
-    small = _area_average(image, SH_PROJECTION_WIDTH)
+    small = area_average(image, SH_PROJECTION_WIDTH)
     height, width = small.shape[:2]
     weights = texel_solid_angles(height, width)
     grid = equirect_directions(height, width)
@@ -272,7 +281,7 @@ def diffuse_radiance(coefficients: np.ndarray, normals: np.ndarray) -> np.ndarra
     return np.maximum(out, 0.0).reshape(shape + (3,))
 
 
-def _area_average(image: np.ndarray, max_width: int) -> np.ndarray:
+def area_average(image: np.ndarray, max_width: int) -> np.ndarray:
     """``image`` shrunk by a whole factor (box filter) to at most ``max_width`` wide."""
     height, width = image.shape[:2]
     factor = 1

@@ -17,8 +17,9 @@ from scenerender.world.inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lens import lens_radius, through_lens
 from scenerender.world.motion import ShutterMotion, blurs_by_velocity, shutter_motion
 from scenerender.world.environment import EnvironmentState
+from scenerender.world.environment_visibility import EnvironmentViews, environment_views, median_cut, visibility_tiles
 from scenerender.world.lights import LightState, ambient_light, evaluate_lights
-from scenerender.world.facing import hidden_from_eye
+from scenerender.world.facing import hidden_from_eye, hidden_side
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
 from scenerender.world.transforms import normal_matrices, union_bounds
 
@@ -76,6 +77,8 @@ class FrameState:
     materials: dict         # id(Material) -> evaluated uniforms
     environment: EnvironmentState | None = None  # the environment light's, where the scene has one
     focus_distance: float | None = None  # where the lens focuses, with camera.aperture (world.lens)
+    # the environment's visibility maps' views (world.environment_visibility), where it has them
+    environment_views: EnvironmentViews | None = None
     motion: ShutterMotion | None = None  # each object's motion over the shutter, with render.motion_blur: velocity
 
     def shadowed_lights(self) -> list[int]:
@@ -93,6 +96,7 @@ class FrameEvaluator:
         self.aspect = size[0] / size[1]
         self.atlas = atlas
         self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio)
+        self._last_environment_views = None  # (what they were fitted to, EnvironmentViews)
 
     @cached_property
     def _windings(self) -> list:
@@ -108,14 +112,26 @@ class FrameEvaluator:
         return {i: self._placement(obj, obj.matrices(0.0), self._windings[i])
                 for i, obj in enumerate(self.world.objects) if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
 
+    @cached_property
+    def _still(self) -> "StillObjects":
+        """The objects that never move and have one instance, as arrays: their per-frame
+        work (the camera-relative shift, the view test, the faces to skip) done for all
+        of them at once."""
+        return StillObjects.of(self.world.objects, {i: p for i, p in self._fixed.items()
+                                                    if len(p[0]) == 1})
+
     def evaluate(self, index: int, time: float, lens_point: tuple | None = None) -> FrameState:
         """The frame at ``time``; ``lens_point`` (x, y on the unit disc): seen from that point
         of the lens of ``camera.aperture`` (world.lens), else from the pinhole."""
         world = self.world
-        placements = [self._fixed.get(i) or self._placement(obj, obj.matrices(time), self._windings[i])
+        still = self._still
+        placements = [None if i in still.rows else self._fixed.get(i) or
+                      self._placement(obj, obj.matrices(time), self._windings[i])
                       for i, obj in enumerate(world.objects)]
-        visible = [bool(obj.visible(time)) for obj in world.objects]
-        bounds = union_bounds([p[2] for p, v in zip(placements, visible) if v])
+        visible = [still.visible[still.rows[i]] if i in still.rows else bool(obj.visible(time))
+                   for i, obj in enumerate(world.objects)]
+        bounds = union_bounds([p[2] for p, v in zip(placements, visible) if v and p is not None]
+                              + still.visible_bounds())
         if self.rig.first_bounds is None:
             # the default camera frames frame 0 (t = 0), whichever frame a run starts
             # with: a resumed or --frames run must draw what a full run draws
@@ -128,7 +144,9 @@ class FrameEvaluator:
         if lens_point is not None:
             camera = self._through_lens(camera, lens_point, focus)
         planes = frustum_planes(camera.view_proj_relative())
-        objects = [self._object(obj, p, v, camera, planes) for obj, p, v in zip(world.objects, placements, visible)]
+        still_frames = still.frames(camera, planes)
+        objects = [still_frames[still.rows[i]] if p is None else self._object(obj, p, v, camera, planes)
+                   for i, (obj, p, v) in enumerate(zip(world.objects, placements, visible))]
         lights = evaluate_lights(world.lights, time, camera)
         render = world.render
         fog = render.fog
@@ -139,9 +157,12 @@ class FrameEvaluator:
             fog_color=np.asarray(fog.color(time), dtype=np.float64)[:3] if fog else np.zeros(3),
             fog_density=fog.density(time) if fog else 0.0, exposure=float(render.exposure(time)),
             bounds=bounds, shadow_views=self._shadow_views(lights, world, objects, bounds, camera),
-            materials={id(m): _material_values(m, time) for m in world.materials()},
+            materials={id(m): self._constant_materials.get(id(m)) or _material_values(m, time)
+                       for m in world.materials()},
             environment=world.environment.state(time) if world.environment is not None else None,
-            focus_distance=focus, motion=self._motion(time, camera.position, bounds),
+            focus_distance=focus,
+            environment_views=self._environment_views(world, objects, bounds, time),
+            motion=self._motion(time, camera.position, bounds),
         )
 
     def _motion(self, time: float, origin: np.ndarray, bounds) -> ShutterMotion | None:
@@ -169,7 +190,8 @@ class FrameEvaluator:
         if name is None:
             return self.rig.focus_distance(t)
         index = next(i for i, obj in enumerate(self.world.objects) if obj.name == name)
-        lo, hi = placements[index][2]
+        # a still object's placement is kept in _fixed (evaluate leaves its slot None)
+        lo, hi = (placements[index] or self._fixed[index])[2]
         return max(float(np.dot((lo + hi) / 2.0 - camera.position, camera.forward)), 1e-6)
 
     def _through_lens(self, camera: CameraState, point: tuple, focus: float) -> CameraState:
@@ -206,10 +228,42 @@ class FrameEvaluator:
         return ObjectFrame(visible, rel.astype(np.float32), matrices, normals, bounds, (bounds[0] + bounds[1]) / 2.0,
                            int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding)
 
+    @cached_property
+    def _environment_directions(self) -> tuple:
+        """The environment's visibility directions and weights (median_cut), once a run."""
+        environment = self.world.environment
+        return median_cut(environment.image, environment.visibility)
+
+    def _environment_views(self, world: World, objects: list, bounds, time: float) -> EnvironmentViews | None:
+        environment = world.environment
+        if environment is None or not environment.visibility:
+            return None
+        casters = union_bounds([f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows])
+        to_image = environment.state(time).to_image
+        # the views depend on these alone: a frame where none changed keeps the last ones
+        # (fitting K views costs milliseconds; most scenes' objects stand still)
+        key = tuple(np.asarray(a).tobytes() if a is not None else None for a in (casters, bounds, to_image))
+        if self._last_environment_views is not None and self._last_environment_views[0] == key:
+            return self._last_environment_views[1]
+        directions, weights = self._environment_directions
+        _, tiles = visibility_tiles(len(directions), environment.visibility_map_size)
+        views = environment_views(directions, weights, to_image, tiles, casters, bounds)
+        self._last_environment_views = (key, views)
+        return views
+
+    @cached_property
+    def _constant_materials(self) -> dict:
+        """id(Material) -> its values, for the materials none of whose values animate."""
+        return {id(m): _material_values(m, 0.0) for m in self.world.materials()
+                if all(getattr(m, key).is_constant for key in MATERIAL_TRACKS)}
+
     def _shadow_views(self, lights: list[LightState], world: World, objects: list, bounds, camera) -> dict:
         if self.atlas is None:
             return {}
-        casters = union_bounds([f.bounds for obj, f in zip(world.objects, objects) if f.visible and obj.cast_shadows])
+        still = self._still
+        casters = union_bounds([f.bounds for i, (obj, f) in enumerate(zip(world.objects, objects))
+                                if f.visible and obj.cast_shadows and i not in still.rows]
+                               + still.visible_bounds(casters_only=True))
         fixed = world.fixed_shadow_sizes
         follows_camera = any(light.kind == "directional" and i not in fixed for i, light in enumerate(world.lights))
         visible = visible_region(camera, bounds) if follows_camera else None
@@ -217,6 +271,97 @@ class FrameEvaluator:
         for index, tiles in sorted(self.atlas.tiles.items()):
             views[index] = light_views(lights[index], tiles, casters, bounds, None if index in fixed else visible)
         return views
+
+
+class StillObjects:
+    """Objects that never move and have one instance each, stacked: a scene of many
+    separate objects costs a few array operations a frame for them, not a Python loop's
+    worth of small ones per object. ``rows``: object index -> row. The frames it makes
+    hold the same values, bit for bit, as FrameEvaluator._object makes one at a time."""
+
+    def __init__(self, rows: dict, visible: list, casts: np.ndarray, matrices: np.ndarray, normals: np.ndarray,
+                 bounds: np.ndarray, windings: np.ndarray, local_bounds: np.ndarray):
+        self.rows = rows
+        self.visible = visible
+        self.matrices = matrices          # (M, 4, 4) float64
+        self.normals = normals            # (M, 3, 3) float32
+        self.bounds = bounds              # (M, 2, 3) world
+        self.centers = (bounds[:, 0] + bounds[:, 1]) / 2.0
+        self.windings = windings          # (M,) int
+        self.local_bounds = local_bounds  # (M, 2, 3) of the meshes
+        shown = np.asarray(visible, dtype=bool)
+        self._union = union_bounds(list(bounds[shown]))
+        self._casters_union = union_bounds(list(bounds[shown & casts]))
+
+    @classmethod
+    def of(cls, objects: list, placements: dict) -> "StillObjects":
+        """placements: object index -> FrameEvaluator._placement of an object with one instance."""
+        indices = sorted(placements)
+        rows = {index: row for row, index in enumerate(indices)}
+        if not indices:
+            empty = np.zeros((0, 2, 3))
+            return cls(rows, [], np.zeros(0, dtype=bool), np.zeros((0, 4, 4)), np.zeros((0, 3, 3), np.float32),
+                       empty, np.zeros(0, dtype=int), empty)
+        chosen = [placements[i] for i in indices]
+        return cls(rows, [bool(objects[i].visible(0.0)) for i in indices],
+                   np.array([objects[i].cast_shadows for i in indices], dtype=bool),
+                   np.concatenate([p[0] for p in chosen]), np.concatenate([p[1] for p in chosen]),
+                   np.stack([p[2] for p in chosen]), np.array([p[3] for p in chosen], dtype=int),
+                   np.stack([objects[i].mesh.bounds() for i in indices]).astype(np.float64))
+
+    def visible_bounds(self, casters_only: bool = False) -> list:
+        """The union of the visible ones' world bounds (of the shadow casters among them), as
+        a list of at most one box to add to other boxes."""
+        union = self._casters_union if casters_only else self._union
+        return [] if union is None else [union]
+
+    def frames(self, camera: CameraState, planes: np.ndarray) -> list:
+        """An ObjectFrame per row, for ``camera`` (whose view volume ``planes`` bound)."""
+        if not self.rows:
+            return []
+        rel = self.matrices.copy()
+        rel[:, :3, 3] -= camera.position
+        rel32 = rel.astype(np.float32)
+        inside = _boxes_in_view(self.local_bounds, rel, planes)
+        hidden = _hidden_faces_of_boxes(self.windings, self.bounds, camera)
+        frames = []
+        for row, shown in enumerate(self.visible):
+            end = row + 1
+            frames.append(ObjectFrame(shown, rel32[row:end], self.matrices[row:end], self.normals[row:end],
+                                      self.bounds[row], self.centers[row], int(inside[row]) if shown else 0,
+                                      hidden[row], int(self.windings[row])))
+        return frames
+
+
+def _boxes_in_view(local_bounds: np.ndarray, models: np.ndarray, planes: np.ndarray) -> np.ndarray:
+    """instances_in_view for M objects of one instance each: local_bounds (M, 2, 3),
+    models (M, 4, 4) -> (M,) bool."""
+    center = (local_bounds[:, 0] + local_bounds[:, 1]) / 2.0
+    extent = (local_bounds[:, 1] - local_bounds[:, 0]) / 2.0
+    linear = models[:, :3, :3]
+    world_center = np.einsum("mij,mj->mi", linear, center) + models[:, :3, 3]
+    world_extent = np.einsum("mij,mj->mi", np.abs(linear), extent)
+    normals, offsets = planes[:, :3], planes[:, 3]
+    reach = world_extent @ np.abs(normals).T
+    distance = world_center @ normals.T + offsets
+    return np.all(distance + reach >= 0.0, axis=1)
+
+
+def _hidden_faces_of_boxes(windings: np.ndarray, bounds: np.ndarray, camera: CameraState) -> list:
+    """hidden_faces for M objects: windings (M,), world bounds (M, 2, 3)."""
+    if camera.orthographic:
+        return [None] * len(windings)
+    eye, forward = np.asarray(camera.position, dtype=np.float64), np.asarray(camera.forward, dtype=np.float64)
+    lo, hi = bounds[:, 0], bounds[:, 1]
+    # the nearest corner along ``forward``: per axis the low or the high side
+    nearest = np.where(forward >= 0.0, lo, hi)
+    depths = (nearest - eye) @ forward
+    projection = camera.projection
+    reach = camera.near * float(np.sqrt(1.0 + 1.0 / projection[0, 0] ** 2 + 1.0 / projection[1, 1] ** 2))
+    outside_by = np.linalg.norm(np.maximum(np.maximum(lo - eye, eye - hi), 0.0), axis=1)
+    may_see_inside = (depths <= camera.near) & (outside_by <= reach)
+    return [None if winding == 0 or inside else hidden_side(int(winding))
+            for winding, inside in zip(windings, may_see_inside)]
 
 
 def hidden_faces(winding: int, bounds: np.ndarray, camera: CameraState) -> str | None:
@@ -250,6 +395,9 @@ def instances_in_view(local_bounds: np.ndarray, models: np.ndarray, planes: np.n
     reach = world_extent @ np.abs(normals).T                    # (K, 6)
     distance = world_center @ normals.T + offsets               # (K, 6)
     return np.all(distance + reach >= 0.0, axis=1)
+
+
+MATERIAL_TRACKS = ("ambient", "diffuse", "specular", "emissive", "shininess", "opacity", "metallic", "roughness")
 
 
 def _material_values(material, t: float) -> dict:

@@ -74,13 +74,15 @@ class WorldInputs:
     environment: WorldInput | None = None      # intensity, colour and rotation of the environment light
     environment_map: WorldInput | None = None  # its image and diffuse map on the GPU: static
     lens: WorldInput | None = None  # the thin lens's radius and focus, for render.depth_of_field: gather
+    environment_views: WorldInput | None = None  # its visibility maps' views: follow the objects and its rotation
     motion: WorldInput | None = None  # the objects' and camera's motion over the shutter, for render.motion_blur: velocity
 
     def all(self) -> list[WorldInput]:
         fixed = [self.camera, self.objects, self.materials, self.background, *self.per_light, self.ambient,
                  *self.shadow_views.values(), self.lights]
         return fixed + [i for i in (self.fog, self.outlines, self.skybox, self.exposure, self.environment,
-                                    self.environment_map, self.lens, self.motion) if i is not None]
+                                    self.environment_map, self.lens,
+                                    self.environment_views, self.motion) if i is not None]
 
 
 def _input(name: str, keys: list, follows: tuple = ()) -> WorldInput:
@@ -142,17 +144,23 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
         skybox=_input("skybox", []) if render.skybox is not None else None,
         exposure=_input("exposure", ["render.exposure"] if animated_keys(render.exposure) else [])
         if has_exposure(render) else None,
-        **_environment_inputs(world.environment),
+        **_environment_inputs(world.environment, objects),
     )
 
 
-def _environment_inputs(environment) -> dict:
-    """The environment light's two inputs: its per-frame values, animated by its keys, and
-    its images, which never change (so what is computed from them alone is cached)."""
+def _environment_inputs(environment, objects: WorldInput) -> dict:
+    """The environment light's inputs: its per-frame values, animated by its keys; its
+    images, which never change (so what is computed from them alone is cached); and where
+    the scene blocks its light, the views of its visibility maps, fitted to the objects and
+    turned with its rotation (not with its colour or intensity)."""
     if environment is None:
         return {}
     keys = [f"{environment.name}.{key}" for key in animated_keys(environment)]
-    return {"environment": _input("environment", keys), "environment_map": _input("environment_map", [])}
+    found = {"environment": _input("environment", keys), "environment_map": _input("environment_map", [])}
+    if environment.visibility:
+        placement = [f"{environment.name}.{key}" for key in animated_keys(environment, skip=LIGHT_APPEARANCE_KEYS)]
+        found["environment_views"] = _input("environment_views", placement, (objects,))
+    return found
 
 
 def has_exposure(render) -> bool:

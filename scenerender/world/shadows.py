@@ -208,10 +208,13 @@ def _view(rotation: np.ndarray, eye: np.ndarray) -> np.ndarray:
 
 
 def _directional(direction, casters, everything, tile, visible=None) -> ShadowView:
-    """An orthographic view across the light covering the casters' footprint where the
-    camera sees receivers (``visible``); depth spans all casters and receivers so nothing
-    between them is clipped."""
-    rotation = directional_rotation(direction)
+    return directional_view(directional_rotation(direction), casters, everything, tile, visible)
+
+
+def directional_view(rotation, casters, everything, tile, visible=None) -> ShadowView:
+    """An orthographic view across a directional light (its ``directional_rotation``)
+    covering the casters' footprint where the camera sees receivers (``visible``); depth
+    spans all casters and receivers so nothing between them is clipped."""
     c = box_corners(casters) @ rotation.T
     a = box_corners(everything) @ rotation.T
     footprint = _footprint(rotation, casters, visible)

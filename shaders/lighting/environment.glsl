@@ -5,6 +5,9 @@
 // - specular: the prefiltered levels (environment/prefilter.frag) at the reflection
 //   direction, linearly between the two levels around the roughness.
 #include "lighting/environment_map.glsl"
+#ifdef ENV_VISIBILITY
+#include "lighting/environment_visibility.glsl"
+#endif
 
 uniform sampler2D u_env_diffuse;
 uniform sampler2D u_env_specular;
@@ -43,5 +46,12 @@ vec3 env_specular(vec3 r, float roughness) {
 vec3 pbr_environment(vec3 n, vec3 v, Surface s) {
     PbrAmbientWeights w = pbr_ambient_weights(n, v, s);
     return w.diffuse * env_diffuse(n) + w.specular * env_specular(reflect(-v, n), s.roughness);
+}
+
+// The same with the diffuse and specular terms scaled by what reaches the surface of each
+// (seen: env_visibility's (V_d, V_s), with the other occlusions applied).
+vec3 pbr_environment_seen(vec3 n, vec3 v, Surface s, vec2 seen) {
+    PbrAmbientWeights w = pbr_ambient_weights(n, v, s);
+    return w.diffuse * env_diffuse(n) * seen.x + w.specular * env_specular(reflect(-v, n), s.roughness) * seen.y;
 }
 #endif

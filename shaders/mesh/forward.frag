@@ -54,22 +54,40 @@ void main() {
     n = mapped_normal(n, gl_FrontFacing ? v_tangent : vec4(-v_tangent.xyz, v_tangent.w), v_uv);
 #endif
     vec3 v = safe_normalize(-v_position, n);
-    float ambient_visibility = 1.0;
+    float screen_ao = 1.0;
 #ifdef HAS_AO
-    ambient_visibility = texelFetch(u_ao, ivec2(gl_FragCoord.xy), 0).r;
+    screen_ao = texelFetch(u_ao, ivec2(gl_FragCoord.xy), 0).r;
 #endif
+    float material_occlusion = 1.0;
 #ifdef HAS_OCCLUSION_MAP
-    ambient_visibility *= surface_occlusion(v_uv);
+    material_occlusion = surface_occlusion(v_uv);
+#endif
+    float ambient_visibility = screen_ao * material_occlusion;
+#ifdef ENV_VISIBILITY
+    // what reaches the surface of the environment's light, diffuse and specular; SSAO
+    // darkens it only where it finds more occlusion than the visibility maps did (the
+    // smaller of the two, so no occluder counts twice); the occlusion map multiplies
+    // (detail the maps cannot resolve)
+#ifdef SHADING_PBR
+    float env_roughness = s.roughness;
+#else
+    float env_roughness = 1.0;
+#endif
+    vec2 env_seen = min(env_visibility(v_position, n, v, env_roughness), vec2(screen_ao)) * material_occlusion;
 #endif
 #ifdef SHADING_PBR
     vec3 color = u_ambient * u_ka * pbr_ambient(n, v, s) * ambient_visibility + direct_light(v_position, n, v, s)
                + surface_emission(v_uv);
-#ifdef HAS_ENVIRONMENT
+#if defined(ENV_VISIBILITY)
+    color += u_ka * pbr_environment_seen(n, v, s, env_seen);
+#elif defined(HAS_ENVIRONMENT)
     color += u_ka * pbr_environment(n, v, s) * ambient_visibility;
 #endif
 #else
     vec3 color = u_ambient * u_ka * s.base * ambient_visibility + direct_light(v_position, n, v, s) + surface_emission(v_uv);
-#ifdef HAS_ENVIRONMENT
+#if defined(ENV_VISIBILITY)
+    color += u_ka * s.base * env_diffuse(n) * env_seen.x;  // classic: its diffuse term, as an ambient
+#elif defined(HAS_ENVIRONMENT)
     color += u_ka * s.base * env_diffuse(n) * ambient_visibility;  // classic: its diffuse term, as an ambient
 #endif
 #endif

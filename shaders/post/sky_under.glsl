@@ -5,10 +5,10 @@
 // sky fills what is left, 1 - alpha. Without SKY_UNDER the mean passes through.
 #ifdef SKY_UNDER
 in vec3 v_direction;  // skybox/skybox.vert
-uniform samplerCube u_skybox;
+#include "skybox/sky_source.glsl"
 
 vec4 sky_under(vec4 mean) {
-    return vec4(mean.rgb + (1.0 - mean.a) * texture(u_skybox, v_direction).rgb, 1.0);
+    return vec4(mean.rgb + (1.0 - mean.a) * sky_radiance(v_direction), 1.0);
 }
 #else
 vec4 sky_under(vec4 mean) {

@@ -1,7 +1,7 @@
 in vec3 v_direction;
-uniform samplerCube u_skybox;
+#include "skybox/sky_source.glsl"
 out vec4 frag_color;
 
 void main() {
-    frag_color = vec4(texture(u_skybox, v_direction).rgb, 1.0);
+    frag_color = vec4(sky_radiance(v_direction), 1.0);
 }

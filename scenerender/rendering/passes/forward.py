@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import moderngl
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
-from scenerender.gpu.uniforms import set_uniforms
+from scenerender.gpu.uniforms import matrix_bytes, set_uniforms
 from scenerender.rendering.draw import (
     MESH_VERTEX, begin_camera_pass, bind_lights, bind_material, bind_shadow_atlas, bind_texture_units,
     cull_hidden_faces, draw_item, opaque_items, single_sided_faces, skip_faces, stop_culling, transparent_items,
@@ -16,6 +16,7 @@ from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
 from scenerender.rendering.inputs import InputHandles
 from scenerender.rendering.passes.environment import EnvironmentLighting
 from scenerender.rendering.passes.data import ImageData, TargetData
+from scenerender.rendering.visible_samples import VisibleSamplesPlan, plan_visible_samples
 
 FORWARD_FRAGMENT = "mesh/forward.frag"
 DEPTH_ONLY_FRAGMENT = "mesh/depth_only.frag"
@@ -46,25 +47,30 @@ class Shading:
         if self.environment is not None:
             self.environment.bind(ctx)
 
-    def draw(self, ctx, items, mode=None, cull_hidden: bool = False) -> None:
+    def draw(self, ctx, items, mode=None, cull_hidden: bool = False, before_item=None) -> None:
         """Shade ``items`` with each material's program variant; ``cull_hidden``: skip the
         faces the camera cannot see (opaque surfaces only), and the back faces of
-        single-sided materials."""
+        single-sided materials; ``before_item(item)``, where given, runs before each draw."""
         camera = ctx.input(self.inputs.camera)
         objects = ctx.input(self.inputs.objects)
         materials = ctx.input(self.inputs.materials)
-        view_proj = camera.view_proj_relative()
-        ambient = ctx.input(self.inputs.ambient)
-        fog = ctx.input(self.inputs.fog) if self.inputs.fog is not None else None
-        environment = self.environment.uniforms(ctx) if self.environment is not None else {}
+        frame_values = dict(u_view_proj=matrix_bytes(camera.view_proj_relative()),
+                            u_ambient=ctx.input(self.inputs.ambient),
+                            **(self.environment.uniforms(ctx, camera.position) if self.environment is not None else {}))
+        if self.inputs.fog is not None:
+            fog = ctx.input(self.inputs.fog)
+            frame_values.update(u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
+        ready = set()  # the programs given frame_values in this draw (many materials share one)
         for item in items:
             program = self._program(ctx, item.material)
-            set_uniforms(program, u_view_proj=view_proj, u_ambient=ambient, **environment)
-            if fog is not None:
-                set_uniforms(program, u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
+            if id(program) not in ready:
+                set_uniforms(program, **frame_values)
+                ready.add(id(program))
             bind_material(program, item.material, materials)
             if cull_hidden:
                 cull_faces(ctx.gl, objects, item)
+            if before_item is not None:
+                before_item(item)
             draw_item(objects, program, item, mode)
 
     def _program(self, ctx, material):
@@ -152,9 +158,15 @@ class OpaquePass(RenderPass):
         items = opaque_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
         solid = self.fill == "solid"  # wireframes and points show every face's edges
         try:
-            if self.prepass:
-                self._depth_prepass(ctx, items, fbo)
-            self.shading.draw(ctx, items, mode, cull_hidden=solid)
+            plan = self._depth_prepass(ctx, items, fbo) if self.prepass else None
+            if plan is None or plan.prepass_is_everything:
+                self.shading.draw(ctx, plan.order if plan else items, mode, cull_hidden=solid)
+            else:
+                # the depth of what the prepass left out is written as it is shaded; what it
+                # drew keeps its own (an alpha-masked surface's holes must stay empty)
+                def depth_writes(item):
+                    fbo.depth_mask = item.object_index not in plan.prepass
+                self.shading.draw(ctx, plan.order, mode, cull_hidden=solid, before_item=depth_writes)
         finally:
             stop_culling(gl)
             gl.wireframe = False
@@ -162,23 +174,36 @@ class OpaquePass(RenderPass):
             fbo.depth_mask = True
             gl.depth_func = ctx.depth.nearer
 
-    def _depth_prepass(self, ctx, items, fbo) -> None:
-        """Lay down depth for every opaque item without shading, then leave the depth test
-        at 'equal or nearer' with depth writes off: the shading draw that follows runs the
-        expensive fragment shader only for the surface each pixel finally shows."""
-        view_proj = ctx.input(self.shading.inputs.camera).view_proj_relative()
+    def _depth_prepass(self, ctx, items, fbo) -> VisibleSamplesPlan:
+        """Lay down depth for the opaque items without shading, then leave the depth test at
+        'equal or nearer': the shading draw that follows runs the expensive fragment shader
+        only for the surface each pixel finally shows, and with visible samples its
+        post-depth coverage names the samples where that surface is seen. Returns the plan:
+        the items in the order the shading draw takes them, and what the prepass drew.
+
+        For visible samples alone, the prepass draws only what rendering/visible_samples.py
+        says it must, and the shading draw writes the depth of the rest itself."""
+        objects = ctx.input(self.shading.inputs.objects)
+        camera = ctx.input(self.shading.inputs.camera)
+        if self.shading.visible_samples:
+            plan = plan_visible_samples(objects, camera, items, objects.gpu.memory("visible samples"))
+        else:
+            plan = VisibleSamplesPlan(items, frozenset(item.object_index for item in items))
+        view_proj = camera.view_proj_relative()
         program = ctx.programs.get(MESH_VERTEX, DEPTH_ONLY_FRAGMENT)
         set_uniforms(program, u_view_proj=view_proj)
-        objects = ctx.input(self.shading.inputs.objects)
         materials = ctx.input(self.shading.inputs.materials)
         fbo.color_mask = (False, False, False, False)
         for item in items:
+            if item.object_index not in plan.prepass:
+                continue
             cull_faces(ctx.gl, objects, item)
             draw_item(objects, self._depth_program(ctx, program, item.material, materials, view_proj), item)
         stop_culling(ctx.gl)
         fbo.color_mask = (True, True, True, True)
         fbo.depth_mask = False
         ctx.gl.depth_func = ctx.depth.nearer_or_equal
+        return plan
 
     @staticmethod
     def _depth_program(ctx, program, material, materials, view_proj):

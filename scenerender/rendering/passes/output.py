@@ -170,6 +170,7 @@ class ReadbackData:
     pixels: Handle
     linear: Handle | None
     object_ids: Handle | None = None
+    object_ids_behind: Handle | None = None
 
 
 @dataclass(frozen=True)
@@ -177,19 +178,21 @@ class ReadbackPass(RenderPass):
     """Copies the final image to the CPU: ctx.outputs["pixels"] = (H, W, 3) uint8, top row
     first; with ``linear`` also ctx.outputs["linear"] = (H, W, 3) float32 for EXR: the linear
     colour, or a data view's values; with ``object_ids`` (passes/object_ids.py) also
-    ctx.outputs["object_ids"] = (H, W) uint16, top row first."""
+    ctx.outputs["object_ids"] = (H, W) uint16, top row first, and with ``object_ids_behind``
+    ctx.outputs["object_ids_behind"] the same of the nearest opaque surfaces."""
 
     pixels: Handle
     size: tuple
     linear: Handle | None = None
     object_ids: Handle | None = None
+    object_ids_behind: Handle | None = None
 
     name = "readback"
     side_effect = True
 
     def setup(self, builder) -> ReadbackData:
-        builder.read(self.pixels, *(h for h in (self.linear, self.object_ids) if h is not None))
-        return ReadbackData(self.pixels, self.linear, self.object_ids)
+        builder.read(self.pixels, *(h for h in (self.linear, self.object_ids, self.object_ids_behind) if h is not None))
+        return ReadbackData(self.pixels, self.linear, self.object_ids, self.object_ids_behind)
 
     def execute(self, ctx, data: ReadbackData) -> None:
         width, height = self.size
@@ -201,6 +204,8 @@ class ReadbackPass(RenderPass):
             image = ctx.image(data.linear)  # rgba16f colour, or an rgba32f data view
             values = np.frombuffer(image.read(alignment=1), dtype=np.dtype(image.dtype)).reshape(height, width, 4)
             ctx.outputs["linear"] = np.ascontiguousarray(values[::-1, :, :3], dtype=np.float32)
-        if data.object_ids is not None:
-            ids = np.frombuffer(ctx.image(data.object_ids).read(alignment=1), dtype=np.uint16)
-            ctx.outputs["object_ids"] = np.ascontiguousarray(ids.reshape(height, width)[::-1])
+        for key in ("object_ids", "object_ids_behind"):
+            handle = getattr(data, key)
+            if handle is not None:
+                ids = np.frombuffer(ctx.image(handle).read(alignment=1), dtype=np.uint16)
+                ctx.outputs[key] = np.ascontiguousarray(ids.reshape(height, width)[::-1])

@@ -30,6 +30,8 @@ class ShadowMapPass(RenderPass):
     page_size: its (width, height). views: the light's ``shadow_views`` input, dynamic
     wherever the views follow the camera. materials: the ``materials`` input, read only in
     a scene with alpha-masked materials (glTF MASK), whose cut-away pixels cast no shadow.
+    page_name: the depth texture's name where it is not an atlas page, and ``note`` what
+    the dump shows instead (the environment's visibility maps, rendering.pipeline).
     """
 
     keeps_unchanged = True  # casters are drawn relative to the light, never the camera
@@ -44,6 +46,8 @@ class ShadowMapPass(RenderPass):
     objects: Handle
     atlas_in: Handle | None = None
     materials: Handle | None = None
+    page_name: str | None = None
+    note: str = ""
 
     @property
     def name(self) -> str:
@@ -52,10 +56,13 @@ class ShadowMapPass(RenderPass):
     def setup(self, builder) -> ShadowMapData:
         builder.read(self.views, self.objects, *((self.materials,) if self.materials is not None else ()))
         if self.atlas_in is None:
-            return ShadowMapData(builder.create(atlas_page_name(self.page), ResourceDesc("depth", self.page_size, "depth24")))
+            name = self.page_name or atlas_page_name(self.page)
+            return ShadowMapData(builder.create(name, ResourceDesc("depth", self.page_size, "depth24")))
         return ShadowMapData(builder.write(self.atlas_in, own_region=True))  # its own tiles
 
     def describe(self) -> str:
+        if self.note:
+            return self.note
         views = "6 cube faces" if self.kind == "point" else "1 view"
         return f"{self.kind} light, {views}, {self.map_size}px, pcf {self.pcf}"
 

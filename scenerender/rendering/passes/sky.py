@@ -1,4 +1,6 @@
-"""The cube-map sky, behind everything the camera sees.
+"""The sky behind everything the camera sees: the cube-map skybox, or the environment
+light's image where it says ``background: true`` (turned by its rotation, times its colour
+x intensity: ``SKY_ENVIRONMENT`` in the shaders).
 
 Two ways in, by target, each the cheaper there (measured on Mesa llvmpipe, the showcase
 at 640x480):
@@ -29,11 +31,38 @@ from scenerender.rendering.passes.data import ImageData
 SKY_VERTEX = "skybox/skybox.vert"  # a full-screen triangle with each pixel's view direction
 
 
-def _use_sky(ctx, program, camera: Handle, skybox: Handle) -> None:
-    """Bind the cube map and the camera's inverse projection for SKY_VERTEX."""
+@dataclass(frozen=True)
+class EnvironmentSky:
+    """The environment light's image as the sky: its per-frame ``environment`` input
+    (rotation, colour x intensity) and its static ``environment_map`` (the image)."""
+
+    environment: Handle
+    environment_map: Handle
+
+    def handles(self) -> tuple:
+        return self.environment, self.environment_map
+
+
+def _use_sky(ctx, program, camera: Handle, skybox) -> None:
+    """Bind the sky (a cube map's handle, or an EnvironmentSky) and the camera's inverse
+    projection for SKY_VERTEX."""
     set_uniforms(program, u_inverse_view_proj=np.linalg.inv(ctx.input(camera).view_proj_relative()),
                  u_ndc_near_far=ctx.depth.ndc_near_far)
-    ctx.input(skybox).use(TEXTURE_UNITS["u_skybox"])
+    if isinstance(skybox, EnvironmentSky):
+        state = ctx.input(skybox.environment)
+        set_uniforms(program, u_env_to_image=state.to_image, u_env_scale=state.scale)
+        ctx.input(skybox.environment_map).source.use(TEXTURE_UNITS["u_env_source"])
+    else:
+        ctx.input(skybox).use(TEXTURE_UNITS["u_skybox"])
+
+
+def _sky_handles(skybox) -> tuple:
+    return skybox.handles() if isinstance(skybox, EnvironmentSky) else (skybox,)
+
+
+def sky_defines(skybox) -> dict:
+    """The sky shaders' defines for ``skybox`` (a cube map's handle or an EnvironmentSky)."""
+    return {"SKY_ENVIRONMENT": True} if isinstance(skybox, EnvironmentSky) else {}
 
 
 @dataclass(frozen=True)
@@ -44,12 +73,12 @@ class SkyboxPass(RenderPass):
     color: Handle
     depth: Handle
     camera: Handle
-    skybox: Handle
+    skybox: object  # the cube map's handle, or an EnvironmentSky
 
     name = "skybox"
 
     def setup(self, builder) -> ImageData:
-        builder.read(self.depth, self.camera, self.skybox)
+        builder.read(self.depth, self.camera, *_sky_handles(self.skybox))
         return ImageData(builder.write(self.color))
 
     def execute(self, ctx, data: ImageData) -> None:
@@ -57,7 +86,7 @@ class SkyboxPass(RenderPass):
         ctx.framebuffer([data.image], self.depth).use()
         gl.enable(moderngl.DEPTH_TEST)
         gl.depth_func = ctx.depth.nearer_or_equal
-        program = ctx.programs.get(SKY_VERTEX, "skybox/skybox.frag")
+        program = ctx.programs.get(SKY_VERTEX, "skybox/skybox.frag", sky_defines(self.skybox))
         bind_texture_units(program)
         _use_sky(ctx, program, self.camera, self.skybox)
         ctx.fullscreen(program)
@@ -70,18 +99,18 @@ class SkyUnder:
     as NO_SKY, nothing: the resolves use either alike."""
 
     camera: Handle | None = None
-    skybox: Handle | None = None
+    skybox: object = None  # the cube map's handle, or an EnvironmentSky
 
     def declare(self, builder) -> None:
         if self.skybox is not None:
-            builder.read(self.camera, self.skybox)
+            builder.read(self.camera, *_sky_handles(self.skybox))
 
     def vertex(self) -> str:
         """The resolve's vertex shader: with the view direction per pixel where it adds the sky."""
         return SKY_VERTEX if self.skybox is not None else FULLSCREEN_VERTEX
 
     def defines(self) -> dict:
-        return {"SKY_UNDER": True} if self.skybox is not None else {}
+        return {"SKY_UNDER": True, **sky_defines(self.skybox)} if self.skybox is not None else {}
 
     def describe(self) -> str:
         return ", sky behind" if self.skybox is not None else ""

@@ -100,6 +100,11 @@ class EnvironmentLight(_LightBase):
     sh_order: number(0, 4, integer=True) = 4
     samples: number(1, 4096, integer=True) = 512
     footprint: Bool = False  # reflections averaged over the pixel's spread of directions (an option)
+    # the scene blocks the environment's light (world.environment_visibility); false: not
+    visibility: Bool = True
+    visibility_directions: number(1, 64, integer=True) = 16  # directions, each with a shadow map
+    visibility_map_size: number(32, 4096, integer=True) = 512  # texels per side of each map
+    background: Bool = False  # the image drawn behind the scene (in place of render.skybox), turned by rotation
 
 
 LightSpec = tagged_union("type", "light", {"directional": DirectionalLight, "point": PointLight,

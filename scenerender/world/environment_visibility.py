@@ -1,0 +1,141 @@
+"""How much of the environment light the scene blocks at a surface, CPU side. No GL.
+
+The environment image is split into K regions by median cut (Debevec, "A median cut
+algorithm for light probe sampling", 2005): the region holding the most of the measure is
+cut across its longer side (its width taken at its middle row's latitude) where half its
+measure lies on each side, until there are K. The measure is half power (channel mean x
+solid angle), half solid angle, each as a share of the whole: by power alone a bright
+patch takes most directions and leaves the dim horizon and ground, which light the lower
+half of a resting object, one or two. Each region becomes one direction (its
+power-weighted centroid) with a weight (its share of the image's power, whatever the cut
+shared out). Each direction gets an orthographic shadow map over the casters' footprint,
+as a directional light's (world.shadows), on one depth texture of K tiles; the shader
+(shaders/lighting/environment_visibility.glsl) turns the lookups into the fraction of the
+light that reaches a point:
+
+    V_d = sum_k w_k max(N.l_k, 0) s_k / sum_k w_k max(N.l_k, 0)
+    V_s = sum_k w_k max(N.l_k, 0) D(N.h_k) s_k / sum_k w_k max(N.l_k, 0) D(N.h_k)
+
+(s_k: 1 lit, 0 shadowed; D: GGX of the surface's roughness, at least the directions'
+spacing), which scale the split sum's diffuse and specular terms. A point no direction
+is blocked at gets exactly 1, so a convex object alone is not darkened by itself.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from scenerender.world.environment import area_average, equirect_directions, texel_solid_angles
+from scenerender.world.shadows import Tile, directional_rotation, directional_view
+
+CUT_WIDTH = 128  # the image is area-averaged to at most this wide before the cut
+MAX_TEXTURE_SIDE = 16384  # what every GL 4.3 device offers (world.directional_views)
+AREA_SHARE = 0.5  # the cuts share out this much solid angle beside power (see median_cut)
+
+
+def median_cut(image: np.ndarray, count: int, area_share: float = AREA_SHARE) -> tuple[np.ndarray, np.ndarray]:
+    """((count, 3) unit directions in the image's frame, (count,) weights summing to 1):
+    the centroids and power shares of ``count`` regions of about equal measure (the
+    module's docstring; ``area_share`` 0 is Debevec's equal power)."""
+    small = area_average(np.asarray(image, dtype=np.float64), CUT_WIDTH)
+    while small.shape[0] * small.shape[1] < count:  # a tiny image: texels enough for every region
+        small = np.repeat(np.repeat(small, 2, axis=0), 2, axis=1)
+    height, width = small.shape[:2]
+    area = np.broadcast_to(texel_solid_angles(height, width), (height, width))
+    power = np.maximum(small.mean(axis=2), 0.0) * area
+    if not np.any(power > 0.0):
+        power = area.copy()
+    # what the cuts share out: power, and with ``area_share`` of it solid angle
+    measure = (1.0 - area_share) * power / power.sum() + area_share * area / area.sum()
+    regions = [(0, height, 0, width)]
+    while len(regions) < count:
+        cuttable = sorted((r for r in regions if r[1] - r[0] > 1 or r[3] - r[2] > 1),
+                          key=lambda r: -measure[r[0]:r[1], r[2]:r[3]].sum())
+        if not cuttable:
+            break
+        for region in cuttable[:count - len(regions)]:
+            regions.remove(region)
+            regions.extend(_cut(region, measure, height))
+    directions = equirect_directions(height, width)
+    found_directions, weights = [], []
+    for top, bottom, left, right in regions:
+        p = power[top:bottom, left:right]
+        total = p.sum()
+        d = (directions[top:bottom, left:right] * (p if total > 0 else np.ones_like(p))[..., None]).sum(axis=(0, 1))
+        found_directions.append(d / max(np.linalg.norm(d), 1e-12))
+        weights.append(total)
+    weights = np.asarray(weights)
+    return np.asarray(found_directions), weights / weights.sum()
+
+
+def _cut(region: tuple, power: np.ndarray, height: int) -> list:
+    """``region`` (top, bottom, left, right) in two, across its longer side, at its power's median."""
+    top, bottom, left, right = region
+    middle = math.sin((top + bottom) / 2.0 / height * math.pi)  # a row's width shrinks towards the poles
+    across_columns = (right - left) * middle >= (bottom - top) and right - left > 1 or bottom - top == 1
+    p = power[top:bottom, left:right]
+    profile = p.sum(axis=0) if across_columns else p.sum(axis=1)
+    cumulative = np.cumsum(profile)
+    at = int(np.searchsorted(cumulative, cumulative[-1] / 2.0)) + 1
+    at = min(max(at, 1), len(profile) - 1)
+    if across_columns:
+        return [(top, bottom, left, left + at), (top, bottom, left + at, right)]
+    return [(top, top + at, left, right), (top + at, bottom, left, right)]
+
+
+def visibility_tiles(count: int, size: int, max_side: int = MAX_TEXTURE_SIDE) -> tuple[tuple, list]:
+    """((width, height) of the depth texture, [Tile] per direction): ``count`` tiles of
+    ``size`` texels (halved until the texture fits ``max_side``) in the grid of least area,
+    the squarer of two equal ones."""
+    columns = min(range(1, count + 1), key=lambda c: (c * math.ceil(count / c), abs(c - math.ceil(count / c))))
+    rows = math.ceil(count / columns)
+    while max(columns, rows) * size > max_side and size > 16:
+        size //= 2
+    tiles = [Tile((k % columns) * size, (k // columns) * size, size) for k in range(count)]
+    return (columns * size, rows * size), tiles
+
+
+@dataclass(frozen=True)
+class EnvironmentViews:
+    """The visibility maps at one instant: ``views`` one ShadowView per direction,
+    ``directions`` (K, 3) the world directions towards the light, ``weights`` (K,) their
+    power shares."""
+
+    views: list
+    directions: np.ndarray
+    weights: np.ndarray
+
+    def same_as(self, other) -> bool:
+        return (isinstance(other, EnvironmentViews) and len(self.views) == len(other.views)
+                and all(a.same_as(b) for a, b in zip(self.views, other.views))
+                and np.array_equal(self.directions, other.directions) and np.array_equal(self.weights, other.weights))
+
+
+def environment_views(directions: np.ndarray, weights: np.ndarray, to_image: np.ndarray, tiles: list, casters,
+                      everything) -> EnvironmentViews:
+    """One orthographic ShadowView per direction (image frame, (K, 3)), turned into the
+    world (``to_image``: world -> image), over the casters' whole footprint."""
+    world_directions = directions @ to_image  # (to_image.T @ d) for each d
+    if casters is None or everything is None:
+        casters = everything = np.array([[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]])
+    # to_image turns about +Y, which a view's rotation keeps up: the image frame's
+    # rotations, made once, then turned (rather than K look_rotations a frame)
+    rotations = view_rotations(directions) @ to_image
+    views = [directional_view(rotation, casters, everything, tile) for rotation, tile in zip(rotations, tiles)]
+    return EnvironmentViews(views, world_directions, weights)
+
+
+@lru_cache(maxsize=4)
+def _view_rotations(key: bytes, count: int) -> np.ndarray:
+    directions = np.frombuffer(key, dtype=np.float64).reshape(count, 3)
+    return np.stack([directional_rotation(-d) for d in directions])
+
+
+def view_rotations(directions: np.ndarray) -> np.ndarray:
+    """(K, 3, 3) world -> view rotations of shadow views looking along -``directions``
+    (the light travelling from them), in the image's frame."""
+    d = np.ascontiguousarray(directions, dtype=np.float64)
+    return _view_rotations(d.tobytes(), len(d))
