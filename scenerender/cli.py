@@ -503,7 +503,8 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
 @click.option("--knob", "knobs", multiple=True,
               type=click.Choice(["samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size",
                                  "sh_order", "env_samples", "env_footprint", "env_visibility", "env_directions",
-                                 "env_map_size", "film_samples", "motion_blur"]),
+                                 "env_map_size", "film_samples", "blocker_samples", "filter_samples",
+                                 "motion_blur"]),
               help="Sweep only these knobs (repeatable; default all).")
 @click.option("--frames", type=click.IntRange(1, 1000), default=3, show_default=True,
               help="Timed frames per variant and round (after one warm-up frame).")
@@ -520,8 +521,9 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON on stdout.")
 @_asset_root_option
 def bench(scene, output, knobs, frames, rounds, spp, environment_samples, overrides, as_json, asset_roots):
-    """Sweep SCENE's quality knobs (MSAA, shadow map size, PCF, bias, AO, image size, and an
-    environment light's prefilter size, SH order and prefilter samples) on
+    """Sweep SCENE's quality knobs (MSAA, shadow map size, PCF, bias, AO, image size, an
+    environment light's prefilter size, SH order and prefilter samples, and the soft
+    shadows' blocker and filter reads where a shadowed light has a size) on
     the GPU path and measure each variant's ms/frame and its error against the CPU
     reference (RMSE linear and sRGB, PSNR, FLIP, shadow-edge, cone-edge and interior RMSE).
     Writes a Markdown table, JSON and a plot of ms/frame against error with the Pareto

@@ -46,6 +46,7 @@ CASES = {
     "film": ("film.yaml", 32, []),
     # the studio environment not blocked by the scene: what gltf_pbr drew before visibility
     "gltf_pbr@visibility_off": ("gltf_pbr.yaml", 36, ["lights[2].visibility=false"]),
+    "soft_light": ("soft_light.yaml", 0, []),
 }
 
 

@@ -90,6 +90,10 @@ VALUES = {
 # keys whose values differ from another key's of the same last name
 PATH_VALUES = {"lights[environment].rotation": (0.0, 90.0)}
 ENVIRONMENT = {"type": "environment", "name": "studio", "image": "studio.hdr", "classic": True}
+# area lights, added to BASE for their own keys
+AREA_LIGHTS = {"rect": {"type": "rect", "name": "panel", "position": [1, 3, -1], "width": 1, "height": 0.5,
+                        "shadows": True},
+               "disk": {"type": "disk", "name": "lamp", "position": [-1, 3, 1], "radius": 0.4, "shadows": True}}
 
 
 def animatable_keys() -> list[str]:
@@ -128,6 +132,9 @@ def animated_scene(path: str) -> dict:
         scene.setdefault("render", {})["film_samples"] = 2
     if path.startswith("lights[environment]"):
         scene["lights"].append(dict(ENVIRONMENT))
+    for kind, light in AREA_LIGHTS.items():
+        if path.startswith(f"lights[{kind}]"):
+            scene["lights"].append(copy.deepcopy(light))
     node, leaf = _locate(scene, path)
     first, second = PATH_VALUES.get(path, VALUES.get(leaf))
     node[leaf] = {"keys": [[0, first], [1, second]]}
@@ -228,7 +235,7 @@ def test_a_colour_animation_leaves_shadow_maps_and_geometry_cached(tmp_path):
 @pytest.mark.parametrize("path", ["camera.fov", "objects[].visible", "lights[spot].outer_angle",
                                   "materials.<name>.opacity", "render.fog.density", "render.exposure",
                                   "objects[].outline.color",
-                                  "lights[directional].direction", "objects[].instances[].position",
+                                  "lights[directional].direction", "objects[].instances[].position", "lights[rect].position",
                                   "lights[environment].rotation"])
 def test_cached_frames_equal_uncached_frames(gl, tmp_path, path):
     """The behaviour the marks stand for: a frame drawn with static passes kept from

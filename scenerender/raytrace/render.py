@@ -42,7 +42,7 @@ import numpy as np
 from scenerender import option_rules
 from scenerender.colorspace import encode_output, tone_map
 from scenerender.errors import UserError
-from scenerender.raytrace import environment, shading
+from scenerender.raytrace import environment, shading, sized_lights
 from scenerender.raytrace.geometry import Soup, frame_soup
 from scenerender.raytrace.rays import TriangleCaster
 from scenerender.raytrace.textures import MapSampler
@@ -206,7 +206,8 @@ def _render_instant(world, evaluator, index: int, time: float, size: tuple, spp:
     later = [sub_frame] if sub_frame else []  # the first sub-frame draws what a frame without a shutter drew
     scene = _FrameScene(world, frame, warn, ambient_samples,
                         np.random.Generator(np.random.PCG64([index, 1, *later])), environment_samples,
-                        np.random.Generator(np.random.PCG64([index, 2, *later])), lens)
+                        np.random.Generator(np.random.PCG64([index, 2, *later])),
+                        np.random.Generator(np.random.PCG64([index, 3, *later])), lens)
     rng = np.random.Generator(np.random.PCG64([index, *later]) if later else np.random.PCG64(index))
     rows_per_chunk = max(1, _CHUNK_SAMPLES // (width * spp * spp))
     chunks = [scene.render_rows(y0, min(height, y0 + rows_per_chunk), width, height, spp, rng)
@@ -227,9 +228,12 @@ class _FrameScene:
     """One frame's geometry, lights and materials, ready to shade samples."""
 
     def __init__(self, world, frame, warn, ambient_samples: int = 0, ambient_rng=None,
-                 environment_samples: int = ENVIRONMENT_SAMPLES, environment_rng=None, lens: tuple | None = None):
-        """lens: (radius, focus distance) of a thin lens, None for a pinhole."""
+                 environment_samples: int = ENVIRONMENT_SAMPLES, environment_rng=None, light_rng=None,
+                 lens: tuple | None = None):
+        """light_rng: draws points of lights with a size; lens: (radius, focus distance) of a
+        thin lens, None for a pinhole."""
         self.world = world
+        self.light_rng = light_rng if light_rng is not None else np.random.Generator(np.random.PCG64(3))
         self.lens = lens
         self.frame = frame
         self.ambient_samples = ambient_samples
@@ -369,12 +373,12 @@ class _FrameScene:
         taken = np.zeros((len(p), len(self.shadowed)))
         cone = np.zeros((len(p), len(self.spots)))
         for light_index, light in enumerate(self.lights):
-            l, radiance, in_cone = self._light_at(light, p, n)
+            l, radiance, in_cone, reach = self._light_at(light, p, n)
             if light.kind == "spot":
                 cone[:, self.spots.index(light_index)] = in_cone
             term = self._direct(n, l, view, radiance, surface, model)
             if light_index in self.shadowed:
-                blocked = self._blocked(light, p, l, facing, n)
+                blocked = self._blocked(light, p, l, facing, n, reach)
                 shadow[:, self.shadowed.index(light_index)] = blocked
                 taken[:, self.shadowed.index(light_index)] = np.where(blocked, term.mean(axis=1), 0.0)
                 term = term * (~blocked)[:, None]
@@ -509,10 +513,24 @@ class _FrameScene:
                 surface["occlusion"][rows] = 1.0 + strength * (sample["occlusion_map"][:, 0] - 1.0)
 
     def _light_at(self, light, p: np.ndarray, n: np.ndarray):
-        """(l (P, 3) unit towards the light, radiance (P, 3), cone factor (P,))."""
+        """(l (P, 3) unit towards the light, radiance (P, 3), cone factor (P,), reach (P,):
+        how far along l the light is, inf for a directional light, None for a point one:
+        its position). A light with a size
+        gives each point one direction drawn over it (sized_lights); attenuation and the
+        spot cone are taken at its centre, as on the GPU."""
+        size = light.definition.size
+        if light.definition.area:
+            centre = light.position - self.frame.camera.position
+            l, weight, reach = sized_lights.area_directions(centre, light.direction, light.kind,
+                                                            light.definition.extent, p, self.light_rng)
+            return l, light.color[None, :] * weight[:, None], np.ones(len(p)), reach
         if light.kind == "directional":
             l = np.broadcast_to(-light.direction, p.shape)
-            return l, np.broadcast_to(light.color, p.shape), np.ones(len(p))
+            radiance = np.broadcast_to(light.color, p.shape)
+            if size > 0.0:
+                l, weight = sized_lights.disc_directions(light.direction, size, len(p), self.light_rng)
+                radiance = radiance * weight[:, None]
+            return l, radiance, np.ones(len(p)), np.full(len(p), np.inf)
         to_light = (light.position - self.frame.camera.position)[None, :] - p
         distance = np.linalg.norm(to_light, axis=1)
         l = shading.safe_normalize(to_light, n)
@@ -521,11 +539,16 @@ class _FrameScene:
         if light.kind == "spot":
             cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1))
             radiance = radiance * cone[:, None]
-        return l, radiance, cone
+        if size > 0.0:
+            l, weight, reach = sized_lights.sphere_directions(to_light, size, self.light_rng)
+            return l, radiance * weight[:, None], cone, reach
+        return l, radiance, cone, None
 
-    def _blocked(self, light, p: np.ndarray, l: np.ndarray, facing: np.ndarray, n: np.ndarray) -> np.ndarray:
-        """(P,) bool: a shadow caster lies between each lit point and ``light``. Points not
-        facing the light (N.L <= 0) get no light anyway and count as not blocked."""
+    def _blocked(self, light, p: np.ndarray, l: np.ndarray, facing: np.ndarray, n: np.ndarray,
+                 reach: np.ndarray | None = None) -> np.ndarray:
+        """(P,) bool: a shadow caster lies between each lit point and ``light``, ``reach``
+        (P,) away along ``l`` (None: at the light's position). Points not facing the light (N.L <= 0) get no light anyway
+        and count as not blocked."""
         lit = np.sum(n * l, axis=1) > 0.0
         blocked = np.zeros(len(p), bool)
         rows = np.flatnonzero(lit)
@@ -541,7 +564,10 @@ class _FrameScene:
         if light.kind == "directional":
             blocked[rows[hits]] = True
             return blocked
-        reach = np.linalg.norm((light.position - self.frame.camera.position)[None, :] - origins, axis=1)
+        if reach is None:
+            reach = np.linalg.norm((light.position - self.frame.camera.position)[None, :] - origins, axis=1)
+        else:
+            reach = reach[rows] - epsilon
         t = np.full(len(rows), np.inf)
         if hits.any():
             t[hits] = self.casters.hit_parameters(triangles[hits], origins[hits], directions[hits])[0]

@@ -177,6 +177,19 @@ def bind_shadow_atlas(ctx, atlas, page: int = 0) -> None:
     texture.use(TEXTURE_UNITS["u_" + atlas_page_name(page)])
 
 
+def bind_shadow_depth(ctx, atlas, page: int = 0) -> None:
+    """Shadow atlas page ``page`` once more, as plain depth (a sampler with comparison off
+    over the same texture): the blocker search of soft shadows reads it
+    (shaders/lighting/soft_shadows.glsl)."""
+    unit = TEXTURE_UNITS["u_shadow_depth" if page == 0 else f"u_shadow_depth_{page + 1}"]
+    ctx.image(atlas).use(unit)
+    ctx.shared("plain_depth_sampler", _plain_depth_sampler).use(unit)
+
+
+def _plain_depth_sampler(gl):
+    return gl.sampler(filter=(moderngl.NEAREST, moderngl.NEAREST), compare_func="", repeat_x=False, repeat_y=False)
+
+
 def bind_lights(lights: LightsInput) -> None:
     """The packed lights and shadow views (the declared ``lights`` input's value) on the
     binding points shaders/lighting/lights.glsl and shadows.glsl read. The same buffers

@@ -26,7 +26,8 @@ TEXTURE_UNITS = {
     "u_shadow_atlas_2": 11, "u_metallic_roughness_map": 12, "u_occlusion_map": 13, "u_emissive_map": 14,
     "u_roughness_map": 15, "u_metallic_map": 16, "u_env_diffuse": 17, "u_env_specular": 18, "u_env_source": 19,
     "u_original": 20,
-    "u_env_visibility": 21, "u_velocity": 22, "u_velocity_tiles": 23,
+    "u_env_visibility": 21,
+    "u_shadow_depth": 22, "u_shadow_depth_2": 23, "u_velocity": 24, "u_velocity_tiles": 25,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")
@@ -58,6 +59,21 @@ class SceneFeatures:
     point_shadow_pages: tuple = ()
     spot_shadow_pages: tuple = ()
     shadow_pages: int = 1
+    # per light type, in light order: whether the light has a size (lighting/sized.glsl),
+    # and its soft shadow's blocker-search and filter reads (0: no soft shadow)
+    dir_sized: tuple = ()
+    point_sized: tuple = ()
+    spot_sized: tuple = ()
+    dir_soft: tuple = ()
+    point_soft: tuple = ()
+    spot_soft: tuple = ()
+    # rectangle and disk lights (lighting/area.glsl): their count, shadow views, taps,
+    # pages and soft-shadow reads, in light order
+    n_area: int = 0
+    area_shadow_views: tuple = ()
+    area_shadow_taps: tuple = ()
+    area_shadow_pages: tuple = ()
+    area_soft: tuple = ()
     # the environment light's prefiltered image, (levels, strip width, strip height), or
     # None; ``environment_classic``: Phong and Blinn-Phong materials get its diffuse term
     environment: tuple | None = None
@@ -74,22 +90,32 @@ class SceneFeatures:
         first_views = _first_shadow_views(world.lights, atlas)
         return cls(
             n_dir=kinds.count("directional"), n_point=kinds.count("point"), n_spot=kinds.count("spot"),
+            n_area=kinds.count("rect") + kinds.count("disk"),
             shadows=any(light.shadow is not None for light in world.lights),
             fog_mode=render.fog.mode if render.fog is not None else None,
             specular=render.shading, unlit=render.shading == "unlit",
             ambient_occlusion=render.ambient_occlusion is not None,
             shadow_footprint_samples=_footprint_samples(samples),
             **first_views,
+            **_sized_lights(world.lights),
             **_environment_features(world.environment),
         )
 
+    @property
+    def soft_shadows(self) -> bool:
+        """Whether a shadowed light has a size: then the shaders read the atlas as plain
+        depth too (lighting/soft_shadows.glsl)."""
+        return any(blockers for blockers, _ in self.dir_soft + self.point_soft + self.spot_soft + self.area_soft)
+
     def lighting_defines(self) -> dict:
         defines = {"N_DIR_LIGHTS": self.n_dir, "N_POINT_LIGHTS": self.n_point, "N_SPOT_LIGHTS": self.n_spot}
+        if self.n_area:
+            defines["N_AREA_LIGHTS"] = self.n_area
         if self.specular == "phong":
             defines["SPECULAR_PHONG"] = True
         if self.shadows:
             defines["HAS_SHADOWS"] = True
-            for kind in ("dir", "point", "spot"):
+            for kind in ("dir", "point", "spot", "area"):
                 for what in ("views", "taps", "pages"):
                     values = getattr(self, f"{kind}_shadow_{what}")
                     if values:
@@ -99,14 +125,35 @@ class SceneFeatures:
                 defines["SHADOW_FOOTPRINT_SAMPLES"] = self.shadow_footprint_samples
             if self.n_shadow_views * SHADOW_VIEW_BYTES <= UNIFORM_BLOCK_BYTES:
                 defines["N_SHADOW_VIEWS"] = self.n_shadow_views
+            if self.soft_shadows:
+                defines.update(self._soft_shadow_defines())
+        defines.update(self._sized_defines())
         if self.light_bytes <= UNIFORM_BLOCK_BYTES:
             defines["LIGHTS_IN_UNIFORM_BLOCK"] = True
+        return defines
+
+    def _sized_defines(self) -> dict:
+        """Which lights of each type have a size, where any has (none in a scene of points)."""
+        defines = {}
+        for kind in ("dir", "point", "spot"):
+            sized = getattr(self, f"{kind}_sized")
+            if any(sized):
+                defines[f"{kind.upper()}_LIGHT_SIZED"] = ", ".join("true" if v else "false" for v in sized)
+        return defines
+
+    def _soft_shadow_defines(self) -> dict:
+        defines = {"SOFT_SHADOWS": True}
+        for kind in ("dir", "point", "spot", "area"):
+            soft = getattr(self, f"{kind}_soft")
+            if any(blockers for blockers, _ in soft):
+                defines[f"{kind.upper()}_SOFT_BLOCKERS"] = ", ".join(str(b) for b, _ in soft)
+                defines[f"{kind.upper()}_SOFT_FILTER"] = ", ".join(str(f) for _, f in soft)
         return defines
 
     @property
     def light_bytes(self) -> int:
         """Size of the light block (see shaders/lighting/lights.glsl)."""
-        return 48 * self.n_dir + 64 * self.n_point + 96 * self.n_spot + 16
+        return 48 * self.n_dir + 64 * self.n_point + 96 * self.n_spot + 96 * self.n_area + 16
 
     def forward_defines(self, material, with_ao: bool) -> dict:
         defines = {}
@@ -141,6 +188,21 @@ class SceneFeatures:
             # of one direction's share of the sphere, sqrt(4 pi / K / pi)
             defines["ENV_VIS_MIN_ALPHA"] = f"{min(1.0, (4.0 / self.environment_visibility) ** 0.5):.6f}"
         return defines
+
+
+def _sized_lights(lights) -> dict:
+    """Per light type, in light order: whether each light has a size, and (blocker reads,
+    filter reads) of its soft shadow, (0, 0) unless it is shadowed and has a size."""
+    key = {"directional": "dir", "point": "point", "spot": "spot", "rect": "area", "disk": "area"}
+    found = {f"{kind}_{what}": [] for kind in ("dir", "point", "spot") for what in ("sized", "soft")}
+    found["area_soft"] = []
+    for light in lights:
+        kind = key[light.kind]
+        if kind != "area":
+            found[f"{kind}_sized"].append(light.sized)
+        soft = light.sized and light.shadow is not None
+        found[f"{kind}_soft"].append((light.shadow.blocker_samples, light.shadow.filter_samples) if soft else (0, 0))
+    return {name: tuple(values) for name, values in found.items()}
 
 
 def _environment_features(environment) -> dict:
@@ -185,8 +247,9 @@ def _first_shadow_views(lights, atlas) -> dict:
     first_shadow_views: the order rendering.lights packs them in); each light's filter taps
     per side (shaders/lighting/shadows.glsl, filter_taps); and the atlas page holding its
     maps. Each per light type, in light order."""
-    firsts = {f"{kind}_shadow_{what}": [] for kind in ("dir", "point", "spot") for what in ("views", "taps", "pages")}
-    key = {"directional": "dir", "point": "point", "spot": "spot"}
+    firsts = {f"{kind}_shadow_{what}": [] for kind in ("dir", "point", "spot", "area")
+              for what in ("views", "taps", "pages")}
+    key = {"directional": "dir", "point": "point", "spot": "spot", "rect": "area", "disk": "area"}
     starts = first_shadow_views(lights)
     for index, light in enumerate(lights):
         shadowed = light.shadow is not None

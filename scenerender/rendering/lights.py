@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.world.frame import FrameState
+from scenerender.world.lights import area_axes
 from scenerender.world.shadows import AtlasLayout, first_shadow_views
 
 # The binding points of the light arrays and the shadow views, as uniform blocks and as
@@ -62,21 +63,35 @@ def _pack_shadow_views(frame: FrameState, atlas: AtlasLayout | None) -> tuple[by
 def _pack_light_arrays(frame: FrameState, first_view: tuple) -> bytes:
     """std430 light arrays in type order (see shaders/lighting/lights.glsl)."""
     cam = frame.camera.position
-    dirs, points, spots = [], [], []
+    dirs, points, spots, areas = [], [], [], []
     for light, first in zip(frame.lights, first_view):
         shadow = [float(first), 0.0, 0.0, 0.0]
         color = [*light.color, 0.0]
-        if light.kind == "directional":
-            dirs.append([*light.direction, 0.0, *color, *shadow])
+        size = light.definition.size  # 0 for a point: the bytes lights always had
+        if light.definition.area:
+            areas.append(_area_light_row(light, cam, color, shadow))
+        elif light.kind == "directional":
+            dirs.append([*light.direction, size, *color, *shadow])
         elif light.kind == "point":
-            points.append([*(light.position - cam), 1.0, *color, *light.definition.attenuation, 0.0, *shadow])
+            points.append([*(light.position - cam), 1.0, *color, *light.definition.attenuation, size, *shadow])
         else:
             spots.append([*(light.position - cam), 1.0, *light.direction, 0.0, *color,
-                          *light.definition.attenuation, 0.0, light.cos_inner, light.cos_outer, 0.0, 0.0,
+                          *light.definition.attenuation, size, light.cos_inner, light.cos_outer, 0.0, 0.0,
                           *shadow])
-    parts = [np.asarray(group, dtype=np.float64).reshape(-1) for group in (dirs, points, spots) if group]
+    parts = [np.asarray(group, dtype=np.float64).reshape(-1) for group in (dirs, points, spots, areas) if group]
     parts.append(np.zeros(4))  # lights_end
     return np.concatenate(parts).astype(np.float32).tobytes()
+
+
+def _area_light_row(light, cam: np.ndarray, color: list, shadow: list) -> list:
+    """One AreaLight (shaders/lighting/lights.glsl): centre and shape (0 rectangle, 1 disk),
+    facing direction and soft-shadow size, the two half axes, colour, shadow."""
+    definition = light.definition
+    u, v = area_axes(light.direction)
+    half_u, half_v = definition.extent
+    shape = 0.0 if definition.kind == "rect" else 1.0
+    return [*(light.position - cam), shape, *light.direction, definition.size, *(u * half_u), 0.0,
+            *(v * half_v), 0.0, *color, *shadow]
 
 
 def _shadow_view_row(view, to_world: np.ndarray, settings, page_size) -> np.ndarray:

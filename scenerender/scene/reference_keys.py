@@ -69,13 +69,16 @@ KEYS: dict[str, Key] = {
     "render.ambient_occlusion.samples": Key("Samples per pixel; more is smoother and slower.", "32"),
     "render.ambient_occlusion.strength": Key("How strongly occlusion darkens ambient light (0 = none).", "1.5"),
     "render.shadows.size": Key("Width and height of each shadow map in texels (a point light has six). Spot lights "
-                               "default to 1024 unless this is set: their map covers only the cone. A directional "
+                               "default to 1024 unless this is set: their map covers only the cone; so do lights with "
+                               "a size, whose soft shadows blur what a larger map would sharpen. A directional "
                                "light's map covers the shadow casters the camera can see; where only the camera "
                                "moves, it may instead cover them all, drawn once at up to twice this size, when "
                                "its texels then come out no larger in any frame.", "4096"),
     "render.shadows.pcf": Key("Filter width in texels: N x N percentage-closer filtering; 1 gives hard, aliased edges. "
                               "Spot lights default to 5 unless this is set.", "5"),
     "render.shadows.bias": Key("Depth bias, as a fraction of the light view's depth range; removes shadow acne.", "0.005"),
+    "render.shadows.blocker_samples": Key("Lights with a size (`radius`, `angular_diameter`): depth-map reads that look for the casters between a point and the light, the first step of a soft shadow. No effect on other lights.", "16"),
+    "render.shadows.filter_samples": Key("Lights with a size: comparison reads averaged over the penumbra, which is sharp where a caster meets the receiver and widens with the distance between them. No effect on other lights.", "32"),
     "render.shadows.slope_bias": Key("Extra bias where light grazes the surface: the bias used is max(bias, slope_bias (1 - N.L)).", "0.05"),
     # -- output ---------------------------------------------------------------------------
     "output.fps": Key("Frames per second: frame i is at time i / fps.", "24"),
@@ -110,12 +113,22 @@ KEYS: dict[str, Key] = {
     "lights[].shadows": Key("Cast shadows (`true`), or a mapping overriding `render.shadows` for this light.", "{size: 1024}"),
     "lights[].attenuation": Key("Falloff with distance d: light x 1 / (c + l d + q d^2), as [c, l, q]; `[1, 0, 0]` is no falloff.", "[1.0, 0.09, 0.032]"),
     "lights[directional].direction": Key("The way the light travels (from the light towards the scene); need not be unit length.", "[-1, -1, -0.5]"),
+    "lights[directional].angular_diameter": Key("Degrees the light's disc spans seen from the scene (the sun: 0.53): soft shadows and wider highlights, the same power. 0: a point.", "0.53"),
+    "lights[point].radius": Key("A sphere light of this radius (scene units) with the same power: soft shadows, sphere-shaped highlights. 0: a point.", "0.3"),
+    "lights[spot].radius": Key("A sphere light of this radius (scene units) with the same power and cone: soft shadows, sphere-shaped highlights. 0: a point.", "0.1"),
     "lights[point].position": Key("Where the light is; shadows use a cube map.", "[2, 3, 1]"),
     "lights[spot].position": Key("Where the light is; required unless `attach: camera` (then it is in camera space, default the eye).", "[0, 5, 0]"),
     "lights[spot].direction": Key("The way the cone points. Not set: along -Z, which with `attach: camera` is where the camera looks.", "[0, -1, 0]"),
     "lights[spot].inner_angle": Key("Half-angle in degrees of the fully lit cone; not above `outer_angle`.", "10"),
     "lights[spot].outer_angle": Key("Half-angle in degrees beyond which there is no light; smooth between inner and outer; equal angles give a hard edge.", "25"),
     "lights[spot].attach": Key("`camera`: position and direction follow the camera, like a torch.", "camera"),
+    "lights[rect].position": Key("The rectangle's centre.", "[0, 2.5, 0]"),
+    "lights[rect].direction": Key("The way its lit side faces (it gives no light behind it); need not be unit length.", "[0, -1, 0]"),
+    "lights[rect].width": Key("Its size along the world's X axis turned to face `direction` (along X for a light facing straight down; along Z for one facing along X).", "1.0"),
+    "lights[rect].height": Key("Its size across `width`, in its plane.", "0.5"),
+    "lights[disk].position": Key("The disk's centre.", "[0, 2.5, 0]"),
+    "lights[disk].direction": Key("The way its lit side faces (it gives no light behind it); need not be unit length.", "[0, -1, 0]"),
+    "lights[disk].radius": Key("Its radius in scene units.", "0.4"),
     "lights[environment].image": Key("What lights the scene from every direction: `sky` (render.skybox), or an equirectangular `.hdr`/`.exr` (linear) or 8-bit image; its centre column looks down -Z.", "assets/environments/studio.hdr"),
     "lights[environment].rotation": Key("Degrees the image is turned about +Y, counter-clockwise seen from above; the drawn skybox stays.", "{keys: [[0, 0], [4, 90]]}"),
     "lights[environment].classic": Key("Also light Phong and Blinn-Phong materials (its diffuse term, as an ambient); pbr materials always take it.", "true"),

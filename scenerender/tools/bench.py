@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from scenerender.gpu.context import create_context
+from scenerender.tools.penumbra import penumbra_columns
 from scenerender.tools.quality import frame_errors
 from scenerender.raytrace.render import ENVIRONMENT_SAMPLES, render_reference
 from scenerender.run.session import Renderer, load
@@ -43,9 +44,12 @@ PREFILTER_SAMPLES = (32, 128, 256, 512, 1024)
 FILM_SAMPLES = (1, 2, 4, 8, 16, 32, 64)
 VISIBILITY_DIRECTIONS = (8, 16, 32, 64)
 VISIBILITY_MAP_SIZES = (256, 512, 1024)
+# the soft shadows of lights with a size: the blocker search's and the filter's reads
+BLOCKER_SAMPLES = (8, 16, 32)
+FILTER_SAMPLES = (16, 32, 64)
 KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size", "sh_order",
          "env_samples", "env_footprint", "env_visibility", "env_directions", "env_map_size", "film_samples",
-         "motion_blur")
+         "blocker_samples", "filter_samples", "motion_blur")
 ONCE_PASSES = ("environment_prefilter",)  # passes a run makes once, whose cost is not per frame
 
 
@@ -121,6 +125,11 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
             if "combined" in knobs and (size, pcf) != (shadows.size, shadows.pcf):
                 variants.append(Variant(f"map {size} pcf {pcf}", "combined",
                                         (f"render.shadows.size={size}", f"render.shadows.pcf={pcf}")))
+        if any(light.sized and light.shadow is not None for light in scene.world.lights):
+            each("blocker_samples", "blocker search {}", "render.shadows.blocker_samples", BLOCKER_SAMPLES,
+                 shadows.blocker_samples)
+            each("filter_samples", "soft filter {}", "render.shadows.filter_samples", FILTER_SAMPLES,
+                 shadows.filter_samples)
     if spec.ambient_occlusion is None:
         add("ao", "ao on", f"render.ambient_occlusion={DEFAULT_AO}", False, True)
     else:
@@ -178,6 +187,8 @@ def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int =
                 once = [sum(renderer.timings[name]) for name in ONCE_PASSES if name in renderer.timings]
                 row.once_ms = 1000.0 * sum(once) if once else None
             row.errors = frame_errors(references[scene.size], frame.pixels, frame.linear)
+            if any(light.sized and light.shadow is not None for light in scene.world.lights):
+                row.errors.update(penumbra_columns(references[scene.size], frame.linear))
         _time_interleaved(path, overrides, rows, frames, rounds, gl, asset_roots, echo)
     finally:
         gl.release()
@@ -232,7 +243,8 @@ COLUMNS = (("ms/frame", "ms_per_frame", "{:.1f}"), ("ms IQR", "ms_iqr", "{:.1f}"
            ("shadow-edge RMSE %", "shadow_edge_rmse", "{:.2f}"), ("cone-edge RMSE %", "cone_edge_rmse", "{:.2f}"),
            ("interior RMSE %", "interior_rmse", "{:.3f}"), ("geometry-edge RMSE %", "geometry_edge_rmse", "{:.2f}"),
            ("shadow-edge % of mean", "shadow_edge_rel", "{:.2f}"), ("cone-edge % of mean", "cone_edge_rel", "{:.2f}"),
-           ("umbra leak %", "umbra_leak", "{:.1f}"))
+           ("umbra leak %", "umbra_leak", "{:.1f}"),
+           ("penumbra band RMS %", "penumbra_rms", "{:.1f}"), ("penumbra band mean %", "penumbra_bias", "{:+.1f}"))
 
 
 def markdown_table(title: str, rows: list[BenchRow]) -> str:

@@ -44,6 +44,10 @@ class ShadowMapSettings:
     pcf: int
     bias: float
     slope_bias: float
+    # soft shadows of lights with a size (percentage-closer soft shadows): depth reads of
+    # the blocker search, comparison reads of the filter
+    blocker_samples: int = 16
+    filter_samples: int = 32
 
 
 @dataclass(frozen=True)

@@ -151,10 +151,15 @@ class ShadowView:
                 and np.array_equal(self.projection, other.projection))
 
 
+# lights whose shadow is a cube map from their centre, radial depth: point lights, and the
+# one-sided area lights (rect, disk), whose light reaches all of the half space before them
+CUBE_MAP_KINDS = ("point", "rect", "disk")
+
+
 def view_count(light) -> int:
     """How many shadow views a shadowed light (LightDef) has: six cube faces for a point
     light, one for the others."""
-    return 6 if light.kind == "point" else 1
+    return 6 if light.kind in CUBE_MAP_KINDS else 1
 
 
 def first_shadow_views(lights: list) -> tuple:
@@ -193,7 +198,7 @@ def light_views(state, tiles: list, casters: np.ndarray | None, everything: np.n
     if casters is None or everything is None:
         casters = everything = np.array([[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]])
     if state.kind == "directional":
-        return [_directional(state.direction, casters, everything, tiles[0], visible)]
+        return [_directional(state.direction, casters, everything, tiles[0], visible, state.definition.size)]
     if state.kind == "spot":
         return [_spot(state, everything, tiles[0])]
     return [_cube_face(state.position, rotation, everything, tile)
@@ -207,14 +212,17 @@ def _view(rotation: np.ndarray, eye: np.ndarray) -> np.ndarray:
     return m
 
 
-def _directional(direction, casters, everything, tile, visible=None) -> ShadowView:
-    return directional_view(directional_rotation(direction), casters, everything, tile, visible)
+def _directional(direction, casters, everything, tile, visible=None, size: float = 0.0) -> ShadowView:
+    return directional_view(directional_rotation(direction), casters, everything, tile, visible, size)
 
 
-def directional_view(rotation, casters, everything, tile, visible=None) -> ShadowView:
+def directional_view(rotation, casters, everything, tile, visible=None, size: float = 0.0) -> ShadowView:
     """An orthographic view across a directional light (its ``directional_rotation``)
     covering the casters' footprint where the camera sees receivers (``visible``); depth
-    spans all casters and receivers so nothing between them is clipped."""
+    spans all casters and receivers so nothing between them is clipped. ``size``: tan of a
+    sun's half angle (0 for a point), whose penumbra reaches past the footprint by up to
+    size x the scene's depth across the light: the view grows by that much, so the
+    penumbra's outer half is drawn rather than cut off."""
     c = box_corners(casters) @ rotation.T
     a = box_corners(everything) @ rotation.T
     footprint = _footprint(rotation, casters, visible)
@@ -222,6 +230,9 @@ def directional_view(rotation, casters, everything, tile, visible=None) -> Shado
         seen = visible @ rotation[:2].T
         footprint = seen.min(axis=0), seen.min(axis=0) + 1e-3
     lo, hi = footprint
+    if size > 0.0:
+        spread = size * float(a[:, 2].max() - a[:, 2].min())
+        lo, hi = lo - spread, hi + spread
     center = (lo + hi) / 2.0
     half = _half_width(lo, hi)
     # the eye sits on the view's centre line level with the casters' centre, so the

@@ -29,6 +29,18 @@ struct SpotLight {
     vec4 shadow;
 };
 
+#ifdef N_AREA_LIGHTS
+// A one-sided rectangle or disk (lighting/area.glsl), only in scenes with one.
+struct AreaLight {
+    vec4 position;     // centre; w: 0 rectangle, 1 disk
+    vec4 normal;       // the way it faces; w: the radius of the disk of its area (soft shadows)
+    vec4 axis_u;       // half its width along its u axis
+    vec4 axis_v;       // half its height along its v axis
+    vec4 color;        // rgb * intensity: its radiance times pi
+    vec4 shadow;
+};
+#endif
+
 #ifdef LIGHTS_IN_UNIFORM_BLOCK
 layout(std140, binding = 0) uniform Lights {
 #else
@@ -42,6 +54,9 @@ layout(std430, binding = 0) readonly buffer Lights {
 #endif
 #if N_SPOT_LIGHTS > 0
     SpotLight spot_lights[N_SPOT_LIGHTS];
+#endif
+#ifdef N_AREA_LIGHTS
+    AreaLight area_lights[N_AREA_LIGHTS];
 #endif
     vec4 lights_end;
 };

@@ -9,8 +9,8 @@ import moderngl
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import matrix_bytes, set_uniforms
 from scenerender.rendering.draw import (
-    MESH_VERTEX, begin_camera_pass, bind_lights, bind_material, bind_shadow_atlas, bind_texture_units,
-    cull_hidden_faces, draw_item, opaque_items, single_sided_faces, skip_faces, stop_culling, transparent_items,
+    MESH_VERTEX, begin_camera_pass, bind_lights, bind_material, bind_shadow_atlas, bind_shadow_depth,
+    bind_texture_units, cull_hidden_faces, draw_item, opaque_items, single_sided_faces, skip_faces, stop_culling, transparent_items,
 )
 from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
 from scenerender.rendering.inputs import InputHandles
@@ -42,6 +42,8 @@ class Shading:
         bind_lights(ctx.input(self.inputs.lights))
         for page, handle in enumerate(self.atlas_pages):
             bind_shadow_atlas(ctx, handle, page)
+            if ctx.features.soft_shadows:
+                bind_shadow_depth(ctx, handle, page)
         if self.ao is not None:
             ctx.image(self.ao).use(TEXTURE_UNITS["u_ao"])
         if self.environment is not None:

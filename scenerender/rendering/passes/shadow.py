@@ -10,7 +10,7 @@ from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import bind_material, bind_texture_units, skip_faces, stop_culling
 from scenerender.rendering.features import mask_defines
-from scenerender.world.shadows import atlas_page_name, hidden_from_light
+from scenerender.world.shadows import CUBE_MAP_KINDS, atlas_page_name, hidden_from_light
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,7 @@ class ShadowMapPass(RenderPass):
     def describe(self) -> str:
         if self.note:
             return self.note
-        views = "6 cube faces" if self.kind == "point" else "1 view"
+        views = "6 cube faces" if self.kind in CUBE_MAP_KINDS else "1 view"
         return f"{self.kind} light, {views}, {self.map_size}px, pcf {self.pcf}"
 
     def execute(self, ctx, data: ShadowMapData) -> None:
@@ -72,7 +72,8 @@ class ShadowMapPass(RenderPass):
         fbo.use()
         # directional views are orthographic: window depth is linear depth already (their
         # range spans every caster and receiver, so nothing needs the shader's clamp)
-        defines = {"point": {"RADIAL_DEPTH": True}, "directional": {"ORTHOGRAPHIC": True}}.get(self.kind, {})
+        defines = ({"RADIAL_DEPTH": True} if self.kind in CUBE_MAP_KINDS
+                   else {"directional": {"ORTHOGRAPHIC": True}}.get(self.kind, {}))
         program = ctx.programs.get("shadow/depth.vert", "shadow/depth.frag", defines)
         gl.enable(moderngl.DEPTH_TEST)
         gl.depth_func = "<"  # the atlas keeps linear depth, nearest = 0, whatever the camera's convention

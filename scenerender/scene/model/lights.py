@@ -1,4 +1,5 @@
-"""``lights:``: directional, point, spot, ambient and environment lights, chosen by ``type``."""
+"""``lights:``: directional, point, spot, rectangle, disk, ambient and environment lights,
+chosen by ``type``."""
 from __future__ import annotations
 
 from typing import Annotated, Literal
@@ -45,6 +46,7 @@ class _LightBase(StrictModel):
 class DirectionalLight(_LightBase):
     type: Literal["directional"]
     direction: AnimatedDirection = (-1.0, -1.0, -0.5)
+    angular_diameter: number(0, 20) = 0.0  # degrees the light's disc spans (the sun: 0.53); 0 a point
     shadows: ShadowsOption = False
 
 
@@ -52,6 +54,7 @@ class PointLight(_LightBase):
     type: Literal["point"]
     position: AnimatedVec3 = (0.0, 3.0, 0.0)
     attenuation: Attenuation = (1.0, 0.0, 0.0)
+    radius: number(0) = 0.0  # a sphere light of this radius; 0 a point
     shadows: ShadowsOption = False
 
 
@@ -63,6 +66,7 @@ class SpotLight(_LightBase):
     inner_angle: animated_number(0, 89.9) = 12.5
     outer_angle: animated_number(0, 89.9, lo_open=True) = 17.5
     attach: choice("camera") | None = None
+    radius: number(0) = 0.0  # a sphere light of this radius; 0 a point
     shadows: ShadowsOption = False
 
     @model_validator(mode="after")
@@ -75,6 +79,28 @@ class SpotLight(_LightBase):
             raise PydanticCustomError("cone", "inner_angle ({i}) must not exceed outer_angle ({o})",
                                       {"i": f"{inner(0):g}", "o": f"{outer(0):g}", "subpath": ("inner_angle",)})
         return self
+
+
+class RectLight(_LightBase):
+    """A one-sided rectangle of light facing ``direction``; ``width`` runs along the world's
+    X axis turned with it (for a light facing straight down, along X), ``height`` across."""
+
+    type: Literal["rect"]
+    position: AnimatedVec3 = (0.0, 3.0, 0.0)
+    direction: AnimatedDirection = (0.0, -1.0, 0.0)
+    width: number(0, lo_open=True) = 1.0
+    height: number(0, lo_open=True) = 1.0
+    shadows: ShadowsOption = False
+
+
+class DiskLight(_LightBase):
+    """A one-sided disk of light facing ``direction``."""
+
+    type: Literal["disk"]
+    position: AnimatedVec3 = (0.0, 3.0, 0.0)
+    direction: AnimatedDirection = (0.0, -1.0, 0.0)
+    radius: number(0, lo_open=True) = 0.5
+    shadows: ShadowsOption = False
 
 
 class AmbientLight(_LightBase):
@@ -108,5 +134,6 @@ class EnvironmentLight(_LightBase):
 
 
 LightSpec = tagged_union("type", "light", {"directional": DirectionalLight, "point": PointLight,
-                                           "spot": SpotLight, "ambient": AmbientLight,
+                                           "spot": SpotLight, "rect": RectLight, "disk": DiskLight,
+                                           "ambient": AmbientLight,
                                            "environment": EnvironmentLight})

@@ -24,6 +24,8 @@ class ShadowSettings(StrictModel):
     pcf: number(1, 15, integer=True) = 3
     bias: number(0, 1) = 0.002
     slope_bias: number(0, 1) = 0.02
+    blocker_samples: number(4, 64, integer=True) = 16
+    filter_samples: number(4, 128, integer=True) = 32
 
 
 class ShadowOverride(StrictModel):
@@ -33,6 +35,8 @@ class ShadowOverride(StrictModel):
     pcf: number(1, 15, integer=True) | None = None
     bias: number(0, 1) | None = None
     slope_bias: number(0, 1) | None = None
+    blocker_samples: number(4, 64, integer=True) | None = None
+    filter_samples: number(4, 128, integer=True) | None = None
 
 
 class Fog(StrictModel):

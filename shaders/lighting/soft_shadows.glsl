@@ -1,0 +1,149 @@
+// Percentage-closer soft shadows (Fernando 2005) for lights with a size: a blocker search
+// finds the mean depth of what lies between the point and the light, the penumbra's width
+// follows from it by similar triangles, and a comparison filter that wide gives the
+// fraction of the light seen. The penumbra is sharp where a caster meets its receiver and
+// widens with the distance between them. Included only where a shadowed light has a size
+// (SOFT_SHADOWS); the atlas is read twice over: through its comparison sampler
+// (u_shadow_atlas) and as plain depth (u_shadow_depth, the same texture with comparison
+// off), which the blocker search needs.
+
+uniform sampler2D u_shadow_depth;
+#if SHADOW_PAGES > 1
+uniform sampler2D u_shadow_depth_2;
+#endif
+
+// Plain depth at atlas uv on ``page`` (a compile-time constant where callers pass one).
+float stored_depth(int page, vec2 uv) {
+#if SHADOW_PAGES > 1
+    return page == 0 ? textureLod(u_shadow_depth, uv, 0.0).r : textureLod(u_shadow_depth_2, uv, 0.0).r;
+#else
+    return textureLod(u_shadow_depth, uv, 0.0).r;
+#endif
+}
+
+float compared_depth(int page, vec2 uv, float depth) {
+#if SHADOW_PAGES > 1
+    return page == 0 ? textureLod(u_shadow_atlas, vec3(uv, depth), 0.0) : textureLod(u_shadow_atlas_2, vec3(uv, depth), 0.0);
+#else
+    return textureLod(u_shadow_atlas, vec3(uv, depth), 0.0);
+#endif
+}
+
+// Point k of ``count`` spread evenly over the unit disc (a Vogel spiral: golden-angle
+// turns, radius sqrt of the area share), turned by ``turn`` radians.
+vec2 disc_point(int k, int count, float turn) {
+    float radius = sqrt((float(k) + 0.5) / float(count));
+    float angle = float(k) * 2.39996323 + turn;
+    return radius * vec2(cos(angle), sin(angle));
+}
+
+// A turn per pixel (interleaved gradient noise, Jimenez 2014), so neighbouring pixels'
+// spirals differ and the filter's few samples blur into noise rather than bands.
+float pixel_turn() {
+    return 6.28318531 * fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715))));
+}
+
+// The widest search and filter, in texels: a sixteenth of the view's tile.
+const float SOFT_MAX_FRACTION = 0.0625;
+
+// Fraction of a sized light reaching p, for one view. size: the sphere's radius (point,
+// spot), or the tangent of a directional light's half angle. blockers, filters: the reads
+// of each step (compile-time constants of the light: render.shadows.blocker_samples,
+// filter_samples). Bias as shadow_lookup's, plus the receiver's own change in depth over
+// each read's offset, so a tilted receiver does not shadow itself across a wide filter.
+// A point of the square [-1, 1]^2, k of ``count`` (the R2 sequence, shifted by ``shift``):
+// the filter of a rectangle light.
+vec2 square_point(int k, float shift) {
+    return 2.0 * fract(vec2(0.5 + shift) + float(k) * vec2(0.7548776662, 0.5698402910)) - 1.0;
+}
+
+// Rectangle and disk lights pass their half axes (world vectors, ``extent_u``,
+// ``extent_v``; zero for a sphere) and whether they are a rectangle: the filter then takes
+// the light's own shape, its axes carried onto the map at p, instead of a disc of radius
+// ``size``.
+float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 p, vec3 n, float n_dot_l,
+                           bool perspective, bool radial, float size, vec3 extent_u, vec3 extent_v, bool square) {
+    vec4 light = shadow_views[index].light;
+    vec4 depth_params = shadow_views[index].depth;
+    vec4 texel_world = shadow_views[index].texel;
+    vec4 tile = shadow_views[index].tile;
+    vec2 texel = shadow_views[index].sampling.xy;
+    float cos_l = clamp(n_dot_l, 1e-4, 1.0);
+    float grazing = sqrt(clamp(1.0 - cos_l * cos_l, 0.0, 1.0));
+    float texel_size = perspective ? texel_world.x * distance(p, light.xyz) : texel_world.y;
+    float tan_angle = min(grazing / cos_l, 10.0);
+    float bias = texel_size * (depth_params.z + depth_params.w * tan_angle) * depth_params.y;
+    float slope = texel_size * tan_angle * depth_params.y;  // the receiver's depth change per texel
+    vec4 q = shadow_views[index].to_atlas * vec4(p, 1.0);
+    vec2 uv = perspective ? q.xy / q.w : q.xy;
+    float receiver = radial ? (distance(p, light.xyz) - depth_params.x) * depth_params.y : q.z;
+    if ((perspective && q.w <= 0.0) || receiver > 1.0 || any(lessThan(uv, tile.xy)) || any(greaterThan(uv, tile.zw))) {
+        return 1.0;
+    }
+    float range = 1.0 / depth_params.y;
+    float near = max(depth_params.x, 1e-6);
+    float d_receiver = depth_params.x + receiver * range;
+    float widest = SOFT_MAX_FRACTION * (tile.z - tile.x) / texel.x;
+    // Texels of the map across the light's disc seen from p through a plane at depth d:
+    // perspective, size (1 / d - 1 / d_receiver) on the view's image plane at distance 1
+    // (depths along the view's axis; a radial depth times the cosine of p's angle off the
+    // axis, q.w / distance, is one), over its texel there; orthographic, size (d_receiver - d)
+    // over the texel. The search covers every caster from the near plane on.
+    float axial = radial ? q.w / max(d_receiver, 1e-20) : 1.0;
+    float per_inverse_depth = size / (axial * texel_world.x);
+    // a shaped light's half axes on the map, in texels per unit of 1 / d (radial depths:
+    // over the cosine, as above): how a move along each axis moves p's projection, times
+    // p's depth along the view's axis (q.w, which cancels: (q_u.xy - uv q_u.w) / q.w x q.w)
+    bool shaped = dot(extent_u, extent_u) > 0.0;
+    vec2 axis_u = vec2(0.0);
+    vec2 axis_v = vec2(0.0);
+    if (shaped) {
+        vec4 q_u = shadow_views[index].to_atlas * vec4(extent_u, 0.0);
+        vec4 q_v = shadow_views[index].to_atlas * vec4(extent_v, 0.0);
+        axis_u = (q_u.xy - uv * q_u.w) / (texel * axial);
+        axis_v = (q_v.xy - uv * q_v.w) / (texel * axial);
+        per_inverse_depth = length(axis_u) + length(axis_v);
+    }
+    float search = perspective ? per_inverse_depth * (1.0 / near - 1.0 / max(d_receiver, near))
+                               : size * receiver * range / texel_world.y;
+    search = clamp(search, 1.0, widest);
+    float turn = pixel_turn();
+    float blocker_sum = 0.0;
+    float blocker_count = 0.0;
+    for (int k = 0; k < blockers; ++k) {
+        vec2 offset = disc_point(k, blockers, turn) * search;
+        vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
+        float depth = stored_depth(page, tap);
+        bool blocks = depth < receiver - bias - slope * length(offset);
+        blocker_sum += blocks ? depth : 0.0;
+        blocker_count += blocks ? 1.0 : 0.0;
+    }
+    if (blocker_count == 0.0) {
+        return 1.0;
+    }
+    float d_blocker = depth_params.x + blocker_sum / blocker_count * range;
+    // the light's disc seen from p through the blockers' plane, in texels: the penumbra
+    float penumbra = perspective ? per_inverse_depth * (1.0 / max(d_blocker, near) - 1.0 / d_receiver)
+                                 : size * (d_receiver - d_blocker) / texel_world.y;
+    float narrowest = 0.5 * float(max(int(shadow_views[index].sampling.z) - 1, 1));
+    float radius = clamp(penumbra, narrowest, widest);
+    // a shaped light's axes at the blockers' depth, each at least the pcf filter's half width
+    float scale = perspective ? 1.0 / max(d_blocker, near) - 1.0 / d_receiver : 0.0;
+    vec2 along_u = axis_u * clamp(scale, narrowest / max(length(axis_u), 1e-20), widest / max(length(axis_u), 1e-20));
+    vec2 along_v = axis_v * clamp(scale, narrowest / max(length(axis_v), 1e-20), widest / max(length(axis_v), 1e-20));
+    float lit = 0.0;
+    for (int k = 0; k < filters; ++k) {
+        vec2 unit = square ? square_point(k, turn * 0.159154943) : disc_point(k, filters, turn + 1.0);
+        vec2 offset = shaped ? along_u * unit.x + along_v * unit.y : unit * radius;
+        vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
+        lit += compared_depth(page, tap, receiver - bias - slope * length(offset));
+    }
+    return lit / float(filters);
+}
+
+// A sphere light (or a sun): a disc of radius ``size``.
+float shadow_lookup_soft(int index, int page, int blockers, int filters, vec3 p, vec3 n, float n_dot_l,
+                         bool perspective, bool radial, float size) {
+    return shadow_lookup_shaped(index, page, blockers, filters, p, n, n_dot_l, perspective, radial, size,
+                                vec3(0.0), vec3(0.0), false);
+}
