@@ -323,15 +323,20 @@ def validate(scene, overrides, strict, assets, asset_roots, limit_texts):
 
     warnings = Warnings(strict=strict, echo=lambda t: click.echo(t, err=True))
     loaded = load_scene(scene, overrides, asset_roots=tuple(asset_roots), limits=_limits(limit_texts))
+    clips = []
     if assets:
         from scenerender.world.build import build_world
+        from scenerender.world.node_animation import clip_lines
 
         build_world(loaded, warnings)
+        clips = clip_lines(loaded)
     spec = loaded.spec
     noted = f", {len(warnings.items)} warning(s)" if warnings.items else ""
     click.echo(f"ok: {scene} ({len(spec.objects)} objects, {len(spec.lights or [])} lights, "
                f"{spec.output.frame_count} frame(s), {spec.render.size[0]}x{spec.render.size[1]}, "
                f"{len(loaded.assets.files_read)} asset file(s){noted})")
+    for line in clips:  # what `animation: {clip: ...}` can name
+        click.echo(line)
 
 
 @main.command()

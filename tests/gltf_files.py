@@ -104,6 +104,21 @@ class GlbBuilder:
         self.json.setdefault("materials", []).append(fields)
         return len(self.json["materials"]) - 1
 
+    def animation(self, name: str | None, channels: list) -> int:
+        """A clip of ``channels``: (node, path, times (K,), values (K or 3 K, D), interpolation)."""
+        clip = {"channels": [], "samplers": []}
+        for node, path, times, values, interpolation in channels:
+            values = np.asarray(values, dtype=np.float64)
+            kind = "SCALAR" if values.ndim == 1 else f"VEC{values.shape[1]}"
+            clip["samplers"].append({"input": self.accessor(np.asarray(times, dtype=np.float64), "SCALAR", target=None),
+                                     "output": self.accessor(values, kind, target=None),
+                                     "interpolation": interpolation})
+            clip["channels"].append({"sampler": len(clip["samplers"]) - 1, "target": {"node": node, "path": path}})
+        if name is not None:
+            clip["name"] = name
+        self.json.setdefault("animations", []).append(clip)
+        return len(self.json["animations"]) - 1
+
     def write(self, path: Path) -> Path:
         while len(self.binary) % 4:
             self.binary += b"\0"

@@ -49,8 +49,9 @@ def run_module(*args, cwd):
 
 
 def frame_files(folder) -> list[str]:
-    """What a render wrote, less its hidden run manifest."""
-    return sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
+    """The frames a render wrote: less its hidden run manifest and the frames' cameras
+    (cameras.json beside frames, <video>.cameras.json beside a video)."""
+    return sorted(p.name for p in folder.iterdir() if not p.name.startswith(".") and not p.name.endswith("cameras.json"))
 
 
 def write_png(path, pixels):

@@ -2,6 +2,7 @@
 one process; a chunk whose worker dies is retried and no frame is lost or written twice."""
 from __future__ import annotations
 
+import json
 import os
 from pathlib import Path
 
@@ -78,7 +79,11 @@ def test_a_retried_chunk_keeps_the_frames_its_first_try_wrote(single, tmp_path):
     result = render_chunk(task)
     assert result.error is None and [i for i, _ in result.written] == [0, 1, 2]
     assert (tmp_path / "frame_0001.png").stat().st_mtime_ns == before  # not written twice
-    assert frame_bytes(tmp_path) == {k: v for k, v in frame_bytes(single / "png").items() if k < "frame_0003"}
+    assert frame_bytes(tmp_path) == {k: v for k, v in frame_bytes(single / "png").items() if "frame_0000" <= k < "frame_0003"}
+    # every frame's camera comes back, also the one the first try wrote (the parent writes cameras.json)
+    cameras = json.loads((single / "png" / "cameras.json").read_text())["frames"][:3]
+    assert [result.cameras[i] == {k: v for k, v in cameras[i].items() if k not in ("file", "scene")}
+            for i in range(3)] == [True] * 3
 
 
 def test_an_unreachable_scheduler_is_a_clear_error(tmp_path, monkeypatch):

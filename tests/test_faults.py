@@ -118,7 +118,7 @@ def test_signal_mid_render_then_resume_gives_identical_frames(scene, signum, cod
     assert err.strip().splitlines() == [
         f"error: interrupted by {name}; frames already finished are complete, nothing partial was left"]
     assert partials(scene / "out") == []
-    done = outputs(scene / "out")
+    done = [n for n in outputs(scene / "out") if n != "cameras.json"]
     assert 1 <= len(done) < 12  # stopped mid-render
     for name_ in done:
         assert (scene / "out" / name_).read_bytes() == reference[name_]
@@ -126,9 +126,11 @@ def test_signal_mid_render_then_resume_gives_identical_frames(scene, signum, cod
     resumed = cli("render", "anim.yaml", "-o", "out")
     assert resumed.exit_code == 0, resumed.output
     assert f"rendered {12 - len(done)} frames" in resumed.stderr
-    assert outputs(scene / "out") == sorted(reference)
+    assert outputs(scene / "out") == sorted([*reference, "cameras.json"])
     for name_, data in reference.items():
         assert (scene / "out" / name_).read_bytes() == data
+    # the frames' cameras too: the stopped run's and the resumed run's together
+    assert (scene / "out" / "cameras.json").read_bytes() == (scene / "reference" / "cameras.json").read_bytes()
 
 
 @pytest.mark.gl
@@ -160,7 +162,7 @@ def test_sigkill_leaves_a_partial_the_next_run_removes(scene):
 
     render_ok("anim.yaml", "-o", "out")
     assert partials(scene / "out") == []
-    assert outputs(scene / "out") == [f"frame_{i:04d}.png" for i in range(12)]
+    assert outputs(scene / "out") == ["cameras.json"] + [f"frame_{i:04d}.png" for i in range(12)]
 
 
 def _processes_naming(text: str) -> list[int]:
@@ -191,7 +193,7 @@ def test_sigkill_during_mp4_leaves_a_partial_the_next_run_removes(scene):
     assert partials(scene / "out") == [temp]
 
     render_ok("anim.yaml", "-o", "out", "--format", "mp4")
-    assert outputs(scene / "out") == ["anim.mp4"]
+    assert outputs(scene / "out") == ["anim.mp4", "anim.mp4.cameras.json"]
 
 
 def test_stale_partials_removed_only_when_ours_and_dead(tmp_path):

@@ -47,6 +47,7 @@ def scene_dir(tmp_path_factory) -> Path:
     root = tmp_path_factory.mktemp("scene")
     (root / "models").mkdir()
     (root / "models" / "duck.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    (root / "models" / "walker.glb").write_bytes(b"")  # named, not read: the examples only validate
     (root / "textures" / "sky").mkdir(parents=True)
     Image.new("RGB", (2, 2), (90, 140, 60)).save(root / "textures" / "ground.png")
     for face in SKY_FACES:
@@ -154,6 +155,12 @@ def _own_mapping(table: Table, key: str, value) -> dict:
         elif row.default == "required":
             mapping[row.name] = _yaml_value(KEYS[entry_for(row.path, KEYS)].example)
     mapping[key] = value
+    if table.path == "camera" and key == "pose":  # a pose places the camera instead of a position
+        mapping.pop("position", None)
+    if table.path == "objects[]" and key == "animation":  # clips come from a glTF file
+        mapping["mesh"] = "models/walker.glb"
+    if table.path == "camera.pose" and key == "convention":  # a pose needs its matrix
+        mapping["camera_to_world"] = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]]
     return mapping
 
 

@@ -86,6 +86,11 @@ VALUES = {
     "rotation": ([0.0, 0.0, 0.0], [0.0, 45.0, 10.0]),
     "scale": (1.0, 1.5),
     "visible": (True, False),
+    # opencv axes looking down -Z from (0, 2, 6), then half a unit to the right
+    "camera_to_world": ([[1, 0, 0, 0], [0, -1, 0, 2], [0, 0, -1, 6], [0, 0, 0, 1]],
+                        [[1, 0, 0, 0.5], [0, -1, 0, 2], [0, 0, -1, 6], [0, 0, 0, 1]]),
+    "world_to_camera": ([[1, 0, 0, 0], [0, -1, 0, 2], [0, 0, -1, 6], [0, 0, 0, 1]],
+                        [[1, 0, 0, -0.5], [0, -1, 0, 2], [0, 0, -1, 6], [0, 0, 0, 1]]),
 }
 # keys whose values differ from another key's of the same last name
 PATH_VALUES = {"lights[environment].rotation": (0.0, 90.0)}
@@ -125,6 +130,8 @@ def animated_scene(path: str) -> dict:
         scene["objects"][1]["instances"] = [{"position": [0, 0, 0]}, {"position": [0, 0, 2]}]
     if path in ("camera.yaw", "camera.pitch"):
         scene["camera"] = {"position": [0, 2, 6], "yaw": -90, "pitch": -15}
+    if path.startswith("camera.pose"):  # a pose places the camera instead of position and target
+        scene["camera"] = {"fov": 60}
     if path == "camera.height":
         scene["camera"]["projection"] = "orthographic"
     if path == "camera.focus_distance":  # through a lens (two sub-frames keep it quick)

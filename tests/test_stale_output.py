@@ -38,7 +38,9 @@ def render(*args):
 
 
 def frame_bytes(folder) -> dict:
-    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if not p.name.startswith(".")}
+    """The frame files (not the hidden manifest, nor the cameras beside them)."""
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())
+            if not p.name.startswith(".") and p.name != "cameras.json"}
 
 
 def test_unchanged_scene_renders_nothing_again(project):

@@ -33,9 +33,9 @@ def one_at_a_time(evaluator: FrameEvaluator, frame) -> list:
     """The frames FrameEvaluator._object makes object by object for ``frame``'s camera."""
     world = evaluator.world
     planes = frustum_planes(frame.camera.view_proj_relative())
-    placements = [evaluator._placement(obj, obj.matrices(frame.time), evaluator._windings[i])
+    placements = [evaluator._placement(obj, obj.matrices(frame.time), evaluator._windings[i], frame.time)
                   for i, obj in enumerate(world.objects)]
-    return [evaluator._object(obj, p, bool(obj.visible(frame.time)), frame.camera, planes)
+    return [evaluator._object(obj, p, bool(obj.visible(frame.time)), frame.camera, planes, frame.time)
             for obj, p in zip(world.objects, placements)]
 
 

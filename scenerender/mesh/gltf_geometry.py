@@ -7,7 +7,9 @@ integer colours), placed by a node hierarchy of matrices or translation,
 rotation and scale. What it does not read, ``NotReadHere`` says, and the loader hands the
 file to trimesh instead: sparse accessors, other primitive modes (points, lines, strips,
 fans), compressed or quantized geometry (Draco, meshopt, KHR_mesh_quantization), GPU
-instancing, primitives with extensions. Morph targets are ignored, as trimesh does.
+instancing, primitives with extensions. Skins and morph targets are read only for a file
+whose clips play (``deformations``, mesh.loader.load_gltf_nodes); otherwise they are
+ignored, as trimesh does.
 
 The parts come out as the trimesh path gives them (mesh.loader._raw_parts): vertices,
 faces, the normals the file stores (else None), TEXCOORD_0 with v flipped (trimesh's
@@ -21,7 +23,7 @@ import numpy as np
 from scenerender.mesh.gltf import GltfProblem, buffer_view_bytes, rgba_colors, split_glb
 
 _DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
-_WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
+_WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 # extensions that change how geometry is stored: the file goes to trimesh
 _GEOMETRY_EXTENSIONS = ("KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization",
                         "EXT_mesh_gpu_instancing")
@@ -32,10 +34,11 @@ class NotReadHere(Exception):
     """The file uses something this reader leaves to trimesh."""
 
 
-def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
+def read_parts(raw: bytes, read_file, material_names: list, deformations: bool = False) -> list[dict]:
     """The triangle parts of the glTF file ``raw`` (GLB or text) in world space order of its
     default scene's nodes, depth first. ``read_file(uri)`` reads an external buffer;
     ``material_names``: the names mesh.gltf gave the file's materials, by index.
+    ``deformations``: also read each primitive's JOINTS_0, WEIGHTS_0 and morph targets.
 
     Raises NotReadHere where trimesh must read the file, GltfProblem where it is malformed."""
     header, binary = split_glb(raw)
@@ -44,7 +47,7 @@ def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
         raise NotReadHere("compressed or quantized geometry")
     reader = _Accessors(header, binary, read_file)
     parts = []
-    for node, transform in _placed_nodes(header):
+    for index, node, transform in placed_nodes(header):
         mesh_index = node.get("mesh")
         if mesh_index is None:
             continue
@@ -52,13 +55,14 @@ def read_parts(raw: bytes, read_file, material_names: list) -> list[dict]:
         if not (isinstance(mesh_index, int) and 0 <= mesh_index < len(meshes)):
             raise GltfProblem(f"a node names mesh {mesh_index!r}, the file has {len(meshes)}")
         for primitive in meshes[mesh_index].get("primitives", []):
-            part = _primitive(primitive, reader, material_names)
+            part = _primitive(primitive, reader, material_names, deformations)
             if part is not None:
-                parts.append({**part, "transform": transform})
+                parts.append({**part, "transform": transform, "node": index, "skin": node.get("skin"),
+                              "morph_weights": node.get("weights", meshes[mesh_index].get("weights"))})
     return parts
 
 
-def _primitive(primitive: dict, reader: "_Accessors", material_names: list) -> dict | None:
+def _primitive(primitive: dict, reader: "_Accessors", material_names: list, deformations: bool) -> dict | None:
     if primitive.get("mode", 4) != 4:
         raise NotReadHere("a primitive that is not a triangle list")
     if primitive.get("extensions"):
@@ -79,9 +83,32 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list) -> d
     colors = rgba_colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
     material = primitive.get("material")
     name = material_names[material] if isinstance(material, int) and 0 <= material < len(material_names) else None
-    return {"vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
+    skinning = {}  # read only where a clip plays the file (mesh.loader.load_gltf_nodes)
+    if deformations and "JOINTS_0" in attributes and "WEIGHTS_0" in attributes:
+        skinning = {"joints": reader.read(attributes["JOINTS_0"], 4).astype(np.float64),
+                    "weights": reader.read(attributes["WEIGHTS_0"], 4).astype(np.float64)}
+    if deformations and primitive.get("targets"):
+        skinning["targets"] = [_target(target, reader, count) for target in primitive["targets"]]
+    return {**skinning, "vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
             "normals": normals.astype(np.float64) if normals is not None and len(normals) == count else None,
             "uv": uv if uv is not None and len(uv) == count else None, "material": name, "colors": colors}
+
+
+def accessor_reader(header: dict, binary: bytes | None, read_file):
+    """``read(index, width)`` -> accessor ``index`` of the file as an array (see
+    ``_Accessors.read``), each buffer read once: for the animations' keys."""
+    return _Accessors(header, binary, read_file).read
+
+
+def _target(target: dict, reader: "_Accessors", count: int) -> dict:
+    """A morph target's POSITION and NORMAL deltas, (count, 3) float64 each (zeros where absent)."""
+    deltas = {}
+    for key, name in (("POSITION", "positions"), ("NORMAL", "normals")):
+        values = reader.read(target[key], 3).astype(np.float64) if key in target else np.zeros((count, 3))
+        if len(values) != count:
+            raise GltfProblem(f"a morph target's {key} has {len(values)} values for {count} vertices")
+        deltas[name] = values
+    return deltas
 
 
 class _Accessors:
@@ -131,9 +158,11 @@ class _Accessors:
         return np.array(view)  # a copy: the buffer's bytes are not kept alive by the mesh
 
 
-def _placed_nodes(header: dict):
-    """(node, world transform (4, 4) float64) for every node of the default scene (all root
-    nodes where the file has no scenes), depth first in the file's order."""
+def placed_nodes(header: dict, changed: dict | None = None):
+    """(index, node, world transform (4, 4) float64) for every node of the default scene
+    (all root nodes where the file has no scenes), depth first in the file's order.
+    ``changed``: node index -> {"translation" | "rotation" | "scale": value} replacing the
+    file's own (an animation at one instant)."""
     nodes = header.get("nodes", [])
     scenes = header.get("scenes", [])
     if scenes:
@@ -150,8 +179,8 @@ def _placed_nodes(header: dict):
         if not (isinstance(index, int) and 0 <= index < len(nodes)) or depth > _MAX_DEPTH:
             raise GltfProblem(f"node {index!r} is not in the file, or the hierarchy runs in a circle")
         node = nodes[index]
-        world = parent @ _local(node)
-        yield node, world
+        world = parent @ _local({**node, **changed[index]} if changed and index in changed else node)
+        yield index, node, world
         stack.extend((child, world, depth + 1) for child in reversed(node.get("children", [])))
 
 

@@ -19,7 +19,8 @@ from scenerender.mesh.cache import load_obj_cached
 from scenerender.mesh.data import MeshData
 from scenerender.mesh.data import MeshGroup
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
-from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, vertex_colors
+from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, split_glb, vertex_colors
+from scenerender.mesh.gltf_animation import read_clips, read_skins
 from scenerender.mesh.gltf_geometry import read_parts
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
 from scenerender.mesh.obj import parse_obj
@@ -69,6 +70,83 @@ def load_mesh(
             SourceLocation(shown),
         )
     return _finished(mesh, normals, normalize, shown)
+
+
+def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, assets: AssetPolicy,
+                    budget: TriangleBudget) -> list[tuple[int, MeshData, dict | None]]:
+    """A glTF file for its animations: [(node index, the node's mesh at rest, its
+    deformation or None)], one mesh per node that holds one, so that each can move with its
+    node. A node whose vertices move themselves (a skin, morph targets: see _deformation)
+    keeps its mesh in the mesh's own space: a skin places it (the node's transform is
+    ignored, as the specification says), else the node's transform after the morph. The
+    others are where the file puts them at rest. Raises UserError where the file needs
+    trimesh (which keeps no nodes)."""
+    path = Path(path)
+    shown = display_path(path)
+    _check_mesh_file(path, assets, SourceLocation(shown))
+    raw = read_regular_file(path, "mesh file")
+    read_file = _policy_reader(path, assets)
+    gltf = _read_gltf(raw, path, read_file, warnings)
+    parts = _gltf_parts_here(raw, read_file, gltf, deformations=True)
+    if parts is None:
+        raise UserError("cannot play its animations: its geometry is stored in a way only trimesh reads "
+                        "(sparse, compressed or non-triangle primitives), and trimesh keeps no nodes",
+                        SourceLocation(shown))
+    nodes: dict = {}
+    for part in parts:
+        nodes.setdefault(part["node"], []).append(part)
+    meshes = []
+    for node, node_parts in nodes.items():
+        deform = _deformation(node_parts)
+        if deform:  # the mesh's own space: the joints, or the node's transform after the morph, place it
+            node_parts = [{**p, "transform": np.eye(4)} for p in node_parts]
+        mesh = _finished(_joined(node_parts, gltf, shown), normals, False, shown)
+        budget.charge(mesh.triangle_count, SourceLocation(shown))
+        if deform and len(node_parts) and sum(len(p["vertices"]) for p in node_parts) != mesh.vertex_count:
+            raise UserError("cannot play its skin or morph targets: the normals mode changed the vertices; use "
+                            "normals: auto with a file that stores normals", SourceLocation(shown))
+        meshes.append((node, mesh, deform or None))
+    return meshes
+
+
+def _deformation(parts: list[dict]) -> dict:
+    """What moves a node's vertices themselves: {"skin", "joints" (N, 4), "weights" (N, 4)}
+    where the node has a skin and every primitive JOINTS_0 and WEIGHTS_0; {"morph":
+    {"positions", "normals": (T, N, 3), "weights": (T,)}} where every primitive has the same
+    number T of morph targets; both, or {} (a rigid part)."""
+    deform: dict = {}
+    if parts[0]["skin"] is not None and all("joints" in p for p in parts):
+        deform.update(skin=parts[0]["skin"], joints=np.concatenate([p["joints"] for p in parts]),
+                      weights=np.concatenate([p["weights"] for p in parts]))
+    counts = {len(p.get("targets") or ()) for p in parts}
+    if len(counts) == 1 and counts != {0}:
+        count = counts.pop()
+        defaults = parts[0].get("morph_weights")
+        defaults = np.asarray(defaults, dtype=np.float64) if defaults is not None else np.zeros(count)
+        if defaults.shape != (count,):
+            defaults = np.zeros(count)
+        deform["morph"] = {key: np.stack([np.concatenate([p["targets"][t][key] for p in parts]) for t in range(count)])
+                           for key in ("positions", "normals")}
+        deform["morph"]["weights"] = defaults
+    return deform
+
+
+def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list, list]:
+    """(the glTF JSON, its animation clips, its skins: mesh.gltf_animation.Clip, Skin) of
+    the file ``path``, its buffers read through ``assets``. Raises UserError naming the file
+    where they are malformed."""
+    path = Path(path)
+    shown = display_path(path)
+    _check_mesh_file(path, assets, SourceLocation(shown))
+    raw = read_regular_file(path, "mesh file")
+    try:
+        header, _ = split_glb(raw)
+        read_file = _policy_reader(path, assets)
+        return header, read_clips(raw, read_file), read_skins(raw, read_file)
+    except UserError:
+        raise  # a buffer outside the allowed folders
+    except Exception as exc:  # noqa: BLE001 - GltfProblem, or malformed JSON values
+        raise UserError(f"cannot read its animations: {_short(exc)}", SourceLocation(shown)) from None
 
 
 def _check_mesh_file(path: Path, assets: AssetPolicy, where: SourceLocation) -> None:
@@ -121,14 +199,14 @@ def _load_other_format(path: Path, assets: AssetPolicy, budget: TriangleBudget, 
     return _joined(_trimesh_parts(path, raw, assets, gltf, warnings), gltf, shown)
 
 
-def _gltf_parts_here(raw: bytes, read_file, gltf: GltfFile | None) -> list[dict] | None:
+def _gltf_parts_here(raw: bytes, read_file, gltf: GltfFile | None, deformations: bool = False) -> list[dict] | None:
     """The glTF file's parts read without trimesh, or None where trimesh must read it
     (what mesh.gltf_geometry leaves to it, or a file it finds malformed: trimesh then
     gives the reason the user sees, as for every other format)."""
     names = [material.name for material in gltf.materials] if gltf is not None else []
     try:
         with np.errstate(all="ignore"):
-            return read_parts(raw, read_file, names)
+            return read_parts(raw, read_file, names, deformations)
     except UserError:
         raise  # a file it names outside the allowed folders
     except Exception:  # noqa: BLE001 - NotReadHere, GltfProblem, or malformed JSON values

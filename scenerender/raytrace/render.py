@@ -292,7 +292,8 @@ class _FrameScene:
             local = np.stack([ndc_x / p[0, 0], ndc_y / p[1, 1], np.zeros_like(ndc_x)], axis=1)
             directions = np.broadcast_to(to_world @ np.array([0.0, 0.0, -1.0]), local.shape).copy()
             return local @ to_world.T, directions
-        local = np.stack([ndc_x / p[0, 0], ndc_y / p[1, 1], -np.ones_like(ndc_x)], axis=1)
+        # p[0, 2] and p[1, 2] shear the view where the principal point is off centre (intrinsics)
+        local = np.stack([(ndc_x + p[0, 2]) / p[0, 0], (ndc_y + p[1, 2]) / p[1, 1], -np.ones_like(ndc_x)], axis=1)
         return np.zeros_like(local), local @ to_world.T
 
     def _through_lens(self, origins: np.ndarray, directions: np.ndarray, rng):

@@ -68,7 +68,10 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     velocity_blur = inputs.motion is not None and fill == "solid"  # render.motion_blur: velocity
     if (settings.ambient_occlusion is not None or settings.mode in ("depth", "normals", "ambient_occlusion")
             or lens_blur):
-        geometry = graph.add(GBufferPass(size, inputs.camera, inputs.objects, _masked_materials(world, inputs)))
+        # EXR's depth view holds distances in scene units: 32-bit, not float16's 11 bits
+        precision = "rgba32f" if settings.mode == "depth" and options.want_linear else "rgba16f"
+        geometry = graph.add(GBufferPass(size, inputs.camera, inputs.objects, _masked_materials(world, inputs),
+                                         precision))
         gbuffer = geometry.color
     if settings.ambient_occlusion is not None or settings.mode == "ambient_occlusion":
         raw = graph.add(SSAOPass(gbuffer, geometry.depth, inputs.camera, size,

@@ -21,6 +21,7 @@ from scenerender.rendering.passes.object_ids import MAX_OBJECT_IDS
 from scenerender.rendering.pipeline import GraphOptions, build_graph
 from scenerender.rendering.profile import CPU_SETUP
 from scenerender.rendering.scene_gpu import GpuScene
+from scenerender.world.camera_data import camera_record
 from scenerender.world.frame import FrameEvaluator, FrameState
 from scenerender.world.inputs import redrawn_shadow_maps
 from scenerender.world.lens import Film
@@ -63,6 +64,7 @@ class FrameResult:
     linear: np.ndarray | None = None
     object_ids: np.ndarray | None = None
     object_ids_behind: np.ndarray | None = None
+    camera: dict | None = None  # the frame's camera as cameras.json records it (world/camera_data.py)
 
 
 class GLBackend:
@@ -217,19 +219,21 @@ class GraphRenderer:
     def render(self, index: int) -> FrameResult:
         time = self.frame_time(index)
         if self.film is None:
-            pixels, linear, ids, behind = self._run_graph(index, time)
+            pixels, linear, ids, behind, camera = self._run_graph(index, time)
         else:
             pixels, linear, ids, behind = self._film(index, time)
+            camera = self.evaluator.evaluate(index, time).camera  # the lens's centre at the frame's time
         if self.check_finite and linear is not None:
             problem = first_non_finite(linear)
             if problem is not None:
                 raise NonFiniteOutput(f"frame {index}: {problem} ({ENV_CHECK_FINITE} is on)")
-        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids, behind)
+        return FrameResult(index, time, pixels, linear if self.want_linear else None, ids, behind,
+                           camera_record(camera, self.size, index, time))
 
     def _run_graph(self, index: int, time: float, lens_point: tuple | None = None) -> tuple:
         """Run the graph for the scene at ``time`` (seen from ``lens_point`` of the lens,
         world.lens): (pixels, linear or None, object ids or None, the object ids behind
-        transparent surfaces or None)."""
+        transparent surfaces or None, the camera it was seen from)."""
         started = perf_counter()
         frame = self.evaluator.evaluate(index, time, lens_point)
         self.backend.inputs = self.import_frame(frame)
@@ -244,7 +248,7 @@ class GraphRenderer:
         self._rendered_any = True
         outputs = self.backend.outputs
         return (outputs.pop("pixels"), outputs.pop("linear", None), outputs.pop("object_ids", None),
-                outputs.pop("object_ids_behind", None))
+                outputs.pop("object_ids_behind", None), frame.camera)
 
     def _film(self, index: int, time: float) -> tuple:
         """The frame through the shutter and the lens: the mean in linear light of the
@@ -254,7 +258,7 @@ class GraphRenderer:
         samples = self.film.samples_over(1.0 / float(self.world.output.fps))
         total, ids, nearest = None, (None, None), None
         for sample in samples:
-            _, linear, *sample_ids = self._run_graph(index, time + sample.time_offset, sample.lens)
+            _, linear, *sample_ids, _ = self._run_graph(index, time + sample.time_offset, sample.lens)
             total = linear.astype(np.float64) if total is None else total + linear
             if nearest is None or abs(sample.time_offset) < nearest:
                 ids, nearest = sample_ids, abs(sample.time_offset)
@@ -263,3 +267,8 @@ class GraphRenderer:
         display = tone_map(linear, settings.tone_map, float(self.world.render.exposure(time)))
         pixels = encode_output(display, settings.output_transform, settings.gamma)
         return (pixels, linear.astype(np.float32), *ids)
+
+    def camera_record(self, index: int) -> dict:
+        """Frame ``index``'s camera as cameras.json records it, without rendering it."""
+        time = self.frame_time(index)
+        return camera_record(self.evaluator.evaluate(index, time).camera, self.size, index, time)

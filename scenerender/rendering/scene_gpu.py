@@ -4,9 +4,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import moderngl
 import numpy as np
 
 from scenerender.gpu.meshes import INSTANCE_FLOATS, GpuMesh, instance_bytes, instance_rows
+from scenerender.gpu.shaders import assemble
 from scenerender.gpu.textures import TextureCache, environment_texture
 from scenerender.rendering.inputs import LightsInput
 from scenerender.rendering.lights import PackedLights
@@ -50,6 +52,7 @@ class GpuScene:
         self._vaos: dict = {}
         self._extras: dict = {}
         self._memories: dict = {}
+        self.deforms = self._deforms()
         self.skybox = self._skybox()
         self.environment = (EnvironmentTextures.upload(ctx, world.environment)
                             if getattr(world, "environment", None) is not None else None)
@@ -64,6 +67,12 @@ class GpuScene:
             if obj.mesh_key not in meshes:
                 meshes[obj.mesh_key] = GpuMesh(self.ctx, obj.mesh, needs_tangents[obj.mesh_key])
         return meshes
+
+    def _deforms(self) -> dict:
+        """object index -> GpuDeform for each glTF part with a skin or morph targets that a
+        clip plays (none in most scenes)."""
+        return {i: GpuDeform(self.ctx, obj.deform, self.meshes[obj.mesh_key])
+                for i, obj in enumerate(self.world.objects) if obj.deform is not None}
 
     def _skybox(self):
         faces = self.world.settings.skybox
@@ -86,6 +95,10 @@ class GpuScene:
         for buffer, state in zip(self.instance_buffers, frame.objects):
             if state.visible and state.count != 1:
                 buffer.write(instance_bytes(state.models_rel, state.normals))
+        for index, deform in self.deforms.items():
+            state = frame.objects[index]
+            if state.visible:
+                deform.pose(state.skin, state.morph)
         self._write(self.shadow_buffer, lights.views)
         self._write(self.light_buffer, lights.lights)
         return LightsInput(self.light_buffer, self.shadow_buffer, lights.first_view)
@@ -114,6 +127,8 @@ class GpuScene:
         self._extras.clear()
         if self.environment is not None:
             self.environment.release()
+        for deform in self.deforms.values():
+            deform.release()
         for mesh in self.meshes.values():
             mesh.release()
         for buffer in self.instance_buffers + list(self.eye_relative_buffers.values()) + [self.light_buffer,
@@ -156,3 +171,52 @@ class GpuScene:
             self.eye_relative_buffers[object_index] = self.ctx.buffer(reserve=count * INSTANCE_FLOATS * 4, dynamic=True)
         return self.eye_relative_buffers[object_index]
 
+
+
+class GpuDeform:
+    """Poses one part whose vertices move themselves (shaders/mesh/deform.vert): its rest
+    vertices, joints and morph deltas stay in buffers of their own; ``pose`` writes the
+    posed vertices over the mesh's vertex buffer by transform feedback, in the layout
+    every pass reads."""
+
+    MORPH_BINDING = 5  # the MorphDeltas storage block, bound only while posing
+
+    def __init__(self, ctx, deform, mesh: GpuMesh):
+        self.mesh = mesh
+        self.count = mesh.mesh.vertex_count
+        self.rest = ctx.buffer(mesh.vertices.read())
+        defines, content, self.buffers = {}, [(self.rest, "3f 3f 2f", "in_position", "in_normal", "in_uv")], [self.rest]
+        if deform.skin is not None:
+            defines.update(SKINNED=True, JOINT_COUNT=len(deform.skin.joints))
+            joints = ctx.buffer(np.ascontiguousarray(np.hstack([deform.joints, deform.weights]), dtype=np.float32))
+            content.append((joints, "4f 4f", "in_joints", "in_weights"))
+            self.buffers.append(joints)
+        self.deltas = None
+        if deform.targets is not None:
+            defines["MORPH_TARGETS"] = len(deform.targets)
+            self.deltas = ctx.buffer(np.ascontiguousarray(deform.targets, dtype=np.float32))
+            self.buffers.append(self.deltas)
+        self.program = ctx.program(vertex_shader=assemble("mesh/deform.vert", defines),
+                                   varyings=["out_position", "out_normal", "out_uv"])
+        self.vao = ctx.vertex_array(self.program, content)
+        # Mesa runs transform feedback only with a complete framebuffer bound, and before
+        # a frame's first pass none may be: a 1 x 1 one of its own (nothing is drawn to it)
+        self.target = ctx.renderbuffer((1, 1))
+        self.framebuffer = ctx.framebuffer(color_attachments=[self.target])
+
+    def pose(self, palette: np.ndarray | None, weights: np.ndarray | None) -> None:
+        """Pose the vertices with the joint matrices ``palette`` (J, 4, 4) and the morph
+        target ``weights`` (T,), each None where the part has none."""
+        if palette is not None:
+            self.program["u_joints"].write(np.ascontiguousarray(palette.transpose(0, 2, 1), dtype=np.float32))
+        if weights is not None:
+            self.program["u_morph"].write(np.ascontiguousarray(weights, dtype=np.float32))
+            if "u_vertex_count" in self.program:  # one target: the compiler folds 0 * count away
+                self.program["u_vertex_count"].value = self.count
+            self.deltas.bind_to_storage_buffer(self.MORPH_BINDING)
+        self.framebuffer.use()
+        self.vao.transform(self.mesh.vertices, moderngl.POINTS, vertices=self.count)
+
+    def release(self) -> None:
+        for item in (self.vao, self.program, *self.buffers, self.framebuffer, self.target):
+            item.release()

@@ -25,6 +25,7 @@ from scenerender.errors import UserError, display_path
 from scenerender.gpu.context import is_software
 from scenerender.mesh.data import MeshData
 from scenerender.sinks.base import atomic_path, write_file
+from scenerender.sinks.cameras import cameras_path, write_cameras
 from scenerender.version import __version__
 
 FORMAT_VERSION = 1
@@ -148,15 +149,18 @@ class Manifest:
     run: Fingerprint
     scene: str            # which scene's frames these are: several scenes may share a folder
     data: dict = field(default_factory=dict)
+    cameras_file: Path | None = None  # the output's cameras.json (sinks/cameras.py)
     _last_save: float = 0.0
 
     @classmethod
-    def open(cls, target: Path, is_folder: bool, run: Fingerprint, scene: str) -> "Manifest":
+    def open(cls, target: Path, is_folder: bool, run: Fingerprint, scene: str, cameras: bool = True) -> "Manifest":
+        """``cameras``: keep a cameras.json beside the output (not beside one image)."""
         path = sidecar_for(target, is_folder)
         data = read_sidecar(path)
         data.setdefault("frames", {})
         data.setdefault("runs", {})
-        return cls(path=path, run=run, scene=scene, data=data)
+        return cls(path=path, run=run, scene=scene, data=data,
+                   cameras_file=cameras_path(target, is_folder) if cameras else None)
 
     @property
     def previous_run(self) -> str | None:
@@ -197,15 +201,34 @@ class Manifest:
                                "software": renderer is not None and is_software(str(renderer))}
         self.save()
 
-    def record(self, name: str, index: int, file: Path, ids: Path | None = None) -> None:
-        """``file`` (frame ``index``) was written completely, and its object ids ``ids``."""
+    def record(self, name: str, index: int, file: Path, ids: Path | None = None, cameras: list | None = None) -> None:
+        """``file`` (frame ``index``) was written completely, and its object ids ``ids``;
+        ``cameras``: the camera record of each frame it holds (world/camera_data.py)."""
         entry = {"index": int(index), "scene": self.scene, "run": self.run.digest,
                  "bytes": file.stat().st_size, "sha256": file_digest(file)}
         if ids is not None:
             entry["object_ids"] = {"bytes": ids.stat().st_size, "sha256": file_digest(ids)}
+        if cameras:  # as JSON text: a record's 40 numbers would be 40 lines of the indented manifest
+            entry["cameras"] = [json.dumps(camera) for camera in cameras]
         self.data["frames"][name] = entry
         if time.monotonic() - self._last_save >= SAVE_INTERVAL:
             self.save()
+
+    def finish(self) -> None:
+        """Save the manifest and write the output's cameras.json from it."""
+        self.save()
+        self.write_cameras()
+
+    def write_cameras(self) -> None:
+        """cameras.json from the frames the manifest vouches for: the cameras of every
+        frame file there, in file order, each named by its file and scene."""
+        records = []
+        for name, entry in sorted(self.data["frames"].items()):
+            for text in entry.get("cameras") or ():
+                file = {"file": name} if self.path.name == FOLDER_SIDECAR else {}
+                records.append({**file, "scene": entry.get("scene"), **_camera(text)})
+        if self.cameras_file is not None:
+            write_cameras(self.cameras_file, records)
 
     def save(self) -> None:
         """Write the manifest whole (temporary file + rename)."""
@@ -214,6 +237,15 @@ class Manifest:
         # manifest, and no temporary file is left behind
         with atomic_path(self.path) as temp:
             write_file(temp, (json.dumps(self.data, indent=1, sort_keys=True) + "\n").encode("utf-8"))
+
+
+def _camera(text) -> dict:
+    """A camera record the manifest keeps as JSON text; {} where it is unreadable."""
+    try:
+        record = json.loads(text)
+    except (TypeError, ValueError):
+        return {}
+    return record if isinstance(record, dict) else {}
 
 
 def _unaltered(file: Path, entry: dict) -> bool:
@@ -239,20 +271,26 @@ class RecordingSink:
         self.file_entry = file_entry
         self.needs_linear = sink.needs_linear
         self._first_index: int | None = None
+        self.cameras: dict = {}  # frame index -> its camera record, for a single-file output
 
     def write(self, frame) -> None:
         self.sink.write(frame)
+        camera = getattr(frame, "camera", None)
         if self.file_entry is None:
             self.manifest.record(self.frame_names[frame.index], frame.index, self.sink.path_for(frame.index),
-                                 self._ids(frame.index))
-        elif self._first_index is None:
+                                 self._ids(frame.index), [camera] if camera else None)
+            return
+        if self._first_index is None:
             self._first_index = frame.index
+        if camera:
+            self.cameras[frame.index] = camera
 
     def close(self) -> None:
         self.sink.close()
         if self.file_entry is not None and self._first_index is not None:
-            self.manifest.record(self.file_entry, self._first_index, self.sink.path, self._ids(self._first_index))
-        self.manifest.save()
+            self.manifest.record(self.file_entry, self._first_index, self.sink.path, self._ids(self._first_index),
+                                 [self.cameras[i] for i in sorted(self.cameras)])
+        self.manifest.finish()
 
     def _ids(self, index: int) -> Path | None:
         ids_path_for = getattr(self.sink, "ids_path_for", None)
@@ -261,7 +299,7 @@ class RecordingSink:
     def abort(self) -> None:
         self.sink.abort()
         try:  # keep what finished; a failure here must not hide why the run stopped
-            self.manifest.save()
+            self.manifest.finish()
         except (OSError, UserError):
             pass
 

@@ -54,7 +54,7 @@ def plan_frames(sink, frames: range, run, scene: str, overwrite: bool, echo) -> 
     and one line says what changed.
     """
     target = sink.target
-    manifest = Manifest.open(target, sink.is_sequence, run, scene)
+    manifest = Manifest.open(target, sink.is_sequence, run, scene, getattr(sink, "keeps_cameras", True))
     _say_what_changed(manifest, run, target, echo)
     if sink.is_sequence:
         _remove_stale_frames(manifest, target)
@@ -66,6 +66,7 @@ def plan_frames(sink, frames: range, run, scene: str, overwrite: bool, echo) -> 
         current = not overwrite and manifest.is_current(name, target, _ids(sink, frames.start))
         todo = [] if current else list(frames)
         recording = RecordingSink(sink, manifest, file_entry=name)
+    manifest.write_cameras()  # what the output holds now: stale frames' cameras go with them
     return FramePlan(sink, manifest, target, todo, len(frames) - len(todo), recording)
 
 

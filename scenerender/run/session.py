@@ -215,6 +215,11 @@ class Renderer:
             raise ValueError(f"frame index must be >= 0, got {index}")
         return self._renderer.render(int(index))
 
+    def camera_record(self, index: int) -> dict:
+        """Frame ``index``'s camera as cameras.json records it (K, poses, near, far),
+        without rendering the frame."""
+        return self._renderer.camera_record(int(index))
+
     def close(self) -> None:
         """Free the GL objects (and the context, when this renderer made it). Idempotent."""
         if self._renderer is not None:

@@ -59,6 +59,7 @@ class ChunkResult:
 
     gl: dict = field(default_factory=dict)
     written: list = field(default_factory=list)   # (index, file name)
+    cameras: dict = field(default_factory=dict)   # index -> camera record (world/camera_data.py)
     error: str | None = None                      # a UserError's one-line message
 
 
@@ -75,10 +76,34 @@ def render_chunk(task: ChunkTask) -> ChunkResult:
         names = dict(task.object_names) if task.object_names is not None else None
         sink = ImageSequenceSink(Path(task.folder), task.fmt, task.pattern, task.quality, names, task.scene_key)
         due = [i for i in task.indices if not _written(sink, i)]  # else an earlier try wrote it
-        render_into(renderer, sink, due)
-        return ChunkResult(gl=gl, written=[(i, sink.path_for(i).name) for i in task.indices])
+        cameras = CameraCollector(sink)
+        render_into(renderer, cameras, due)
+        for index in task.indices:
+            if index not in cameras.records:  # written by an earlier try
+                cameras.records[index] = renderer.camera_record(index)
+        return ChunkResult(gl=gl, written=[(i, sink.path_for(i).name) for i in task.indices], cameras=cameras.records)
     except UserError as exc:
         return ChunkResult(error=str(exc))
+
+
+class CameraCollector:
+    """Passes frames on to ``sink`` and keeps each frame's camera record."""
+
+    def __init__(self, sink):
+        self.sink = sink
+        self.needs_linear = sink.needs_linear
+        self.records: dict = {}
+
+    def write(self, frame) -> None:
+        self.sink.write(frame)
+        if frame.camera is not None:
+            self.records[frame.index] = frame.camera
+
+    def close(self) -> None:
+        self.sink.close()
+
+    def abort(self) -> None:
+        self.sink.abort()
 
 
 def _written(sink: ImageSequenceSink, index: int) -> bool:
@@ -197,13 +222,17 @@ def render_with_workers(scene, options, plan, progress) -> None:
                 plan.manifest.start(result.gl)
                 started = True
             for index, name in result.written:
+                camera = result.cameras.get(index)
                 if sequence:
-                    plan.manifest.record(name, index, folder / name, plan.sink.ids_path_for(index))
+                    plan.manifest.record(name, index, folder / name, plan.sink.ids_path_for(index),
+                                         [camera] if camera else None)
+                elif camera:
+                    plan.recording.cameras[index] = camera
                 progress.advance()
     finally:
         workers.close()
     if sequence:
-        plan.manifest.save()
+        plan.manifest.finish()
     else:
         _encode_staged(plan, folder)
 

@@ -29,6 +29,7 @@ class FrameSink:
 
     needs_linear = False
     is_sequence = False
+    keeps_cameras = True  # a cameras.json beside the output (sinks/cameras.py)
     target: Path
 
     def write(self, frame) -> None:  # pragma: no cover - interface

@@ -138,6 +138,7 @@ class SingleImageSink(ImageSequenceSink):
     frame's index."""
 
     is_sequence = False
+    keeps_cameras = False  # -o still.png writes exactly that file
 
     def __init__(self, path: Path, fmt: str, quality: int = 90, object_names: dict | None = None, scene: str = ""):
         super().__init__(Path(path).parent, fmt, "frame", quality, object_names, scene)

@@ -10,9 +10,10 @@ from pathlib import Path
 
 import numpy as np
 
-from scenerender.errors import SourceLocation, Warnings
+from scenerender.errors import SourceLocation, Warnings, display_path
 from scenerender.mesh import MeshData, apply_normals_mode, load_mesh, make_primitive, normalize_unit
 from scenerender.mesh.budget import TriangleBudget
+from scenerender.mesh.loader import load_gltf_nodes, read_gltf_clips
 from scenerender.scene import LoadedScene
 from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
 from scenerender.scene.messages import single_error
@@ -22,6 +23,7 @@ from scenerender.world.directional_views import fixed_view_sizes
 from scenerender.world.environment import EnvironmentDef, environment_def
 from scenerender.world.images import ImageStore
 from scenerender.world.lights import LightDef, light_defs, split_ambient
+from scenerender.world.node_animation import ClipPlayer, clips_text, deformation, find_clip, node_motions
 from scenerender.world.settings import OutlineSettings, RenderSettings
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance
 from scenerender.world.reach import check_placements
@@ -106,7 +108,7 @@ def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
     warnings = warnings or Warnings()
     spec = scene.spec
     loader = _Loader(scene, warnings)
-    objects = [loader.build_object(i, obj) for i, obj in enumerate(spec.objects)]
+    objects = [part for i, obj in enumerate(spec.objects) for part in loader.build_parts(i, obj)]
     check_placements(objects, scene.source)
     lights, ambient = split_ambient(light_defs(spec.lights, spec.render.shadows))
     _check_modes(scene, lights)
@@ -161,10 +163,51 @@ class _Loader:
         self.budget = TriangleBudget(limit=_limit(scene, "triangles", TriangleBudget.unlimited().limit))
         self.reported: set = set()
 
-    def build_object(self, index: int, obj) -> RenderObject:
+    def build_parts(self, index: int, obj) -> list[RenderObject]:
+        """The object, or for a glTF file playing a clip, one part per node with a mesh."""
+        if obj.animation is None:
+            return [self.build_object(index, obj)]
         path = ("objects", index)
-        key, mesh = self.load(obj, path)
+        header, clips, skins = read_gltf_clips(obj.mesh, self.scene.assets)
+        meshes = load_gltf_nodes(obj.mesh, normals=obj.normals, warnings=self.warnings,
+                                 assets=self.scene.assets, budget=self.budget)
+        clip = find_clip(clips, obj.animation.clip)
+        if clip is None:
+            have = f"its clips: {clips_text(clips)}" if clips else "it has no animations"
+            raise single_error(f"{display_path(obj.mesh)} has no clip {obj.animation.clip!r}; {have}",
+                               path + ("animation", "clip"), self.scene.source)
+        spec = obj.animation
+        player = ClipPlayer(header, clip, spec.speed, spec.offset, spec.loop)
+        motions = node_motions(header, player, [node for node, _, deform in meshes if deform is None],
+                               [node for node, _, deform in meshes if deform is not None and "skin" not in deform])
+        nodes = header.get("nodes", [])
         name = obj.name or _default_name(obj, index)
+        parts = []
+        for node, mesh, deform in meshes:
+            part = self.build_object(index, obj, (("node", node), mesh), f"{name}/{nodes[node].get('name') or node}",
+                                     motions.get(node))
+            if deform is not None:
+                part.deform = self._deformation(player, skins, node, deform, path)
+            parts.append(part)
+        return parts
+
+    def _deformation(self, player, skins: list, node: int, deform: dict, path: tuple):
+        try:
+            return deformation(player, skins, node, deform)
+        except (ValueError, IndexError) as exc:
+            raise single_error(f"cannot play the glTF skin: {exc}",
+                               path + ("mesh",), self.scene.source) from None
+
+    def build_object(self, index: int, obj, loaded: tuple | None = None, name: str | None = None,
+                     motion=None) -> RenderObject:
+        """``loaded``: (key, mesh) of a part of an animated glTF file, moved by ``motion``."""
+        path = ("objects", index)
+        if loaded is None:
+            key, mesh = self.load(obj, path)
+        else:
+            key, mesh = ("file", str(obj.mesh), obj.normals, obj.normalize, *loaded[0]), loaded[1]
+            self.meshes[key] = mesh  # its images join the scene's with every other mesh's
+        name = name or obj.name or _default_name(obj, index)
         materials = self.object_materials(obj, mesh, path)
         for material in materials:
             material.vertex_colors = mesh.colors is not None
@@ -176,7 +219,8 @@ class _Loader:
             instances = random_instances(obj.instances.random)
         return RenderObject(name=name, path=path, mesh=mesh, mesh_key=key, materials=materials,
                             position=obj.position, rotation=obj.rotation, scale=obj.scale, visible=obj.visible,
-                            cast_shadows=obj.cast_shadows, outline=_outline(obj.outline), instances=instances)
+                            cast_shadows=obj.cast_shadows, outline=_outline(obj.outline), instances=instances,
+                            motion=motion)
 
     def load(self, obj, path: tuple):
         key = _mesh_key(obj)

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scenerender.world.camera_data import intrinsics_fov, intrinsics_projection, pose_placement
 from scenerender.world.transforms import box_corners
 
 # Looking closer than this to `up` (|cos| of the angle) counts as looking along it.
@@ -184,20 +185,22 @@ class CameraRig:
     at frame 0, place the default camera and size an orthographic view without ``height``:
     set once, before the first ``at``, so that every frame of a run is framed alike."""
 
-    def __init__(self, spec, aspect: float, max_depth_ratio: float | None = None):
-        """max_depth_ratio: the cap on far / near of `near/far: auto` (fit_near_far)."""
+    def __init__(self, spec, aspect: float, max_depth_ratio: float | None = None, size: tuple | None = None):
+        """max_depth_ratio: the cap on far / near of `near/far: auto` (fit_near_far).
+        size: the image (width, height) in pixels that `camera.intrinsics` are given in
+        (render.size); an image of another size scales them with it."""
         self.spec = spec
         self.aspect = aspect
+        self.size = tuple(size) if size is not None else None
         self.max_depth_ratio = max_depth_ratio
         self.first_bounds = None
 
     def at(self, t: float, bounds) -> CameraState:
         """The camera at time ``t`` seeing a scene that spans ``bounds`` (2, 3) now."""
         spec = self.spec
-        fov = spec.fov(t) if spec is not None else 60.0
-        up = np.asarray(spec.up if spec is not None else (0.0, 1.0, 0.0), dtype=np.float64)
-        position, forward = self._aim(t, fov)
-        rotation = look_rotation(forward, up)
+        intrinsics = spec.intrinsics if spec is not None else None
+        fov = intrinsics_fov(intrinsics, self.size) if intrinsics is not None else spec.fov(t) if spec is not None else 60.0
+        position, rotation = self._place(t, fov)
         ortho = spec is not None and spec.projection == "orthographic"
         near, far = fit_near_far(bounds, position, rotation, ortho, self.max_depth_ratio)
         if spec is not None and spec.near != "auto":
@@ -206,8 +209,23 @@ class CameraRig:
             far = spec.far
         far = max(far, near * 1.001)
         height = self._ortho_height(t) if ortho else 0.0
-        projection = orthographic(height, self.aspect, near, far) if ortho else perspective(fov, self.aspect, near, far)
+        if ortho:
+            projection = orthographic(height, self.aspect, near, far)
+        elif intrinsics is not None:
+            projection = intrinsics_projection(intrinsics, self.size, near, far)
+        else:
+            projection = perspective(fov, self.aspect, near, far)
         return CameraState(position, rotation, projection, near, far, fov, self.aspect, ortho)
+
+    def _place(self, t: float, fov: float):
+        """(position (3,), world -> view rotation (3, 3)) in float64: from `camera.pose`
+        where given, else from the position and where it looks."""
+        spec = self.spec
+        if spec is not None and spec.pose is not None:
+            return pose_placement(spec.pose, t)
+        up = np.asarray(spec.up if spec is not None else (0.0, 1.0, 0.0), dtype=np.float64)
+        position, forward = self._aim(t, fov)
+        return position, look_rotation(forward, up)
 
     def _aim(self, t: float, fov: float):
         """(position (3,), forward (3,)) in float64."""

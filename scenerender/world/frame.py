@@ -52,6 +52,8 @@ class ObjectFrame:
     in_view: int
     hidden_faces: str | None = None
     winding: int = 0
+    skin: np.ndarray | None = None   # (J, 4, 4) float32 joint matrices of a skinned part (world.node_animation)
+    morph: np.ndarray | None = None  # (T,) float32 morph target weights of a morphed part
 
     @property
     def count(self) -> int:
@@ -95,13 +97,14 @@ class FrameEvaluator:
         self.size = size
         self.aspect = size[0] / size[1]
         self.atlas = atlas
-        self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio)
+        self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio, world.settings.size)
         self._last_environment_views = None  # (what they were fitted to, EnvironmentViews)
 
     @cached_property
     def _windings(self) -> list:
         """+1 / -1 for closed, opaque surfaces (their winding), 0 for the rest."""
-        return [obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) else 0
+        # a skin or morph targets may fold or mirror a part: all its faces may show
+        return [obj.mesh.closed_winding() if not any(m.transparent for m in obj.materials) and obj.deform is None else 0
                 for obj in self.world.objects]
 
     @cached_property
@@ -109,7 +112,7 @@ class FrameEvaluator:
         """Objects that never move: index -> their placement (see _placement), so a frame's
         work for them is the camera-relative shift and the view test. Made on the first
         frame: an evaluator asked only for cameras never needs them."""
-        return {i: self._placement(obj, obj.matrices(0.0), self._windings[i])
+        return {i: self._placement(obj, obj.matrices(0.0), self._windings[i], 0.0)
                 for i, obj in enumerate(self.world.objects) if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
 
     @cached_property
@@ -117,8 +120,9 @@ class FrameEvaluator:
         """The objects that never move and have one instance, as arrays: their per-frame
         work (the camera-relative shift, the view test, the faces to skip) done for all
         of them at once."""
+        # a skinned or morphed part poses its vertices every frame (world.node_animation)
         return StillObjects.of(self.world.objects, {i: p for i, p in self._fixed.items()
-                                                    if len(p[0]) == 1})
+                                                    if len(p[0]) == 1 and self.world.objects[i].deform is None})
 
     def evaluate(self, index: int, time: float, lens_point: tuple | None = None) -> FrameState:
         """The frame at ``time``; ``lens_point`` (x, y on the unit disc): seen from that point
@@ -126,7 +130,7 @@ class FrameEvaluator:
         world = self.world
         still = self._still
         placements = [None if i in still.rows else self._fixed.get(i) or
-                      self._placement(obj, obj.matrices(time), self._windings[i])
+                      self._placement(obj, obj.matrices(time), self._windings[i], time)
                       for i, obj in enumerate(world.objects)]
         visible = [still.visible[still.rows[i]] if i in still.rows else bool(obj.visible(time))
                    for i, obj in enumerate(world.objects)]
@@ -145,7 +149,7 @@ class FrameEvaluator:
             camera = self._through_lens(camera, lens_point, focus)
         planes = frustum_planes(camera.view_proj_relative())
         still_frames = still.frames(camera, planes)
-        objects = [still_frames[still.rows[i]] if p is None else self._object(obj, p, v, camera, planes)
+        objects = [still_frames[still.rows[i]] if p is None else self._object(obj, p, v, camera, planes, time)
                    for i, (obj, p, v) in enumerate(zip(world.objects, placements, visible))]
         lights = evaluate_lights(world.lights, time, camera)
         render = world.render
@@ -207,26 +211,27 @@ class FrameEvaluator:
 
     # -- objects and shadows -------------------------------------------------------------
     @staticmethod
-    def _placement(obj, matrices: np.ndarray, winding: int) -> tuple:
+    def _placement(obj, matrices: np.ndarray, winding: int, t: float) -> tuple:
         """(matrices (K, 4, 4) float64, normal matrices (K, 3, 3) float32, world bounds (2, 3),
         winding): the surface's ``winding`` where its instances all keep it, reversed where
         they all mirror it, else 0."""
         if winding:
             signs = np.sign(np.linalg.det(matrices[:, :3, :3]))
             winding *= int(signs[0]) if np.all(signs == signs[0]) else 0
-        return matrices, normal_matrices(matrices).astype(np.float32), obj.world_bounds(matrices), winding
+        return matrices, normal_matrices(matrices).astype(np.float32), obj.world_bounds(matrices, t), winding
 
     @staticmethod
-    def _object(obj, placement: tuple, visible: bool, camera: CameraState, planes: np.ndarray) -> ObjectFrame:
+    def _object(obj, placement: tuple, visible: bool, camera: CameraState, planes: np.ndarray, t: float) -> ObjectFrame:
         matrices, normals, bounds, winding = placement
         rel = matrices.copy()
         rel[:, :3, 3] -= camera.position
-        inside = instances_in_view(obj.mesh.bounds(), rel, planes)
+        inside = instances_in_view(obj.local_bounds(t), rel, planes)
         order = np.argsort(~inside, kind="stable")  # in-view instances first
         if len(order) > 1:
             rel, normals, matrices = rel[order], normals[order], matrices[order]
         return ObjectFrame(visible, rel.astype(np.float32), matrices, normals, bounds, (bounds[0] + bounds[1]) / 2.0,
-                           int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding)
+                           int(inside.sum()) if visible else 0, hidden_faces(winding, bounds, camera), winding,
+                           *_deformed(obj, t))
 
     @cached_property
     def _environment_directions(self) -> tuple:
@@ -362,6 +367,16 @@ def _hidden_faces_of_boxes(windings: np.ndarray, bounds: np.ndarray, camera: Cam
     may_see_inside = (depths <= camera.near) & (outside_by <= reach)
     return [None if winding == 0 or inside else hidden_side(int(winding))
             for winding, inside in zip(windings, may_see_inside)]
+
+
+def _deformed(obj, t: float) -> tuple:
+    """(joint matrices, morph weights) of a part whose vertices move themselves, float32."""
+    deform = obj.deform
+    if deform is None:
+        return None, None
+    palette, weights = deform.palette(t), deform.morph_weights(t)
+    return (palette.astype(np.float32) if palette is not None else None,
+            np.asarray(weights, dtype=np.float32) if weights is not None else None)
 
 
 def hidden_faces(winding: int, bounds: np.ndarray, camera: CameraState) -> str | None:

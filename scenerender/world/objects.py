@@ -79,13 +79,24 @@ class RenderObject:
     cast_shadows: bool
     outline: OutlineSettings | None
     instances: InstanceSet
+    motion: object = None  # world.node_animation.NodeMotion: a glTF node's part that a clip moves
+    deform: object = None  # world.node_animation.Deformation: a glTF part's skin or morph targets
 
     def object_matrix(self, t: float) -> np.ndarray:
         return model_matrix(self.position(t), self.rotation(t), _scale3(self.scale(t)))
 
     def matrices(self, t: float) -> np.ndarray:
-        """(K, 4, 4) float64 world matrices: the object's transform times each instance's."""
-        return self.object_matrix(t)[None] @ self.instances.matrices(t)
+        """(K, 4, 4) float64 world matrices: the object's transform times each instance's
+        (times the part's node motion, for a part of an animated glTF file)."""
+        placed = self.object_matrix(t)[None] @ self.instances.matrices(t)
+        return placed if self.motion is None else placed @ self.motion(t)
 
-    def world_bounds(self, matrices: np.ndarray) -> np.ndarray:
-        return transformed_bounds(self.mesh.bounds(), matrices)
+    def local_bounds(self, t: float = 0.0) -> np.ndarray:
+        """(2, 3) bounds of the mesh as drawn at ``t``, before the object's transform: a
+        skin's joints and morph targets move its vertices."""
+        rest = self.mesh.bounds()
+        return rest if self.deform is None else self.deform.bounds(t, rest)
+
+    def world_bounds(self, matrices: np.ndarray, t: float = 0.0) -> np.ndarray:
+        """World bounds of the instances placed by ``matrices``, the object's at ``t``."""
+        return transformed_bounds(self.local_bounds(t), matrices)

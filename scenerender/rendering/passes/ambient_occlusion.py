@@ -30,12 +30,13 @@ class GBufferPass(RenderPass):
     camera: Handle
     objects: Handle
     materials: Handle | None = None
+    format: str = "rgba16f"  # rgba32f where the depth view keeps its values (EXR)
 
     name = "gbuffer"
 
     def setup(self, builder) -> TargetData:
         builder.read(self.camera, self.objects, *((self.materials,) if self.materials is not None else ()))
-        return TargetData(builder.create("gbuffer", ResourceDesc("color", self.size, "rgba16f")),
+        return TargetData(builder.create("gbuffer", ResourceDesc("color", self.size, self.format)),
                            builder.create("gbuffer_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
     def execute(self, ctx, data: TargetData) -> None:

@@ -39,9 +39,13 @@ class _FullscreenView(RenderPass):
     def uniforms(self, ctx, program) -> None:
         """Extra uniforms of the view."""
 
+    def defines(self) -> dict:
+        """The fragment shader's defines."""
+        return {}
+
     def execute(self, ctx, data: ImageData) -> None:
         begin_fullscreen_pass(ctx, data.image)
-        program = ctx.programs.get(FULLSCREEN_VERTEX, self.fragment)
+        program = ctx.programs.get(FULLSCREEN_VERTEX, self.fragment, self.defines())
         bind_texture_units(program)
         ctx.image(self.source).use(TEXTURE_UNITS[self.input_unit])
         self.uniforms(ctx, program)
@@ -63,6 +67,10 @@ class DepthViewPass(_FullscreenView):
     def uniforms(self, ctx, program) -> None:
         camera = ctx.input(self.camera)
         set_uniforms(program, u_near_far=(camera.near, camera.far))
+
+    def defines(self) -> dict:
+        """In float (EXR) the depth itself, in scene units, not mapped to [0, 1]."""
+        return {"DEPTH_IN_SCENE_UNITS": True} if self.format == "rgba32f" else {}
 
 
 @dataclass(frozen=True)

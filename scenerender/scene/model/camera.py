@@ -8,6 +8,7 @@ from pydantic import PlainValidator, WithJsonSchema, model_validator
 from pydantic_core import PydanticCustomError
 
 from scenerender.scene.describe import describe
+from scenerender.scene.model.camera_data import IntrinsicsSpec, PoseSpec, check_dataset_camera
 from scenerender.scene.strict import StrictModel
 from scenerender.scene.values import AnimatedFloat, AnimatedVec3, animated_number, check_number, choice, number, vector
 
@@ -43,9 +44,12 @@ class CameraSpec(StrictModel):
     focus_distance: animated_number(0, lo_open=True) | None = None
     focus: str | None = None  # an object's name: focus on its centre (world/frame.py)
     sensor_width: number(1, 1000) = 36.0
+    intrinsics: IntrinsicsSpec | None = None
+    pose: PoseSpec | None = None
 
     @model_validator(mode="after")
     def _check(self):
+        check_dataset_camera(self)
         if self.target is not None and (self.yaw is not None or self.pitch is not None):
             raise PydanticCustomError("camera_aim", "give either target or yaw/pitch, not both",
                                       {"subpath": ("yaw" if self.yaw is not None else "pitch",)})

@@ -8,6 +8,7 @@ from pydantic_core import PydanticCustomError
 
 from scenerender.scene.model.materials import MaterialRef, MaterialSpec
 from scenerender.scene.model.meshes import MeshSpec
+from scenerender.scene.model.object_animation import AnimationSpec, check_animated_mesh
 from scenerender.scene.model.unions import mapping_or
 from scenerender.scene.strict import StrictModel
 from scenerender.scene.values import (
@@ -77,3 +78,9 @@ class ObjectSpec(StrictModel):
     cast_shadows: Bool = True
     outline: Outline | None = None
     instances: Instances | None = None
+    animation: AnimationSpec | None = None
+
+    @model_validator(mode="after")
+    def _check_animation(self):
+        check_animated_mesh(self)
+        return self
