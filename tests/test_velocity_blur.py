@@ -5,6 +5,8 @@ is blurred along is the screen motion over the open shutter, from the object's a
 the camera's keys; unset, or with the shutter at 0, the graph and the bytes are as before."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -13,9 +15,11 @@ import scenerender
 from scenerender.raytrace import render_reference
 from scenerender.run.graph_report import graph_report
 from scenerender.world.frame import FrameEvaluator
-from scenerender.world.motion import world_to_clip
+from scenerender.world.motion import translation, world_to_clip
 
 from test_motion_blur import MOVING_BOX, _edge_width
+
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
 
 VELOCITY = "render.motion_blur=velocity"
 VELOCITY_PASSES = {"velocity", "velocity_tiles", "velocity_neighbours", "motion_blur"}
@@ -152,3 +156,23 @@ def test_a_turning_camera_smears_the_skybox_too(gl, tmp_path):
     to_velocity, to_instant = (np.sqrt(np.mean((frame - filmed) ** 2)) / 255.0 for frame in (velocity, instant))
     print(f"against 64 sub-frames: velocity {to_velocity:.4f}, the instant {to_instant:.4f}")
     assert to_velocity < 0.5 * to_instant, (to_velocity, to_instant)
+
+
+def test_a_gltf_clip_s_node_motion_is_in_the_motion():
+    """scenes/assets/models/fan_and_arm.glb playing its clips: parts a node animation
+    moves get motion over the shutter although their object stands still; parts without a
+    node motion get none."""
+    scene = scenerender.Scene.from_yaml("""
+render: {size: [80, 60], motion_blur: velocity}
+output: {frames: 4, fps: 4}
+camera: {position: [0, 1.3, 3.2], target: [0, 0.8, 0], fov: 50, shutter: 0.5}
+objects:
+  - mesh: assets/models/fan_and_arm.glb
+    animation: {clip: all}
+""", str(SCENES))
+    world = scene.world
+    frame = FrameEvaluator(world, (80, 60), None).evaluate(1, 0.25)
+    still = world_to_clip(frame.camera) @ translation(frame.camera.position)
+    moved = [not np.allclose(opened, still) for opened in frame.motion.open]
+    assert any(moved)
+    assert not any(m for obj, m in zip(world.objects, moved) if obj.motion is None)

@@ -67,20 +67,27 @@ def carried(object_matrix_then: np.ndarray, object_matrix_now: np.ndarray) -> np
         return np.eye(4)
 
 
+def placement(obj, t: float) -> np.ndarray:
+    """The world matrix of ``obj``'s first instance at ``t`` (the identity where it has none)."""
+    matrices = obj.matrices(t)
+    return matrices[0] if len(matrices) else np.eye(4)
+
+
 def shutter_motion(objects, time: float, open_seconds: float, origin: np.ndarray, camera_at) -> ShutterMotion:
     """The motion of ``objects`` (world RenderObjects) over a shutter open ``open_seconds``
     centred on ``time``, for points given relative to ``origin`` (the frame camera's
-    position); ``camera_at(t)``: the camera at ``t``. An object's instances follow its
-    transform (their own tracks, if any, do not blur)."""
+    position); ``camera_at(t)``: the camera at ``t``. The first instance's motion (the
+    object's transform, and a glTF part's node motion) stands for every instance's:
+    instances that move apart by their own tracks blur as the first does."""
     opening, closing = time - open_seconds / 2.0, time + open_seconds / 2.0
     to_world = translation(origin)
     camera_open, camera_close = camera_at(opening), camera_at(closing)
     clip_open, clip_close = world_to_clip(camera_open), world_to_clip(camera_close)
     opens, closes = [], []
     for obj in objects:
-        now = obj.object_matrix(time)
-        opens.append(clip_open @ carried(obj.object_matrix(opening), now) @ to_world)
-        closes.append(clip_close @ carried(obj.object_matrix(closing), now) @ to_world)
+        now = placement(obj, time)
+        opens.append(clip_open @ carried(placement(obj, opening), now) @ to_world)
+        closes.append(clip_close @ carried(placement(obj, closing), now) @ to_world)
     empty = np.zeros((0, 4, 4))
     return ShutterMotion(np.array(opens) if opens else empty, np.array(closes) if closes else empty,
                          camera_open.view_proj_relative(), camera_close.view_proj_relative())
