@@ -31,6 +31,10 @@ from scenerender.raytrace import render_reference  # noqa: E402
 from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
 
 
+# settings of how the GPU films the camera, which the reference does not read
+FILMING_KEYS = ("render.film_samples", "render.depth_of_field", "render.motion_blur")
+
+
 def rmse_percent(a: np.ndarray, b: np.ndarray, scale: float = 1.0) -> float:
     return 100.0 * float(np.sqrt(np.mean(((a.astype(np.float64) - b.astype(np.float64)) / scale) ** 2)))
 
@@ -62,16 +66,22 @@ def timings(scene: str, sets: list, variants: list, frames: int, rounds: int, gl
     return totals
 
 
-def errors(scene: str, sets: list, variants: list, frame: int, spp: int, shutter_samples: int, gl) -> dict:
+def errors(scene: str, sets: list, variants: list, frame: int, spp: int, shutter_samples: int, gl,
+           reference_sets: list | None = None) -> dict:
     """name -> (linear RMSE %, 8-bit RMSE %) of ``frame`` against the reference of the
-    variant's settings (one reference per distinct setting besides render.film_samples)."""
+    variant's settings (one reference per distinct setting besides how the renderer films
+    them: render.film_samples, render.depth_of_field, render.motion_blur), or, given
+    ``reference_sets``, against the one reference of those settings (an instant against the
+    shutter's reference, say)."""
     references, found = {}, {}
     for name, overrides in variants:
-        key = tuple(o for o in overrides if not o.startswith("render.film_samples"))
+        key = (tuple(o for o in overrides if not o.startswith(FILMING_KEYS)) if reference_sets is None
+               else tuple(reference_sets))
         loaded = scenerender.load(scene, sets + overrides)
         if key not in references:
             started = time.perf_counter()
-            references[key] = render_reference(loaded, frame, spp=spp, shutter_samples=shutter_samples)
+            filmed = loaded if reference_sets is None else scenerender.load(scene, sets + reference_sets)
+            references[key] = render_reference(filmed, frame, spp=spp, shutter_samples=shutter_samples)
             print(f"reference for {name}: {time.perf_counter() - started:.0f} s", file=sys.stderr)
         reference = references[key]
         renderer = GraphRenderer(loaded.world, gl, want_linear=True)
@@ -92,12 +102,16 @@ def main() -> None:
     parser.add_argument("--reference-frame", type=int, default=None, help="measure the error on this frame")
     parser.add_argument("--spp", type=int, default=4, help="the reference's samples a pixel along each axis")
     parser.add_argument("--shutter-samples", type=int, default=32, help="the reference's instants over the shutter")
+    parser.add_argument("--reference-set", dest="reference_sets", action="append", default=None,
+                        help="every variant against the one reference of these overrides (repeatable; "
+                             "--reference-set '' for the scene as --set leaves it)")
     args = parser.parse_args()
     variants = [variant(text) for text in args.variants or ["plain="]]
     gl = create_context()
     totals = timings(args.scene, args.sets, variants, args.frames, args.rounds, gl) if args.frames else {}
-    found = (errors(args.scene, args.sets, variants, args.reference_frame, args.spp, args.shutter_samples, gl)
-             if args.reference_frame is not None else {})
+    reference_sets = [item for item in args.reference_sets if item] if args.reference_sets is not None else None
+    found = (errors(args.scene, args.sets, variants, args.reference_frame, args.spp, args.shutter_samples, gl,
+                    reference_sets) if args.reference_frame is not None else {})
     print(f"{args.scene} {' '.join(args.sets)}: {args.rounds} rounds x {args.frames} frames a variant, alternated")
     print("| variant | ms/frame | IQR | ratio | RMSE linear % | RMSE 8-bit % |")
     print("|---|---|---|---|---|---|")

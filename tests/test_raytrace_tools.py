@@ -175,3 +175,14 @@ def test_bench_sweeps_the_sub_frames_only_where_the_camera_films(tmp_path):
     assert "render.film_samples=4" in overrides and "render.film_samples=16" not in overrides  # 16: the default
     plain = bench.sweep_variants(scenerender.Scene.from_yaml(box, tmp_path))
     assert not [v for v in plain if v.knob == "film_samples"]
+
+
+def test_bench_sweeps_the_other_motion_blur_only_where_the_shutter_opens(tmp_path):
+    box = "objects: [{mesh: {primitive: box}}]\n"
+    filmed = bench.sweep_variants(scenerender.Scene.from_yaml("camera: {shutter: 0.5}\n" + box, tmp_path))
+    assert [v.overrides for v in filmed if v.knob == "motion_blur"] == [("render.motion_blur=velocity",)]
+    fast = "render: {motion_blur: velocity}\ncamera: {shutter: 0.5}\n" + box
+    assert [v.overrides for v in bench.sweep_variants(scenerender.Scene.from_yaml(fast, tmp_path))
+            if v.knob == "motion_blur"] == [("render.motion_blur=sub_frames",)]
+    lens_only = bench.sweep_variants(scenerender.Scene.from_yaml("camera: {aperture: 2}\n" + box, tmp_path))
+    assert not [v for v in lens_only if v.knob == "motion_blur"]

@@ -27,7 +27,7 @@ TEXTURE_UNITS = {
     "u_roughness_map": 15, "u_metallic_map": 16, "u_env_diffuse": 17, "u_env_specular": 18, "u_env_source": 19,
     "u_original": 20,
     "u_env_visibility": 21,
-    "u_shadow_depth": 22, "u_shadow_depth_2": 23,
+    "u_shadow_depth": 22, "u_shadow_depth_2": 23, "u_velocity": 24, "u_velocity_tiles": 25,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")

@@ -48,6 +48,7 @@ class InputHandles:
     environment_map: Handle | None = None  # scene_gpu.EnvironmentTextures: static
     lens: Handle | None = None  # LensInput, for render.depth_of_field: gather
     environment_views: Handle | None = None  # world.environment_visibility.EnvironmentViews
+    motion: Handle | None = None  # world.motion.ShutterMotion, for render.motion_blur: velocity
 
     def shading(self) -> tuple:
         """Everything lit shading reads: camera, objects, materials, the ambient light,
@@ -63,7 +64,7 @@ class InputHandles:
         found = [self.camera, self.objects, self.materials, self.background, self.ambient, *self.per_light,
                  *(handle for _, handle in self.shadow_views), self.lights, self.fog, self.outlines, self.skybox,
                  self.exposure, self.environment, self.environment_map, self.lens,
-                 self.environment_views]
+                 self.environment_views, self.motion]
         return [handle for handle in found if handle is not None]
 
 
@@ -85,6 +86,7 @@ def import_inputs(graph: FrameGraph, world) -> InputHandles:
         exposure=imported(inputs.exposure), environment=imported(inputs.environment),
         environment_map=imported(inputs.environment_map), lens=imported(inputs.lens),
         environment_views=imported(inputs.environment_views),
+        motion=imported(inputs.motion),
     )
 
 
@@ -216,6 +218,8 @@ def input_values(handles: InputHandles, frame: FrameState, camera: CameraState, 
         values[handles.lens.resource] = LensInput(radius, frame.focus_distance)
     if handles.environment_views is not None:
         values[handles.environment_views.resource] = frame.environment_views
+    if handles.motion is not None:
+        values[handles.motion.resource] = frame.motion
     return values
 
 

@@ -17,6 +17,7 @@ from scenerender.rendering.inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.bloom import add_bloom
 from scenerender.rendering.passes.depth_of_field import DepthOfFieldGatherPass
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
+from scenerender.rendering.passes.motion_blur import add_velocity_blur
 from scenerender.rendering.passes.environment import EnvironmentLighting, EnvironmentPrefilterPass
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
 from scenerender.rendering.passes.object_ids import ObjectIdPass
@@ -64,6 +65,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     gbuffer = ao = None
     fill = settings.mode if settings.mode in ("wireframe", "points") else "solid"
     lens_blur = inputs.lens is not None and fill == "solid"  # render.depth_of_field: gather
+    velocity_blur = inputs.motion is not None and fill == "solid"  # render.motion_blur: velocity
     if (settings.ambient_occlusion is not None or settings.mode in ("depth", "normals", "ambient_occlusion")
             or lens_blur):
         # EXR's depth view holds distances in scene units: 32-bit, not float16's 11 bits
@@ -85,7 +87,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     bloom = settings.bloom if fill == "solid" and settings.bloom is not None and settings.bloom.strength > 0 else None
     hdr = (options.hdr_target if options.hdr_target is not None
            else hdr_target_pays(options, settings.output_transform,
-                                tone is not NO_TONE or bloom is not None or lens_blur))
+                                tone is not NO_TONE or bloom is not None or lens_blur or velocity_blur))
     # with MSAA the resolve adds the sky behind the samples; without, a pass draws it (passes/sky.py)
     skybox = _sky(world, inputs)
     sky = SkyUnder(inputs.camera, skybox) if skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY
@@ -103,10 +105,12 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         color = graph.add(TransparentPass(color, depth, shading, *lines_and_points)).image
     if settings.wireframe_overlay:
         color = graph.add(WireframeOverlayPass(color, depth, inputs.camera, inputs.objects, settings.line_width)).image
-    if bloom is not None or lens_blur:
-        # the lens blur and bloom read the resolved linear image and hand on their own
+    if bloom is not None or lens_blur or velocity_blur:
+        # the motion blur, the lens blur and bloom read the resolved linear image and hand on their own
         if samples > 1:
             color = graph.add(ResolvePass(color, size, sky=sky)).image
+        if velocity_blur:
+            color = add_velocity_blur(graph, color, inputs, size)
         if lens_blur:
             color = graph.add(DepthOfFieldGatherPass(color, gbuffer, inputs.camera, inputs.lens, size)).image
         if bloom is not None:

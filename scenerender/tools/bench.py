@@ -6,7 +6,8 @@ samples, shadow map size, PCF size, shadow bias, ambient occlusion on/off, image
 then a few shadow map size and PCF pairs together ("combined"); with an environment light,
 its prefilter size, spherical-harmonic order, prefilter samples and footprint filter, and
 its visibility (off, and its directions and map size); with a shutter or an aperture, the
-sub-frames a frame (render.film_samples). What is made once a run
+sub-frames a frame (render.film_samples); with a shutter, the other way of filming it
+(render.motion_blur: sub_frames or velocity). What is made once a run
 (the prefiltered environment) is timed apart, in ``once_ms``.
 Timing: every variant keeps its renderer open and the variants take turns frame by frame
 (so a slow spell of a shared machine spreads over all of them), frames 1..F of the scene
@@ -48,7 +49,7 @@ BLOCKER_SAMPLES = (8, 16, 32)
 FILTER_SAMPLES = (16, 32, 64)
 KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size", "sh_order",
          "env_samples", "env_footprint", "env_visibility", "env_directions", "env_map_size", "film_samples",
-         "blocker_samples", "filter_samples")
+         "blocker_samples", "filter_samples", "motion_blur")
 ONCE_PASSES = ("environment_prefilter",)  # passes a run makes once, whose cost is not per frame
 
 
@@ -153,6 +154,10 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
     camera = scene.world.spec.camera
     if camera is not None and (camera.shutter > 0 or camera.aperture is not None):
         each("film_samples", "{} sub-frames", "render.film_samples", FILM_SAMPLES, spec.film_samples)
+    if camera is not None and camera.shutter > 0:
+        other = "velocity" if spec.motion_blur == "sub_frames" else "sub_frames"
+        add("motion_blur", f"motion blur by {other.replace('_', '-')}", f"render.motion_blur={other}",
+            spec.motion_blur, other)
     return variants
 
 

@@ -15,6 +15,7 @@ from scenerender.world.build import World, scene_bounds
 from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lens import lens_radius, through_lens
+from scenerender.world.motion import ShutterMotion, blurs_by_velocity, shutter_motion
 from scenerender.world.environment import EnvironmentState
 from scenerender.world.environment_visibility import EnvironmentViews, environment_views, median_cut, visibility_tiles
 from scenerender.world.lights import LightState, ambient_light, evaluate_lights
@@ -80,6 +81,7 @@ class FrameState:
     focus_distance: float | None = None  # where the lens focuses, with camera.aperture (world.lens)
     # the environment's visibility maps' views (world.environment_visibility), where it has them
     environment_views: EnvironmentViews | None = None
+    motion: ShutterMotion | None = None  # each object's motion over the shutter, with render.motion_blur: velocity
 
     def shadowed_lights(self) -> list[int]:
         return sorted(self.shadow_views)
@@ -164,7 +166,21 @@ class FrameEvaluator:
             environment=world.environment.state(time) if world.environment is not None else None,
             focus_distance=focus,
             environment_views=self._environment_views(world, objects, bounds, time),
+            motion=self._motion(time, camera.position, bounds),
         )
+
+    def _motion(self, time: float, origin: np.ndarray, bounds) -> ShutterMotion | None:
+        """The objects' and the camera's motion over the open shutter, where the velocity
+        blur films it (world.motion); the cameras at its ends see the frame's ``bounds``
+        (which only move the near and far planes, not where a point lands on screen)."""
+        if not self._velocity_blur:
+            return None
+        open_seconds = self.world.spec.camera.shutter / float(self.world.output.fps)
+        return shutter_motion(self.world.objects, time, open_seconds, origin, lambda t: self.rig.at(t, bounds))
+
+    @cached_property
+    def _velocity_blur(self) -> bool:
+        return blurs_by_velocity(self.world)
 
     # -- camera -----------------------------------------------------------------------
     @cached_property

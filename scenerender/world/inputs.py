@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from scenerender.animation import animated_keys
+from scenerender.world.motion import blurs_by_velocity
 
 # A light's keys that change how much light it gives but not where it points or from where
 # (a shadow map does not depend on them). Every other key counts as placement, so a key
@@ -74,13 +75,14 @@ class WorldInputs:
     environment_map: WorldInput | None = None  # its image and diffuse map on the GPU: static
     lens: WorldInput | None = None  # the thin lens's radius and focus, for render.depth_of_field: gather
     environment_views: WorldInput | None = None  # its visibility maps' views: follow the objects and its rotation
+    motion: WorldInput | None = None  # the objects' and camera's motion over the shutter, for render.motion_blur: velocity
 
     def all(self) -> list[WorldInput]:
         fixed = [self.camera, self.objects, self.materials, self.background, *self.per_light, self.ambient,
                  *self.shadow_views.values(), self.lights]
         return fixed + [i for i in (self.fog, self.outlines, self.skybox, self.exposure, self.environment,
                                     self.environment_map, self.lens,
-                                    self.environment_views) if i is not None]
+                                    self.environment_views, self.motion) if i is not None]
 
 
 def _input(name: str, keys: list, follows: tuple = ()) -> WorldInput:
@@ -130,6 +132,8 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
         # the gather blur's lens: its radius and focus follow the camera (fov, target) and the objects (focus)
         lens=_input("lens", ["camera.focus_distance"] if animated_keys(spec.camera.focus_distance) else [],
                     (camera, objects)) if gather else None,
+        # the velocity blur's motion: it follows the camera and the objects (world.motion)
+        motion=_input("motion", [], (camera, objects)) if blurs_by_velocity(world) else None,
         camera=camera, objects=objects,
         materials=_input("materials", [f"{m.name}.{key}" for m in world.materials() for key in animated_keys(m)]),
         background=_input("background", animated_keys(render.background)),

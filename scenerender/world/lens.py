@@ -39,14 +39,17 @@ class Film:
     samples: int
 
     @classmethod
-    def of(cls, camera_spec, samples: int, lens_by_sub_frames: bool = True) -> "Film | None":
-        """The film of a ``camera:`` spec (None: no spec); None where neither the shutter nor
-        a lens filmed by sub-frames (``lens_by_sub_frames``: not the gather blur) is set, so
-        such a scene renders as it always did."""
+    def of(cls, camera_spec, samples: int, lens_by_sub_frames: bool = True,
+           shutter_by_sub_frames: bool = True) -> "Film | None":
+        """The film of a ``camera:`` spec (None: no spec); None where neither a shutter nor
+        a lens filmed by sub-frames (``lens_by_sub_frames``: not the gather blur;
+        ``shutter_by_sub_frames``: not the velocity blur) is set, so such a scene renders
+        as it always did."""
         aperture = camera_spec.aperture if camera_spec is not None and lens_by_sub_frames else None
-        if camera_spec is None or (camera_spec.shutter == 0.0 and aperture is None):
+        shutter = camera_spec.shutter if camera_spec is not None and shutter_by_sub_frames else 0.0
+        if camera_spec is None or (shutter == 0.0 and aperture is None):
             return None
-        return cls(camera_spec.shutter, aperture, camera_spec.sensor_width, samples)
+        return cls(shutter, aperture, camera_spec.sensor_width, samples)
 
     def describe(self) -> str:
         """As "12 sub-frames a frame (shutter 0.5, f/0.95)"."""
@@ -59,7 +62,9 @@ class Film:
         """The film a render of ``world`` uses: none in the data modes (a mean depth is no depth)."""
         if world.settings.mode in DATA_MODES:
             return None
-        return cls.of(world.spec.camera, world.settings.film_samples, world.settings.depth_of_field == "sub_frames")
+        settings = world.settings
+        return cls.of(world.spec.camera, settings.film_samples, settings.depth_of_field == "sub_frames",
+                      settings.motion_blur == "sub_frames")
 
     def samples_over(self, frame_interval: float) -> list[FilmSample]:
         """The sub-frames of one frame (``frame_interval`` = 1 / fps seconds)."""

@@ -88,6 +88,7 @@ class RenderSettings:
     bloom: BloomSettings | None = None
     film_samples: int = 16
     depth_of_field: str = "sub_frames"
+    motion_blur: str = "sub_frames"
 
     @classmethod
     def of(cls, render) -> "RenderSettings":
@@ -104,4 +105,5 @@ class RenderSettings:
             skybox=tuple(Path(getattr(sky, face)) for face in SKY_FACES) if sky is not None else None,
             bloom=BloomSettings(render.bloom.strength, render.bloom.radius) if render.bloom is not None else None,
             film_samples=render.film_samples, depth_of_field=render.depth_of_field,
+            motion_blur=render.motion_blur,
         )

@@ -138,3 +138,4 @@ class RenderSpec(StrictModel):
     bloom: Bloom | None = None
     film_samples: number(1, 1024, integer=True) = 16
     depth_of_field: choice("sub_frames", "gather") = "sub_frames"
+    motion_blur: choice("sub_frames", "velocity") = "sub_frames"
