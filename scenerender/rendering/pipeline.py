@@ -17,7 +17,7 @@ from scenerender.rendering.inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.bloom import add_bloom
 from scenerender.rendering.passes.depth_of_field import DepthOfFieldGatherPass
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
-from scenerender.rendering.passes.environment import EnvironmentLighting, EnvironmentPrefilterPass
+from scenerender.rendering.passes.environment import EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentVisibilityPass
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
 from scenerender.rendering.passes.object_ids import ObjectIdPass
 from scenerender.rendering.passes.output import (
@@ -28,7 +28,7 @@ from scenerender.rendering.passes.sky import NO_SKY, EnvironmentSky, SkyboxPass,
 from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
-from scenerender.world.environment_visibility import visibility_tiles
+from scenerender.world.environment_visibility import interleave_pattern, visibility_tiles
 from scenerender.world.frame import FrameEvaluator
 from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
@@ -75,7 +75,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     visible = fill == "solid" and (options.visible_samples if options.visible_samples is not None
                                    else visible_samples_pay(world, samples, options.post_depth_coverage))
     shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None, visible,
-                      _environment_lighting(graph, world, inputs))
+                      _environment_lighting(graph, world, inputs, size))
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else visible or prepass_pays(world, atlas, size, samples))
     tone = _tone_curve(world, inputs)
@@ -160,10 +160,11 @@ def _tone_curve(world, inputs: InputHandles) -> ToneCurve:
 PREPASS_DEPTH_COMPLEXITY = 4.0
 
 
-def _environment_lighting(graph, world, inputs: InputHandles) -> EnvironmentLighting | None:
+def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> EnvironmentLighting | None:
     """The environment light's lookups, with the pass that prefilters its image, where a
     material the scene draws lit takes light from it: a pbr material, or a Phong or
-    Blinn-Phong one when the light says ``classic: true``."""
+    Blinn-Phong one when the light says ``classic: true``. With its visibility shared out
+    over pixel blocks, the pass that looks it up at the camera's ``size``."""
     environment = world.environment
     if environment is None or not any(environment_shades(environment.classic, m.model(world.settings.shading))
                                       for m in world.materials()):
@@ -178,8 +179,14 @@ def _environment_lighting(graph, world, inputs: InputHandles) -> EnvironmentLigh
                                              page_size, inputs.environment_views, inputs.objects, None,
                                              _masked_materials(world, inputs, casters_only=True),
                                              page_name="environment_visibility", note=note)).atlas
+    lookups = None
+    interleave, per_pixel = interleave_pattern(environment.visibility, environment.visibility_interleave)
+    if visibility is not None and interleave > 1:
+        lookups = graph.add(EnvironmentVisibilityPass(size, inputs.camera, inputs.objects, inputs.environment_views,
+                                                      visibility, environment.visibility, interleave, per_pixel,
+                                                      _masked_materials(world, inputs))).color
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
-                               visibility)
+                               visibility, lookups)
 
 
 def prepass_pays(world, atlas, size, samples: int) -> bool:

@@ -34,23 +34,70 @@ float env_vis_lookup(int k, vec3 p, vec3 n, float n_dot_l) {
     return texture(u_env_visibility, vec3(q.xy, q.z - bias));
 }
 
-// (V_d, V_s) at p, normal n, towards the viewer v.
+// The weights of direction k at a surface facing n, towards the viewer v, of GGX a2 = alpha^2:
+// (diffuse, specular); 0 where the direction lies below the surface.
+vec2 env_vis_weights(int k, vec3 n, vec3 v, float a2) {
+    vec4 light = u_env_vis_light[k];
+    float diffuse = light.w * max(dot(n, light.xyz), 0.0);
+    float n_dot_h = max(dot(n, normalize(v + light.xyz)), 0.0);
+    float d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    return vec2(diffuse, diffuse * a2 / (d * d));  // GGX D, its 1 / pi cancelling in the ratio
+}
+
+vec2 env_vis_ratio(vec4 sum) {  // diffuse weight, of it lit, specular weight, of it lit
+    return vec2(sum.x > 0.0 ? sum.y / sum.x : 1.0, sum.z > 0.0 ? sum.w / sum.z : 1.0);
+}
+
+#ifndef ENV_VIS_INTERLEAVE
+// (V_d, V_s) at p, normal n, towards the viewer v: every direction looked up here.
 vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     float alpha = max(roughness * roughness, ENV_VIS_MIN_ALPHA);
-    float a2 = alpha * alpha;
-    vec4 sum = vec4(0.0);  // diffuse weight, of it lit, specular weight, of it lit
+    vec4 sum = vec4(0.0);
     for (int k = 0; k < ENV_VISIBILITY; ++k) {
-        vec4 light = u_env_vis_light[k];
-        float n_dot_l = dot(n, light.xyz);
+        float n_dot_l = dot(n, u_env_vis_light[k].xyz);
         if (n_dot_l <= 0.0) {
             continue;
         }
         float lit = env_vis_lookup(k, p, n, n_dot_l);
-        float diffuse = light.w * n_dot_l;
-        float n_dot_h = max(dot(n, normalize(v + light.xyz)), 0.0);
-        float d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
-        float specular = diffuse * a2 / (d * d);  // GGX D, its 1 / pi cancelling in the ratio
-        sum += vec4(diffuse, diffuse * lit, specular, specular * lit);
+        vec2 w = env_vis_weights(k, n, v, alpha * alpha);
+        sum += vec4(w.x, w.x * lit, w.y, w.y * lit);
     }
-    return vec2(sum.x > 0.0 ? sum.y / sum.x : 1.0, sum.z > 0.0 ? sum.w / sum.z : 1.0);
+    return env_vis_ratio(sum);
 }
+#else
+// The directions shared out over ENV_VIS_INTERLEAVE^2 pixel blocks: the visibility pass
+// (mesh/environment_visibility.frag) left each pixel's ENV_VIS_PER_PIXEL lookups (xyz) and
+// its surface's distance from the camera (w). Any N x N window holds one pixel of every
+// place in the block, so the window around this pixel holds every direction's lookup once;
+// each counts where its pixel lies on this surface (its distance within 3 % of this one's
+// carried along the surface's slope), a direction whose pixel lies elsewhere (across a
+// silhouette) drops out of both sums.
+uniform sampler2D u_env_vis_samples;
+
+vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
+    float alpha = max(roughness * roughness, ENV_VIS_MIN_ALPHA);
+    float a2 = alpha * alpha;
+    float dist = length(p);
+    vec2 slope = vec2(dFdx(dist), dFdy(dist));
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    ivec2 first = clamp(pixel - ENV_VIS_INTERLEAVE / 2, ivec2(0),
+                        textureSize(u_env_vis_samples, 0) - ENV_VIS_INTERLEAVE);
+    vec4 sum = vec4(0.0);
+    for (int dy = 0; dy < ENV_VIS_INTERLEAVE; ++dy) {
+        for (int dx = 0; dx < ENV_VIS_INTERLEAVE; ++dx) {
+            ivec2 at = first + ivec2(dx, dy);
+            vec4 found = texelFetch(u_env_vis_samples, at, 0);
+            float expected = dist + dot(slope, vec2(at - pixel));
+            float counts = abs(found.w - expected) <= 0.03 * dist ? 1.0 : 0.0;
+            ivec2 place = at % ENV_VIS_INTERLEAVE;
+            int start = place.x + ENV_VIS_INTERLEAVE * place.y;
+            for (int j = 0; j < ENV_VIS_PER_PIXEL; ++j) {
+                int k = start + j * ENV_VIS_INTERLEAVE * ENV_VIS_INTERLEAVE;
+                vec2 w = env_vis_weights(min(k, ENV_VISIBILITY - 1), n, v, a2) * (k < ENV_VISIBILITY ? counts : 0.0);
+                sum += vec4(w.x, w.x * found[j], w.y, w.y * found[j]);
+            }
+        }
+    }
+    return env_vis_ratio(sum);
+}
+#endif

@@ -14,12 +14,16 @@ import numpy as np
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.rendering.draw import FULLSCREEN_VERTEX, begin_fullscreen_pass, bind_texture_units
+from scenerender.rendering.draw import (
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_texture_units, cull_hidden_faces,
+    draw_cutting_masks, stop_culling,
+)
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.lights import environment_view_uniforms
-from scenerender.rendering.passes.data import ImageData
+from scenerender.rendering.passes.data import ImageData, TargetData
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"
+VISIBILITY_FRAGMENT = "mesh/environment_visibility.frag"
 
 
 @dataclass(frozen=True)
@@ -62,9 +66,11 @@ class EnvironmentLighting:
     specular: Handle
     views: Handle | None = None
     visibility: Handle | None = None
+    lookups: Handle | None = None  # EnvironmentVisibilityPass's, where it shares the directions out
 
     def handles(self) -> tuple:
         extra = (self.views, self.visibility) if self.visibility is not None else ()
+        extra += (self.lookups,) if self.lookups is not None else ()
         return self.environment, self.environment_map, self.specular, *extra
 
     def bind(self, ctx) -> None:
@@ -75,19 +81,79 @@ class EnvironmentLighting:
         specular.use(TEXTURE_UNITS["u_env_specular"])
         ctx.input(self.environment_map).diffuse.use(TEXTURE_UNITS["u_env_diffuse"])
         if self.visibility is not None:
-            maps = ctx.image(self.visibility)
-            maps.compare_func = "<="
-            maps.filter = (moderngl.LINEAR, moderngl.LINEAR)
-            maps.use(TEXTURE_UNITS["u_env_visibility"])
+            bind_visibility_maps(ctx, self.visibility)
+        if self.lookups is not None:
+            ctx.image(self.lookups).use(TEXTURE_UNITS["u_env_vis_samples"])
 
     def uniforms(self, ctx, camera_position) -> dict:
         state = ctx.input(self.environment)
         found = {"u_env_to_image": state.to_image, "u_env_scale": state.scale}
         if self.visibility is not None:
-            views = ctx.input(self.views)
-            to_map, params, tiles = environment_view_uniforms(views.views, camera_position,
-                                                              ctx.image(self.visibility).size)
-            towards = np.concatenate([views.directions, views.weights[:, None]], axis=1)
-            found.update(u_env_vis_to_map=to_map, u_env_vis_params=params, u_env_vis_tile=tiles,
-                         u_env_vis_light=towards.astype(np.float32).tobytes())
+            found.update(visibility_uniforms(ctx, self.views, self.visibility, camera_position))
         return found
+
+
+def bind_visibility_maps(ctx, visibility: Handle) -> None:
+    """The visibility maps' depth texture on its unit, for hardware-filtered comparison."""
+    maps = ctx.image(visibility)
+    maps.compare_func = "<="
+    maps.filter = (moderngl.LINEAR, moderngl.LINEAR)
+    maps.use(TEXTURE_UNITS["u_env_visibility"])
+
+
+def visibility_uniforms(ctx, views: Handle, visibility: Handle, camera_position) -> dict:
+    """The u_env_vis_* uniforms (shaders/lighting/environment_visibility.glsl) of the
+    ``views`` input's maps, drawn into ``visibility``, from ``camera_position``."""
+    found = ctx.input(views)
+    to_map, params, tiles = environment_view_uniforms(found.views, camera_position, ctx.image(visibility).size)
+    towards = np.concatenate([found.directions, found.weights[:, None]], axis=1)
+    return {"u_env_vis_to_map": to_map, "u_env_vis_params": params, "u_env_vis_tile": tiles,
+            "u_env_vis_light": towards.astype(np.float32).tobytes()}
+
+
+@dataclass(frozen=True)
+class EnvironmentVisibilityPass(RenderPass):
+    """Each pixel's share of the environment's visibility lookups, where the directions
+    are shared out over ``interleave`` x ``interleave`` blocks (``per_pixel`` a pixel;
+    world.environment_visibility.interleave_pattern), at the surface the camera sees there:
+    a geometry pass, single-sampled (shaders/mesh/environment_visibility.frag). Opaque
+    shading gathers them over the block around its pixel. materials: as GBufferPass's."""
+
+    size: tuple
+    camera: Handle
+    objects: Handle
+    views: Handle
+    visibility: Handle
+    directions: int
+    interleave: int
+    per_pixel: int
+    materials: Handle | None = None
+
+    name = "environment_visibility"
+
+    def setup(self, builder) -> TargetData:
+        builder.read(self.camera, self.objects, self.views, self.visibility,
+                     *((self.materials,) if self.materials is not None else ()))
+        return TargetData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba16f")),
+                          builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
+
+    def describe(self) -> str:
+        return f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, {self.per_pixel} a pixel"
+
+    def execute(self, ctx, data: TargetData) -> None:
+        begin_camera_pass(ctx, [data.color], data.depth, (1.0, 1.0, 1.0, 0.0))
+        defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
+                   "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": "1.0"}
+        program = ctx.programs.get(MESH_VERTEX, VISIBILITY_FRAGMENT, defines)
+        bind_texture_units(program)
+        bind_visibility_maps(ctx, self.visibility)
+        camera = ctx.input(self.camera)
+        uniforms = {"u_view_proj": camera.view_proj_relative(),
+                    **visibility_uniforms(ctx, self.views, self.visibility, camera.position)}
+        set_uniforms(program, **uniforms)
+        objects = ctx.input(self.objects)
+        materials = ctx.input(self.materials) if self.materials is not None else None
+        for index in objects.in_camera_view():
+            cull_hidden_faces(ctx.gl, objects, index)
+            draw_cutting_masks(ctx, objects, index, program, VISIBILITY_FRAGMENT, defines, materials, uniforms)
+        stop_culling(ctx.gl)
