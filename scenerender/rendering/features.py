@@ -27,7 +27,7 @@ TEXTURE_UNITS = {
     "u_shadow_atlas_2": 11, "u_metallic_roughness_map": 12, "u_occlusion_map": 13, "u_emissive_map": 14,
     "u_roughness_map": 15, "u_metallic_map": 16, "u_env_diffuse": 17, "u_env_specular": 18, "u_env_source": 19,
     "u_original": 20,
-    "u_env_visibility": 21, "u_env_vis_samples": 22,
+    "u_env_visibility": 21, "u_env_vis_samples": 22, "u_env_vis_distance": 23,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")
@@ -145,7 +145,7 @@ class SceneFeatures:
             defines["ENV_VISIBILITY"] = self.environment_visibility
             # GGX alpha no narrower than the directions' spacing: about the angular radius
             # of one direction's share of the sphere, sqrt(4 pi / K / pi)
-            defines["ENV_VIS_MIN_ALPHA"] = f"{min(1.0, (4.0 / self.environment_visibility) ** 0.5):.6f}"
+            defines["ENV_VIS_MIN_ALPHA"] = visibility_min_alpha(self.environment_visibility)
         return defines
 
     def interleave_defines(self) -> dict:
@@ -156,6 +156,12 @@ class SceneFeatures:
         if interleave == 1:
             return {}
         return {"ENV_VIS_INTERLEAVE": interleave, "ENV_VIS_PER_PIXEL": per_pixel}
+
+
+def visibility_min_alpha(directions: int) -> str:
+    """GGX alpha no narrower than the directions' spacing: about the angular radius of one
+    direction's share of the sphere, sqrt(4 pi / K / pi) (a define's text)."""
+    return f"{min(1.0, (4.0 / directions) ** 0.5):.6f}"
 
 
 def _environment_features(environment) -> dict:

@@ -12,12 +12,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.graph import FrameGraph
-from scenerender.rendering.features import environment_shades, specular_layout
+from scenerender.rendering.features import environment_shades, specular_layout, visibility_min_alpha
 from scenerender.rendering.inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.bloom import add_bloom
 from scenerender.rendering.passes.depth_of_field import DepthOfFieldGatherPass
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
-from scenerender.rendering.passes.environment import EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentVisibilityPass
+from scenerender.rendering.passes.environment import (
+    EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentVisibilityBlurPass, EnvironmentVisibilityPass,
+)
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
 from scenerender.rendering.passes.object_ids import ObjectIdPass
 from scenerender.rendering.passes.output import (
@@ -182,9 +184,12 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
     lookups = None
     interleave, per_pixel = interleave_pattern(environment.visibility, environment.visibility_interleave)
     if visibility is not None and interleave > 1:
-        lookups = graph.add(EnvironmentVisibilityPass(size, inputs.camera, inputs.objects, inputs.environment_views,
-                                                      visibility, environment.visibility, interleave, per_pixel,
-                                                      _masked_materials(world, inputs))).color
+        found = graph.add(EnvironmentVisibilityPass(size, inputs.camera, inputs.objects, inputs.environment_views,
+                                                    visibility, environment.visibility, interleave, per_pixel,
+                                                    visibility_min_alpha(environment.visibility),
+                                                    _masked_materials(world, inputs)))
+        across = graph.add(EnvironmentVisibilityBlurPass(found.sums, found.distance, size, interleave, 0, False)).image
+        lookups = graph.add(EnvironmentVisibilityBlurPass(across, found.distance, size, interleave, 1, True)).image
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
                                visibility, lookups)
 

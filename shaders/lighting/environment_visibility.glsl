@@ -64,40 +64,18 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     }
     return env_vis_ratio(sum);
 }
-#else
+#elif !defined(ENV_VIS_PASS)
 // The directions shared out over ENV_VIS_INTERLEAVE^2 pixel blocks: the visibility pass
-// (mesh/environment_visibility.frag) left each pixel's ENV_VIS_PER_PIXEL lookups (xyz) and
-// its surface's distance from the camera (w). Any N x N window holds one pixel of every
-// place in the block, so the window around this pixel holds every direction's lookup once;
-// each counts where its pixel lies on this surface (its distance within 3 % of this one's
-// carried along the surface's slope), a direction whose pixel lies elsewhere (across a
-// silhouette) drops out of both sums.
+// (mesh/environment_visibility.frag) and its blur (post/environment_visibility_blur.frag)
+// left here V_d (r) and V_s at the narrowest lobe, alpha = ENV_VIS_MIN_ALPHA (g). The
+// widest, alpha = 1, is GGX D = 1 / pi everywhere, which makes V_s = V_d: between the two,
+// V_s is taken linearly in alpha (exact at both ends; the pass draws no material, so it
+// knows no roughness).
 uniform sampler2D u_env_vis_samples;
 
 vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
+    vec2 found = texelFetch(u_env_vis_samples, ivec2(gl_FragCoord.xy), 0).rg;
     float alpha = max(roughness * roughness, ENV_VIS_MIN_ALPHA);
-    float a2 = alpha * alpha;
-    float dist = length(p);
-    vec2 slope = vec2(dFdx(dist), dFdy(dist));
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    ivec2 first = clamp(pixel - ENV_VIS_INTERLEAVE / 2, ivec2(0),
-                        textureSize(u_env_vis_samples, 0) - ENV_VIS_INTERLEAVE);
-    vec4 sum = vec4(0.0);
-    for (int dy = 0; dy < ENV_VIS_INTERLEAVE; ++dy) {
-        for (int dx = 0; dx < ENV_VIS_INTERLEAVE; ++dx) {
-            ivec2 at = first + ivec2(dx, dy);
-            vec4 found = texelFetch(u_env_vis_samples, at, 0);
-            float expected = dist + dot(slope, vec2(at - pixel));
-            float counts = abs(found.w - expected) <= 0.03 * dist ? 1.0 : 0.0;
-            ivec2 place = at % ENV_VIS_INTERLEAVE;
-            int start = place.x + ENV_VIS_INTERLEAVE * place.y;
-            for (int j = 0; j < ENV_VIS_PER_PIXEL; ++j) {
-                int k = start + j * ENV_VIS_INTERLEAVE * ENV_VIS_INTERLEAVE;
-                vec2 w = env_vis_weights(min(k, ENV_VISIBILITY - 1), n, v, a2) * (k < ENV_VISIBILITY ? counts : 0.0);
-                sum += vec4(w.x, w.x * found[j], w.y, w.y * found[j]);
-            }
-        }
-    }
-    return env_vis_ratio(sum);
+    return vec2(found.r, mix(found.g, found.r, (alpha - ENV_VIS_MIN_ALPHA) / max(1.0 - ENV_VIS_MIN_ALPHA, 1e-6)));
 }
 #endif

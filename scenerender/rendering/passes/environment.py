@@ -20,10 +20,11 @@ from scenerender.rendering.draw import (
 )
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.lights import environment_view_uniforms
-from scenerender.rendering.passes.data import ImageData, TargetData
+from scenerender.rendering.passes.data import ImageData, LookupsData
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"
 VISIBILITY_FRAGMENT = "mesh/environment_visibility.frag"
+BLUR_FRAGMENT = "post/environment_visibility_blur.frag"
 
 
 @dataclass(frozen=True)
@@ -66,7 +67,7 @@ class EnvironmentLighting:
     specular: Handle
     views: Handle | None = None
     visibility: Handle | None = None
-    lookups: Handle | None = None  # EnvironmentVisibilityPass's, where it shares the directions out
+    lookups: Handle | None = None  # the blurred V_d, V_s (EnvironmentVisibilityBlurPass), where the directions are shared out
 
     def handles(self) -> tuple:
         extra = (self.views, self.visibility) if self.visibility is not None else ()
@@ -115,9 +116,10 @@ def visibility_uniforms(ctx, views: Handle, visibility: Handle, camera_position)
 class EnvironmentVisibilityPass(RenderPass):
     """Each pixel's share of the environment's visibility lookups, where the directions
     are shared out over ``interleave`` x ``interleave`` blocks (``per_pixel`` a pixel;
-    world.environment_visibility.interleave_pattern), at the surface the camera sees there:
-    a geometry pass, single-sampled (shaders/mesh/environment_visibility.frag). Opaque
-    shading gathers them over the block around its pixel. materials: as GBufferPass's."""
+    world.environment_visibility.interleave_pattern), at the surface the camera sees there,
+    as weighted sums (shaders/mesh/environment_visibility.frag); a geometry pass,
+    single-sampled. ``min_alpha``: the narrowest specular lobe (features.visibility_min_alpha).
+    materials: as GBufferPass's."""
 
     size: tuple
     camera: Handle
@@ -127,23 +129,25 @@ class EnvironmentVisibilityPass(RenderPass):
     directions: int
     interleave: int
     per_pixel: int
+    min_alpha: str
     materials: Handle | None = None
 
     name = "environment_visibility"
 
-    def setup(self, builder) -> TargetData:
+    def setup(self, builder) -> LookupsData:
         builder.read(self.camera, self.objects, self.views, self.visibility,
                      *((self.materials,) if self.materials is not None else ()))
-        return TargetData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba16f")),
-                          builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
+        return LookupsData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba16f")),
+                           builder.create("environment_distance", ResourceDesc("color", self.size, "r32f")),
+                           builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
     def describe(self) -> str:
         return f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, {self.per_pixel} a pixel"
 
-    def execute(self, ctx, data: TargetData) -> None:
-        begin_camera_pass(ctx, [data.color], data.depth, (1.0, 1.0, 1.0, 0.0))
+    def execute(self, ctx, data: LookupsData) -> None:
+        begin_camera_pass(ctx, [data.sums, data.distance], data.depth, (0.0, 0.0, 0.0, 0.0))
         defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
-                   "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": "1.0"}
+                   "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": self.min_alpha}
         program = ctx.programs.get(MESH_VERTEX, VISIBILITY_FRAGMENT, defines)
         bind_texture_units(program)
         bind_visibility_maps(ctx, self.visibility)
@@ -157,3 +161,39 @@ class EnvironmentVisibilityPass(RenderPass):
             cull_hidden_faces(ctx.gl, objects, index)
             draw_cutting_masks(ctx, objects, index, program, VISIBILITY_FRAGMENT, defines, materials, uniforms)
         stop_culling(ctx.gl)
+
+
+@dataclass(frozen=True)
+class EnvironmentVisibilityBlurPass(RenderPass):
+    """The visibility pass's sums added up along one ``axis`` (0: x, 1: y) over 2N - 1
+    pixels, N = ``interleave``, on the pixel's own surface
+    (shaders/post/environment_visibility_blur.frag); the second axis writes the ratios
+    (``ratio``) that opaque shading reads."""
+
+    sums: Handle
+    distance: Handle
+    size: tuple
+    interleave: int
+    axis: int
+    ratio: bool
+
+    name = "environment_visibility_blur"
+
+    def setup(self, builder) -> ImageData:
+        builder.read(self.sums, self.distance)
+        name = "environment_seen" if self.ratio else "environment_lookups_across"
+        return ImageData(builder.create(name, ResourceDesc("color", self.size, "rgba8" if self.ratio else "rgba16f")))
+
+    def describe(self) -> str:
+        return f"{2 * self.interleave - 1} pixels along {'xy'[self.axis]}"
+
+    def execute(self, ctx, data: ImageData) -> None:
+        begin_fullscreen_pass(ctx, data.image)
+        defines = {"ENV_VIS_INTERLEAVE": self.interleave, "ENV_VIS_AXIS": "ivec2(1, 0)" if self.axis == 0 else "ivec2(0, 1)"}
+        if self.ratio:
+            defines["ENV_VIS_RATIO"] = True
+        program = ctx.programs.get(FULLSCREEN_VERTEX, BLUR_FRAGMENT, defines)
+        bind_texture_units(program)
+        ctx.image(self.sums).use(TEXTURE_UNITS["u_env_vis_samples"])
+        ctx.image(self.distance).use(TEXTURE_UNITS["u_env_vis_distance"])
+        ctx.fullscreen(program)
