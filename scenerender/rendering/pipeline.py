@@ -181,17 +181,27 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
                                              page_size, inputs.environment_views, inputs.objects, None,
                                              _masked_materials(world, inputs, casters_only=True),
                                              page_name="environment_visibility", note=note)).atlas
-    lookups = None
+    lookups, scale = None, (1.0, 1.0)
     interleave, per_pixel = interleave_pattern(environment.visibility, environment.visibility_interleave)
     if visibility is not None and interleave > 1:
-        found = graph.add(EnvironmentVisibilityPass(size, inputs.camera, inputs.objects, inputs.environment_views,
+        lookup_size = visibility_lookup_size(size, environment.visibility_half_resolution)
+        scale = (lookup_size[0] / size[0], lookup_size[1] / size[1])
+        found = graph.add(EnvironmentVisibilityPass(lookup_size, inputs.camera, inputs.objects, inputs.environment_views,
                                                     visibility, environment.visibility, interleave, per_pixel,
                                                     visibility_min_alpha(environment.visibility),
                                                     _masked_materials(world, inputs)))
-        across = graph.add(EnvironmentVisibilityBlurPass(found.sums, found.distance, size, interleave, 0, False)).image
-        lookups = graph.add(EnvironmentVisibilityBlurPass(across, found.distance, size, interleave, 1, True)).image
+        across = graph.add(EnvironmentVisibilityBlurPass(found.sums, found.distance, lookup_size, interleave, 0,
+                                                         False)).image
+        lookups = graph.add(EnvironmentVisibilityBlurPass(across, found.distance, lookup_size, interleave, 1,
+                                                          True)).image
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
-                               visibility, lookups)
+                               visibility, lookups, scale)
+
+
+def visibility_lookup_size(size: tuple, half: bool) -> tuple:
+    """The environment visibility pass's image: the camera's, or half of it a side
+    (rounded up) where ``half``."""
+    return tuple(max(1, -(-side // 2)) for side in size) if half else tuple(size)
 
 
 def prepass_pays(world, atlas, size, samples: int) -> bool:

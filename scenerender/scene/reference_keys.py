@@ -126,6 +126,7 @@ KEYS: dict[str, Key] = {
     "lights[environment].visibility_directions": Key("Directions the image is split into by median cut, each with a shadow map; more: softer, truer shadows, more time per pixel (1-64).", "64"),
     "lights[environment].visibility_map_size": Key("Texels a side of each direction's shadow map, fitted to the shadow casters' bounds.", "1024"),
     "lights[environment].visibility_interleave": Key("Pixels a side of the block that shares the directions out: each pixel of an N x N block looks up about 1/N^2 of them, in a pass before shading, and shades with the whole block's lookups on its own surface (16 directions: 4x4 blocks, one lookup a pixel). 1: every pixel looks up every direction while it shades (exact, slower). Cost and error in docs/performance.md.", "1"),
+    "lights[environment].visibility_half_resolution": Key("Where the directions are shared out (`visibility_interleave` above 1): look them up at half the image's resolution a side, and read them back bilinearly among the texels on the pixel's own surface; `false`: at the image's resolution.", "false"),
     "lights[environment].background": Key("Draw the image behind the scene, turned by `rotation` and times colour x intensity, in place of render.skybox.", "true"),
     # -- materials ------------------------------------------------------------------------
     "materials.<name>.ambient": Key("Ka: how much of the ambient light the surface colour reflects. Not set: the MTL value, else `[1, 1, 1]`.", "[0.5, 0.5, 0.5]"),

@@ -141,16 +141,10 @@ def view_rotations(directions: np.ndarray) -> np.ndarray:
     return _view_rotations(d.tobytes(), len(d))
 
 
-LOOKUPS_PER_PIXEL = 3  # what one rgba16f texel holds beside the surface's distance
-
-
 def interleave_pattern(count: int, interleave: int) -> tuple[int, int]:
     """(N, lookups a pixel) of ``count`` directions shared out over N x N blocks, asked
     ``interleave``: pixel (x, y) of the block, i = x % N + N (y % N), looks up directions
     i, i + N^2, i + 2 N^2 ... (shaders/mesh/environment_visibility.frag). N is no more than
-    sqrt(count) (every pixel has one), and at least what keeps a pixel's lookups within
-    one texel's LOOKUPS_PER_PIXEL; N 1: each pixel looks up all of them as it shades."""
+    sqrt(count), so every pixel has one; N 1: each pixel looks up all of them as it shades."""
     n = max(1, min(interleave, math.isqrt(count)))
-    if n > 1:
-        n = max(n, math.ceil(math.sqrt(count / LOOKUPS_PER_PIXEL)))
     return n, math.ceil(count / (n * n))

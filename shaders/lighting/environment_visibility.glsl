@@ -67,15 +67,36 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
 #elif !defined(ENV_VIS_PASS)
 // The directions shared out over ENV_VIS_INTERLEAVE^2 pixel blocks: the visibility pass
 // (mesh/environment_visibility.frag) and its blur (post/environment_visibility_blur.frag)
-// left here V_d (r) and V_s at the narrowest lobe, alpha = ENV_VIS_MIN_ALPHA (g). The
-// widest, alpha = 1, is GGX D = 1 / pi everywhere, which makes V_s = V_d: between the two,
-// V_s is taken linearly in alpha (exact at both ends; the pass draws no material, so it
-// knows no roughness).
+// left, at u_env_vis_scale of this pass's resolution, V_d (r), V_s at the narrowest lobe,
+// alpha = ENV_VIS_MIN_ALPHA (g), and the surface's distance from the camera (b). Read
+// bilinearly among the four texels around the pixel that lie on its surface (distance
+// within 3 % of this one's, carried along its slope), the nearest in distance where none
+// does. The widest lobe, alpha = 1, is GGX D = 1 / pi everywhere, which makes V_s = V_d:
+// between the two, V_s is taken linearly in alpha (exact at both ends; the pass draws no
+// material, so it knows no roughness).
 uniform sampler2D u_env_vis_samples;
+uniform vec2 u_env_vis_scale;  // the visibility image's texels a pixel
 
 vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
-    vec2 found = texelFetch(u_env_vis_samples, ivec2(gl_FragCoord.xy), 0).rg;
+    float dist = length(p);
+    vec2 slope = vec2(dFdx(dist), dFdy(dist));
+    vec2 at = gl_FragCoord.xy * u_env_vis_scale - 0.5;
+    ivec2 base = ivec2(floor(at));
+    vec2 f = at - floor(at);
+    ivec2 last = textureSize(u_env_vis_samples, 0) - 1;
+    vec3 sum = vec3(0.0);
+    vec3 nearest = vec3(1.0, 1.0, 1e30);  // V_d, V_s, distance gap
+    for (int corner = 0; corner < 4; ++corner) {
+        ivec2 offset = ivec2(corner & 1, corner >> 1);
+        vec3 found = texelFetch(u_env_vis_samples, clamp(base + offset, ivec2(0), last), 0).rgb;
+        vec2 pixels_away = (vec2(base + offset) + 0.5) / u_env_vis_scale - gl_FragCoord.xy;
+        float gap = abs(found.b - (dist + dot(slope, pixels_away)));
+        vec2 tent = mix(1.0 - f, f, vec2(offset));
+        sum += vec3(found.rg, 1.0) * (tent.x * tent.y * (gap <= 0.03 * dist ? 1.0 : 0.0));
+        nearest = gap < nearest.z ? vec3(found.rg, gap) : nearest;
+    }
+    vec2 seen = sum.z > 1e-4 ? sum.xy / sum.z : nearest.xy;
     float alpha = max(roughness * roughness, ENV_VIS_MIN_ALPHA);
-    return vec2(found.r, mix(found.g, found.r, (alpha - ENV_VIS_MIN_ALPHA) / max(1.0 - ENV_VIS_MIN_ALPHA, 1e-6)));
+    return vec2(seen.x, mix(seen.y, seen.x, (alpha - ENV_VIS_MIN_ALPHA) / max(1.0 - ENV_VIS_MIN_ALPHA, 1e-6)));
 }
 #endif

@@ -7,7 +7,8 @@
 // staircase of N-pixel steps). A pixel counts only on this pixel's surface: its distance
 // from the camera within 3 % of this one's carried along the surface's slope (taken on
 // the flatter side, so an edge beside the pixel does not tilt it). The second pass
-// (ENV_VIS_RATIO) writes the ratios, V_d (r) and V_s at the narrowest lobe (g).
+// (ENV_VIS_RATIO) writes the ratios, V_d (r) and V_s at the narrowest lobe (g), and the
+// distance (b) that shading's upsample compares.
 uniform sampler2D u_env_vis_samples;   // the weighted sums
 uniform sampler2D u_env_vis_distance;  // the surface's distance from the camera, 0: none
 out vec4 result;
@@ -30,7 +31,7 @@ void main() {
         sum += (same ? float(ENV_VIS_INTERLEAVE - abs(i)) : 0.0) * texelFetch(u_env_vis_samples, at, 0);
     }
 #ifdef ENV_VIS_RATIO
-    result = vec4(sum.x > 0.0 ? sum.y / sum.x : 1.0, sum.z > 0.0 ? sum.w / sum.z : 1.0, 0.0, 1.0);
+    result = vec4(sum.x > 0.0 ? sum.y / sum.x : 1.0, sum.z > 0.0 ? sum.w / sum.z : 1.0, here, 1.0);
 #else
     result = sum;
 #endif

@@ -68,6 +68,7 @@ class EnvironmentLighting:
     views: Handle | None = None
     visibility: Handle | None = None
     lookups: Handle | None = None  # the blurred V_d, V_s (EnvironmentVisibilityBlurPass), where the directions are shared out
+    lookup_scale: tuple = (1.0, 1.0)  # its texels a pixel of the camera's image
 
     def handles(self) -> tuple:
         extra = (self.views, self.visibility) if self.visibility is not None else ()
@@ -86,11 +87,15 @@ class EnvironmentLighting:
         if self.lookups is not None:
             ctx.image(self.lookups).use(TEXTURE_UNITS["u_env_vis_samples"])
 
-    def uniforms(self, ctx, camera_position) -> dict:
+    def uniforms(self, ctx, camera_position, looks_up: bool = True) -> dict:
+        """The shaders' uniforms; ``looks_up``: also the visibility maps', which a shader
+        reading the visibility pass's image (``lookups``) has no use for."""
         state = ctx.input(self.environment)
         found = {"u_env_to_image": state.to_image, "u_env_scale": state.scale}
-        if self.visibility is not None:
+        if self.visibility is not None and (looks_up or self.lookups is None):
             found.update(visibility_uniforms(ctx, self.views, self.visibility, camera_position))
+        if self.lookups is not None:
+            found["u_env_vis_scale"] = self.lookup_scale
         return found
 
 
@@ -182,7 +187,7 @@ class EnvironmentVisibilityBlurPass(RenderPass):
     def setup(self, builder) -> ImageData:
         builder.read(self.sums, self.distance)
         name = "environment_seen" if self.ratio else "environment_lookups_across"
-        return ImageData(builder.create(name, ResourceDesc("color", self.size, "rgba8" if self.ratio else "rgba16f")))
+        return ImageData(builder.create(name, ResourceDesc("color", self.size, "rgba16f")))
 
     def describe(self) -> str:
         return f"{2 * self.interleave - 1} pixels along {'xy'[self.axis]}"

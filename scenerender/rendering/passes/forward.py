@@ -56,7 +56,12 @@ class Shading:
         view_proj = camera.view_proj_relative()
         ambient = ctx.input(self.inputs.ambient)
         fog = ctx.input(self.inputs.fog) if self.inputs.fog is not None else None
-        environment = self.environment.uniforms(ctx, camera.position) if self.environment is not None else {}
+        environment = {}
+        if self.environment is not None:
+            # only a transparent surface looks the visibility maps up itself where the
+            # visibility pass shares them out (features.interleave_defines)
+            environment = self.environment.uniforms(ctx, camera.position,
+                                                    any(item.material.transparent for item in items))
         for item in items:
             program = self._program(ctx, item.material)
             set_uniforms(program, u_view_proj=view_proj, u_ambient=ambient, **environment)
