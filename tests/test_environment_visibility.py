@@ -239,10 +239,14 @@ def test_the_shared_out_lookups_are_a_pass_before_shading_and_interleave_1_has_n
     path.write_text(_furnace_text())
     result = CliRunner().invoke(main, ["graph", str(path)])
     assert result.exit_code == 0, result.output
-    assert "environment_visibility static   16 directions over 4x4 pixels, 1 a pixel" in result.output
-    assert "environment_visibility_blur static   7 pixels along x" in result.output
-    assert "environment_visibility_blur static   7 pixels along y" in result.output
+    # by default at half the image's 48x48, 2x2 blocks
+    assert "environment_visibility static   16 directions over 2x2 pixels, 4 a pixel, at 24x24" in result.output
+    assert "environment_visibility_blur static   3 pixels along x" in result.output
+    assert "environment_visibility_blur static   3 pixels along y" in result.output
     assert "reads  environment_specular#1, environment_visibility#1, environment_seen#1" in result.output
+    path.write_text(_furnace_text(", visibility_interleave: 4, visibility_half_resolution: false"))
+    result = CliRunner().invoke(main, ["graph", str(path)])
+    assert "16 directions over 4x4 pixels, 1 a pixel, at 48x48" in result.output
     path.write_text(_furnace_text(", visibility_interleave: 1"))
     result = CliRunner().invoke(main, ["graph", str(path)])
     assert "shadow:environment0 visibility" in result.output and "environment_visibility_blur" not in result.output
@@ -262,5 +266,5 @@ def test_transparent_surfaces_look_every_direction_up_themselves(tmp_path):
     by_name = {m.name: m for m in world.materials()}
     assert by_name["glass"].transparent and not by_name["m"].transparent
     opaque, glass = (features.forward_defines(by_name[name], False) for name in ("m", "glass"))
-    assert opaque["ENV_VIS_INTERLEAVE"] == 4 and opaque["ENV_VIS_PER_PIXEL"] == 1 and opaque["ENV_VISIBILITY"] == 16
+    assert opaque["ENV_VIS_INTERLEAVE"] == 2 and opaque["ENV_VIS_PER_PIXEL"] == 4 and opaque["ENV_VISIBILITY"] == 16
     assert "ENV_VIS_INTERLEAVE" not in glass and glass["ENV_VISIBILITY"] == 16

@@ -147,7 +147,8 @@ class EnvironmentVisibilityPass(RenderPass):
                            builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
     def describe(self) -> str:
-        return f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, {self.per_pixel} a pixel"
+        return (f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, {self.per_pixel} a pixel, "
+                f"at {self.size[0]}x{self.size[1]}")
 
     def execute(self, ctx, data: LookupsData) -> None:
         begin_camera_pass(ctx, [data.sums, data.distance], data.depth, (0.0, 0.0, 0.0, 0.0))
