@@ -80,22 +80,26 @@ uniform vec2 u_env_vis_scale;  // the visibility image's texels a pixel
 vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     float dist = length(p);
     vec2 slope = vec2(dFdx(dist), dFdy(dist));
-    vec2 at = gl_FragCoord.xy * u_env_vis_scale - 0.5;
-    ivec2 base = ivec2(floor(at));
-    vec2 f = at - floor(at);
-    ivec2 last = textureSize(u_env_vis_samples, 0) - 1;
-    vec3 sum = vec3(0.0);
-    vec3 nearest = vec3(1.0, 1.0, 1e30);  // V_d, V_s, distance gap
-    for (int corner = 0; corner < 4; ++corner) {
-        ivec2 offset = ivec2(corner & 1, corner >> 1);
-        vec3 found = texelFetch(u_env_vis_samples, clamp(base + offset, ivec2(0), last), 0).rgb;
-        vec2 pixels_away = (vec2(base + offset) + 0.5) / u_env_vis_scale - gl_FragCoord.xy;
-        float gap = abs(found.b - (dist + dot(slope, pixels_away)));
-        vec2 tent = mix(1.0 - f, f, vec2(offset));
-        sum += vec3(found.rg, 1.0) * (tent.x * tent.y * (gap <= 0.03 * dist ? 1.0 : 0.0));
-        nearest = gap < nearest.z ? vec3(found.rg, gap) : nearest;
-    }
-    vec2 seen = sum.z > 1e-4 ? sum.xy / sum.z : nearest.xy;
+    // the four texels around the pixel, each channel in one gather (texels (0, 1), (1, 1),
+    // (1, 0), (0, 0) of the square, in textureGather's order), rather than four fetches
+    vec2 at = gl_FragCoord.xy * u_env_vis_scale;
+    vec2 uv = at / vec2(textureSize(u_env_vis_samples, 0));
+    vec4 found_d = textureGather(u_env_vis_samples, uv, 0);
+    vec4 found_s = textureGather(u_env_vis_samples, uv, 1);
+    vec4 found_distance = textureGather(u_env_vis_samples, uv, 2);
+    vec2 low = floor(at - 0.5) + 0.5;  // the centre of texel (0, 0)
+    vec2 away0 = low / u_env_vis_scale - gl_FragCoord.xy;  // in this pass's pixels
+    vec2 away1 = (low + 1.0) / u_env_vis_scale - gl_FragCoord.xy;
+    vec4 expected = dist + slope.x * vec4(away0.x, away1.x, away1.x, away0.x)
+                         + slope.y * vec4(away1.y, away1.y, away0.y, away0.y);
+    vec4 gap = abs(found_distance - expected);
+    vec2 f = at - low;
+    vec4 tent = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
+    vec4 weight = tent * step(gap, vec4(0.03 * dist));
+    float closest = min(min(gap.x, gap.y), min(gap.z, gap.w));
+    vec4 nearest = step(gap, vec4(closest));
+    weight = dot(weight, vec4(1.0)) > 1e-4 ? weight : nearest;
+    vec2 seen = vec2(dot(weight, found_d), dot(weight, found_s)) / dot(weight, vec4(1.0));
     float alpha = max(roughness * roughness, ENV_VIS_MIN_ALPHA);
     return vec2(seen.x, mix(seen.y, seen.x, (alpha - ENV_VIS_MIN_ALPHA) / max(1.0 - ENV_VIS_MIN_ALPHA, 1e-6)));
 }
