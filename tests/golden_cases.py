@@ -43,6 +43,9 @@ CASES = {
     "film": ("film.yaml", 32, []),
     # the studio environment not blocked by the scene: what gltf_pbr drew before visibility
     "gltf_pbr@visibility_off": ("gltf_pbr.yaml", 36, ["lights[2].visibility=false"]),
+    # every pixel looking up every direction: what gltf_pbr drew before the directions were
+    # shared out over pixel blocks
+    "gltf_pbr@visibility_exact": ("gltf_pbr.yaml", 36, ["lights[2].visibility_interleave=1"]),
 }
 
 
