@@ -65,8 +65,8 @@ class SceneFeatures:
     environment_classic: bool = False
     environment_footprint: bool = False
     environment_visibility: int = 0  # directions the scene's occlusion of it is sampled in
-    # (N, lookups a pixel) of the blocks the directions are shared out over, or (1, K):
-    # every pixel looks up all of them as it shades (environment_visibility.interleave_pattern)
+    # (N, lookups a pixel) of the blocks the directions are shared out over; N 1: every
+    # pixel looks up all of them as it shades (environment_visibility.interleave_pattern)
     environment_interleave: tuple = (1, 0)
 
     @classmethod
@@ -143,8 +143,6 @@ class SceneFeatures:
             defines["ENV_FOOTPRINT"] = True
         if self.environment_visibility:
             defines["ENV_VISIBILITY"] = self.environment_visibility
-            # GGX alpha no narrower than the directions' spacing: about the angular radius
-            # of one direction's share of the sphere, sqrt(4 pi / K / pi)
             defines["ENV_VIS_MIN_ALPHA"] = visibility_min_alpha(self.environment_visibility)
         return defines
 
