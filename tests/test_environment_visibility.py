@@ -1,8 +1,11 @@
 """The scene blocking the environment light (``visibility`` on ``type: environment``, on by
 default): the median cut's directions (no GL), a sphere resting on a ground against the
 reference renderer, a convex object alone not darkened by itself, the maps drawn once in
-a still scene and every frame where objects move, SSAO not darkening twice, and
-``visibility: false`` rendering what the renderer drew before the key existed."""
+a still scene and every frame where objects move, SSAO not darkening twice,
+``visibility: false`` rendering what the renderer drew before the key existed, and the
+directions shared out over pixel blocks (``visibility_interleave``): every direction in one
+place of the block, the pass before shading, no bleeding across a silhouette, and
+``visibility_interleave: 1`` rendering what the renderer drew before the blocks existed."""
 from __future__ import annotations
 
 import importlib.util
