@@ -161,9 +161,11 @@ def test_bench_offers_every_knob_of_the_sweep_and_the_environment_ones_where_it_
     assert "lights[1].prefilter_size=128" not in overrides  # the default
     assert "lights[1].samples=32" in overrides and "lights[1].samples=512" not in overrides  # 512: the default
     assert "lights[1].footprint=true" in overrides
-    seen = [o for v in variants if v.knob in ("env_visibility", "env_directions", "env_map_size") for o in v.overrides]
+    seen = [o for v in variants if v.knob in ("env_visibility", "env_directions", "env_map_size", "env_interleave")
+            for o in v.overrides]
     assert "lights[1].visibility=false" in seen and "lights[1].visibility_directions=32" in seen
     assert "lights[1].visibility_directions=16" not in seen and "lights[1].visibility_map_size=1024" in seen
+    assert "lights[1].visibility_interleave=1" in seen and "lights[1].visibility_interleave=2" not in seen  # 2: the default
     without = bench.sweep_variants(scenerender.Scene.from_yaml("objects: [{mesh: {primitive: box}}]\n", tmp_path))
     assert not [v for v in without if v.knob in ("prefilter_size", "sh_order", "env_samples")]
 

@@ -43,17 +43,28 @@ SPHERE_CENTRE, SPHERE_RADIUS = np.array([0.0, 1.0, 0.0]), 1.0
 PATCH = np.array([np.cos(np.radians(45.0)), np.sin(np.radians(45.0)), 0.0])  # make_contact_sky.patch_direction
 REGIONS = ("ring", "patch shadow", "lower half", "open ground")
 
+FULL = "lights[0].visibility_half_resolution=false"
+EXACT = "lights[0].visibility_interleave=1"
 VARIANTS = {
     "visibility off": ["lights[0].visibility=false"],
-    "8 directions": ["lights[0].visibility_directions=8"],
-    "16 directions (default)": [],
-    "32 directions": ["lights[0].visibility_directions=32"],
-    "64 directions": ["lights[0].visibility_directions=64"],
-    "16 directions, maps 256": ["lights[0].visibility_map_size=256"],
-    "16 directions, maps 1024": ["lights[0].visibility_map_size=1024"],
+    "16 directions, exact (every pixel all 16)": [EXACT],
+    "16 directions, 2x2 blocks, half resolution (default)": [],
+    "16 directions, 3x3 blocks, half resolution": ["lights[0].visibility_interleave=3"],
+    "16 directions, 4x4 blocks, half resolution": ["lights[0].visibility_interleave=4"],
+    "16 directions, 2x2 blocks, full resolution": [FULL],
+    "16 directions, 4x4 blocks, full resolution": [FULL, "lights[0].visibility_interleave=4"],
+    "8 directions, 2x2 blocks, half resolution": ["lights[0].visibility_directions=8"],
+    "32 directions, 2x2 blocks, half resolution": ["lights[0].visibility_directions=32"],
+    "8 directions, exact": ["lights[0].visibility_directions=8", EXACT],
+    "32 directions, exact": ["lights[0].visibility_directions=32", EXACT],
+    "64 directions, exact": ["lights[0].visibility_directions=64", EXACT],
+    "16 directions, exact, maps 256": ["lights[0].visibility_map_size=256", EXACT],
+    "16 directions, exact, maps 1024": ["lights[0].visibility_map_size=1024", EXACT],
     "SSAO, visibility off": ["lights[0].visibility=false", "render.ambient_occlusion={}"],
-    "SSAO, 16 directions": ["render.ambient_occlusion={}"],
+    "SSAO, default": ["render.ambient_occlusion={}"],
+    "SSAO, 16 directions, exact": ["render.ambient_occlusion={}", EXACT],
 }
+TIMED = tuple(list(VARIANTS)[:9])
 DRIFT = ["camera.position={keys: [[0, [0.0, 3.2, 6.5]], [1, [0.4, 3.2, 6.5]]]}", "output={fps: 30, frames: 31}"]
 BOUNCE = DRIFT + ["objects[0].position={keys: [[0, [0, 1, 0]], [1, [0, 1.3, 0]]]}"]
 
@@ -152,8 +163,7 @@ def main() -> None:
         errors = region_errors(gpu_linear(overrides, size).mean(axis=2), truth, masks)
         results[name] = {"errors": errors}
         print(name, {k: round(v * 100, 1) for k, v in errors.items()}, flush=True)
-    timed = {name: VARIANTS[name] for name in ("visibility off", "8 directions", "16 directions (default)",
-                                                "32 directions", "64 directions")}
+    timed = {name: VARIANTS[name] for name in TIMED}
     for motion_name, motion in (("static", DRIFT), ("animated", BOUNCE)):
         for name, values in frame_times(timed, motion).items():
             results[name][f"{motion_name} ms"] = statistics.median(values)

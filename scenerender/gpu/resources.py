@@ -15,6 +15,7 @@ _COLOR_FORMATS = {  # format -> (components, dtype, internal format or None for 
     "rgba32f": (4, "f4", None),  # the data views' values kept whole for EXR output
     "r8": (1, "f1", None),
     "r16ui": (1, "u2", None),  # object ids (unsigned integers, never filtered)
+    "r32f": (1, "f4", None),  # a distance kept whole (the environment visibility's blur compares them)
 }
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from scenerender.world.environment_visibility import interleave_pattern
 from scenerender.world.shadows import first_shadow_views, view_count
 
 # Light and shadow data live in uniform blocks (fast on every driver) up to the size every
@@ -28,6 +29,7 @@ TEXTURE_UNITS = {
     "u_original": 20,
     "u_env_visibility": 21,
     "u_shadow_depth": 22, "u_shadow_depth_2": 23, "u_velocity": 24, "u_velocity_tiles": 25,
+    "u_env_vis_samples": 26, "u_env_vis_distance": 27,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")
@@ -80,6 +82,9 @@ class SceneFeatures:
     environment_classic: bool = False
     environment_footprint: bool = False
     environment_visibility: int = 0  # directions the scene's occlusion of it is sampled in
+    # (N, lookups a pixel) of the blocks the directions are shared out over; N 1: every
+    # pixel looks up all of them as it shades (environment_visibility.interleave_pattern)
+    environment_interleave: tuple = (1, 0)
 
     @classmethod
     def of(cls, world, samples: int = 1, atlas=None) -> "SceneFeatures":
@@ -174,6 +179,8 @@ class SceneFeatures:
                 defines["HAS_AO"] = True
             if self.environment is not None and environment_shades(self.environment_classic, model):
                 defines.update(self.environment_defines())
+                if self.environment_visibility and not material.transparent:
+                    defines.update(self.interleave_defines())
         defines.update(material_defines(material, model))
         return defines
 
@@ -184,10 +191,23 @@ class SceneFeatures:
             defines["ENV_FOOTPRINT"] = True
         if self.environment_visibility:
             defines["ENV_VISIBILITY"] = self.environment_visibility
-            # GGX alpha no narrower than the directions' spacing: about the angular radius
-            # of one direction's share of the sphere, sqrt(4 pi / K / pi)
-            defines["ENV_VIS_MIN_ALPHA"] = f"{min(1.0, (4.0 / self.environment_visibility) ** 0.5):.6f}"
+            defines["ENV_VIS_MIN_ALPHA"] = visibility_min_alpha(self.environment_visibility)
         return defines
+
+    def interleave_defines(self) -> dict:
+        """Opaque surfaces read the visibility pass's lookups, where it shares the
+        directions out (passes/environment.py EnvironmentVisibilityPass); transparent ones,
+        which it does not draw, look every direction up themselves."""
+        interleave, per_pixel = self.environment_interleave
+        if interleave == 1:
+            return {}
+        return {"ENV_VIS_INTERLEAVE": interleave, "ENV_VIS_PER_PIXEL": per_pixel}
+
+
+def visibility_min_alpha(directions: int) -> str:
+    """GGX alpha no narrower than the directions' spacing: about the angular radius of one
+    direction's share of the sphere, sqrt(4 pi / K / pi) (a define's text)."""
+    return f"{min(1.0, (4.0 / directions) ** 0.5):.6f}"
 
 
 def _sized_lights(lights) -> dict:
@@ -209,7 +229,9 @@ def _environment_features(environment) -> dict:
     if environment is None:
         return {}
     return {"environment": specular_layout(environment), "environment_classic": environment.classic,
-            "environment_footprint": environment.footprint, "environment_visibility": environment.visibility}
+            "environment_footprint": environment.footprint, "environment_visibility": environment.visibility,
+            "environment_interleave": interleave_pattern(environment.visibility, environment.visibility_interleave)
+            if environment.visibility else (1, 0)}
 
 
 def environment_shades(classic: bool, model: str) -> bool:

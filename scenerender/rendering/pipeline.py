@@ -12,13 +12,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.graph import FrameGraph
-from scenerender.rendering.features import environment_shades, specular_layout
+from scenerender.rendering.features import environment_shades, specular_layout, visibility_min_alpha
 from scenerender.rendering.inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.bloom import add_bloom
 from scenerender.rendering.passes.depth_of_field import DepthOfFieldGatherPass
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
 from scenerender.rendering.passes.motion_blur import add_velocity_blur
-from scenerender.rendering.passes.environment import EnvironmentLighting, EnvironmentPrefilterPass
+from scenerender.rendering.passes.environment import (
+    EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentVisibilityBlurPass, EnvironmentVisibilityPass,
+)
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
 from scenerender.rendering.passes.object_ids import ObjectIdPass
 from scenerender.rendering.passes.output import (
@@ -29,7 +31,7 @@ from scenerender.rendering.passes.sky import NO_SKY, EnvironmentSky, SkyboxPass,
 from scenerender.rendering.passes.views import (
     AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
 )
-from scenerender.world.environment_visibility import visibility_tiles
+from scenerender.world.environment_visibility import interleave_pattern, visibility_tiles
 from scenerender.world.frame import FrameEvaluator
 from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
@@ -80,7 +82,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     visible = fill == "solid" and (options.visible_samples if options.visible_samples is not None
                                    else visible_samples_pay(world, samples, options.post_depth_coverage))
     shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None, visible,
-                      _environment_lighting(graph, world, inputs))
+                      _environment_lighting(graph, world, inputs, size))
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else visible or prepass_pays(world, atlas, size, samples))
     tone = _tone_curve(world, inputs)
@@ -167,10 +169,11 @@ def _tone_curve(world, inputs: InputHandles) -> ToneCurve:
 PREPASS_DEPTH_COMPLEXITY = 4.0
 
 
-def _environment_lighting(graph, world, inputs: InputHandles) -> EnvironmentLighting | None:
+def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> EnvironmentLighting | None:
     """The environment light's lookups, with the pass that prefilters its image, where a
     material the scene draws lit takes light from it: a pbr material, or a Phong or
-    Blinn-Phong one when the light says ``classic: true``."""
+    Blinn-Phong one when the light says ``classic: true``. With its visibility shared out
+    over pixel blocks, the pass that looks it up at the camera's ``size``."""
     environment = world.environment
     if environment is None or not any(environment_shades(environment.classic, m.model(world.settings.shading))
                                       for m in world.materials()):
@@ -185,8 +188,27 @@ def _environment_lighting(graph, world, inputs: InputHandles) -> EnvironmentLigh
                                              page_size, inputs.environment_views, inputs.objects, None,
                                              _masked_materials(world, inputs, casters_only=True),
                                              page_name="environment_visibility", note=note)).atlas
+    lookups, scale = None, (1.0, 1.0)
+    interleave, per_pixel = interleave_pattern(environment.visibility, environment.visibility_interleave)
+    if visibility is not None and interleave > 1:
+        lookup_size = visibility_lookup_size(size, environment.visibility_half_resolution)
+        scale = (lookup_size[0] / size[0], lookup_size[1] / size[1])
+        found = graph.add(EnvironmentVisibilityPass(lookup_size, inputs.camera, inputs.objects, inputs.environment_views,
+                                                    visibility, environment.visibility, interleave, per_pixel,
+                                                    visibility_min_alpha(environment.visibility),
+                                                    _masked_materials(world, inputs)))
+        across = graph.add(EnvironmentVisibilityBlurPass(found.sums, found.distance, lookup_size, interleave, 0,
+                                                         False)).image
+        lookups = graph.add(EnvironmentVisibilityBlurPass(across, found.distance, lookup_size, interleave, 1,
+                                                          True)).image
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
-                               visibility)
+                               visibility, lookups, scale)
+
+
+def visibility_lookup_size(size: tuple, half: bool) -> tuple:
+    """The environment visibility pass's image: the camera's, or half of it a side
+    (rounded up) where ``half``."""
+    return tuple(max(1, -(-side // 2)) for side in size) if half else tuple(size)
 
 
 def prepass_pays(world, atlas, size, samples: int) -> bool:

@@ -5,9 +5,9 @@ One knob changes at a time from the scene's own settings (the "default" row): MS
 samples, shadow map size, PCF size, shadow bias, ambient occlusion on/off, image size;
 then a few shadow map size and PCF pairs together ("combined"); with an environment light,
 its prefilter size, spherical-harmonic order, prefilter samples and footprint filter, and
-its visibility (off, and its directions and map size); with a shutter or an aperture, the
-sub-frames a frame (render.film_samples); with a shutter, the other way of filming it
-(render.motion_blur: sub_frames or velocity). What is made once a run
+its visibility (off, and its directions, map size and pixel blocks); with a shutter or an
+aperture, the sub-frames a frame (render.film_samples); with a shutter, the other way of
+filming it (render.motion_blur: sub_frames or velocity). What is made once a run
 (the prefiltered environment) is timed apart, in ``once_ms``.
 Timing: every variant keeps its renderer open and the variants take turns frame by frame
 (so a slow spell of a shared machine spreads over all of them), frames 1..F of the scene
@@ -47,9 +47,10 @@ VISIBILITY_MAP_SIZES = (256, 512, 1024)
 # the soft shadows of lights with a size: the blocker search's and the filter's reads
 BLOCKER_SAMPLES = (8, 16, 32)
 FILTER_SAMPLES = (16, 32, 64)
+VISIBILITY_INTERLEAVES = (1, 2, 3, 4)  # 1: the exact per-pixel sum
 KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size", "sh_order",
-         "env_samples", "env_footprint", "env_visibility", "env_directions", "env_map_size", "film_samples",
-         "blocker_samples", "filter_samples", "motion_blur")
+         "env_samples", "env_footprint", "env_visibility", "env_directions", "env_map_size", "env_interleave",
+         "film_samples", "blocker_samples", "filter_samples", "motion_blur")
 ONCE_PASSES = ("environment_prefilter",)  # passes a run makes once, whose cost is not per frame
 
 
@@ -151,6 +152,8 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
                  environment.visibility)
             each("env_map_size", "visibility maps {}", f"{key}.visibility_map_size", VISIBILITY_MAP_SIZES,
                  environment.visibility_map_size)
+            each("env_interleave", "visibility blocks {0}x{0}", f"{key}.visibility_interleave", VISIBILITY_INTERLEAVES,
+                 environment.visibility_interleave)
     camera = scene.world.spec.camera
     if camera is not None and (camera.shutter > 0 or camera.aperture is not None):
         each("film_samples", "{} sub-frames", "render.film_samples", FILM_SAMPLES, spec.film_samples)

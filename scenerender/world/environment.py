@@ -52,7 +52,9 @@ class EnvironmentDef:
     footprint: the specular lookup widened to the pixel's spread of reflection directions.
     visibility: how many directions the scene's occlusion of the light is sampled in, each
     with a shadow map of ``visibility_map_size`` texels a side (world.environment_visibility);
-    0: the scene does not block it.
+    0: the scene does not block it. visibility_interleave: pixels a side of the block the
+    directions are shared out over (world.environment_visibility.interleave_pattern),
+    looked up at half the image's resolution where ``visibility_half_resolution``.
     background: the image is drawn behind the scene (turned by ``rotation``, times colour x
     intensity), in place of the skybox.
     """
@@ -72,6 +74,8 @@ class EnvironmentDef:
     visibility: int = 0
     visibility_map_size: int = 512
     background: bool = False
+    visibility_interleave: int = 1
+    visibility_half_resolution: bool = False
 
     @cached_property
     def sh(self) -> np.ndarray:
@@ -135,7 +139,8 @@ def environment_def(scene, images, sky_faces) -> EnvironmentDef | None:
     return EnvironmentDef(light.name or f"environment{index}", path, image, light.color, light.intensity,
                           light.enabled, light.rotation, light.classic, light.prefilter_size, light.sh_order,
                           light.samples, light.footprint, light.visibility_directions if light.visibility else 0,
-                          light.visibility_map_size, light.background)
+                          light.visibility_map_size, light.background, light.visibility_interleave,
+                          light.visibility_half_resolution)
 
 
 def skybox_image(faces, images) -> np.ndarray:

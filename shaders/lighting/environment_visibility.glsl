@@ -34,23 +34,73 @@ float env_vis_lookup(int k, vec3 p, vec3 n, float n_dot_l) {
     return texture(u_env_visibility, vec3(q.xy, q.z - bias));
 }
 
-// (V_d, V_s) at p, normal n, towards the viewer v.
+// The weights of direction k at a surface facing n, towards the viewer v, of GGX a2 = alpha^2:
+// (diffuse, specular); 0 where the direction lies below the surface.
+vec2 env_vis_weights(int k, vec3 n, vec3 v, float a2) {
+    vec4 light = u_env_vis_light[k];
+    float diffuse = light.w * max(dot(n, light.xyz), 0.0);
+    float n_dot_h = max(dot(n, normalize(v + light.xyz)), 0.0);
+    float d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    return vec2(diffuse, diffuse * a2 / (d * d));  // GGX D, its 1 / pi cancelling in the ratio
+}
+
+vec2 env_vis_ratio(vec4 sum) {  // diffuse weight, of it lit, specular weight, of it lit
+    return vec2(sum.x > 0.0 ? sum.y / sum.x : 1.0, sum.z > 0.0 ? sum.w / sum.z : 1.0);
+}
+
+#ifndef ENV_VIS_INTERLEAVE
+// (V_d, V_s) at p, normal n, towards the viewer v: every direction looked up here.
 vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     float alpha = max(roughness * roughness, ENV_VIS_MIN_ALPHA);
-    float a2 = alpha * alpha;
-    vec4 sum = vec4(0.0);  // diffuse weight, of it lit, specular weight, of it lit
+    vec4 sum = vec4(0.0);
     for (int k = 0; k < ENV_VISIBILITY; ++k) {
-        vec4 light = u_env_vis_light[k];
-        float n_dot_l = dot(n, light.xyz);
+        float n_dot_l = dot(n, u_env_vis_light[k].xyz);
         if (n_dot_l <= 0.0) {
             continue;
         }
         float lit = env_vis_lookup(k, p, n, n_dot_l);
-        float diffuse = light.w * n_dot_l;
-        float n_dot_h = max(dot(n, normalize(v + light.xyz)), 0.0);
-        float d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
-        float specular = diffuse * a2 / (d * d);  // GGX D, its 1 / pi cancelling in the ratio
-        sum += vec4(diffuse, diffuse * lit, specular, specular * lit);
+        vec2 w = env_vis_weights(k, n, v, alpha * alpha);
+        sum += vec4(w.x, w.x * lit, w.y, w.y * lit);
     }
-    return vec2(sum.x > 0.0 ? sum.y / sum.x : 1.0, sum.z > 0.0 ? sum.w / sum.z : 1.0);
+    return env_vis_ratio(sum);
 }
+#elif !defined(ENV_VIS_PASS)
+// The directions shared out over ENV_VIS_INTERLEAVE^2 pixel blocks: the visibility pass
+// (mesh/environment_visibility.frag) and its blur (post/environment_visibility_blur.frag)
+// left, at u_env_vis_scale of this pass's resolution, V_d (r), V_s at the narrowest lobe,
+// alpha = ENV_VIS_MIN_ALPHA (g), and the surface's distance from the camera (b). Read
+// bilinearly among the four texels around the pixel that lie on its surface (distance
+// within 3 % of this one's, carried along its slope), the nearest in distance where none
+// does. The widest lobe, alpha = 1, is GGX D = 1 / pi everywhere, which makes V_s = V_d:
+// between the two, V_s is taken linearly in alpha (exact at both ends; the pass draws no
+// material, so it knows no roughness).
+uniform sampler2D u_env_vis_samples;
+uniform vec2 u_env_vis_scale;  // the visibility image's texels a pixel
+
+vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
+    float dist = length(p);
+    vec2 slope = vec2(dFdx(dist), dFdy(dist));
+    // the four texels around the pixel, each channel in one gather (texels (0, 1), (1, 1),
+    // (1, 0), (0, 0) of the square, in textureGather's order), rather than four fetches
+    vec2 at = gl_FragCoord.xy * u_env_vis_scale;
+    vec2 uv = at / vec2(textureSize(u_env_vis_samples, 0));
+    vec4 found_d = textureGather(u_env_vis_samples, uv, 0);
+    vec4 found_s = textureGather(u_env_vis_samples, uv, 1);
+    vec4 found_distance = textureGather(u_env_vis_samples, uv, 2);
+    vec2 low = floor(at - 0.5) + 0.5;  // the centre of texel (0, 0)
+    vec2 away0 = low / u_env_vis_scale - gl_FragCoord.xy;  // in this pass's pixels
+    vec2 away1 = (low + 1.0) / u_env_vis_scale - gl_FragCoord.xy;
+    vec4 expected = dist + slope.x * vec4(away0.x, away1.x, away1.x, away0.x)
+                         + slope.y * vec4(away1.y, away1.y, away0.y, away0.y);
+    vec4 gap = abs(found_distance - expected);
+    vec2 f = at - low;
+    vec4 tent = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
+    vec4 weight = tent * step(gap, vec4(0.03 * dist));
+    float closest = min(min(gap.x, gap.y), min(gap.z, gap.w));
+    vec4 nearest = step(gap, vec4(closest));
+    weight = dot(weight, vec4(1.0)) > 1e-4 ? weight : nearest;
+    vec2 seen = vec2(dot(weight, found_d), dot(weight, found_s)) / dot(weight, vec4(1.0));
+    float alpha = max(roughness * roughness, ENV_VIS_MIN_ALPHA);
+    return vec2(seen.x, mix(seen.y, seen.x, (alpha - ENV_VIS_MIN_ALPHA) / max(1.0 - ENV_VIS_MIN_ALPHA, 1e-6)));
+}
+#endif

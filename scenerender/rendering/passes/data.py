@@ -19,3 +19,13 @@ class TargetData:
 
     color: Handle
     depth: Handle
+
+
+@dataclass(frozen=True)
+class LookupsData:
+    """The environment visibility pass's weighted sums, the distance of the surface each
+    pixel shows, and the depth buffer drawn with them."""
+
+    sums: Handle
+    distance: Handle
+    depth: Handle

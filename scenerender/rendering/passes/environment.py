@@ -14,12 +14,17 @@ import numpy as np
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
-from scenerender.rendering.draw import FULLSCREEN_VERTEX, begin_fullscreen_pass, bind_texture_units
+from scenerender.rendering.draw import (
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_texture_units, cull_hidden_faces,
+    draw_cutting_masks, stop_culling,
+)
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.lights import environment_view_uniforms
-from scenerender.rendering.passes.data import ImageData
+from scenerender.rendering.passes.data import ImageData, LookupsData
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"
+VISIBILITY_FRAGMENT = "mesh/environment_visibility.frag"
+BLUR_FRAGMENT = "post/environment_visibility_blur.frag"
 
 
 @dataclass(frozen=True)
@@ -62,9 +67,12 @@ class EnvironmentLighting:
     specular: Handle
     views: Handle | None = None
     visibility: Handle | None = None
+    lookups: Handle | None = None  # the blurred V_d, V_s (EnvironmentVisibilityBlurPass), where the directions are shared out
+    lookup_scale: tuple = (1.0, 1.0)  # its texels a pixel of the camera's image
 
     def handles(self) -> tuple:
         extra = (self.views, self.visibility) if self.visibility is not None else ()
+        extra += (self.lookups,) if self.lookups is not None else ()
         return self.environment, self.environment_map, self.specular, *extra
 
     def bind(self, ctx) -> None:
@@ -75,19 +83,123 @@ class EnvironmentLighting:
         specular.use(TEXTURE_UNITS["u_env_specular"])
         ctx.input(self.environment_map).diffuse.use(TEXTURE_UNITS["u_env_diffuse"])
         if self.visibility is not None:
-            maps = ctx.image(self.visibility)
-            maps.compare_func = "<="
-            maps.filter = (moderngl.LINEAR, moderngl.LINEAR)
-            maps.use(TEXTURE_UNITS["u_env_visibility"])
+            bind_visibility_maps(ctx, self.visibility)
+        if self.lookups is not None:
+            ctx.image(self.lookups).use(TEXTURE_UNITS["u_env_vis_samples"])
 
-    def uniforms(self, ctx, camera_position) -> dict:
+    def uniforms(self, ctx, camera_position, looks_up: bool = True) -> dict:
+        """The shaders' uniforms; ``looks_up``: also the visibility maps', which a shader
+        reading the visibility pass's image (``lookups``) has no use for."""
         state = ctx.input(self.environment)
         found = {"u_env_to_image": state.to_image, "u_env_scale": state.scale}
-        if self.visibility is not None:
-            views = ctx.input(self.views)
-            to_map, params, tiles = environment_view_uniforms(views.views, camera_position,
-                                                              ctx.image(self.visibility).size)
-            towards = np.concatenate([views.directions, views.weights[:, None]], axis=1)
-            found.update(u_env_vis_to_map=to_map, u_env_vis_params=params, u_env_vis_tile=tiles,
-                         u_env_vis_light=towards.astype(np.float32).tobytes())
+        if self.visibility is not None and (looks_up or self.lookups is None):
+            found.update(visibility_uniforms(ctx, self.views, self.visibility, camera_position))
+        if self.lookups is not None:
+            found["u_env_vis_scale"] = self.lookup_scale
         return found
+
+
+def bind_visibility_maps(ctx, visibility: Handle) -> None:
+    """The visibility maps' depth texture on its unit, for hardware-filtered comparison."""
+    maps = ctx.image(visibility)
+    maps.compare_func = "<="
+    maps.filter = (moderngl.LINEAR, moderngl.LINEAR)
+    maps.use(TEXTURE_UNITS["u_env_visibility"])
+
+
+def visibility_uniforms(ctx, views: Handle, visibility: Handle, camera_position) -> dict:
+    """The u_env_vis_* uniforms (shaders/lighting/environment_visibility.glsl) of the
+    ``views`` input's maps, drawn into ``visibility``, from ``camera_position``."""
+    found = ctx.input(views)
+    to_map, params, tiles = environment_view_uniforms(found.views, camera_position, ctx.image(visibility).size)
+    towards = np.concatenate([found.directions, found.weights[:, None]], axis=1)
+    return {"u_env_vis_to_map": to_map, "u_env_vis_params": params, "u_env_vis_tile": tiles,
+            "u_env_vis_light": towards.astype(np.float32).tobytes()}
+
+
+@dataclass(frozen=True)
+class EnvironmentVisibilityPass(RenderPass):
+    """Each pixel's share of the environment's visibility lookups, where the directions
+    are shared out over ``interleave`` x ``interleave`` blocks (``per_pixel`` a pixel;
+    world.environment_visibility.interleave_pattern), at the surface the camera sees there,
+    as weighted sums (shaders/mesh/environment_visibility.frag); a geometry pass,
+    single-sampled. ``min_alpha``: the narrowest specular lobe (features.visibility_min_alpha).
+    materials: as GBufferPass's."""
+
+    size: tuple
+    camera: Handle
+    objects: Handle
+    views: Handle
+    visibility: Handle
+    directions: int
+    interleave: int
+    per_pixel: int
+    min_alpha: str
+    materials: Handle | None = None
+
+    name = "environment_visibility"
+
+    def setup(self, builder) -> LookupsData:
+        builder.read(self.camera, self.objects, self.views, self.visibility,
+                     *((self.materials,) if self.materials is not None else ()))
+        return LookupsData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba16f")),
+                           builder.create("environment_distance", ResourceDesc("color", self.size, "r32f")),
+                           builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
+
+    def describe(self) -> str:
+        return (f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, {self.per_pixel} a pixel, "
+                f"at {self.size[0]}x{self.size[1]}")
+
+    def execute(self, ctx, data: LookupsData) -> None:
+        begin_camera_pass(ctx, [data.sums, data.distance], data.depth, (0.0, 0.0, 0.0, 0.0))
+        defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
+                   "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": self.min_alpha}
+        program = ctx.programs.get(MESH_VERTEX, VISIBILITY_FRAGMENT, defines)
+        bind_texture_units(program)
+        bind_visibility_maps(ctx, self.visibility)
+        camera = ctx.input(self.camera)
+        uniforms = {"u_view_proj": camera.view_proj_relative(),
+                    **visibility_uniforms(ctx, self.views, self.visibility, camera.position)}
+        set_uniforms(program, **uniforms)
+        objects = ctx.input(self.objects)
+        materials = ctx.input(self.materials) if self.materials is not None else None
+        for index in objects.in_camera_view():
+            cull_hidden_faces(ctx.gl, objects, index)
+            draw_cutting_masks(ctx, objects, index, program, VISIBILITY_FRAGMENT, defines, materials, uniforms)
+        stop_culling(ctx.gl)
+
+
+@dataclass(frozen=True)
+class EnvironmentVisibilityBlurPass(RenderPass):
+    """The visibility pass's sums added up along one ``axis`` (0: x, 1: y) over 2N - 1
+    pixels, N = ``interleave``, on the pixel's own surface
+    (shaders/post/environment_visibility_blur.frag); the second axis writes the ratios
+    (``ratio``) that opaque shading reads."""
+
+    sums: Handle
+    distance: Handle
+    size: tuple
+    interleave: int
+    axis: int
+    ratio: bool
+
+    name = "environment_visibility_blur"
+
+    def setup(self, builder) -> ImageData:
+        builder.read(self.sums, self.distance)
+        name = "environment_seen" if self.ratio else "environment_lookups_across"
+        return ImageData(builder.create(name, ResourceDesc("color", self.size, "rgba16f")))
+
+    def describe(self) -> str:
+        return f"{2 * self.interleave - 1} pixels along {'xy'[self.axis]}"
+
+    def execute(self, ctx, data: ImageData) -> None:
+        begin_fullscreen_pass(ctx, data.image)
+        defines = {"ENV_VIS_INTERLEAVE": self.interleave, "ENV_VIS_AXIS": "ivec2(1, 0)" if self.axis == 0 else "ivec2(0, 1)"}
+        if self.ratio:
+            defines["ENV_VIS_RATIO"] = True
+        program = ctx.programs.get(FULLSCREEN_VERTEX, BLUR_FRAGMENT, defines)
+        bind_texture_units(program)
+        ctx.image(self.sums).use(TEXTURE_UNITS["u_env_vis_samples"])
+        ctx.image(self.distance).use(TEXTURE_UNITS["u_env_vis_distance"])
+        ctx.fullscreen(program)

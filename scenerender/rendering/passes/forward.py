@@ -58,7 +58,11 @@ class Shading:
         materials = ctx.input(self.inputs.materials)
         frame_values = dict(u_view_proj=matrix_bytes(camera.view_proj_relative()),
                             u_ambient=ctx.input(self.inputs.ambient),
-                            **(self.environment.uniforms(ctx, camera.position) if self.environment is not None else {}))
+                            # only a transparent surface looks the visibility maps up itself where
+                            # the visibility pass shares them out (features.interleave_defines)
+                            **(self.environment.uniforms(ctx, camera.position,
+                                                         any(item.material.transparent for item in items))
+                               if self.environment is not None else {}))
         if self.inputs.fog is not None:
             fog = ctx.input(self.inputs.fog)
             frame_values.update(u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)

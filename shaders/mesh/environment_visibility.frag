@@ -1,0 +1,43 @@
+// The environment visibility pass: each pixel looks up its share of the visibility
+// directions (ENV_VIS_PER_PIXEL of them, by its place in an ENV_VIS_INTERLEAVE^2 block:
+// world/environment_visibility.interleave_pattern) at the surface it shows, and writes
+// their weighted sums (lighting/environment_visibility.glsl), for the blur
+// (post/environment_visibility_blur.frag) to add up over the block: diffuse weight, of it
+// lit, specular weight at the narrowest lobe (ENV_VIS_MIN_ALPHA), of it lit; and the
+// surface's distance from the camera (0 where nothing is drawn), which the blur compares.
+#define ENV_VIS_PASS
+#include "common/math.glsl"
+#ifdef ALPHA_MASK
+#include "lighting/alpha_mask.glsl"
+#else
+in vec2 v_uv;
+#endif
+#include "lighting/environment_visibility.glsl"
+in vec3 v_position;
+in vec3 v_normal;
+layout(location = 0) out vec4 sums;
+layout(location = 1) out float surface_distance;
+
+void main() {
+#ifdef ALPHA_MASK
+    if (cut_away()) {
+        discard;
+    }
+#endif
+    vec3 n = safe_normalize(gl_FrontFacing ? v_normal : -v_normal);
+    vec3 v = safe_normalize(-v_position, n);
+    ivec2 place = ivec2(gl_FragCoord.xy) % ENV_VIS_INTERLEAVE;
+    int start = place.x + ENV_VIS_INTERLEAVE * place.y;
+    float a2 = ENV_VIS_MIN_ALPHA * ENV_VIS_MIN_ALPHA;
+    vec4 sum = vec4(0.0);
+    for (int j = 0; j < ENV_VIS_PER_PIXEL; ++j) {
+        int k = start + j * ENV_VIS_INTERLEAVE * ENV_VIS_INTERLEAVE;
+        int at = min(k, ENV_VISIBILITY - 1);
+        float n_dot_l = dot(n, u_env_vis_light[at].xyz);
+        float lit = n_dot_l > 0.0 ? env_vis_lookup(at, v_position, n, n_dot_l) : 1.0;
+        vec2 w = env_vis_weights(at, n, v, a2) * (k < ENV_VISIBILITY ? 1.0 : 0.0);
+        sum += vec4(w.x, w.x * lit, w.y, w.y * lit);
+    }
+    sums = sum;
+    surface_distance = length(v_position);
+}
