@@ -51,10 +51,14 @@ const float SOFT_MAX_FRACTION = 0.0625;
 // of each step (compile-time constants of the light: render.shadows.blocker_samples,
 // filter_samples). Bias as shadow_lookup's, plus the receiver's own change in depth over
 // each read's offset, so a tilted receiver does not shadow itself across a wide filter.
-// A point of the square [-1, 1]^2, k of ``count`` (the R2 sequence, shifted by ``shift``):
-// the filter of a rectangle light.
-vec2 square_point(int k, float shift) {
-    return 2.0 * fract(vec2(0.5 + shift) + float(k) * vec2(0.7548776662, 0.5698402910)) - 1.0;
+// A point of the square [-1, 1]^2, k of ``count``: the filter of a rectangle light. The
+// Hammersley set, turned on the torus by ``shift`` (a different turn per axis): its points'
+// projections on either axis are evenly spaced, so a shadow edge along one of the light's
+// sides is counted within one tap, where the R2 sequence shifted along the diagonal drew
+// stripes of a few percent along the box's edges.
+vec2 square_point(int k, int count, float shift) {
+    vec2 hammersley = vec2((float(k) + 0.5) / float(count), float(bitfieldReverse(uint(k))) * 2.3283064365386963e-10);
+    return 2.0 * fract(hammersley + vec2(shift, fract(shift * 1.61803399))) - 1.0;
 }
 
 // What a point of an area light gives p, up to a constant: cos at p times cos at the light
@@ -149,7 +153,7 @@ float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 
     float lit = 0.0;
     float total = 0.0;
     for (int k = 0; k < filters; ++k) {
-        vec2 unit = square ? square_point(k, turn * 0.159154943) : disc_point(k, filters, turn + 1.0);
+        vec2 unit = square ? square_point(k, filters, turn * 0.159154943) : disc_point(k, filters, turn + 1.0);
         vec2 offset = shaped ? along_u * unit.x + along_v * unit.y : unit * radius;
         vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
         // a shaped light's tap stands for its point centre + unit.x extent_u + unit.y extent_v
