@@ -136,20 +136,22 @@ RECT_LIGHT = ("{type: rect, position: [0.9, 2.5, 0], direction: [0, -1, 0], widt
 DISK_LIGHT = "{type: disk, position: [0.9, 2.5, 0], direction: [-0.2, -1, 0], radius: 0.4, intensity: 20, shadows: true}"
 
 
-@pytest.mark.parametrize("light", [RECT_LIGHT, DISK_LIGHT], ids=["rect", "disk"])
-def test_box_under_an_area_light_matches_the_reference_by_region(gl, light):
+@pytest.mark.parametrize("light, band_rms", [(RECT_LIGHT, 8.5), (DISK_LIGHT, 7.0)], ids=["rect", "disk"])
+def test_box_under_an_area_light_matches_the_reference_by_region(gl, light, band_rms):
     """The issue's 1 x 0.5 m rectangle (and a disk of radius 0.4, tilted), 2.5 m above the
     floor beside the box: the lit floor within 2 %, the umbra within 2 % of the lit level;
-    the penumbra band within 12 % RMS and its mean within 6 % (measured: the rectangle
-    10.9 % and -4.4 %, 10.3 % against a reference of 16 x 16 samples, short of the 10 % goal
-    where the box's lit side stands on the floor, whose texels the blocker search averages
-    in; the disk 7.8 % and -5.0 %). The filter in the light's own shape matters: a disc of the
-    rectangle's area reads 16 %."""
+    the penumbra band's mean within 3 % and its RMS within 8.5 % for the rectangle, 7 % for
+    the disk (the goal is 10 %; measured: the rectangle 7.8 % and +1.0 %, 6.1 % against a
+    reference of 16 x 16 samples; the disk 5.6 % and -0.1 %). What each bound catches: the
+    filter's taps unweighted by what their point of the light gives (the band's outer half
+    too dark) read 10.2 % (10.9 % and -4.4 % before the filter below), the disk 7.8 % and
+    -5.0 %; the rectangle's filter on the R2 sequence shifted along the diagonal (stripes
+    along the box's foot) 8.7 %; a disc filter of the rectangle's area 16 %."""
     scene = box_scene(light)
     errors = penumbra_errors(render_reference(scene, 0, spp=SPP), gpu_linear(scene, gl))
     assert errors["penumbra_pixels"] > 300
-    assert errors["penumbra_rms"] < 12.0, errors
-    assert abs(errors["penumbra_bias"]) < 6.0, errors
+    assert errors["penumbra_rms"] < band_rms, errors
+    assert abs(errors["penumbra_bias"]) < 3.0, errors
     assert abs(errors["open_bias"]) < 2.0 and errors["open_rms"] < 3.0, errors
     assert abs(errors["umbra_leak"]) < 2.0, errors
 

@@ -51,10 +51,26 @@ const float SOFT_MAX_FRACTION = 0.0625;
 // of each step (compile-time constants of the light: render.shadows.blocker_samples,
 // filter_samples). Bias as shadow_lookup's, plus the receiver's own change in depth over
 // each read's offset, so a tilted receiver does not shadow itself across a wide filter.
-// A point of the square [-1, 1]^2, k of ``count`` (the R2 sequence, shifted by ``shift``):
-// the filter of a rectangle light.
-vec2 square_point(int k, float shift) {
-    return 2.0 * fract(vec2(0.5 + shift) + float(k) * vec2(0.7548776662, 0.5698402910)) - 1.0;
+// A point of the square [-1, 1]^2, k of ``count``: the filter of a rectangle light. The
+// Hammersley set, turned on the torus by ``shift`` (a different turn per axis): its points'
+// projections on either axis are evenly spaced, so a shadow edge along one of the light's
+// sides is counted within one tap, where the R2 sequence shifted along the diagonal drew
+// stripes of a few percent along the box's edges.
+vec2 square_point(int k, int count, float shift) {
+    vec2 hammersley = vec2((float(k) + 0.5) / float(count), float(bitfieldReverse(uint(k))) * 2.3283064365386963e-10);
+    return 2.0 * fract(hammersley + vec2(shift, fract(shift * 1.61803399))) - 1.0;
+}
+
+// What a point of an area light gives p, up to a constant: cos at p times cos at the light
+// over the squared distance (the form factor's integrand). The filter's taps each stand for
+// a point of the light; weighted by it, the lit fraction is the share of the light's
+// irradiance that arrives, not of its area: seen from a point in the penumbra, the light's
+// near part, which stays in view longest, gives more than its far part (twice as much
+// across a 1 m rectangle 2.5 m up), and an unweighted filter darkens the band's outer half.
+float light_point_weight(vec3 point, vec3 p, vec3 n, vec3 facing) {
+    vec3 d = point - p;
+    float distance2 = max(dot(d, d), 1e-12);
+    return max(dot(n, d), 0.0) * max(-dot(facing, d), 0.0) / (distance2 * distance2);
 }
 
 // Rectangle and disk lights pass their half axes (world vectors, ``extent_u``,
@@ -95,6 +111,9 @@ float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 
     // over the cosine, as above): how a move along each axis moves p's projection, times
     // p's depth along the view's axis (q.w, which cancels: (q_u.xy - uv q_u.w) / q.w x q.w)
     bool shaped = dot(extent_u, extent_u) > 0.0;
+    // the side the light shines to (one-sided area lights face p)
+    vec3 facing = cross(extent_u, extent_v);
+    facing *= dot(facing, p - light.xyz) < 0.0 ? -1.0 : 1.0;
     vec2 axis_u = vec2(0.0);
     vec2 axis_v = vec2(0.0);
     if (shaped) {
@@ -132,13 +151,17 @@ float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 
     vec2 along_u = axis_u * clamp(scale, narrowest / max(length(axis_u), 1e-20), widest / max(length(axis_u), 1e-20));
     vec2 along_v = axis_v * clamp(scale, narrowest / max(length(axis_v), 1e-20), widest / max(length(axis_v), 1e-20));
     float lit = 0.0;
+    float total = 0.0;
     for (int k = 0; k < filters; ++k) {
-        vec2 unit = square ? square_point(k, turn * 0.159154943) : disc_point(k, filters, turn + 1.0);
+        vec2 unit = square ? square_point(k, filters, turn * 0.159154943) : disc_point(k, filters, turn + 1.0);
         vec2 offset = shaped ? along_u * unit.x + along_v * unit.y : unit * radius;
         vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
-        lit += compared_depth(page, tap, receiver - bias - slope * length(offset));
+        // a shaped light's tap stands for its point centre + unit.x extent_u + unit.y extent_v
+        float weight = shaped ? light_point_weight(light.xyz + unit.x * extent_u + unit.y * extent_v, p, n, facing) : 1.0;
+        lit += weight * compared_depth(page, tap, receiver - bias - slope * length(offset));
+        total += weight;
     }
-    return lit / float(filters);
+    return total > 0.0 ? lit / total : 1.0;
 }
 
 // A sphere light (or a sun): a disc of radius ``size``.
