@@ -8,14 +8,18 @@ commands or options use.
 """
 from __future__ import annotations
 
+import gc
 import subprocess
 import sys
 import textwrap
 from pathlib import Path
 
 import pytest
+from click.testing import CliRunner
 
 from conftest import skip_without_gl
+from scenerender.cli import COMMAND_GC_THRESHOLD, main
+from scenerender.scene import load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 PROPS = ROOT / "scenes" / "assets" / "models" / "pbr_props.glb"
@@ -27,6 +31,7 @@ NOT_ON_THE_RENDER_PATH = (
     "imageio", "imageio_ffmpeg",            # videos
     "dask", "distributed", "multiprocessing",  # --workers, --scheduler (run/workers.py)
     "html",                                 # the diff report
+    "PIL",                                  # images: textures, JPG and TGA frames, resuming them
     "scenerender.run.references",           # --check
     "scenerender.run.workers",
     "scenerender.compare.metrics",          # image comparison: --check and `diff`
@@ -65,16 +70,36 @@ def imported_needlessly(modules: set[str]) -> list[str]:
 
 @pytest.mark.parametrize("scene", ["minimal", "glb"])
 def test_a_one_frame_render_imports_only_what_it_needs(scene, tmp_path):
-    if scene == "glb":
+    if scene == "glb":  # textured: Pillow decodes its images
         path = tmp_path / "glb.yaml"
         path.write_text(f"render: {{shading: pbr}}\nobjects:\n  - mesh: {PROPS.as_posix()}\n", encoding="utf-8")
-        options = ("--asset-root", str(PROPS.parent))
+        options, needed = ("--asset-root", str(PROPS.parent)), ["PIL"]
     else:
-        path, options = ROOT / "benchmarks" / "scenes" / "minimal.yaml", ()
-    assert imported_needlessly(modules_of_one_frame(path, tmp_path, *options)) == []
+        path, options, needed = ROOT / "benchmarks" / "scenes" / "minimal.yaml", (), []
+    assert imported_needlessly(modules_of_one_frame(path, tmp_path, *options)) == needed
 
 
 def test_the_check_finds_what_was_imported():
     assert imported_needlessly({"numpy", "multiprocessing.pool", "scenerender.raytrace.rays"}) == [
         "multiprocessing", "scenerender.raytrace"]
     assert imported_needlessly({"numpy", "htmlmin", "scenerender.compare.rule"}) == []
+
+
+def test_a_command_in_a_callers_process_leaves_its_collector_settings(monkeypatch):
+    # a command collects garbage less often while it runs (cli.COMMAND_GC_THRESHOLD), and a
+    # caller that runs it in its own process (CliRunner, here) gets its settings back
+    seen = []
+    monkeypatch.setattr("scenerender.scene.load_scene", _recording_threshold(seen), raising=True)
+    before = gc.get_threshold()
+    result = CliRunner().invoke(main, ["validate", str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")])
+    assert result.exit_code == 0, result.output
+    assert seen == [COMMAND_GC_THRESHOLD]
+    assert gc.get_threshold() == before != COMMAND_GC_THRESHOLD
+
+
+def _recording_threshold(seen):
+    def load_and_record(*args, **kwargs):
+        seen.append(gc.get_threshold())
+        return load_scene(*args, **kwargs)
+
+    return load_and_record
