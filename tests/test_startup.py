@@ -103,3 +103,22 @@ def _recording_threshold(seen):
         return load_scene(*args, **kwargs)
 
     return load_and_record
+
+
+BUILT_AT_IMPORT = textwrap.dedent("""
+    from scenerender.scene.model.materials import MaterialSpec
+    from scenerender.scene.model.objects import ObjectSpec, Range3, ScaleRange
+    from scenerender.scene.model.output import OutputSettings
+    from scenerender.scene.model.render import RenderSpec, ShadowSettings
+    from scenerender.scene.model.scene import SceneSpec
+    models = (SceneSpec, RenderSpec, ShadowSettings, OutputSettings, ObjectSpec, Range3, ScaleRange, MaterialSpec)
+    print(" ".join(model.__name__ for model in models if model.__pydantic_complete__))
+""")
+
+
+def test_importing_the_scene_model_builds_no_validator():
+    # each class's validator would compile the sections inside it again; loading a scene
+    # builds SceneSpec's alone (a default made as an instance at import builds its class's)
+    result = subprocess.run([sys.executable, "-c", BUILT_AT_IMPORT], capture_output=True, text=True, check=True,
+                            cwd=ROOT)
+    assert result.stdout.split() == []
