@@ -16,9 +16,7 @@ from scenerender.run.manifest import fingerprint
 from scenerender.run.output import make_sink, missing_folders, remove_if_empty
 from scenerender.run.plan import FramePlan, parse_frame_range, plan_frames
 from scenerender.run.progress import Progress
-from scenerender.run.references import check_output, require_apart_before_rendering
 from scenerender.run.session import Renderer, Scene, load
-from scenerender.run.workers import render_with_workers
 from scenerender.world.id_names import id_names
 
 
@@ -138,7 +136,7 @@ def _run_loaded(scene: Scene, overrides: list, options: RenderOptions, echo, not
                      ids_required=options.object_ids is True)
     keeps_ids = getattr(sink, "object_ids", False)
     if options.check is not None:  # before planning, which may delete out-of-date frames
-        require_apart_before_rendering(sink.target, sink.is_sequence, Path(options.check))
+        _references().require_apart_before_rendering(sink.target, sink.is_sequence, Path(options.check))
     plan = plan_frames(sink, frames, fingerprint(loaded, overrides, keeps_ids), loaded.path.as_posix(),
                        options.overwrite, echo)
     if plan.todo:
@@ -147,8 +145,8 @@ def _run_loaded(scene: Scene, overrides: list, options: RenderOptions, echo, not
         summary = RenderSummary(0, len(frames), 0.0, sink.describe())
     echo(summary.line())
     if options.check is not None:
-        summary.check = check_output(plan.target, Path(options.check), update=options.update_references,
-                                     echo=echo, notice=notice)
+        summary.check = _references().check_output(plan.target, Path(options.check),
+                                                   update=options.update_references, echo=echo, notice=notice)
     return summary
 
 
@@ -159,7 +157,7 @@ def _render_due(scene: Scene, plan: FramePlan, options: RenderOptions) -> Render
     progress = Progress(len(plan.todo), quiet=options.quiet)
     try:
         if _distributed(options, plan):
-            render_with_workers(scene, options, plan, progress)
+            _workers().render_with_workers(scene, options, plan, progress)
             profile = None
         else:
             profile = _render_here(scene, plan, options, progress)
@@ -167,6 +165,21 @@ def _render_due(scene: Scene, plan: FramePlan, options: RenderOptions) -> Render
         progress.close()
     return RenderSummary(len(plan.todo), plan.skipped, time.perf_counter() - started, plan.sink.describe(),
                          list(plan.todo), profile=profile)
+
+
+# Imported by the runs that use them, not by every render: a one-frame render is mostly
+# start-up, and --check brings the image comparison (compare/, its metrics, the HTML report)
+# and --workers multiprocessing and Dask; tests/test_startup.py holds the list.
+def _references():
+    from scenerender.run import references
+
+    return references
+
+
+def _workers():
+    from scenerender.run import workers
+
+    return workers
 
 
 def _distributed(options: RenderOptions, plan: FramePlan) -> bool:

@@ -22,8 +22,6 @@ import threading
 import warnings as _pywarnings
 from pathlib import Path
 
-from PIL import Image, UnidentifiedImageError
-
 from scenerender.errors import SourceLocation, UserError, display_path
 from scenerender.limits import exceeded_message
 from scenerender.scene.files import open_regular_file
@@ -38,6 +36,15 @@ MAX_SIDE = 16384
 # Pillow's bomb limit and the warnings filters are process-wide: one decode at a time
 # changes them, so that concurrent callers cannot leave them changed.
 _PILLOW_SETTINGS = threading.Lock()
+
+
+def pillow():
+    """Pillow's ``Image`` module, imported by the first image opened, deliberately late: a
+    scene without images and its PNG frames never need it, and its import (with its tables
+    of EXIF and TIFF tags) is a tenth of the start-up of a one-frame render."""
+    from PIL import Image
+
+    return Image
 
 
 class ImageError(UserError):
@@ -83,7 +90,7 @@ def opened_image_bytes(data: bytes, label: Path, max_pixels: int):
 def _opened(stream, path: Path, max_pixels: int):
     with _pillow_quiet():
         try:
-            image = Image.open(stream, formats=IMAGE_FORMATS)
+            image = pillow().open(stream, formats=IMAGE_FORMATS)
         except MemoryError:
             raise ImageError("the image header claims more data than fits in memory", path) from None
         except Exception as exc:  # noqa: BLE001 - see decoder_failure
@@ -107,6 +114,7 @@ def _pillow_quiet():
     warnings about the file silenced (the bomb warning is a RuntimeWarning, odd palettes and
     truncated chunks UserWarnings), for the duration of one open and decode. A
     DeprecationWarning still shows: it is about this code, not the file."""
+    Image = pillow()
     with _PILLOW_SETTINGS:
         saved = Image.MAX_IMAGE_PIXELS
         Image.MAX_IMAGE_PIXELS = None
@@ -128,7 +136,7 @@ def decoder_failure(exc: Exception, path: Path) -> ImageError:
     bug of this program when the input is a file from outside, so every one is mapped here;
     the call sites keep their try blocks around Pillow calls only.
     """
-    if isinstance(exc, UnidentifiedImageError):
+    if isinstance(exc, pillow().UnidentifiedImageError):
         accepted = ", ".join(f for f in IMAGE_FORMATS if f != "DIB")
         return ImageError(f"not an image this renderer reads ({accepted})", path)
     text = " ".join(str(exc).split())

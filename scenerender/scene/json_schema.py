@@ -8,16 +8,23 @@ from pydantic.json_schema import GenerateJsonSchema
 
 from scenerender.animation import Track
 from scenerender.scene.model.scene import SceneSpec
-from scenerender.scene.strict import StrictModel
+from scenerender.scene.strict import MappingDefault, StrictModel
 
 
 class _SceneSchema(GenerateJsonSchema):
-    """Writes defaults that are Tracks (animatable values) as their constant value, and
+    """Writes defaults that are Tracks (animatable values) as their constant value, a
+    section's default (``MappingDefault``) as the values of its keys, and
     gives a model that sets a ``title`` that name in ``$defs`` too: the published schema
     keeps its names when a class is renamed (``RenderSpec`` is ``RenderSettings`` there)."""
 
     def encode_default(self, dft):
         return super().encode_default(_plain(dft))
+
+    def get_default_value(self, schema):
+        factory = schema.get("default_factory")
+        if isinstance(factory, MappingDefault):  # a section's defaults, shown as every key's value
+            return factory.instance()
+        return super().get_default_value(schema)
 
     def get_defs_ref(self, core_mode_ref):
         core_ref, mode = core_mode_ref

@@ -7,7 +7,6 @@ import zlib
 from pathlib import Path
 
 import numpy as np
-from PIL import Image
 
 from scenerender.sinks.base import FrameSink, atomic_path, make_folders, write_file
 from scenerender.sinks.names import name_template_problem
@@ -83,7 +82,7 @@ class ImageSequenceSink(FrameSink):
         if self.fmt == "exr":
             return _exr_readable(path)
         try:  # decode it all: a header-only check accepts a JPEG or TGA cut in half
-            with Image.open(path) as image:
+            with pillow().open(path) as image:
                 image.load()
         except Exception:  # any decoding failure means "not complete"
             return False
@@ -155,6 +154,14 @@ class SingleImageSink(ImageSequenceSink):
 # a file by itself reports no error on a full disk (the EXR is silently cut short).
 
 
+def pillow():
+    """Pillow's ``Image`` module, imported deliberately late: PNG frames are encoded here
+    without it (``encode_png``), and a one-frame render should not pay for its import."""
+    from PIL import Image
+
+    return Image
+
+
 def write_image(path: Path, pixels: np.ndarray, fmt: str, quality: int = 90) -> None:
     """(H, W, 3) uint8 -> an image file of ``fmt`` ("png", "jpg", "tga")."""
     write_file(path, encode_image(pixels, fmt, quality))
@@ -165,7 +172,7 @@ def encode_image(pixels: np.ndarray, fmt: str, quality: int = 90) -> bytes:
     pixels = np.ascontiguousarray(pixels, dtype=np.uint8)
     if fmt == "png":
         return encode_png(pixels)
-    image = Image.fromarray(pixels, "RGB")
+    image = pillow().fromarray(pixels, "RGB")
     buffer = io.BytesIO()
     if fmt == "jpg":
         image.save(buffer, format="JPEG", quality=int(quality), subsampling=0 if quality >= 90 else 2)

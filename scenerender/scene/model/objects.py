@@ -10,7 +10,7 @@ from scenerender.scene.model.materials import MaterialRef, MaterialSpec
 from scenerender.scene.model.meshes import MeshSpec
 from scenerender.scene.model.object_animation import AnimationSpec, check_animated_mesh
 from scenerender.scene.model.unions import mapping_or
-from scenerender.scene.strict import StrictModel
+from scenerender.scene.strict import StrictModel, mapping_default
 from scenerender.scene.values import (
     AnimatedBool, AnimatedColor, AnimatedScale, AnimatedVec3, Bool, Positive, Text, choice, number, vector,
 )
@@ -52,9 +52,9 @@ class ScaleRange(StrictModel):
 class RandomInstances(StrictModel):
     count: number(1, 10_000_000, integer=True)
     seed: number(0, 2**63 - 1, integer=True) = 0
-    position: Range3 = Range3(min=(0.0, 0.0, 0.0), max=(0.0, 0.0, 0.0))
-    rotation: Range3 = Range3(min=(0.0, 0.0, 0.0), max=(0.0, 0.0, 0.0))
-    scale: ScaleRange = ScaleRange(min=1.0, max=1.0)
+    position: Range3 = mapping_default(Range3, min=(0.0, 0.0, 0.0), max=(0.0, 0.0, 0.0))
+    rotation: Range3 = mapping_default(Range3, min=(0.0, 0.0, 0.0), max=(0.0, 0.0, 0.0))
+    scale: ScaleRange = mapping_default(ScaleRange, min=1.0, max=1.0)
 
 
 class RandomInstancesWrapper(StrictModel):

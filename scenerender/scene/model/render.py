@@ -13,7 +13,7 @@ from scenerender.option_rules import MSAA_SAMPLES
 from scenerender.scene.describe import describe
 from scenerender.scene.model.paths import ImagePath, folder_path
 from scenerender.scene.model.unions import mapping_or
-from scenerender.scene.strict import StrictModel
+from scenerender.scene.strict import StrictModel, mapping_default
 from scenerender.scene.values import AnimatedColor, Bool, animated_number, check_number, choice, number
 
 
@@ -127,7 +127,7 @@ class RenderSpec(StrictModel):
     skybox: Skybox | None = None
     fog: Fog | None = None
     ambient_occlusion: AmbientOcclusion | None = None
-    shadows: ShadowSettings = ShadowSettings()
+    shadows: ShadowSettings = mapping_default(ShadowSettings)
     exposure: animated_number(-20, 20) = 0.0
     tone_map: choice(*TONE_MAPS) = "none"
     output_transform: choice("srgb", "gamma", "linear") = "srgb"

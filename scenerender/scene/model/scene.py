@@ -12,15 +12,15 @@ from scenerender.scene.model.materials import MaterialSpec
 from scenerender.scene.model.objects import ObjectSpec
 from scenerender.scene.model.output import OutputSettings
 from scenerender.scene.model.render import RenderSpec
-from scenerender.scene.strict import StrictModel
+from scenerender.scene.strict import StrictModel, mapping_default
 from scenerender.scene.suggest import did_you_mean
 
 
 # A validated scene file; scenerender.Scene (api.py) is a loaded scene ready to render.
 class SceneSpec(StrictModel):
     scenerender: Literal[1] | None = None
-    render: RenderSpec = RenderSpec()
-    output: OutputSettings = OutputSettings()
+    render: RenderSpec = mapping_default(RenderSpec)
+    output: OutputSettings = mapping_default(OutputSettings)
     camera: CameraSpec | None = None
     lights: list[LightSpec] | None = None
     materials: dict[str, MaterialSpec] = {}

@@ -1,0 +1,124 @@
+"""A one-frame render starts fast: its process imports only what rendering needs.
+
+A CI job that renders many short scenes pays the start-up of every process, and most of a
+one-frame render is start-up (docs/performance.md, "Start-up"). Reading a GLB must not
+import trimesh or SciPy (tests/test_gltf_geometry.py); here the whole command, a glTF scene
+and the smallest scene, must not import any of the modules below, which only other
+commands or options use.
+"""
+from __future__ import annotations
+
+import gc
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from conftest import skip_without_gl
+from scenerender.cli import COMMAND_GC_THRESHOLD, main
+from scenerender.scene import load_scene
+
+ROOT = Path(__file__).resolve().parent.parent
+PROPS = ROOT / "scenes" / "assets" / "models" / "pbr_props.glb"
+
+NOT_ON_THE_RENDER_PATH = (
+    "trimesh", "scipy",                     # meshes NumPy cannot read (mesh/loader.py)
+    "rich", "matplotlib", "skimage",        # not dependencies of a render
+    "OpenEXR",                              # --format exr, .exr textures and environments
+    "imageio", "imageio_ffmpeg",            # videos
+    "dask", "distributed", "multiprocessing",  # --workers, --scheduler (run/workers.py)
+    "html",                                 # the diff report
+    "PIL",                                  # images: textures, JPG and TGA frames, resuming them
+    "scenerender.run.references",           # --check
+    "scenerender.run.workers",
+    "scenerender.compare.metrics",          # image comparison: --check and `diff`
+    "scenerender.compare.report",
+    "scenerender.raytrace",                 # `reference`
+    "scenerender.tools",                    # `bench`
+)
+
+# Runs the command in this process, then prints every module it imported.
+RUN_AND_LIST = textwrap.dedent("""
+    import sys
+    from scenerender.cli import main
+    try:
+        main(sys.argv[1:])
+    except SystemExit as exit:
+        if exit.code:
+            raise
+    print(" ".join(sorted(sys.modules)))
+""")
+
+
+def modules_of_one_frame(scene: Path, tmp_path: Path, *options: str) -> set[str]:
+    command = [sys.executable, "-c", RUN_AND_LIST, "render", str(scene), "-o", str(tmp_path / "out"), "-q",
+               "--size", "160x120", "--frames", "0:1", *options]
+    result = subprocess.run(command, capture_output=True, text=True, cwd=ROOT)
+    skip_without_gl(result.returncode, result.stderr)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "out" / "frame_0000.png").is_file()
+    return set(result.stdout.split())
+
+
+def imported_needlessly(modules: set[str]) -> list[str]:
+    return [name for name in NOT_ON_THE_RENDER_PATH
+            if name in modules or any(module.startswith(name + ".") for module in modules)]
+
+
+@pytest.mark.parametrize("scene", ["minimal", "glb"])
+def test_a_one_frame_render_imports_only_what_it_needs(scene, tmp_path):
+    if scene == "glb":  # textured: Pillow decodes its images
+        path = tmp_path / "glb.yaml"
+        path.write_text(f"render: {{shading: pbr}}\nobjects:\n  - mesh: {PROPS.as_posix()}\n", encoding="utf-8")
+        options, needed = ("--asset-root", str(PROPS.parent)), ["PIL"]
+    else:
+        path, options, needed = ROOT / "benchmarks" / "scenes" / "minimal.yaml", (), []
+    assert imported_needlessly(modules_of_one_frame(path, tmp_path, *options)) == needed
+
+
+def test_the_check_finds_what_was_imported():
+    assert imported_needlessly({"numpy", "multiprocessing.pool", "scenerender.raytrace.rays"}) == [
+        "multiprocessing", "scenerender.raytrace"]
+    assert imported_needlessly({"numpy", "htmlmin", "scenerender.compare.rule"}) == []
+
+
+def test_a_command_in_a_callers_process_leaves_its_collector_settings(monkeypatch):
+    # a command collects garbage less often while it runs (cli.COMMAND_GC_THRESHOLD), and a
+    # caller that runs it in its own process (CliRunner, here) gets its settings back
+    seen = []
+    monkeypatch.setattr("scenerender.scene.load_scene", _recording_threshold(seen), raising=True)
+    before = gc.get_threshold()
+    result = CliRunner().invoke(main, ["validate", str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")])
+    assert result.exit_code == 0, result.output
+    assert seen == [COMMAND_GC_THRESHOLD]
+    assert gc.get_threshold() == before != COMMAND_GC_THRESHOLD
+
+
+def _recording_threshold(seen):
+    def load_and_record(*args, **kwargs):
+        seen.append(gc.get_threshold())
+        return load_scene(*args, **kwargs)
+
+    return load_and_record
+
+
+BUILT_AT_IMPORT = textwrap.dedent("""
+    from scenerender.scene.model.materials import MaterialSpec
+    from scenerender.scene.model.objects import ObjectSpec, Range3, ScaleRange
+    from scenerender.scene.model.output import OutputSettings
+    from scenerender.scene.model.render import RenderSpec, ShadowSettings
+    from scenerender.scene.model.scene import SceneSpec
+    models = (SceneSpec, RenderSpec, ShadowSettings, OutputSettings, ObjectSpec, Range3, ScaleRange, MaterialSpec)
+    print(" ".join(model.__name__ for model in models if model.__pydantic_complete__))
+""")
+
+
+def test_importing_the_scene_model_builds_no_validator():
+    # each class's validator would compile the sections inside it again; loading a scene
+    # builds SceneSpec's alone (a default made as an instance at import builds its class's)
+    result = subprocess.run([sys.executable, "-c", BUILT_AT_IMPORT], capture_output=True, text=True, check=True,
+                            cwd=ROOT)
+    assert result.stdout.split() == []
