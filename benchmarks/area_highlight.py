@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import scenerender  # noqa: E402
-from scenerender.gpu.context import create_context  # noqa: E402
+from scenerender.gpu.gl_context import create_context  # noqa: E402
 from scenerender.raytrace import render_reference  # noqa: E402
 
 SCENE = ROOT / "benchmarks" / "quality" / "scenes" / "area_highlight.yaml"

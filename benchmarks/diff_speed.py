@@ -32,7 +32,7 @@ from scenerender.compare.diff import compare_images  # noqa: E402
 from scenerender.compare.metrics import shift_residual, unexplained_difference  # noqa: E402
 from scenerender.compare.objects import measure_objects  # noqa: E402
 from scenerender.compare.rule import DEFAULT_RULE  # noqa: E402
-from scenerender.gpu.context import create_context  # noqa: E402
+from scenerender.gpu.gl_context import create_context  # noqa: E402
 from scenerender.tools import perturbation  # noqa: E402
 
 

@@ -26,7 +26,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import scenerender  # noqa: E402
-from scenerender.gpu.context import create_context  # noqa: E402
+from scenerender.gpu.gl_context import create_context  # noqa: E402
 from scenerender.raytrace import render_reference  # noqa: E402
 from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
 

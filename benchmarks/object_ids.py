@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from scenerender.compare.objects import measure_objects  # noqa: E402
-from scenerender.gpu.context import create_context  # noqa: E402
+from scenerender.gpu.gl_context import create_context  # noqa: E402
 from scenerender.run.session import Renderer, load  # noqa: E402
 from scenerender.sinks.images import encode_grey16_png  # noqa: E402
 from scenerender.tools import perturbation  # noqa: E402

@@ -29,7 +29,7 @@ BENCH = Path(__file__).resolve().parent
 
 
 def machine_line(gl) -> str:
-    from scenerender.gpu.context import gl_info
+    from scenerender.gpu.gl_context import gl_info
 
     info = gl_info(gl)
     return (f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores; "
@@ -135,7 +135,7 @@ def main() -> None:
     parser.add_argument("--only", nargs="*", default=["startup", "throughput", "caching"])
     parser.add_argument("--memory", type=int, default=0, help="also run N frames and report RSS")
     args = parser.parse_args()
-    from scenerender.gpu.context import create_context
+    from scenerender.gpu.gl_context import create_context
 
     gl = create_context()
     print(f"machine: {machine_line(gl)}\n")

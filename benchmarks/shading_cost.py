@@ -25,7 +25,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import scenerender  # noqa: E402
-from scenerender.gpu.context import create_context  # noqa: E402
+from scenerender.gpu.gl_context import create_context  # noqa: E402
 from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
 
 

@@ -21,7 +21,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from scenerender.gpu.context import create_context  # noqa: E402
+from scenerender.gpu.gl_context import create_context  # noqa: E402
 from scenerender.run.session import Renderer, load  # noqa: E402
 
 WARM_UP = 3

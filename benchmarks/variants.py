@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import scenerender  # noqa: E402
 from scenerender.gpu import shaders  # noqa: E402
-from scenerender.gpu.context import create_context  # noqa: E402
+from scenerender.gpu.gl_context import create_context  # noqa: E402
 from scenerender.rendering import features  # noqa: E402
 from scenerender.rendering.passes import forward  # noqa: E402
 from scenerender.rendering.renderer import GraphRenderer  # noqa: E402

@@ -407,7 +407,7 @@ def graph(scene, dot, overrides, asset_roots, limit_texts):
 @main.command()
 def info():
     """Print the OpenGL renderer, version and limits scenerender will use."""
-    from scenerender.gpu.context import create_context, gl_info
+    from scenerender.gpu.gl_context import create_context, gl_info
     from scenerender.gpu.shaders import shader_dir
 
     ctx = create_context()

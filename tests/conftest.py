@@ -53,7 +53,7 @@ def gl():
     if os.environ.get("SCENERENDER_SKIP_GL"):
         pytest.skip("SCENERENDER_SKIP_GL is set")
     from scenerender.errors import EnvironmentProblem
-    from scenerender.gpu.context import create_context
+    from scenerender.gpu.gl_context import create_context
 
     try:
         ctx = create_context()

@@ -13,7 +13,7 @@ sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
 from PIL import Image  # noqa: E402
 
 from golden_cases import CASES, GOLDEN_DIR, reference_path, render_case_with_ids, write_reference_ids  # noqa: E402
-from scenerender.gpu.context import create_context  # noqa: E402
+from scenerender.gpu.gl_context import create_context  # noqa: E402
 
 
 def main() -> None:

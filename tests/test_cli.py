@@ -454,7 +454,7 @@ def test_llvmpipe_gets_two_threads_more_than_cores_unless_the_user_set_them(monk
     when the context is made); a user's own value is kept."""
     import moderngl
 
-    from scenerender.gpu import context
+    from scenerender.gpu import gl_context as context
     from scenerender.machine import available_cores
 
     seen = []

@@ -16,7 +16,7 @@ import pytest
 
 from conftest import ROOT
 from scenerender.compare import compare_paths
-from scenerender.gpu import context
+from scenerender.gpu import gl_context as context
 
 QEMU = shutil.which("qemu-x86_64")
 

@@ -14,7 +14,7 @@ import scenerender
 from scenerender.cli import main
 from scenerender.errors import UserError
 from scenerender.scene.image_files import ImageError
-from scenerender.world.environment import (
+from scenerender.world.environment_light import (
     cube_to_equirect, diffuse_radiance, equirect_directions, equirect_uv, project_sh, sample_cube, sample_equirect,
     sh_basis, texel_solid_angles, world_to_image,
 )

@@ -17,7 +17,7 @@ from PIL import Image
 
 import scenerender
 from golden_cases import reference_path, render_case
-from scenerender.world.environment import equirect_directions
+from scenerender.world.environment_light import equirect_directions
 from scenerender.world.environment_files import write_hdr
 from scenerender.world.environment_visibility import interleave_pattern, median_cut
 

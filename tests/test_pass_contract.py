@@ -25,8 +25,8 @@ from scenerender.graph import (
 )
 from scenerender.rendering import passes
 from scenerender.rendering.features import SHADOW_VIEW_BYTES
-from scenerender.rendering.inputs import ObjectsInput, import_inputs, input_values
-from scenerender.rendering.lights import pack_lights
+from scenerender.rendering.graph_inputs import ObjectsInput, import_inputs, input_values
+from scenerender.rendering.light_buffers import pack_lights
 from scenerender.rendering.passes import ambient_occlusion, forward, output, shadow, sky, views
 from scenerender.rendering.passes.data import ImageData, TargetData
 from scenerender.rendering.renderer import GLBackend, plan

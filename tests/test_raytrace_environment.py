@@ -1,4 +1,4 @@
-"""The environment light in the CPU reference (scenerender/raytrace/environment.py): the
+"""The environment light in the CPU reference (scenerender/raytrace/environment_sampling.py): the
 white furnace, a Lambert plane under a sky of known irradiance, the image's rotation, and
 the importance sampler against a brute-force estimate of the same integral. Small images,
 an orthographic camera, a few seconds each."""
@@ -11,8 +11,8 @@ from click.testing import CliRunner
 import scenerender
 from scenerender import cli
 from scenerender.errors import UserError
-from scenerender.raytrace import environment, render_reference, shading
-from scenerender.world.environment import (
+from scenerender.raytrace import environment_sampling as environment, render_reference, shading
+from scenerender.world.environment_light import (
     EnvironmentState,
     equirect_directions,
     texel_solid_angles,

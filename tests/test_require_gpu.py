@@ -14,7 +14,7 @@ import scenerender
 from conftest import scene as api_scene
 from scenerender.cli import main
 from scenerender.errors import EnvironmentProblem
-from scenerender.gpu.context import is_software, refuse_software, renderer_name
+from scenerender.gpu.gl_context import is_software, refuse_software, renderer_name
 
 SCENE = "render: {size: [16, 12], samples: 1}\nobjects:\n  - mesh: {primitive: box}\n"
 

@@ -177,9 +177,9 @@ def test_framing_sees_the_whole_bounding_sphere():
 
 def test_spot_lights_default_to_smaller_maps_with_wider_filters():
     """Measured: a spot's 1024 px map with pcf 5 matches 2048 px with pcf 3 at half the time
-    (scenerender/world/lights.py); anything the scene sets explicitly wins."""
+    (scenerender/world/light_states.py); anything the scene sets explicitly wins."""
     from scenerender.scene.loading import load_scene_text
-    from scenerender.world.lights import light_defs
+    from scenerender.world.light_states import light_defs
 
     text = """
 lights:

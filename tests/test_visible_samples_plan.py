@@ -10,7 +10,7 @@ import pytest
 
 import scenerender
 from scenerender.rendering.draw import opaque_items
-from scenerender.rendering.inputs import ObjectsInput
+from scenerender.rendering.graph_inputs import ObjectsInput
 from scenerender.rendering.passes import forward
 from scenerender.rendering.visible_samples import VisibleSamplesPlan, plan_visible_samples
 from scenerender.world.frame import FrameEvaluator

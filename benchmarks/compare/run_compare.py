@@ -76,7 +76,7 @@ def render_only(renderer: str, size: str, samples: int, frames: int) -> dict:
 
 
 def machine_line() -> str:
-    from scenerender.gpu.context import create_context, gl_info
+    from scenerender.gpu.gl_context import create_context, gl_info
 
     cpu = platform.processor() or platform.machine()
     try:

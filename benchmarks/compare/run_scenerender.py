@@ -15,7 +15,7 @@ import scene_def as S  # noqa: E402
 def main() -> None:
     args = parse_args(__doc__)
     from scenerender.errors import Warnings
-    from scenerender.gpu.context import create_context
+    from scenerender.gpu.gl_context import create_context
     from scenerender.rendering.renderer import GraphRenderer
     from scenerender.scene import load_scene
     from scenerender.world.build import build_world

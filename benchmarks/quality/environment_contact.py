@@ -121,7 +121,7 @@ def gpu_linear(overrides: list, size: tuple) -> np.ndarray:
 
 def frame_times(variants: dict, motion: list, frames: int = 30) -> dict:
     """{variant: [ms per frame after the first]}, the variants taking turns frame by frame."""
-    from scenerender.gpu.context import create_context
+    from scenerender.gpu.gl_context import create_context
     from scenerender.rendering.renderer import GraphRenderer
 
     gl = create_context()

@@ -35,7 +35,7 @@ def encode_pool(frames: int = 48, rounds: int = 3) -> list[str]:
     cores when the renderer does not compete for them."""
     import numpy as np
     import scenerender
-    from scenerender.gpu.context import create_context
+    from scenerender.gpu.gl_context import create_context
     from scenerender.sinks import ImageSequenceSink, ThreadedSink
     from scenerender.machine import available_cores
 
@@ -149,7 +149,7 @@ def instances(count: int = 10_000, frames: int = 10) -> list[str]:
     """Load time and ms per frame (render-only and whole process with PNG writes) of a
     scene with ``count`` random instances of a small sphere."""
     import scenerender
-    from scenerender.gpu.context import create_context
+    from scenerender.gpu.gl_context import create_context
     from scenerender.mesh.primitives import sphere
 
     triangles = sphere(0.15, 12, 6).triangle_count
@@ -182,7 +182,7 @@ def instances(count: int = 10_000, frames: int = 10) -> list[str]:
 def frame_4k(runs: int = 3) -> list[str]:
     """A 3840x2160 showcase frame: render, PNG encode, and the whole command."""
     import scenerender
-    from scenerender.gpu.context import create_context
+    from scenerender.gpu.gl_context import create_context
     from scenerender.sinks.images import encode_image
 
     scene = ROOT / "scenes" / "showcase.yaml"
@@ -215,7 +215,7 @@ def animation(frames: int) -> list[str]:
     """RSS over ``frames`` frames of an animated scene (benchmarks/run.py's memory run)."""
     from run import memory  # benchmarks/run.py
 
-    from scenerender.gpu.context import create_context
+    from scenerender.gpu.gl_context import create_context
 
     return memory(create_context(), frames)
 

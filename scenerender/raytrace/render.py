@@ -26,7 +26,7 @@ the white furnace, its own energy balance).
 An environment light (``lights: - type: environment``) is integrated by Monte Carlo, always:
 ``environment_samples`` directions a sample point (seeded per frame), drawn by multiple
 importance sampling between the image's brightness, the cosine and the GGX lobe
-(scenerender.raytrace.environment), each weighted by the material's BRDF and the image's
+(scenerender.raytrace.environment_sampling), each weighted by the material's BRDF and the image's
 radiance in that direction and blocked by any surface in its way. Like the ambient term it
 is times Ka and the occlusion map. pbr materials take the whole BRDF; Phong and
 Blinn-Phong ones only the diffuse part, and only where the light has ``classic: true``;
@@ -42,7 +42,7 @@ import numpy as np
 from scenerender import option_rules
 from scenerender.colorspace import encode_output, tone_map
 from scenerender.errors import UserError
-from scenerender.raytrace import environment, shading, sized_lights
+from scenerender.raytrace import environment_sampling as environment, shading, sized_lights
 from scenerender.raytrace.geometry import Soup, frame_soup
 from scenerender.raytrace.rays import TriangleCaster
 from scenerender.raytrace.textures import MapSampler
@@ -447,7 +447,7 @@ class _FrameScene:
 
     def _environment(self, p, n, facing, view, surface: dict, model: np.ndarray, strata=None) -> np.ndarray:
         """(P, 3) Ka times the environment light's radiance reflected towards the eye, by
-        Monte Carlo (scenerender.raytrace.environment); zero without one."""
+        Monte Carlo (scenerender.raytrace.environment_sampling); zero without one."""
         state = self.frame.environment
         out = np.zeros_like(n)
         if state is None or not np.any(state.scale > 0.0):

@@ -16,8 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from scenerender.raytrace import shading
-from scenerender.raytrace.environment import tangent_frame
-from scenerender.world.lights import area_axes
+from scenerender.raytrace.environment_sampling import tangent_frame
+from scenerender.world.light_states import area_axes
 
 # A point inside the sphere sees (almost) a whole hemisphere of it.
 MAX_SIN2 = 0.9999

@@ -9,8 +9,8 @@ import numpy as np
 
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
-from scenerender.rendering.inputs import LightsInput, MaterialsInput, ObjectsInput
-from scenerender.rendering.lights import LIGHT_BINDING, SHADOW_VIEW_BINDING
+from scenerender.rendering.graph_inputs import LightsInput, MaterialsInput, ObjectsInput
+from scenerender.rendering.light_buffers import LIGHT_BINDING, SHADOW_VIEW_BINDING
 from scenerender.world.shadows import atlas_page_name
 
 # The vertex shader of every pass that draws scene meshes.

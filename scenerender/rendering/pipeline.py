@@ -13,7 +13,7 @@ import numpy as np
 
 from scenerender.graph import FrameGraph
 from scenerender.rendering.features import environment_shades, specular_layout, visibility_min_alpha
-from scenerender.rendering.inputs import InputHandles, import_inputs
+from scenerender.rendering.graph_inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.bloom import add_bloom
 from scenerender.rendering.passes.depth_of_field import DepthOfFieldGatherPass
 from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass

@@ -13,17 +13,17 @@ from scenerender.graph import CompiledGraph
 from scenerender.gpu.depth import depth_convention
 from scenerender.gpu.resources import GL_FRAMEBUFFER_SRGB, FramebufferCache, allocate
 from scenerender.gpu.shaders import ProgramCache
-from scenerender.rendering.context import PassContext, RunState
+from scenerender.rendering.pass_context import PassContext, RunState
 from scenerender.rendering.features import SceneFeatures
-from scenerender.rendering.inputs import InputHandles, input_values, same_value
-from scenerender.rendering.lights import pack_lights
+from scenerender.rendering.graph_inputs import InputHandles, input_values, same_value
+from scenerender.rendering.light_buffers import pack_lights
 from scenerender.rendering.passes.object_ids import MAX_OBJECT_IDS
 from scenerender.rendering.pipeline import GraphOptions, build_graph
 from scenerender.rendering.profile import CPU_SETUP
 from scenerender.rendering.scene_gpu import GpuScene
 from scenerender.world.camera_data import camera_record
 from scenerender.world.frame import FrameEvaluator, FrameState
-from scenerender.world.inputs import redrawn_shadow_maps
+from scenerender.world.frame_inputs import redrawn_shadow_maps
 from scenerender.world.lens import Film
 from scenerender.world.shadows import plan_atlas
 

@@ -10,8 +10,8 @@ import numpy as np
 from scenerender.gpu.meshes import INSTANCE_FLOATS, GpuMesh, instance_bytes, instance_rows
 from scenerender.gpu.shaders import assemble
 from scenerender.gpu.textures import TextureCache, environment_texture
-from scenerender.rendering.inputs import LightsInput
-from scenerender.rendering.lights import PackedLights
+from scenerender.rendering.graph_inputs import LightsInput
+from scenerender.rendering.light_buffers import PackedLights
 from scenerender.world.frame import FrameState
 
 _VEC4 = 16  # bytes

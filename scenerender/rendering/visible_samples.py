@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.rendering.draw import DrawItem, single_sided_faces
-from scenerender.rendering.inputs import ObjectsInput
+from scenerender.rendering.graph_inputs import ObjectsInput
 
 # A surface counts as flat, and an object as standing on it, within this share of the size
 # of what the camera sees (float32 vertices moved by float64 transforms: about 1e-7).

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from scenerender.errors import EnvironmentProblem
-from scenerender.gpu.context import create_context
+from scenerender.gpu.gl_context import create_context
 from scenerender.rendering.renderer import device_samples, plan
 from scenerender.world.lens import Film
 

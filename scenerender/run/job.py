@@ -9,7 +9,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from scenerender.gpu.context import gl_info
+from scenerender.gpu.gl_context import gl_info
 from scenerender.run.interrupts import signals_as_exceptions
 from scenerender.run.loop import render_into
 from scenerender.run.manifest import fingerprint

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import UserError, display_path
-from scenerender.gpu.context import is_software
+from scenerender.gpu.gl_context import is_software
 from scenerender.mesh.data import MeshData
 from scenerender.sinks.base import atomic_path, write_file
 from scenerender.sinks.cameras import cameras_path, write_cameras

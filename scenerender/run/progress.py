@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 import time
 
-from scenerender.gpu.context import is_software
+from scenerender.gpu.gl_context import is_software
 
 
 class Progress:

@@ -17,7 +17,7 @@ from pathlib import Path
 from scenerender.compare import DEFAULT_RULE, compare_paths, write_html_report
 from scenerender.compare.sources import is_frame_file
 from scenerender.errors import SourceLocation, UserError, display_path
-from scenerender.gpu.context import create_context
+from scenerender.gpu.gl_context import create_context
 from scenerender.run.manifest import read_sidecar, sidecar_for
 from scenerender.sinks.base import atomic_path, make_folders, output_errors
 from scenerender.sinks.object_ids import behind_path, ids_path, names_path

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import UserError, Warnings
-from scenerender.gpu.context import create_context, refuse_software, renderer_name
+from scenerender.gpu.gl_context import create_context, refuse_software, renderer_name
 from scenerender.mesh.data import MeshData
 from scenerender.option_rules import MSAA_SAMPLES
 from scenerender.rendering.profile import profile_report

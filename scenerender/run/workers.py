@@ -23,7 +23,7 @@ from pathlib import Path
 
 from scenerender.compare.sources import read_image
 from scenerender.errors import EnvironmentProblem, SourceLocation, UserError
-from scenerender.gpu.context import gl_info
+from scenerender.gpu.gl_context import gl_info
 from scenerender.rendering.renderer import FrameResult
 from scenerender.run.loop import render_into
 from scenerender.run.session import Renderer, load

@@ -23,7 +23,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from scenerender.gpu.context import create_context
+from scenerender.gpu.gl_context import create_context
 from scenerender.tools.penumbra import penumbra_columns
 from scenerender.tools.quality import frame_errors
 from scenerender.raytrace.render import ENVIRONMENT_SAMPLES, render_reference

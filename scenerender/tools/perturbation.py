@@ -29,7 +29,7 @@ import numpy as np
 from scenerender.compare.metrics import FrameMetrics, measure
 from scenerender.compare.objects import IdMap, ObjectMetrics, measure_objects
 from scenerender.compare.rule import DEFAULT_RULE, DiffRule
-from scenerender.gpu.context import create_context
+from scenerender.gpu.gl_context import create_context
 from scenerender.run.session import Renderer, load
 from scenerender.world.id_names import id_names
 

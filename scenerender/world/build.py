@@ -20,9 +20,9 @@ from scenerender.scene.messages import single_error
 from scenerender.world import materials as mats
 from scenerender.world import texture_files
 from scenerender.world.directional_views import fixed_view_sizes
-from scenerender.world.environment import EnvironmentDef, environment_def
+from scenerender.world.environment_light import EnvironmentDef, environment_def
 from scenerender.world.images import ImageStore
-from scenerender.world.lights import LightDef, light_defs, split_ambient
+from scenerender.world.light_states import LightDef, light_defs, split_ambient
 from scenerender.world.node_animation import ClipPlayer, clips_text, deformation, find_clip, node_motions
 from scenerender.world.settings import OutlineSettings, RenderSettings
 from scenerender.world.objects import RenderObject, listed_instances, random_instances, single_instance

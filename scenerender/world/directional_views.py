@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from scenerender.world.camera import CameraRig
-from scenerender.world.inputs import camera_fitted_inputs
+from scenerender.world.frame_inputs import camera_fitted_inputs
 from scenerender.world.shadows import directional_half_width, directional_rotation, visible_region
 from scenerender.world.transforms import union_bounds
 

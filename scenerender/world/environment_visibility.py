@@ -28,7 +28,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from scenerender.world.environment import area_average, equirect_directions, texel_solid_angles
+from scenerender.world.environment_light import area_average, equirect_directions, texel_solid_angles
 from scenerender.world.shadows import Tile, directional_rotation, directional_view
 
 CUT_WIDTH = 128  # the image is area-averaged to at most this wide before the cut

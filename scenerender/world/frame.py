@@ -13,12 +13,12 @@ import numpy as np
 from scenerender.animation import animated_keys
 from scenerender.world.build import World, scene_bounds
 from scenerender.world.camera import CameraRig, CameraState
-from scenerender.world.inputs import OBJECT_LOOK_KEYS
+from scenerender.world.frame_inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lens import lens_radius, through_lens
 from scenerender.world.motion import ShutterMotion, blurs_by_velocity, shutter_motion
-from scenerender.world.environment import EnvironmentState
+from scenerender.world.environment_light import EnvironmentState
 from scenerender.world.environment_visibility import EnvironmentViews, environment_views, median_cut, visibility_tiles
-from scenerender.world.lights import LightState, ambient_light, evaluate_lights
+from scenerender.world.light_states import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye, hidden_side
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
 from scenerender.world.transforms import normal_matrices, union_bounds

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from scenerender.world.environment import equirect_directions
+from scenerender.world.environment_light import equirect_directions
 from scenerender.world.environment_files import write_hdr
 
 WIDTH, HEIGHT = 256, 128

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from scenerender.world.environment import equirect_directions
+from scenerender.world.environment_light import equirect_directions
 from scenerender.world.environment_files import write_hdr
 
 WIDTH, HEIGHT = 512, 256

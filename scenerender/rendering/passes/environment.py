@@ -19,7 +19,7 @@ from scenerender.rendering.draw import (
     draw_cutting_masks, stop_culling,
 )
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
-from scenerender.rendering.lights import environment_view_uniforms
+from scenerender.rendering.light_buffers import environment_view_uniforms
 from scenerender.rendering.passes.data import ImageData, LookupsData
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"

@@ -13,7 +13,7 @@ from scenerender.rendering.draw import (
     bind_texture_units, cull_hidden_faces, draw_item, opaque_items, single_sided_faces, skip_faces, stop_culling, transparent_items,
 )
 from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
-from scenerender.rendering.inputs import InputHandles
+from scenerender.rendering.graph_inputs import InputHandles
 from scenerender.rendering.passes.environment import EnvironmentLighting
 from scenerender.rendering.passes.data import ImageData, TargetData
 from scenerender.rendering.visible_samples import VisibleSamplesPlan, plan_visible_samples

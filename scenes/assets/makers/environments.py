@@ -25,7 +25,7 @@ def studio_environment(width: int = 256) -> np.ndarray:
     """(W / 2, W, 3) linear radiance: a dim studio (warm grey floor, darker ceiling) with a
     large warm key panel front-left above, a cool strip light behind right and a small
     fill panel low on the right. Lights a pbr scene as a product photograph is lit."""
-    from scenerender.world.environment import equirect_directions
+    from scenerender.world.environment_light import equirect_directions
 
     d = equirect_directions(width // 2, width)
     y = d[..., 1]

@@ -4,7 +4,7 @@ A surface point reflects towards the eye
 
     Ka * integral over the hemisphere of f(l, v) L_env(l) (N.l) dl
 
-with L_env the environment's radiance (scenerender.world.environment) and f the material's
+with L_env the environment's radiance (scenerender.world.environment_light) and f the material's
 BRDF: the pbr model's whole BRDF, or for Phong and Blinn-Phong materials (only where the
 light has ``classic: true``) a Lambert surface, base / pi, with no specular part.
 
@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.raytrace import shading
-from scenerender.world.environment import equirect_uv, texel_solid_angles
+from scenerender.world.environment_light import equirect_uv, texel_solid_angles
 
 MIN_GGX_CHOICE, MAX_GGX_CHOICE = 0.25, 0.9  # the probability of the GGX strategy, for pbr surfaces
 MIN_SAMPLING_COS = 1e-3  # a view at or below the horizon is sampled as if just above it
@@ -57,7 +57,7 @@ class ImageSampler:
     the radiance inside a texel comes from its neighbours too: weighing by their brightest
     keeps radiance over density bounded (a texel beside the sun, dim itself, is drawn as
     often as the sun's own texels and not 100 times less). ``to_image`` (3, 3) turns world
-    directions into the image's frame (scenerender.world.environment.EnvironmentState)."""
+    directions into the image's frame (scenerender.world.environment_light.EnvironmentState)."""
 
     def __init__(self, image: np.ndarray, scale: np.ndarray, to_image: np.ndarray):
         height, width = image.shape[:2]

@@ -16,7 +16,7 @@ import numpy as np
 from scenerender.graph import FrameGraph, Handle, InputDesc
 from scenerender.world.camera import CameraState
 from scenerender.world.frame import FrameState
-from scenerender.world.inputs import WorldInput, world_inputs
+from scenerender.world.frame_inputs import WorldInput, world_inputs
 from scenerender.world.lens import lens_radius
 
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.world.frame import FrameState
-from scenerender.world.lights import area_axes
+from scenerender.world.light_states import area_axes
 from scenerender.world.shadows import AtlasLayout, first_shadow_views
 
 # The binding points of the light arrays and the shadow views, as uniform blocks and as

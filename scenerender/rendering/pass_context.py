@@ -12,7 +12,7 @@ from scenerender.gpu.resources import FramebufferCache
 from scenerender.gpu.shaders import ProgramCache
 from scenerender.graph import Handle, UndeclaredResource
 from scenerender.rendering.features import SceneFeatures
-from scenerender.rendering.inputs import ObjectsInput
+from scenerender.rendering.graph_inputs import ObjectsInput
 from scenerender.rendering.scene_gpu import GpuScene
 
 
