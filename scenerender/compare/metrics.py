@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -108,16 +109,52 @@ class DiffMaps:
     tolerance: int           # levels of rounding forgiven
     still: np.ndarray | None = None  # (H, W) bool: the largest one-sign region of a still frame, or None
 
-    @property
+    @cached_property
     def changed(self) -> np.ndarray:
         """(H, W) bool: pixels with a difference either view leaves unexplained."""
         changed = (self.unexplained > 0) | (self.residual != 0)
         return changed if self.still is None else changed | self.still
 
-    @property
+    @cached_property
     def excused(self) -> np.ndarray:
         """(H, W) bool: pixels that differ by more than the tolerance, all of it explained."""
         return (self.magnitude > self.tolerance) & ~self.changed
+
+
+def channel_max(image: np.ndarray) -> np.ndarray:
+    """The largest value over the last axis (channels) of ``image``, elementwise: the same
+    numbers as ``image.max(axis=-1)``, several times faster (a reduction over an axis of
+    three is a slow loop in numpy; two elementwise maxima are not)."""
+    channels = [image[..., c] for c in range(image.shape[-1])]
+    out = channels[0].copy()
+    for channel in channels[1:]:
+        np.maximum(out, channel, out=out)
+    return out
+
+
+def strongest_channel(image: np.ndarray) -> np.ndarray:
+    """Per pixel, the value of the channel with the largest magnitude (the first of
+    equals) of ``image`` (..., C) -> (...): ``take_along_axis`` of ``abs().argmax(-1)``
+    without the slow reduction over the channels."""
+    out = image[..., 0].copy()
+    largest = np.abs(out)
+    for c in range(1, image.shape[-1]):
+        channel = image[..., c]
+        magnitude = np.abs(channel)
+        larger = magnitude > largest
+        np.copyto(out, channel, where=larger)
+        np.copyto(largest, magnitude, where=larger)
+    return out
+
+
+def channel_mean(image: np.ndarray) -> np.ndarray:
+    """(..., C) -> (...) float32 mean over the channels, the same numbers as
+    ``image.mean(axis=-1, dtype=np.float32)`` (summed in order, divided by C), faster."""
+    out = image[..., 0].astype(np.float32)
+    for c in range(1, image.shape[-1]):
+        out += image[..., c]
+    out /= np.float32(image.shape[-1])
+    return out
 
 
 def absolute_difference(reference: np.ndarray, output: np.ndarray) -> np.ndarray:
@@ -150,7 +187,7 @@ def unexplained_difference(reference: np.ndarray, output: np.ndarray, tolerance:
     (ref_low, ref_high), (out_low, out_high) = ranges or (neighbourhood_range(ref), neighbourhood_range(out))
     outside_ref = np.maximum(np.maximum(ref_low - out, out - ref_high), 0)
     outside_out = np.maximum(np.maximum(out_low - ref, ref - out_high), 0)
-    excess = np.minimum(outside_ref, outside_out).max(axis=2)
+    excess = channel_max(np.minimum(outside_ref, outside_out))
     return np.maximum(excess - tolerance, 0).astype(np.float32)
 
 
@@ -209,7 +246,7 @@ def _best_shift(source: np.ndarray, target: np.ndarray, forgiven: np.ndarray, si
     for dy, dx in SHIFTS:
         difference = sign * (inner - _shifted(source, dy, dx))
         residual = np.sign(difference) * np.maximum(np.abs(difference) - forgiven, 0)
-        score = np.abs(residual).max(axis=3).sum(axis=(1, 2))
+        score = channel_max(np.abs(residual)).sum(axis=(1, 2))
         if best_score is None:
             best_residual, best_score = residual, score
             best_shift = np.zeros((len(score), 2), np.float32)
@@ -233,7 +270,7 @@ def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int, ra
     shifts = np.zeros((rows, cols, 2), np.float32)
     charged = np.zeros((rows, cols, TILE, TILE, 3), np.float32)
     beyond = np.abs(out - ref) > forgiven  # a tile the allowances explain unshifted keeps no shift
-    active = _tiles(beyond.any(axis=2, keepdims=True), 0).any(axis=(2, 3, 4))
+    active = _tiles(channel_max(beyond)[..., None], 0).any(axis=(2, 3, 4))
     if active.any():
         ref_tiles, out_tiles = _tiles(ref, 1)[active], _tiles(out, 1)[active]
         limit = _tiles(forgiven, 0)[active]
@@ -242,8 +279,7 @@ def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int, ra
         charged[active] = np.where(np.abs(forward) >= np.abs(backward), forward, backward)
         shifts[active] = forward_shift
     per_pixel = charged.transpose(0, 2, 1, 3, 4).reshape(rows * TILE, cols * TILE, 3)[:h, :w]
-    strongest = np.abs(per_pixel).argmax(axis=2)[..., None]
-    return np.take_along_axis(per_pixel, strongest, axis=2)[..., 0], shifts
+    return strongest_channel(per_pixel), shifts
 
 
 def frame_displacement(reference: np.ndarray, output: np.ndarray) -> float:
@@ -251,7 +287,7 @@ def frame_displacement(reference: np.ndarray, output: np.ndarray) -> float:
     (dy, dx) with output - reference = -(dy d/dy + dx d/dx) of the mean image, over every
     pixel, grey levels. Edges bias it (a step is not linear over a pixel) but not its
     direction: a quarter-pixel camera move reads 0.1 to 0.3, a recolour about 0."""
-    ref, out = reference.astype(np.float32).mean(axis=2), output.astype(np.float32).mean(axis=2)
+    ref, out = channel_mean(reference), channel_mean(output)
     mean = (ref + out) * 0.5
     gy, gx = np.gradient(mean)
     d = out - ref
@@ -269,8 +305,7 @@ def still_regions(reference: np.ndarray, output: np.ndarray, tolerance: int) -> 
     window's pixels of that sign); (0, None) where nothing is past the tolerance. A window,
     not a connected component: as local, and two cumulative sums instead of a labelling."""
     signed = output.astype(np.int16) - reference.astype(np.int16)
-    strongest = np.abs(signed).argmax(axis=2)[..., None]
-    change = np.take_along_axis(signed, strongest, axis=2)[..., 0]
+    change = strongest_channel(signed)
     excess = np.maximum(np.abs(change) - tolerance, 0).astype(np.float32)
     if not excess.any():
         return 0.0, None
@@ -318,11 +353,13 @@ def tile_means(per_pixel: np.ndarray, tile: int = TILE) -> np.ndarray:
     a change in a thin edge strip is not diluted."""
     h, w = per_pixel.shape
     rows, cols = -(-h // tile), -(-w // tile)
+    shape = (rows, tile, cols, tile)
+    if h == rows * tile and w == cols * tile:  # whole tiles (1920x1080 and the like): no padding, no counts
+        return per_pixel.astype(np.float64).reshape(shape).sum(axis=(1, 3)) / float(tile * tile)
     sums = np.zeros((rows * tile, cols * tile))
     counts = np.zeros_like(sums)
     sums[:h, :w] = per_pixel
     counts[:h, :w] = 1
-    shape = (rows, tile, cols, tile)
     return sums.reshape(shape).sum(axis=(1, 3)) / counts.reshape(shape).sum(axis=(1, 3))
 
 
@@ -376,7 +413,7 @@ def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
     SSIM (0.6 s at 1920x1080, more than the verdict's own scores) and FLIP are left None
     when not asked for, unless the images are identical."""
     diff = absolute_difference(reference, output)
-    magnitude = diff.max(axis=2)
+    magnitude = channel_max(diff)
     identical = not magnitude.any()
     rows, cols = -(-magnitude.shape[0] // TILE), -(-magnitude.shape[1] // TILE)
     still, still_mask, moved = 0.0, None, 0.0
@@ -397,7 +434,7 @@ def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
     metrics = FrameMetrics(
         mean_abs=float(diff.mean()),
         max_abs=int(magnitude.max()),
-        worst_tile=float(tile_means(diff.mean(axis=2, dtype=np.float32)).max()),
+        worst_tile=float(tile_means(channel_mean(diff)).max()),
         bad_percent=100.0 * float((magnitude > PIXEL_THRESHOLD).mean()),
         psnr=psnr(diff),
         unexplained_mean=float(unexplained.mean()),
