@@ -403,11 +403,16 @@ def test_the_numpy_filters_of_the_object_diff_equal_scipy_ndimage():
 
     rng = np.random.default_rng(0)
     for _ in range(10):
+        for most in (6, 64, 300):  # under 64 labels by bits, past that by counts
+            many = rng.integers(0, most, (37, 53)).astype(np.uint8 if most < 256 else np.int32)
+            many[rng.random(many.shape) < 0.6] = 0
+            boxes = bounding_boxes(many)
+            found = ndimage.find_objects(many)
+            assert len(boxes) == sum(box is not None for box in found)
+            for index, box in enumerate(found):
+                assert boxes.get(index + 1) == box
         labels = rng.integers(0, 6, (37, 53))
         labels[rng.random(labels.shape) < 0.6] = 0
-        boxes = bounding_boxes(labels)
-        for index, box in enumerate(ndimage.find_objects(labels)):
-            assert boxes.get(index + 1) == box
         mask = labels > 3
         assert np.array_equal(square_filter(mask, 3, np.max, "constant"),
                               ndimage.binary_dilation(mask, structure=np.ones((3, 3), bool)))

@@ -194,7 +194,9 @@ def unexplained_difference(reference: np.ndarray, output: np.ndarray, tolerance:
 def second_difference(image: np.ndarray) -> np.ndarray:
     """Per-channel |second difference| (|2 c - left - right|), the larger of the two axes
     (edges repeated): large where the image holds detail at the pixel scale.
-    (H, W, C) float32 -> same."""
+    (H, W, C) uint8 -> int16 (exact: at most 510), other types -> their own."""
+    if image.dtype == np.uint8:  # half the bytes of float32 through five full-frame passes
+        image = image.astype(np.int16)
     padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
     centre = padded[1:-1, 1:-1]
     across = np.abs(2 * centre - padded[1:-1, :-2] - padded[1:-1, 2:])
@@ -206,10 +208,11 @@ def allowance(reference: np.ndarray, output: np.ndarray, tolerance: int, ranges:
               shares: tuple[float, float] = (EDGE_SHARE, ALIAS_SHARE)) -> np.ndarray:
     """(H, W, 3) float32: per channel, the levels forgiven after the best shift (see the
     module notes): ``shares`` of the local contrast and of the local second difference.
-    Inputs (H, W, 3) float32; ``ranges`` as for ``unexplained_difference``."""
+    Inputs (H, W, 3) uint8 (or float32 of whole levels: the same numbers, slower); ``ranges``
+    as for ``unexplained_difference``."""
     (ref_low, ref_high), (out_low, out_high) = ranges
     edges = np.minimum(ref_high - ref_low, out_high - out_low).astype(np.float32)
-    detail = np.minimum(second_difference(reference), second_difference(output))
+    detail = np.minimum(second_difference(reference), second_difference(output)).astype(np.float32)
     return tolerance + shares[0] * edges + shares[1] * detail
 
 
@@ -265,7 +268,7 @@ def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int, ra
     as for ``unexplained_difference``, ``shares`` as for ``allowance``."""
     h, w, _ = reference.shape
     ref, out = reference.astype(np.float32), output.astype(np.float32)
-    forgiven = allowance(ref, out, tolerance, ranges or _ranges(reference, output), shares)
+    forgiven = allowance(reference, output, tolerance, ranges or _ranges(reference, output), shares)
     rows, cols = -(-h // TILE), -(-w // TILE)
     shifts = np.zeros((rows, cols, 2), np.float32)
     charged = np.zeros((rows, cols, TILE, TILE, 3), np.float32)
