@@ -198,10 +198,14 @@ def second_difference(image: np.ndarray) -> np.ndarray:
     if image.dtype == np.uint8:  # half the bytes of float32 through five full-frame passes
         image = image.astype(np.int16)
     padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
-    centre = padded[1:-1, 1:-1]
-    across = np.abs(2 * centre - padded[1:-1, :-2] - padded[1:-1, 2:])
-    down = np.abs(2 * centre - padded[:-2, 1:-1] - padded[2:, 1:-1])
-    return np.maximum(across, down)
+    twice = 2 * padded[1:-1, 1:-1]
+    across = np.subtract(twice, padded[1:-1, :-2])
+    across -= padded[1:-1, 2:]
+    np.abs(across, out=across)
+    down = np.subtract(twice, padded[:-2, 1:-1], out=twice)
+    down -= padded[2:, 1:-1]
+    np.abs(down, out=down)
+    return np.maximum(across, down, out=across)
 
 
 def allowance(reference: np.ndarray, output: np.ndarray, tolerance: int, ranges: tuple,
@@ -211,9 +215,15 @@ def allowance(reference: np.ndarray, output: np.ndarray, tolerance: int, ranges:
     Inputs (H, W, 3) uint8 (or float32 of whole levels: the same numbers, slower); ``ranges``
     as for ``unexplained_difference``."""
     (ref_low, ref_high), (out_low, out_high) = ranges
-    edges = np.minimum(ref_high - ref_low, out_high - out_low).astype(np.float32)
+    # in place, one full-frame float32 array: the same sums as tolerance + a * edges + b * detail
+    forgiven = np.minimum(ref_high - ref_low, out_high - out_low).astype(np.float32)
+    forgiven *= np.float32(shares[0])
+    forgiven += np.float32(tolerance)
     detail = np.minimum(second_difference(reference), second_difference(output)).astype(np.float32)
-    return tolerance + shares[0] * edges + shares[1] * detail
+    if shares[1] != 1:
+        detail *= np.float32(shares[1])
+    forgiven += detail
+    return forgiven
 
 
 def _tiles(image: np.ndarray, margin: int) -> np.ndarray:
@@ -267,22 +277,22 @@ def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int, ra
     unshifted are searched, so identical and nearly identical frames cost little. ``ranges``
     as for ``unexplained_difference``, ``shares`` as for ``allowance``."""
     h, w, _ = reference.shape
-    ref, out = reference.astype(np.float32), output.astype(np.float32)
     forgiven = allowance(reference, output, tolerance, ranges or _ranges(reference, output), shares)
     rows, cols = -(-h // TILE), -(-w // TILE)
     shifts = np.zeros((rows, cols, 2), np.float32)
-    charged = np.zeros((rows, cols, TILE, TILE, 3), np.float32)
-    beyond = np.abs(out - ref) > forgiven  # a tile the allowances explain unshifted keeps no shift
+    charged = np.zeros((rows, cols, TILE, TILE), np.float32)  # the strongest channel: 0 where nothing is left
+    # a tile the allowances explain unshifted keeps no shift (|out - ref| exact in int16)
+    beyond = absolute_difference(reference, output) > forgiven
     active = _tiles(channel_max(beyond)[..., None], 0).any(axis=(2, 3, 4))
-    if active.any():
-        ref_tiles, out_tiles = _tiles(ref, 1)[active], _tiles(out, 1)[active]
+    if active.any():  # only the searched tiles in float32, not the whole frames
+        ref_tiles = _tiles(reference, 1)[active].astype(np.float32)
+        out_tiles = _tiles(output, 1)[active].astype(np.float32)
         limit = _tiles(forgiven, 0)[active]
         forward, forward_shift = _best_shift(ref_tiles, out_tiles, limit, 1.0)
         backward, _ = _best_shift(out_tiles, ref_tiles, limit, -1.0)
-        charged[active] = np.where(np.abs(forward) >= np.abs(backward), forward, backward)
+        charged[active] = strongest_channel(np.where(np.abs(forward) >= np.abs(backward), forward, backward))
         shifts[active] = forward_shift
-    per_pixel = charged.transpose(0, 2, 1, 3, 4).reshape(rows * TILE, cols * TILE, 3)[:h, :w]
-    return strongest_channel(per_pixel), shifts
+    return charged.transpose(0, 2, 1, 3).reshape(rows * TILE, cols * TILE)[:h, :w], shifts
 
 
 def frame_displacement(reference: np.ndarray, output: np.ndarray) -> float:
