@@ -327,21 +327,36 @@ def _present(ids: np.ndarray) -> list[int]:
 
 @dataclass(frozen=True)
 class _Images:
-    """What registering reads, worked out once a frame pair: the reference (H, W, 3) and its
-    gradients down and across after it in one (H, W, 9) array (one lookup samples all three),
-    the output, and the strongest gradient of each pixel (H, W)."""
+    """What registering reads, worked out once a frame pair: the reference and its gradients
+    down and across after it in one (H, W, 9) float32 array (one lookup samples all three),
+    the output (H, W, 3) uint8 as it is (only the pixels read are converted), and the
+    strongest gradient of each pixel (H, W)."""
 
-    ref: np.ndarray
     stacked: np.ndarray
-    out: np.ndarray
+    output: np.ndarray
     strength: np.ndarray
+
+    BAND = 64  # rows a time for the strongest gradient: its temporaries stay small
 
     @classmethod
     def of(cls, reference: np.ndarray, output: np.ndarray) -> "_Images":
-        ref = reference.astype(np.float32)
-        grad_y, grad_x = _gradients(ref)
-        strength = channel_max(np.maximum(np.abs(grad_y), np.abs(grad_x)))
-        return cls(ref, np.concatenate([ref, grad_y, grad_x], axis=2), output.astype(np.float32), strength)
+        height, width, channels = reference.shape
+        stacked = np.empty((height, width, 3 * channels), np.float32)
+        ref = stacked[..., :channels]
+        ref[...] = reference
+        _gradients_into(ref, stacked[..., channels:2 * channels], stacked[..., 2 * channels:])
+        strength = np.empty((height, width), np.float32)
+        for top in range(0, height, cls.BAND):
+            strength[top:top + cls.BAND] = channel_max(np.abs(stacked[top:top + cls.BAND, :, channels:]))
+        return cls(stacked, output, strength)
+
+    def reference_at(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+        """The reference sampled (bilinear) at float positions -> (N, 3) float32."""
+        return _bilinear(self.stacked, ys, xs)[:, :3]
+
+    def output_at(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+        """The output's pixels at integer positions -> (N, 3) float32."""
+        return self.output[ys, xs].astype(np.float32)
 
 
 def _displacements(images: _Images, ref_map, out_map, labels, start=None, boxes=None) -> dict:
@@ -447,7 +462,7 @@ def _register(images: _Images, origin: tuple, in_ref: np.ndarray, in_out: np.nda
     or more: a few pixels fit anything about as well."""
     region = square_filter(in_ref | in_out, 3, np.max, "constant")
     points, target = _points(images, region, origin)
-    if np.array_equal(target, images.ref[points[0].astype(np.int64), points[1].astype(np.int64)]):
+    if np.array_equal(target, images.stacked[points[0].astype(np.int64), points[1].astype(np.int64), :3]):
         return np.zeros(2)
     extra = [np.asarray(start, np.float64)] if start is not None else []
     starts = [np.zeros(2), *extra]
@@ -476,7 +491,7 @@ def _points(images: _Images, region: np.ndarray, origin: tuple):
         keep = np.argpartition(-images.strength[ys, xs], MAX_REGISTERED)[:MAX_REGISTERED]
         keep.sort()
         ys, xs = ys[keep], xs[keep]
-    return (ys.astype(np.float64), xs.astype(np.float64)), images.out[ys, xs]
+    return (ys.astype(np.float64), xs.astype(np.float64)), images.output_at(ys, xs)
 
 
 def _best(images: _Images, points, target, starts) -> np.ndarray:
@@ -492,7 +507,7 @@ def _best(images: _Images, points, target, starts) -> np.ndarray:
 def _energy(images: _Images, points, target, d) -> float:
     """The squared residual of ``target`` against the reference moved by ``d``, the best
     offset per channel taken out."""
-    residual = target - _bilinear(images.ref, points[0] - d[0], points[1] - d[1])
+    residual = target - images.reference_at(points[0] - d[0], points[1] - d[1])
     residual -= residual.mean(axis=0)
     return float(np.square(residual, dtype=np.float64).sum())
 
@@ -517,7 +532,7 @@ def _gauss_newton(images: _Images, points, target, d, iterations: int = 12):
         d, offsets = d + move, offsets + step[2:]
         if np.abs(move).max() < 1e-3:
             break
-    residual = target - _bilinear(images.ref, ys - d[0], xs - d[1]) - offsets
+    residual = target - images.reference_at(ys - d[0], xs - d[1]) - offsets
     return d, float(np.square(residual, dtype=np.float64).sum())
 
 
@@ -539,10 +554,24 @@ def _bilinear(image: np.ndarray, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
     return top + fy * (bottom - top)
 
 
-def _gradients(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Central differences down and across (edges repeated), (H, W, C) each."""
-    padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
-    return (padded[2:, 1:-1] - padded[:-2, 1:-1]) * 0.5, (padded[1:-1, 2:] - padded[1:-1, :-2]) * 0.5
+def _gradients_into(image: np.ndarray, down: np.ndarray, across: np.ndarray) -> None:
+    """Central differences of ``image`` (H, W, C) float32 down and across, edges repeated
+    (a one-sided half difference at the border), written into ``down`` and ``across``."""
+    _central_difference(image, down, axis=0)
+    _central_difference(image, across, axis=1)
+
+
+def _central_difference(image: np.ndarray, out: np.ndarray, axis: int) -> None:
+    def part(start, stop):
+        return (slice(None),) * axis + (slice(start, stop),)
+    size = image.shape[axis]
+    if size < 2:
+        out[...] = 0
+        return
+    np.subtract(image[part(2, None)], image[part(None, -2)], out=out[part(1, -1)])
+    np.subtract(image[part(1, 2)], image[part(0, 1)], out=out[part(0, 1)])
+    np.subtract(image[part(-1, None)], image[part(-2, -1)], out=out[part(-1, None)])
+    out *= np.float32(0.5)
 
 
 def _centroid(mask: np.ndarray) -> np.ndarray:
@@ -590,8 +619,8 @@ def _interior_changes(images: _Images, ref_map, out_map, displacement: dict, tol
         n = len(where)
         where = where[::-(-n // MAX_INTERIOR_READ)]
         d = displacement.get(label, np.zeros(2))
-        moved = _bilinear(images.ref, ys[where] - d[0], xs[where] - d[1])
-        residual = images.out[ys[where], xs[where]] - moved
+        moved = images.reference_at(ys[where] - d[0], xs[where] - d[1])
+        residual = images.output_at(ys[where], xs[where]) - moved
         residual = np.sign(residual) * np.maximum(np.abs(residual) - tolerance, 0)
         total = residual.sum(axis=0, dtype=np.float64)
         spread = np.abs(residual).sum(axis=0, dtype=np.float64)
