@@ -325,38 +325,74 @@ def _present(ids: np.ndarray) -> list[int]:
 
 # -- where each object moved ------------------------------------------------------------------
 
-@dataclass(frozen=True)
 class _Images:
-    """What registering reads, worked out once a frame pair: the reference and its gradients
-    down and across after it in one (H, W, 9) float32 array (one lookup samples all three),
-    the output (H, W, 3) uint8 as it is (only the pixels read are converted), and the
-    strongest gradient of each pixel (H, W)."""
+    """What registering reads of a frame pair: the reference, sampled (bilinear) alone or
+    after its gradients down and across (one lookup, (N, 9)), the output's pixels, and the
+    strongest gradient of each pixel (H, W). The gradients are worked out at the pixels a
+    sample reads, not over the frame (a registration reads a few thousand of them; a
+    (H, W, 9) float32 array is 75 MB of fresh memory at 1080p): the same numbers."""
 
-    stacked: np.ndarray
-    output: np.ndarray
-    strength: np.ndarray
-
-    BAND = 64  # rows a time for the strongest gradient: its temporaries stay small
+    def __init__(self, reference: np.ndarray, output: np.ndarray):
+        self.height, self.width, self.channels = reference.shape
+        self.reference, self.output = reference, output
+        self._flat = reference.reshape(-1, self.channels)
+        self.strength = _strongest_gradient(reference)
 
     @classmethod
     def of(cls, reference: np.ndarray, output: np.ndarray) -> "_Images":
-        height, width, channels = reference.shape
-        stacked = np.empty((height, width, 3 * channels), np.float32)
-        ref = stacked[..., :channels]
-        ref[...] = reference
-        _gradients_into(ref, stacked[..., channels:2 * channels], stacked[..., 2 * channels:])
-        strength = np.empty((height, width), np.float32)
-        for top in range(0, height, cls.BAND):
-            strength[top:top + cls.BAND] = channel_max(np.abs(stacked[top:top + cls.BAND, :, channels:]))
-        return cls(stacked, output, strength)
+        return cls(reference, output)
+
+    def _colours(self, index: np.ndarray) -> np.ndarray:
+        return self._flat.take(index, axis=0).astype(np.float32)
+
+    def _with_gradients(self, index: np.ndarray) -> np.ndarray:
+        """(N, 9) float32 at flat pixel indices: the colour, then the central differences
+        down and across (edges repeated: a one-sided half difference at the border)."""
+        width = self.width
+        y, x = np.divmod(index, width)
+        around = np.stack([index, np.where(y > 0, index - width, index),  # itself, up, down, left, right
+                           np.where(y < self.height - 1, index + width, index),
+                           np.where(x > 0, index - 1, index), np.where(x < width - 1, index + 1, index)], axis=1)
+        values = self._colours(around.ravel()).reshape(len(index), 5, self.channels)
+        half = np.float32(0.5)
+        return np.concatenate([values[:, 0], (values[:, 2] - values[:, 1]) * half,
+                               (values[:, 4] - values[:, 3]) * half], axis=1)
 
     def reference_at(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
         """The reference sampled (bilinear) at float positions -> (N, 3) float32."""
-        return _bilinear(self.stacked, ys, xs)[:, :3]
+        return _bilinear_by(self._colours, self.height, self.width, ys, xs)
+
+    def sampled(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+        """The reference and its gradients down and across sampled at float positions -> (N, 9)."""
+        return _bilinear_by(self._with_gradients, self.height, self.width, ys, xs)
+
+    def reference_pixels(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+        return self.reference[ys, xs].astype(np.float32)
 
     def output_at(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
         """The output's pixels at integer positions -> (N, 3) float32."""
         return self.output[ys, xs].astype(np.float32)
+
+
+def _strongest_gradient(image: np.ndarray) -> np.ndarray:
+    """(H, W) float32: per pixel, the largest |central difference| down or across over the
+    channels (edges repeated), from (H, W, C) uint8 in int16: exact, halves of whole levels."""
+    values = image.astype(np.int16)
+    strongest = np.zeros(image.shape[:2], np.int16)
+    for axis in (0, 1):
+        size = image.shape[axis]
+        if size < 2:
+            continue
+        def part(start, stop):
+            return (slice(None),) * axis + (slice(start, stop),)
+        difference = np.empty_like(values)
+        np.subtract(values[part(2, None)], values[part(None, -2)], out=difference[part(1, -1)])
+        np.subtract(values[part(1, 2)], values[part(0, 1)], out=difference[part(0, 1)])
+        np.subtract(values[part(-1, None)], values[part(-2, -1)], out=difference[part(-1, None)])
+        np.maximum(strongest, channel_max(np.abs(difference, out=difference)), out=strongest)
+    strength = strongest.astype(np.float32)
+    strength *= np.float32(0.5)
+    return strength
 
 
 def _displacements(images: _Images, ref_map, out_map, labels, start=None, boxes=None) -> dict:
@@ -462,7 +498,7 @@ def _register(images: _Images, origin: tuple, in_ref: np.ndarray, in_out: np.nda
     or more: a few pixels fit anything about as well."""
     region = square_filter(in_ref | in_out, 3, np.max, "constant")
     points, target = _points(images, region, origin)
-    if np.array_equal(target, images.stacked[points[0].astype(np.int64), points[1].astype(np.int64), :3]):
+    if np.array_equal(target, images.reference_pixels(points[0].astype(np.int64), points[1].astype(np.int64))):
         return np.zeros(2)
     extra = [np.asarray(start, np.float64)] if start is not None else []
     starts = [np.zeros(2), *extra]
@@ -521,7 +557,7 @@ def _gauss_newton(images: _Images, points, target, d, iterations: int = 12):
     offsets = np.zeros(channels)
     ones = np.repeat(np.eye(channels)[None], count, axis=0).reshape(-1, channels)  # d(sample)/d(offset)
     for _ in range(iterations):
-        sampled = _bilinear(images.stacked, ys - d[0], xs - d[1])
+        sampled = images.sampled(ys - d[0], xs - d[1])
         residual = (target - sampled[:, :channels] - offsets).reshape(-1)
         jacobian = np.concatenate([-np.stack([sampled[:, channels:2 * channels].reshape(-1),
                                               sampled[:, 2 * channels:].reshape(-1)], axis=1), ones], axis=1)
@@ -539,39 +575,27 @@ def _gauss_newton(images: _Images, points, target, d, iterations: int = 12):
 def _bilinear(image: np.ndarray, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
     """(H, W, C) sampled at float positions (edges repeated) -> (N, C)."""
     height, width, channels = image.shape
+    flat = image.reshape(-1, channels)
+    return _bilinear_by(lambda index: flat.take(index, axis=0), height, width, ys, xs, image.dtype)
+
+
+def _bilinear_by(pixels, height: int, width: int, ys: np.ndarray, xs: np.ndarray, dtype=np.float32) -> np.ndarray:
+    """Bilinear samples at float positions (edges repeated) of an (H, W) image whose pixels
+    ``pixels`` gives at flat indices -> (N, C) in ``dtype``."""
     ys = np.clip(ys, 0, height - 1)
     xs = np.clip(xs, 0, width - 1)
     y0 = np.minimum(ys.astype(np.int64), max(height - 2, 0))
     x0 = np.minimum(xs.astype(np.int64), max(width - 2, 0))
-    fy, fx = (ys - y0).astype(image.dtype)[:, None], (xs - x0).astype(image.dtype)[:, None]
-    flat = image.reshape(-1, channels)
+    fy, fx = (ys - y0).astype(dtype)[:, None], (xs - x0).astype(dtype)[:, None]
     corner = y0 * width + x0
     down, across = (width if height > 1 else 0), (1 if width > 1 else 0)
-    top_left, top_right = flat.take(corner, axis=0), flat.take(corner + across, axis=0)
-    bottom_left, bottom_right = flat.take(corner + down, axis=0), flat.take(corner + down + across, axis=0)
+    count = len(corner)
+    corners = pixels(np.concatenate([corner, corner + across, corner + down, corner + down + across]))
+    top_left, top_right = corners[:count], corners[count:2 * count]
+    bottom_left, bottom_right = corners[2 * count:3 * count], corners[3 * count:]
     top = top_left + fx * (top_right - top_left)
     bottom = bottom_left + fx * (bottom_right - bottom_left)
     return top + fy * (bottom - top)
-
-
-def _gradients_into(image: np.ndarray, down: np.ndarray, across: np.ndarray) -> None:
-    """Central differences of ``image`` (H, W, C) float32 down and across, edges repeated
-    (a one-sided half difference at the border), written into ``down`` and ``across``."""
-    _central_difference(image, down, axis=0)
-    _central_difference(image, across, axis=1)
-
-
-def _central_difference(image: np.ndarray, out: np.ndarray, axis: int) -> None:
-    def part(start, stop):
-        return (slice(None),) * axis + (slice(start, stop),)
-    size = image.shape[axis]
-    if size < 2:
-        out[...] = 0
-        return
-    np.subtract(image[part(2, None)], image[part(None, -2)], out=out[part(1, -1)])
-    np.subtract(image[part(1, 2)], image[part(0, 1)], out=out[part(0, 1)])
-    np.subtract(image[part(-1, None)], image[part(-2, -1)], out=out[part(-1, None)])
-    out *= np.float32(0.5)
 
 
 def _centroid(mask: np.ndarray) -> np.ndarray:
