@@ -167,14 +167,13 @@ def neighbourhood_range(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     (H, W, C) -> two (H, W, C) arrays of the input's type."""
     h, w = image.shape[:2]
     padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
-    low = padded[1:h + 1, 1:w + 1].copy()
-    high = low.copy()
-    for dy in range(3):
-        for dx in range(3):
-            window = padded[dy:dy + h, dx:dx + w]
-            np.minimum(low, window, out=low)
-            np.maximum(high, window, out=high)
-    return low, high
+    ranges = []
+    for pairwise in (np.minimum, np.maximum):  # a square's extremum is that of its rows' extrema
+        rows = pairwise(padded[:, 0:w], padded[:, 1:w + 1])
+        pairwise(rows, padded[:, 2:w + 2], out=rows)
+        square = pairwise(rows[0:h], rows[1:h + 1])
+        ranges.append(pairwise(square, rows[2:h + 2], out=square))
+    return ranges[0], ranges[1]
 
 
 def unexplained_difference(reference: np.ndarray, output: np.ndarray, tolerance: int,
@@ -337,7 +336,9 @@ def still_regions(reference: np.ndarray, output: np.ndarray, tolerance: int) -> 
 
 def _ranges(reference: np.ndarray, output: np.ndarray) -> tuple:
     """Both images' 3x3 neighbourhood ranges, (low, high) each, int16: what both views use."""
-    return neighbourhood_range(reference.astype(np.int16)), neighbourhood_range(output.astype(np.int16))
+    # worked out in uint8 (half the bytes), then widened for the signed sums that read them
+    return tuple(tuple(extreme.astype(np.int16) for extreme in neighbourhood_range(image))
+                 for image in (reference, output))
 
 
 def window_sums(per_pixel: np.ndarray, side: int = TILE) -> np.ndarray:
