@@ -269,19 +269,21 @@ def _best_shift(source: np.ndarray, target: np.ndarray, forgiven: np.ndarray, si
 
 
 def shift_residual(reference: np.ndarray, output: np.ndarray, tolerance: int, ranges: tuple | None = None,
-                   shares: tuple[float, float] = (EDGE_SHARE, ALIAS_SHARE)) -> tuple[np.ndarray, np.ndarray]:
+                   shares: tuple[float, float] = (EDGE_SHARE, ALIAS_SHARE), difference: np.ndarray | None = None
+                   ) -> tuple[np.ndarray, np.ndarray]:
     """The signed difference (output - reference) no small shift explains, per pixel the
     channel with the largest magnitude -> ((H, W) float32 levels, (rows, cols, 2) float32
     per-tile shift (dy, dx) in pixels). Only tiles that differ beyond the allowances
     unshifted are searched, so identical and nearly identical frames cost little. ``ranges``
-    as for ``unexplained_difference``, ``shares`` as for ``allowance``."""
+    as for ``unexplained_difference``, ``shares`` as for ``allowance``, ``difference`` their
+    ``absolute_difference`` where the caller has it."""
     h, w, _ = reference.shape
     forgiven = allowance(reference, output, tolerance, ranges or _ranges(reference, output), shares)
     rows, cols = -(-h // TILE), -(-w // TILE)
     shifts = np.zeros((rows, cols, 2), np.float32)
     charged = np.zeros((rows, cols, TILE, TILE), np.float32)  # the strongest channel: 0 where nothing is left
     # a tile the allowances explain unshifted keeps no shift (|out - ref| exact in int16)
-    beyond = absolute_difference(reference, output) > forgiven
+    beyond = (absolute_difference(reference, output) if difference is None else difference) > forgiven
     active = _tiles(channel_max(beyond)[..., None], 0).any(axis=(2, 3, 4))
     if active.any():  # only the searched tiles in float32, not the whole frames
         ref_tiles = _tiles(reference, 1)[active].astype(np.float32)
@@ -310,13 +312,16 @@ def frame_displacement(reference: np.ndarray, output: np.ndarray) -> float:
     return float(np.hypot(*np.linalg.solve(a, b)))
 
 
-def still_regions(reference: np.ndarray, output: np.ndarray, tolerance: int) -> tuple[float, np.ndarray | None]:
+def still_regions(reference: np.ndarray, output: np.ndarray, tolerance: int, signed: np.ndarray | None = None
+                  ) -> tuple[float, np.ndarray | None]:
     """In a frame that did not move: the pixels changed one way past ``tolerance`` (the
     channel of the largest change), their levels past it summed over each STILL_WINDOW
     square window, one sign at a time -> (the largest sum, the (H, W) bool mask of that
     window's pixels of that sign); (0, None) where nothing is past the tolerance. A window,
-    not a connected component: as local, and two cumulative sums instead of a labelling."""
-    signed = output.astype(np.int16) - reference.astype(np.int16)
+    not a connected component: as local, and two cumulative sums instead of a labelling.
+    ``signed``: output - reference in int16, where the caller has it."""
+    if signed is None:
+        signed = output.astype(np.int16) - reference.astype(np.int16)
     change = strongest_channel(signed)
     excess = np.maximum(np.abs(change) - tolerance, 0).astype(np.float32)
     if not excess.any():
@@ -426,7 +431,8 @@ def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
     """All metrics for two (H, W, 3) uint8 images of one shape, and the maps behind them.
     SSIM (0.6 s at 1920x1080, more than the verdict's own scores) and FLIP are left None
     when not asked for, unless the images are identical."""
-    diff = absolute_difference(reference, output)
+    signed = output.astype(np.int16) - reference.astype(np.int16)  # read by the absolute and the still views
+    diff = np.abs(signed)
     magnitude = channel_max(diff)
     identical = not magnitude.any()
     rows, cols = -(-magnitude.shape[0] // TILE), -(-magnitude.shape[1] // TILE)
@@ -437,11 +443,11 @@ def measure(reference: np.ndarray, output: np.ndarray, aa_tolerance: int,
     else:
         ranges = _ranges(reference, output)  # both views read them: worked out once
         unexplained = unexplained_difference(reference, output, aa_tolerance, ranges)
-        residual, shifts = shift_residual(reference, output, aa_tolerance, ranges)
+        residual, shifts = shift_residual(reference, output, aa_tolerance, ranges, difference=diff)
         if magnitude.max() > aa_tolerance:
             moved = frame_displacement(reference, output)
             if moved < STILL_SHIFT:
-                still, still_mask = still_regions(reference, output, aa_tolerance)
+                still, still_mask = still_regions(reference, output, aa_tolerance, signed)
     maps = DiffMaps(magnitude, unexplained, residual, shifts, aa_tolerance, still_mask)
     excused = maps.excused
     excused_tiles = tile_means(excused.astype(np.float32)) > 0

@@ -167,15 +167,16 @@ class ObjectMetrics:
 
 
 def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
-                    tolerance: int = 1, register: bool = True) -> ObjectMetrics:
+                    tolerance: int = 1, register: bool = True, magnitude: np.ndarray | None = None) -> ObjectMetrics:
     """The id-based scores of two (H, W, 3) uint8 frames of one shape and their id maps
     ((H, W) each). Objects are matched by name (by index where a side has no names), so a
     reordered ``objects`` list still pairs them. Where both sides kept the layer behind
     transparent surfaces and something shows through one, the objects seen through are
     judged on that layer too, named "... (behind glass)". Without ``register`` (a verdict
     already failed by its colours, no report asked) only the attribution and the objects on
-    one side are worked out: no moves, no interiors."""
-    pair = _Pair(reference, output)
+    one side are worked out: no moves, no interiors. ``magnitude``: the largest channel
+    |difference| (H, W), where the caller has it."""
+    pair = _Pair(reference, output, magnitude)
     scores, background, common = _scores(pair, reference_ids, output_ids, tolerance, register=register)
     scores += _seen_through(pair, reference_ids, output_ids, tolerance, register)
     scores.sort(key=lambda s: (-s.changed_pixels, -s.coverage, s.name))
@@ -199,10 +200,12 @@ class _Pair:
     asked: the pixels off by CHANGED_LEVELS or more (H, W) bool, whether the frames are
     identical, and what registering reads (_Images, 0.15 s at 1080p)."""
 
-    def __init__(self, reference: np.ndarray, output: np.ndarray):
+    def __init__(self, reference: np.ndarray, output: np.ndarray, magnitude: np.ndarray | None = None):
         self.reference, self.output = reference, output
         self._images = None
-        self.changed = channel_max(np.abs(reference.astype(np.int16) - output.astype(np.int16))) >= CHANGED_LEVELS
+        if magnitude is None:
+            magnitude = channel_max(np.abs(reference.astype(np.int16) - output.astype(np.int16)))
+        self.changed = magnitude >= CHANGED_LEVELS
         self.identical = not self.changed.any() and np.array_equal(reference, output)
 
     @property
