@@ -184,10 +184,19 @@ def unexplained_difference(reference: np.ndarray, output: np.ndarray, tolerance:
     ``neighbourhood_range`` of their int16 values, where the caller has them already."""
     ref, out = reference.astype(np.int16), output.astype(np.int16)
     (ref_low, ref_high), (out_low, out_high) = ranges or (neighbourhood_range(ref), neighbourhood_range(out))
-    outside_ref = np.maximum(np.maximum(ref_low - out, out - ref_high), 0)
-    outside_out = np.maximum(np.maximum(out_low - ref, ref - out_high), 0)
-    excess = channel_max(np.minimum(outside_ref, outside_out))
-    return np.maximum(excess - tolerance, 0).astype(np.float32)
+    outside_ref = _outside(out, ref_low, ref_high)
+    outside = np.minimum(outside_ref, _outside(ref, out_low, out_high), out=outside_ref)
+    excess = channel_max(outside)
+    excess -= tolerance
+    return np.maximum(excess, 0, out=excess).astype(np.float32)
+
+
+def _outside(values: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
+    """How far each of ``values`` lies outside [low, high], 0 inside (int16, in place on one
+    new array: these are whole frames)."""
+    below = np.subtract(low, values)
+    np.maximum(below, np.subtract(values, high), out=below)
+    return np.maximum(below, 0, out=below)
 
 
 def second_difference(image: np.ndarray) -> np.ndarray:
