@@ -663,3 +663,20 @@ def test_the_fast_channel_and_window_passes_equal_the_plain_numpy_ones():
         expected = [[per_pixel[r * 8:r * 8 + 8, c * 8:c * 8 + 8].astype(np.float64).mean() for c in range(cols)]
                     for r in range(rows)]
         assert np.allclose(tile_means(per_pixel), expected, rtol=1e-12, atol=0)
+
+
+def test_an_identical_pair_found_by_a_byte_compare_has_the_numbers_of_the_full_measure(monkeypatch):
+    # measure() answers an identical pair without looking at its differences; its numbers and
+    # maps must be those the full path gives
+    from scenerender.compare import metrics
+
+    image = np.random.default_rng(9).integers(0, 256, (37, 53, 3)).astype(np.uint8)
+    shortcut, shortcut_maps = metrics.measure(image, image.copy(), 1)
+    with monkeypatch.context() as patched:
+        patched.setattr(metrics.np, "array_equal", lambda a, b: False)  # the full path
+        full, full_maps = metrics.measure(image, image.copy(), 1)
+    assert shortcut == full and shortcut.to_json() == full.to_json()
+    for name in ("magnitude", "unexplained", "residual", "shifts"):
+        ours, theirs = getattr(shortcut_maps, name), getattr(full_maps, name)
+        assert ours.dtype == theirs.dtype and np.array_equal(ours, theirs)
+    assert shortcut_maps.still is None and full_maps.still is None
