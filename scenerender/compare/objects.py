@@ -576,7 +576,8 @@ def _gauss_newton(images: _Images, points, target, d, iterations: int = 12):
 
 
 def _bilinear(image: np.ndarray, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
-    """(H, W, C) sampled at float positions (edges repeated) -> (N, C)."""
+    """(H, W, C) sampled at float positions (edges repeated) -> (N, C): the plain form of
+    what _Images samples without whole-frame arrays (the tests hold the two to each other)."""
     height, width, channels = image.shape
     flat = image.reshape(-1, channels)
     return _bilinear_by(lambda index: flat.take(index, axis=0), height, width, ys, xs, image.dtype)
