@@ -632,3 +632,51 @@ def test_a_pass_that_excused_a_large_outline_says_so_and_boxes_it(tmp_path):
     quiet = compare_paths(tmp_path / "ref", tmp_path / "out")
     assert quiet.passed and not quiet.frames[0].forgiven
     assert not any("excused a large" in line for line in quiet.summary_lines())
+
+
+def test_the_fast_channel_and_window_passes_equal_the_plain_numpy_ones():
+    # compare/metrics.py replaces reductions over the channels and the 3x3 range's nine
+    # shifted views with faster passes for speed (docs/performance.md); the numbers must not move
+    from scenerender.compare.metrics import (channel_max, channel_mean, neighbourhood_range, second_difference,
+                                             strongest_channel, tile_means)
+
+    rng = np.random.default_rng(5)
+    for shape in ((1, 1, 3), (1, 7, 3), (6, 1, 3), (2, 2, 3), (37, 53, 3), (16, 24, 3)):
+        image = rng.integers(0, 256, shape).astype(np.uint8)
+        signed = image.astype(np.int16) - rng.integers(0, 256, shape).astype(np.int16)
+        signed[..., 2][signed[..., 2] > 0] = np.abs(signed[..., 0][signed[..., 2] > 0])  # ties: the first wins
+        assert np.array_equal(channel_max(signed), signed.max(axis=2))
+        assert np.array_equal(channel_mean(signed), signed.mean(axis=2, dtype=np.float32))
+        strongest = np.abs(signed).argmax(axis=2)[..., None]
+        assert np.array_equal(strongest_channel(signed), np.take_along_axis(signed, strongest, axis=2)[..., 0])
+        padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
+        views = [padded[dy:dy + shape[0], dx:dx + shape[1]] for dy in range(3) for dx in range(3)]
+        low, high = neighbourhood_range(image)
+        assert np.array_equal(low, np.min(views, axis=0)) and np.array_equal(high, np.max(views, axis=0))
+        as_float = padded.astype(np.float32)
+        centre = as_float[1:-1, 1:-1]
+        plain = np.maximum(np.abs(2 * centre - as_float[1:-1, :-2] - as_float[1:-1, 2:]),
+                           np.abs(2 * centre - as_float[:-2, 1:-1] - as_float[2:, 1:-1]))
+        assert np.array_equal(second_difference(image), plain)
+        per_pixel = rng.random(shape[:2]).astype(np.float32)
+        rows, cols = -(-shape[0] // 8), -(-shape[1] // 8)
+        expected = [[per_pixel[r * 8:r * 8 + 8, c * 8:c * 8 + 8].astype(np.float64).mean() for c in range(cols)]
+                    for r in range(rows)]
+        assert np.allclose(tile_means(per_pixel), expected, rtol=1e-12, atol=0)
+
+
+def test_an_identical_pair_found_by_a_byte_compare_has_the_numbers_of_the_full_measure(monkeypatch):
+    # measure() answers an identical pair without looking at its differences; its numbers and
+    # maps must be those the full path gives
+    from scenerender.compare import metrics
+
+    image = np.random.default_rng(9).integers(0, 256, (37, 53, 3)).astype(np.uint8)
+    shortcut, shortcut_maps = metrics.measure(image, image.copy(), 1)
+    with monkeypatch.context() as patched:
+        patched.setattr(metrics.np, "array_equal", lambda a, b: False)  # the full path
+        full, full_maps = metrics.measure(image, image.copy(), 1)
+    assert shortcut == full and shortcut.to_json() == full.to_json()
+    for name in ("magnitude", "unexplained", "residual", "shifts"):
+        ours, theirs = getattr(shortcut_maps, name), getattr(full_maps, name)
+        assert ours.dtype == theirs.dtype and np.array_equal(ours, theirs)
+    assert shortcut_maps.still is None and full_maps.still is None

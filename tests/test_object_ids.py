@@ -403,11 +403,16 @@ def test_the_numpy_filters_of_the_object_diff_equal_scipy_ndimage():
 
     rng = np.random.default_rng(0)
     for _ in range(10):
+        for most in (6, 64, 300):  # under 64 labels by bits, past that by counts
+            many = rng.integers(0, most, (37, 53)).astype(np.uint8 if most < 256 else np.int32)
+            many[rng.random(many.shape) < 0.6] = 0
+            boxes = bounding_boxes(many)
+            found = ndimage.find_objects(many)
+            assert len(boxes) == sum(box is not None for box in found)
+            for index, box in enumerate(found):
+                assert boxes.get(index + 1) == box
         labels = rng.integers(0, 6, (37, 53))
         labels[rng.random(labels.shape) < 0.6] = 0
-        boxes = bounding_boxes(labels)
-        for index, box in enumerate(ndimage.find_objects(labels)):
-            assert boxes.get(index + 1) == box
         mask = labels > 3
         assert np.array_equal(square_filter(mask, 3, np.max, "constant"),
                               ndimage.binary_dilation(mask, structure=np.ones((3, 3), bool)))
@@ -416,3 +421,22 @@ def test_the_numpy_filters_of_the_object_diff_equal_scipy_ndimage():
                                   ndimage.minimum_filter(labels, side, mode="nearest"))
             assert np.array_equal(square_filter(labels, side, np.max, "edge"),
                                   ndimage.maximum_filter(labels, side, mode="nearest"))
+
+
+def test_the_registrations_samples_equal_those_of_whole_frame_gradients():
+    # compare/objects.py works the gradients out at the pixels it samples, not over the frame
+    # (75 MB at 1080p): the samples must be the numbers the whole-frame arrays give
+    from scenerender.compare.objects import _bilinear, _Images
+
+    rng = np.random.default_rng(3)
+    for shape in ((1, 1, 3), (1, 6, 3), (5, 1, 3), (2, 2, 3), (37, 53, 3)):
+        reference = rng.integers(0, 256, shape).astype(np.uint8)
+        images = _Images.of(reference, reference)
+        padded = np.pad(reference.astype(np.float32), ((1, 1), (1, 1), (0, 0)), mode="edge")
+        down = (padded[2:, 1:-1] - padded[:-2, 1:-1]) * 0.5
+        across = (padded[1:-1, 2:] - padded[1:-1, :-2]) * 0.5
+        whole = np.concatenate([reference.astype(np.float32), down, across], axis=2)
+        ys, xs = rng.uniform(-2, shape[0] + 1, 400), rng.uniform(-2, shape[1] + 1, 400)
+        assert np.array_equal(images.sampled(ys, xs), _bilinear(whole, ys, xs))
+        assert np.array_equal(images.reference_at(ys, xs), _bilinear(whole[..., :3], ys, xs))
+        assert np.array_equal(images.strength, np.maximum(np.abs(down), np.abs(across)).max(axis=2))

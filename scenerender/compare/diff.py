@@ -54,7 +54,8 @@ def compare_images(name: str, reference: np.ndarray, output: np.ndarray, rule: D
     colour_only = why_colour_only(object_ids, reference.shape[:2])
     if not colour_only:  # a frame its colours fail needs its objects registered only for a report
         register = keep_images or not rule.failures(metrics)
-        objects = measure_objects(reference, output, *object_ids, tolerance=rule.aa_tolerance, register=register)
+        objects = measure_objects(reference, output, *object_ids, tolerance=rule.aa_tolerance, register=register,
+                                  magnitude=maps.magnitude)
     failures = rule.failures(metrics, objects)
     passed = not failures
     regions = [] if passed else changed_regions(maps)  # a pass outlines what it forgave instead

@@ -39,6 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scenerender.compare.metrics import channel_max
+
 CHANGED_LEVELS = 5       # a pixel off by this many levels on some channel counts as changed
 INTERIOR_RADIUS = 2      # interior pixels: the object's own within this many pixels, both sides
 MIN_INTERIOR = 32        # objects with fewer interior pixels are not judged by their interior
@@ -165,16 +167,18 @@ class ObjectMetrics:
 
 
 def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
-                    tolerance: int = 1, register: bool = True) -> ObjectMetrics:
+                    tolerance: int = 1, register: bool = True, magnitude: np.ndarray | None = None) -> ObjectMetrics:
     """The id-based scores of two (H, W, 3) uint8 frames of one shape and their id maps
     ((H, W) each). Objects are matched by name (by index where a side has no names), so a
     reordered ``objects`` list still pairs them. Where both sides kept the layer behind
     transparent surfaces and something shows through one, the objects seen through are
     judged on that layer too, named "... (behind glass)". Without ``register`` (a verdict
     already failed by its colours, no report asked) only the attribution and the objects on
-    one side are worked out: no moves, no interiors."""
-    scores, background, common = _scores(reference, output, reference_ids, output_ids, tolerance, register=register)
-    scores += _seen_through(reference, output, reference_ids, output_ids, tolerance, register)
+    one side are worked out: no moves, no interiors. ``magnitude``: the largest channel
+    |difference| (H, W), where the caller has it."""
+    pair = _Pair(reference, output, magnitude)
+    scores, background, common = _scores(pair, reference_ids, output_ids, tolerance, register=register)
+    scores += _seen_through(pair, reference_ids, output_ids, tolerance, register)
     scores.sort(key=lambda s: (-s.changed_pixels, -s.coverage, s.name))
     one_side = max((s for s in scores if s.status != "both"), key=lambda s: s.coverage, default=None)
     moved = max((s for s in scores if s.shift is not None), key=lambda s: s.shift, default=None)
@@ -191,8 +195,28 @@ def measure_objects(reference: np.ndarray, output: np.ndarray, reference_ids: Id
 BEHIND_GLASS = " (behind glass)"
 
 
-def _seen_through(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
-                  tolerance: int, register: bool = True) -> list:
+class _Pair:
+    """The two frames, and what both id layers read of them, each worked out once when first
+    asked: the pixels off by CHANGED_LEVELS or more (H, W) bool, whether the frames are
+    identical, and what registering reads (_Images, 0.15 s at 1080p)."""
+
+    def __init__(self, reference: np.ndarray, output: np.ndarray, magnitude: np.ndarray | None = None):
+        self.reference, self.output = reference, output
+        self._images = None
+        if magnitude is None:
+            magnitude = channel_max(np.abs(reference.astype(np.int16) - output.astype(np.int16)))
+        self.changed = magnitude >= CHANGED_LEVELS
+        self.identical = not self.changed.any() and np.array_equal(reference, output)
+
+    @property
+    def images(self) -> "_Images":
+        if self._images is None:
+            self._images = _Images.of(self.reference, self.output)
+        return self._images
+
+
+def _seen_through(pair: _Pair, reference_ids: IdMap, output_ids: IdMap, tolerance: int, register: bool = True
+                  ) -> list:
     """The scores, on the layer behind, of the objects either side shows through a
     transparent surface ([] unless both sides kept that layer and one shows something
     through). Their colour is the glass's blend of them, the same on both sides unless
@@ -201,30 +225,30 @@ def _seen_through(reference: np.ndarray, output: np.ndarray, reference_ids: IdMa
     if any(mask is None for mask in through) or not (through[0].any() or through[1].any()):
         return []
     behind = reference_ids.layer_behind(), output_ids.layer_behind()
-    scores, _, _ = _scores(reference, output, *behind, tolerance, keep=through, register=register)
+    scores, _, _ = _scores(pair, *behind, tolerance, keep=through, register=register)
     return [dataclasses.replace(score, name=score.name + BEHIND_GLASS) for score in scores]
 
 
-def _scores(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, output_ids: IdMap,
+def _scores(pair: _Pair, reference_ids: IdMap, output_ids: IdMap,
             tolerance: int, keep: list | None = None, register: bool = True) -> tuple[list, int, np.ndarray]:
     """Every object's ``ObjectScore`` (with ``keep``, two (H, W) bool masks: only those
     shown under the mask of one side or the other), the changed pixels of the background,
     and the frame's common displacement (dy, dx)."""
     labels, ref_map, out_map = _unified_labels(reference_ids, output_ids)
     count = len(labels)
-    kept = None if keep is None else {int(v) for v in np.unique(ref_map[keep[0]])} | {
-        int(v) for v in np.unique(out_map[keep[1]])}
+    kept = None if keep is None else set(_present(ref_map[keep[0]])) | set(_present(out_map[keep[1]]))
     ref_counts = np.bincount(ref_map.ravel(), minlength=count)
     out_counts = np.bincount(out_map.ravel(), minlength=count)
-    changed = np.abs(reference.astype(np.int16) - output.astype(np.int16)).max(axis=2) >= CHANGED_LEVELS
+    changed = pair.changed
     counted = changed if keep is None else changed & (keep[0] | keep[1])  # behind glass: what shows through
     changed_counts = (np.bincount(ref_map[counted], minlength=count)
                       + np.bincount(out_map[counted & (out_map != ref_map)], minlength=count))
-    identical = not register or (not changed.any() and np.array_equal(reference, output))  # nothing to register
+    identical = not register or pair.identical  # nothing to register
     weights = {label: int(min(ref_counts[label], out_counts[label])) for label in range(1, count)
                if ref_counts[label] and out_counts[label]}
-    images = None if identical else _Images.of(reference, output)
-    displacement = {} if identical else _displacements(images, ref_map, out_map, weights)
+    images = None if identical else pair.images
+    boxes = None if identical else (bounding_boxes(ref_map), bounding_boxes(out_map))
+    displacement = {} if identical else _displacements(images, ref_map, out_map, weights, boxes=boxes)
     for label in weights if register else ():  # unregistered objects have no move (None), not no move (0)
         displacement.setdefault(label, np.zeros(2))
     common = _common_shift(displacement, weights)
@@ -232,7 +256,7 @@ def _scores(reference: np.ndarray, output: np.ndarray, reference_ids: IdMap, out
     # a thin or small object's fit can stop short of a move of a third of a pixel
     away = [label for label, d in displacement.items() if math.hypot(*(d - common)) > RECHECK_SHIFT]
     if away and not identical:
-        displacement.update(_displacements(images, ref_map, out_map, away, common))
+        displacement.update(_displacements(images, ref_map, out_map, away, common, boxes))
         common = _common_shift(displacement, weights)
     interiors = {} if identical else _interior_changes(images, ref_map, out_map, displacement, tolerance)
     scores = []
@@ -275,9 +299,9 @@ def _unified_labels(reference: IdMap, output: IdMap) -> tuple[list, np.ndarray, 
     reference labels (H, W), output labels (H, W))."""
     labels = [BACKGROUND]
     index = {}
-    maps = []
+    lookups = []
     for side in (reference, output):
-        present = [int(i) for i in np.unique(side.ids) if i]
+        present = [i for i in _present(side.ids) if i]
         duplicated = {name for name, times in Counter(side.names.values()).items() if times > 1}
         lookup = np.zeros(int(side.ids.max(initial=0)) + 1, np.int32)
         for object_id in present:
@@ -286,38 +310,101 @@ def _unified_labels(reference: IdMap, output: IdMap) -> tuple[list, np.ndarray, 
                 index[label] = len(labels)
                 labels.append(label)
             lookup[object_id] = index[label]
-        maps.append(lookup[side.ids])
-    return labels, maps[0], maps[1]
+        lookups.append(lookup)
+    # the narrowest type that holds every label: the square filters and counts over whole
+    # frames that read these maps move a quarter of the bytes in uint8
+    narrow = np.uint8 if len(labels) <= 1 << 8 else np.uint16 if len(labels) <= 1 << 16 else np.int32
+    ref_map, out_map = (lookup.astype(narrow)[side.ids] for lookup, side in zip(lookups, (reference, output)))
+    return labels, ref_map, out_map
+
+
+def _present(ids: np.ndarray) -> list[int]:
+    """The values (ids or labels, non-negative ints) ``ids`` holds, ascending: ``np.unique``
+    by a count, without the sort."""
+    if not ids.size:
+        return []
+    return [int(v) for v in np.flatnonzero(np.bincount(ids.ravel()))]
 
 
 # -- where each object moved ------------------------------------------------------------------
 
-@dataclass(frozen=True)
 class _Images:
-    """What registering reads, worked out once a frame pair: the reference (H, W, 3) and its
-    gradients down and across after it in one (H, W, 9) array (one lookup samples all three),
-    the output, and the strongest gradient of each pixel (H, W)."""
+    """What registering reads of a frame pair: the reference, sampled (bilinear) alone or
+    after its gradients down and across (one lookup, (N, 9)), the output's pixels, and the
+    strongest gradient of each pixel (H, W). The gradients are worked out at the pixels a
+    sample reads, not over the frame (a registration reads a few thousand of them; a
+    (H, W, 9) float32 array is 75 MB of fresh memory at 1080p): the same numbers."""
 
-    ref: np.ndarray
-    stacked: np.ndarray
-    out: np.ndarray
-    strength: np.ndarray
+    def __init__(self, reference: np.ndarray, output: np.ndarray):
+        self.height, self.width, self.channels = reference.shape
+        self.reference, self.output = reference, output
+        self._flat = reference.reshape(-1, self.channels)
+        self.strength = _strongest_gradient(reference)
 
     @classmethod
     def of(cls, reference: np.ndarray, output: np.ndarray) -> "_Images":
-        ref = reference.astype(np.float32)
-        grad_y, grad_x = _gradients(ref)
-        strength = np.maximum(np.abs(grad_y), np.abs(grad_x)).max(axis=2)
-        return cls(ref, np.concatenate([ref, grad_y, grad_x], axis=2), output.astype(np.float32), strength)
+        return cls(reference, output)
+
+    def _colours(self, index: np.ndarray) -> np.ndarray:
+        return self._flat.take(index, axis=0).astype(np.float32)
+
+    def _with_gradients(self, index: np.ndarray) -> np.ndarray:
+        """(N, 9) float32 at flat pixel indices: the colour, then the central differences
+        down and across (edges repeated: a one-sided half difference at the border)."""
+        width = self.width
+        y, x = np.divmod(index, width)
+        around = np.stack([index, np.where(y > 0, index - width, index),  # itself, up, down, left, right
+                           np.where(y < self.height - 1, index + width, index),
+                           np.where(x > 0, index - 1, index), np.where(x < width - 1, index + 1, index)], axis=1)
+        values = self._colours(around.ravel()).reshape(len(index), 5, self.channels)
+        half = np.float32(0.5)
+        return np.concatenate([values[:, 0], (values[:, 2] - values[:, 1]) * half,
+                               (values[:, 4] - values[:, 3]) * half], axis=1)
+
+    def reference_at(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+        """The reference sampled (bilinear) at float positions -> (N, 3) float32."""
+        return _bilinear_by(self._colours, self.height, self.width, ys, xs)
+
+    def sampled(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+        """The reference and its gradients down and across sampled at float positions -> (N, 9)."""
+        return _bilinear_by(self._with_gradients, self.height, self.width, ys, xs)
+
+    def reference_pixels(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+        return self.reference[ys, xs].astype(np.float32)
+
+    def output_at(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+        """The output's pixels at integer positions -> (N, 3) float32."""
+        return self.output[ys, xs].astype(np.float32)
 
 
-def _displacements(images: _Images, ref_map, out_map, labels, start=None) -> dict:
+def _strongest_gradient(image: np.ndarray) -> np.ndarray:
+    """(H, W) float32: per pixel, the largest |central difference| down or across over the
+    channels (edges repeated), from (H, W, C) uint8 in int16: exact, halves of whole levels."""
+    values = image.astype(np.int16)
+    strongest = np.zeros(image.shape[:2], np.int16)
+    for axis in (0, 1):
+        size = image.shape[axis]
+        if size < 2:
+            continue
+        def part(start, stop):
+            return (slice(None),) * axis + (slice(start, stop),)
+        difference = np.empty_like(values)
+        np.subtract(values[part(2, None)], values[part(None, -2)], out=difference[part(1, -1)])
+        np.subtract(values[part(1, 2)], values[part(0, 1)], out=difference[part(0, 1)])
+        np.subtract(values[part(-1, None)], values[part(-2, -1)], out=difference[part(-1, None)])
+        np.maximum(strongest, channel_max(np.abs(difference, out=difference)), out=strongest)
+    strength = strongest.astype(np.float32)
+    strength *= np.float32(0.5)
+    return strength
+
+
+def _displacements(images: _Images, ref_map, out_map, labels, start=None, boxes=None) -> dict:
     """label -> (dy, dx) pixels, for the objects ``labels`` (both sides show them) whose
     pixels differ; ``start``: a displacement to start from besides no shift and the id
-    centroids' shift."""
+    centroids' shift; ``boxes``: both maps' ``bounding_boxes``, where the caller has them."""
     height, width = ref_map.shape
     found = {}
-    ref_boxes, out_boxes = bounding_boxes(ref_map), bounding_boxes(out_map)
+    ref_boxes, out_boxes = boxes or (bounding_boxes(ref_map), bounding_boxes(out_map))
     for label in labels:
         a, b = ref_boxes[label], out_boxes[label]
         y0 = max(min(a[0].start, b[0].start) - 3, 0)
@@ -334,6 +421,8 @@ def _displacements(images: _Images, ref_map, out_map, labels, start=None) -> dic
 def bounding_boxes(label_map: np.ndarray) -> dict:
     """label -> (rows, columns) slices of the smallest box holding its pixels, for every
     label > 0 of ``label_map`` (H, W) ints."""
+    if label_map.size and 0 <= label_map.min() and label_map.max() < 64:
+        return _bounding_boxes_by_bits(label_map)
     ys, xs = np.nonzero(label_map > 0)
     labels = label_map[ys, xs]
     boxes = {}
@@ -356,6 +445,27 @@ def bounding_boxes(label_map: np.ndarray) -> dict:
     for label in present:
         boxes[int(label)] = (slice(int(low_y[label]), int(high_y[label]) + 1),
                              slice(int(low_x[label]), int(high_x[label]) + 1))
+    return boxes
+
+
+_LABEL_BITS = np.left_shift(np.uint64(1), np.arange(64, dtype=np.uint64))
+
+
+def _bounding_boxes_by_bits(label_map: np.ndarray) -> dict:
+    """``bounding_boxes`` of a map whose labels are under 64 (a frame's objects, nearly
+    always): each pixel's label as one bit, or-ed along the rows and along the columns, say
+    which rows and columns hold each label: two reductions of the map, no list of its pixels."""
+    bits = _LABEL_BITS[label_map]
+    rows, cols = np.bitwise_or.reduce(bits, axis=1), np.bitwise_or.reduce(bits, axis=0)
+    present = int(np.bitwise_or.reduce(rows))
+    boxes = {}
+    for label in range(1, 64):
+        if not present >> label & 1:
+            continue
+        held_rows = np.flatnonzero(rows & _LABEL_BITS[label])
+        held_cols = np.flatnonzero(cols & _LABEL_BITS[label])
+        boxes[label] = (slice(int(held_rows[0]), int(held_rows[-1]) + 1),
+                        slice(int(held_cols[0]), int(held_cols[-1]) + 1))
     return boxes
 
 
@@ -391,7 +501,7 @@ def _register(images: _Images, origin: tuple, in_ref: np.ndarray, in_out: np.nda
     or more: a few pixels fit anything about as well."""
     region = square_filter(in_ref | in_out, 3, np.max, "constant")
     points, target = _points(images, region, origin)
-    if np.array_equal(target, images.ref[points[0].astype(np.int64), points[1].astype(np.int64)]):
+    if np.array_equal(target, images.reference_pixels(points[0].astype(np.int64), points[1].astype(np.int64))):
         return np.zeros(2)
     extra = [np.asarray(start, np.float64)] if start is not None else []
     starts = [np.zeros(2), *extra]
@@ -420,7 +530,7 @@ def _points(images: _Images, region: np.ndarray, origin: tuple):
         keep = np.argpartition(-images.strength[ys, xs], MAX_REGISTERED)[:MAX_REGISTERED]
         keep.sort()
         ys, xs = ys[keep], xs[keep]
-    return (ys.astype(np.float64), xs.astype(np.float64)), images.out[ys, xs]
+    return (ys.astype(np.float64), xs.astype(np.float64)), images.output_at(ys, xs)
 
 
 def _best(images: _Images, points, target, starts) -> np.ndarray:
@@ -436,7 +546,7 @@ def _best(images: _Images, points, target, starts) -> np.ndarray:
 def _energy(images: _Images, points, target, d) -> float:
     """The squared residual of ``target`` against the reference moved by ``d``, the best
     offset per channel taken out."""
-    residual = target - _bilinear(images.ref, points[0] - d[0], points[1] - d[1])
+    residual = target - images.reference_at(points[0] - d[0], points[1] - d[1])
     residual -= residual.mean(axis=0)
     return float(np.square(residual, dtype=np.float64).sum())
 
@@ -450,7 +560,7 @@ def _gauss_newton(images: _Images, points, target, d, iterations: int = 12):
     offsets = np.zeros(channels)
     ones = np.repeat(np.eye(channels)[None], count, axis=0).reshape(-1, channels)  # d(sample)/d(offset)
     for _ in range(iterations):
-        sampled = _bilinear(images.stacked, ys - d[0], xs - d[1])
+        sampled = images.sampled(ys - d[0], xs - d[1])
         residual = (target - sampled[:, :channels] - offsets).reshape(-1)
         jacobian = np.concatenate([-np.stack([sampled[:, channels:2 * channels].reshape(-1),
                                               sampled[:, 2 * channels:].reshape(-1)], axis=1), ones], axis=1)
@@ -461,32 +571,35 @@ def _gauss_newton(images: _Images, points, target, d, iterations: int = 12):
         d, offsets = d + move, offsets + step[2:]
         if np.abs(move).max() < 1e-3:
             break
-    residual = target - _bilinear(images.ref, ys - d[0], xs - d[1]) - offsets
+    residual = target - images.reference_at(ys - d[0], xs - d[1]) - offsets
     return d, float(np.square(residual, dtype=np.float64).sum())
 
 
 def _bilinear(image: np.ndarray, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
-    """(H, W, C) sampled at float positions (edges repeated) -> (N, C)."""
+    """(H, W, C) sampled at float positions (edges repeated) -> (N, C): the plain form of
+    what _Images samples without whole-frame arrays (the tests hold the two to each other)."""
     height, width, channels = image.shape
+    flat = image.reshape(-1, channels)
+    return _bilinear_by(lambda index: flat.take(index, axis=0), height, width, ys, xs, image.dtype)
+
+
+def _bilinear_by(pixels, height: int, width: int, ys: np.ndarray, xs: np.ndarray, dtype=np.float32) -> np.ndarray:
+    """Bilinear samples at float positions (edges repeated) of an (H, W) image whose pixels
+    ``pixels`` gives at flat indices -> (N, C) in ``dtype``."""
     ys = np.clip(ys, 0, height - 1)
     xs = np.clip(xs, 0, width - 1)
     y0 = np.minimum(ys.astype(np.int64), max(height - 2, 0))
     x0 = np.minimum(xs.astype(np.int64), max(width - 2, 0))
-    fy, fx = (ys - y0).astype(image.dtype)[:, None], (xs - x0).astype(image.dtype)[:, None]
-    flat = image.reshape(-1, channels)
+    fy, fx = (ys - y0).astype(dtype)[:, None], (xs - x0).astype(dtype)[:, None]
     corner = y0 * width + x0
     down, across = (width if height > 1 else 0), (1 if width > 1 else 0)
-    top_left, top_right = flat.take(corner, axis=0), flat.take(corner + across, axis=0)
-    bottom_left, bottom_right = flat.take(corner + down, axis=0), flat.take(corner + down + across, axis=0)
+    count = len(corner)
+    corners = pixels(np.concatenate([corner, corner + across, corner + down, corner + down + across]))
+    top_left, top_right = corners[:count], corners[count:2 * count]
+    bottom_left, bottom_right = corners[2 * count:3 * count], corners[3 * count:]
     top = top_left + fx * (top_right - top_left)
     bottom = bottom_left + fx * (bottom_right - bottom_left)
     return top + fy * (bottom - top)
-
-
-def _gradients(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Central differences down and across (edges repeated), (H, W, C) each."""
-    padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), mode="edge")
-    return (padded[2:, 1:-1] - padded[:-2, 1:-1]) * 0.5, (padded[1:-1, 2:] - padded[1:-1, :-2]) * 0.5
 
 
 def _centroid(mask: np.ndarray) -> np.ndarray:
@@ -534,8 +647,8 @@ def _interior_changes(images: _Images, ref_map, out_map, displacement: dict, tol
         n = len(where)
         where = where[::-(-n // MAX_INTERIOR_READ)]
         d = displacement.get(label, np.zeros(2))
-        moved = _bilinear(images.ref, ys[where] - d[0], xs[where] - d[1])
-        residual = images.out[ys[where], xs[where]] - moved
+        moved = images.reference_at(ys[where] - d[0], xs[where] - d[1])
+        residual = images.output_at(ys[where], xs[where]) - moved
         residual = np.sign(residual) * np.maximum(np.abs(residual) - tolerance, 0)
         total = residual.sum(axis=0, dtype=np.float64)
         spread = np.abs(residual).sum(axis=0, dtype=np.float64)
