@@ -165,7 +165,7 @@ def view_count(light) -> int:
 def first_shadow_views(lights: list) -> tuple:
     """Per light of ``lights`` (World.lights), the index of its first view in the frame's
     list of shadow views, or -1 without shadows: the shadowed lights' views in light order,
-    as the lighting shaders read them (rendering.lights)."""
+    as the lighting shaders read them (rendering.light_buffers)."""
     firsts, count = [], 0
     for light in lights:
         firsts.append(count if light.shadow is not None else -1)

@@ -115,7 +115,7 @@ EnvironmentImage = choice(SKY) | EnvironmentPath
 
 class EnvironmentLight(_LightBase):
     """Light from every direction, as an image of the surroundings: the skybox, or an
-    equirectangular image (world.environment). Radiance from a direction is the image's
+    equirectangular image (world.environment_light). Radiance from a direction is the image's
     linear value there x colour x intensity; ``rotation`` turns the image about +Y."""
 
     type: Literal["environment"]
