@@ -23,6 +23,8 @@ sys.path.insert(0, str(HERE.parent / "compare"))
 import many_objects as M  # noqa: E402
 from common import PngWriter  # noqa: E402
 import scene_def as S  # noqa: E402  (look_at, perspective)
+# the floor loop's shadow-map shaders and matrix upload, the same here
+from run_floor import DEPTH_FRAGMENT, DEPTH_VERTEX, matrix  # noqa: E402
 
 VERTEX = """
 #version 330
@@ -61,14 +63,6 @@ void main() {
     frag_color = vec4(mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c)), 1.0);
 }
 """
-DEPTH_VERTEX = """
-#version 330
-uniform mat4 u_light_view_proj;
-uniform vec3 u_offset;
-in vec3 in_position;
-void main() { gl_Position = u_light_view_proj * vec4(in_position + u_offset, 1.0); }
-"""
-DEPTH_FRAGMENT = "#version 330\nvoid main() {}\n"
 SHADOW_SIZE = 2048
 
 
@@ -101,10 +95,6 @@ def sun_view_proj(extent: float) -> np.ndarray:
     ortho = np.diag([1.0 / extent, 1.0 / extent, -2.0 / (far - near), 1.0])
     ortho[2, 3] = -(far + near) / (far - near)
     return ortho @ view
-
-
-def matrix(m) -> bytes:
-    return np.ascontiguousarray(m.T, dtype="f4").tobytes()
 
 
 def main() -> None:
