@@ -130,12 +130,6 @@ def read_clips(raw: bytes, read_file=None) -> list[Clip]:
     return [_clip(i, animation, read, node_count) for i, animation in enumerate(animations)]
 
 
-def clip_names(raw: bytes) -> list[tuple[int, str | None]]:
-    """(index, name) of each clip, from the JSON alone (no buffer read)."""
-    header, _ = split_glb(raw)
-    return [(i, a.get("name") if isinstance(a, dict) else None) for i, a in enumerate(header.get("animations", []) or [])]
-
-
 def _clip(index: int, animation: dict, read, node_count: int) -> Clip:
     where = f"animations[{index}]"
     samplers = animation.get("samplers", [])

@@ -66,12 +66,3 @@ def _in_order(frame: dict) -> dict:
     record comes fresh from the renderer or back from the run manifest."""
     known = {key: frame[key] for key in FIELDS if key in frame}
     return {**known, **{key: frame[key] for key in sorted(frame) if key not in known}}
-
-
-def read_cameras(path: Path) -> list[dict]:
-    """The frame records of the cameras.json at ``path``; [] when absent or unreadable."""
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-        return list(data["frames"])
-    except (OSError, ValueError, KeyError, TypeError):
-        return []
