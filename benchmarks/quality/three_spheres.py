@@ -1,16 +1,19 @@
 """The environment's specular term against the reference: three spheres resting on a
 ground under a sky with a bright patch (scenes/three_spheres.yaml: a grey and a white
 dielectric, a copper-like metal of roughness 0.5), each sphere's error and each
-setting's cost. Writes three_spheres.md and .json.
+setting's cost; and the copper sphere alone (the others and the ground hidden, visibility
+off: nothing blocks its sky, so the specular term is all that is measured). Writes
+three_spheres.md and .json.
 
-    python benchmarks/quality/three_spheres.py [REFERENCE.npz]   # about 3 minutes on 2 cores
+    python benchmarks/quality/three_spheres.py [REFERENCE.npz]   # about 8 minutes on 2 cores
 
-REFERENCE.npz, where given, keeps the reference frame between runs (made if missing).
+REFERENCE.npz, where given, keeps the reference frames between runs (made if missing).
 
 Each sphere's error is the GPU's mean linear radiance over the pixels whose centre sees it
 (analytic intersection; pixels whose samples see more than one surface left out) against
 the reference's. The reference shades with the same BRDF, every direction of the
-environment blocked by the surfaces in its way; the GPU's visibility is the default's.
+environment blocked by the surfaces in its way; the GPU's visibility is the scene's (64
+directions; one row shows the light's default 16).
 
 Cost: the camera drifts (every frame drawn; the prefiltered image and the visibility maps
 on the first frame only): the median ms per frame after the first, the settings taking
@@ -44,7 +47,12 @@ VARIANTS = {
     "sampled, 16 samples": ["lights[0].specular=sampled", "lights[0].specular_samples=16"],
     "sampled, 32 samples": ["lights[0].specular=sampled", "lights[0].specular_samples=32"],
     "sampled, 64 samples": ["lights[0].specular=sampled", "lights[0].specular_samples=64"],
+    "split_sum, visibility at 16 directions (the light's default)": ["lights[0].visibility_directions=16"],
 }
+UNTIMED = ("split_sum, visibility at 16 directions (the light's default)",)
+# the copper sphere by itself: its neighbours and the ground hidden, nothing to block its sky
+ALONE = ["objects[0].visible=false", "objects[2].visible=false", "objects[3].visible=false",
+         "lights[0].visibility=false"]
 DRIFT = ["camera.position={keys: [[0, [0.0, 2.1, 7.2]], [1, [0.4, 2.1, 7.2]]]}", "output={fps: 30, frames: 31}"]
 
 
@@ -121,26 +129,38 @@ def frame_times(variants: dict, frames: int = 30) -> dict:
     return times
 
 
-def main() -> None:
-    scene = scenerender.load(SCENE)
-    cache = Path(sys.argv[1]) if len(sys.argv) > 1 else None  # an .npz keeping the reference between runs
+def references(cache: Path | None) -> dict:
+    """{"scene" | "alone": ((H, W) truth, (H, W) mixed)} at SIZE, 8x8 samples a pixel, 32
+    directions each; kept in ``cache`` (an .npz) where given."""
     if cache is not None and cache.exists():
         kept = np.load(cache)
-        truth, mixed = kept["truth"], kept["mixed"]
-    else:
-        truth, mixed = reference(scene, spp=8, environment_samples=32)
-        if cache is not None:
-            np.savez(cache, truth=truth, mixed=mixed)
+        return {name: (kept[f"{name}_truth"], kept[f"{name}_mixed"]) for name in ("scene", "alone")}
+    found = {"scene": reference(scenerender.load(SCENE), spp=8, environment_samples=32),
+             "alone": reference(scenerender.load(SCENE, ALONE), spp=8, environment_samples=32)}
+    if cache is not None:
+        np.savez(cache, **{f"{name}_{what}": value for name, pair in found.items()
+                           for what, value in zip(("truth", "mixed"), pair)})
+    return found
+
+
+def main() -> None:
+    scene = scenerender.load(SCENE)
+    found = references(Path(sys.argv[1]) if len(sys.argv) > 1 else None)
+    truth, mixed = found["scene"]
     masks = sphere_masks(surface_points(scene.world, SIZE), mixed)
+    alone_truth, alone_mixed = found["alone"]
+    alone = {"copper alone": (alone_truth > 0.0) & ~alone_mixed}
     results = {}
     for name, overrides in VARIANTS.items():
         errors = sphere_errors(gpu_linear(overrides, SIZE), truth, masks)
+        if name not in UNTIMED:
+            errors.update(sphere_errors(gpu_linear([*ALONE, *overrides], SIZE), alone_truth, alone))
         results[name] = {"errors": errors}
         print(name, {k: round(v * 100, 1) for k, v in errors.items()}, flush=True)
-    for name, values in frame_times(VARIANTS).items():
+    for name, values in frame_times({k: v for k, v in VARIANTS.items() if k not in UNTIMED}).items():
         results[name]["ms"] = statistics.median(values)
         print(name, round(statistics.median(values), 1), flush=True)
-    pixels = {name: int(mask.sum()) for name, mask in masks.items()}
+    pixels = {name: int(mask.sum()) for name, mask in {**masks, **alone}.items()}
     (HERE / "three_spheres.json").write_text(json.dumps({"pixels": pixels, "results": results}, indent=1))
     write_table(results, pixels)
 
@@ -148,20 +168,22 @@ def main() -> None:
 def write_table(results: dict, pixels: dict) -> None:
     """three_spheres.md: each setting's error per sphere and its cost, one row a setting."""
     base = results["split_sum (default)"]["ms"]
-    names = [name for name, _ in SPHERES]
+    names = [name for name, _ in SPHERES] + ["copper alone"]
     lines = ["# The environment's specular term: three spheres under a sky with a bright patch", "",
              "Made by `python benchmarks/quality/three_spheres.py` (see its docstring) on Mesa llvmpipe,",
-             "2 cores, 256x192, the default MSAA and visibility: each sphere's error is the GPU's mean",
+             "2 cores, 256x192, the default MSAA, visibility at 64 directions: each sphere's error is the GPU's mean",
              "linear radiance over it against the reference's (8x8 samples a pixel, 32 environment",
              "directions each, every direction blocked by the surfaces in its way). ms/frame: the",
              "median frame after the first as the camera drifts, the settings taking turns frame by",
-             "frame in one process. The scene: benchmarks/quality/scenes/three_spheres.yaml.", "",
+             "frame in one process. The scene: benchmarks/quality/scenes/three_spheres.yaml; copper",
+             "alone: the same with the other spheres and the ground hidden and visibility off (the",
+             "specular term by itself).", "",
              "| setting | " + " | ".join(f"{name} % ({pixels[name]} px)" for name in names)
              + " | ms/frame | vs split_sum |",
              "|---|" + "---|" * (len(names) + 2)]
     for name, result in results.items():
-        cells = [f"{100.0 * result['errors'][sphere]:+.1f}" for sphere in names]
-        cells += [f"{result['ms']:.1f}", f"{result['ms'] / base:.2f}"]
+        cells = [f"{100.0 * result['errors'][sphere]:+.1f}" if sphere in result["errors"] else "-" for sphere in names]
+        cells += [f"{result['ms']:.1f}", f"{result['ms'] / base:.2f}"] if "ms" in result else ["-", "-"]
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     (HERE / "three_spheres.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

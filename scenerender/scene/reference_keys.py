@@ -150,6 +150,8 @@ KEYS: dict[str, Key] = {
     "lights[environment].sh_order": Key("Spherical-harmonic bands of its diffuse term, 0-4.", "3"),
     "lights[environment].samples": Key("GGX samples a texel of each rough prefiltered level.", "32"),
     "lights[environment].footprint": Key("Average a reflection over the pixel's spread of directions (a sun in a smooth metal no longer sparkles); off, the exact BRDF. Measured against the reference in docs/scene-notes.md.", "true"),
+    "lights[environment].specular": Key("The pbr specular term: `split_sum`, the prefiltered image looked up at the reflection direction (normal = view = reflection; fast); `sampled`, `specular_samples` GGX samples of the image at each pixel's own normal and view, each from the mip level matching its share of the lobe (the whole integral, no split; slower). Measured against the reference in benchmarks/quality/three_spheres.md.", "sampled"),
+    "lights[environment].specular_samples": Key("With `specular: sampled`: GGX samples a pixel (1-256); fewer is faster, and its error swings more with the scene (8 samples: the copper sphere 4 % dark).", "32"),
     "lights[environment].visibility": Key("The scene blocks its light, diffuse and specular (an object stands in its own shadow of the sky); `false`: every surface gets the whole environment, as before. Method and error in docs/scene-notes.md.", "false"),
     "lights[environment].visibility_directions": Key("Directions the image is split into by median cut, each with a shadow map; more: softer, truer shadows, more time per pixel (1-64).", "64"),
     "lights[environment].visibility_map_size": Key("Texels a side of each direction's shadow map, fitted to the shadow casters' bounds.", "1024"),
