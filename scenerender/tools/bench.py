@@ -5,8 +5,9 @@ One knob changes at a time from the scene's own settings (the "default" row): MS
 samples, shadow map size, PCF size, shadow bias, ambient occlusion on/off, image size;
 then a few shadow map size and PCF pairs together ("combined"); with an environment light,
 its prefilter size, spherical-harmonic order, prefilter samples and footprint filter, its
-specular term (split sum, or sampled with a few sample counts), and its visibility (off, and its directions, map size and pixel blocks); with a shutter or an
-aperture, the sub-frames a frame (render.film_samples); with a shutter, the other way of
+specular term (split sum, or sampled with a few sample counts), and its visibility (off,
+and its directions, map size and pixel blocks); with a shutter or an aperture, the
+sub-frames a frame (render.film_samples); with a shutter, the other way of
 filming it (render.motion_blur: sub_frames or velocity). What is made once a run
 (the prefiltered environment) is timed apart, in ``once_ms``.
 Timing: every variant keeps its renderer open and the variants take turns frame by frame
