@@ -53,8 +53,10 @@ uniform sampler2D u_env_source;  // equirectangular linear radiance, with mip le
 // the same fixed Hammersley set at every pixel, so the error is smooth rather than noise),
 // each l = reflect(-v, h) weighted by f_s N.L / pdf = F G2 / G1(v), where
 // pdf = G1(v) D / (4 N.V); each read from the source's mip level whose texel matches the
-// sample's share of the lobe, 1 / (count pdf) steradians (+1 level, as the prefilter):
-// the wide filter stands in for the samples a brute-force sum would need.
+// sample's share of the lobe, 1 / (count pdf) steradians: the wide filter stands in for
+// the samples a brute-force sum would need. Not the prefilter's +1 level: that blurred a
+// small bright patch out of the lobe (a copper sphere 4.7 % dark at 16 samples, against
+// 1.4 % without; docs/scene-notes.md).
 vec2 env_hammersley(uint i) {
     return vec2((float(i) + 0.5) / float(ENV_SPECULAR_SAMPLES), float(bitfieldReverse(i)) * 2.3283064365386963e-10);
 }
