@@ -79,7 +79,7 @@ class EnvironmentDef:
     visibility_interleave: int = 1
     visibility_half_resolution: bool = False
     specular: str = "split_sum"
-    specular_samples: int = 16
+    specular_samples: int = 32
 
     @cached_property
     def sh(self) -> np.ndarray:

@@ -129,7 +129,7 @@ class EnvironmentLight(_LightBase):
     # the pbr specular term: the prefiltered image at the reflection direction (split_sum),
     # or GGX samples of the image at shading time around the real normal and view (sampled)
     specular: choice("split_sum", "sampled") = "split_sum"
-    specular_samples: number(1, 256, integer=True) = 16  # a pixel's samples, with specular: sampled
+    specular_samples: number(1, 256, integer=True) = 32  # a pixel's samples, with specular: sampled
     # the scene blocks the environment's light (world.environment_visibility); false: not
     visibility: Bool = True
     visibility_directions: number(1, 64, integer=True) = 16  # directions, each with a shadow map
