@@ -45,7 +45,7 @@ VARIANTS = {
     "sampled, 4 samples": ["lights[0].specular=sampled", "lights[0].specular_samples=4"],
     "sampled, 8 samples": ["lights[0].specular=sampled", "lights[0].specular_samples=8"],
     "sampled, 16 samples": ["lights[0].specular=sampled", "lights[0].specular_samples=16"],
-    "sampled, 32 samples": ["lights[0].specular=sampled", "lights[0].specular_samples=32"],
+    "sampled, 32 samples (the count's default)": ["lights[0].specular=sampled", "lights[0].specular_samples=32"],
     "sampled, 64 samples": ["lights[0].specular=sampled", "lights[0].specular_samples=64"],
     "split_sum, visibility at 16 directions (the light's default)": ["lights[0].visibility_directions=16"],
 }
