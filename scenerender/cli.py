@@ -523,9 +523,9 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
               show_default=True, help="Folder for NAME.md (table), NAME.json and NAME.png (plot). " + MAKES_PARENTS)
 @click.option("--knob", "knobs", multiple=True,
               type=click.Choice(["samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size",
-                                 "sh_order", "env_samples", "env_footprint", "env_visibility", "env_directions",
-                                 "env_map_size", "env_interleave", "film_samples", "blocker_samples", "filter_samples",
-                                 "motion_blur"]),
+                                 "sh_order", "env_samples", "env_footprint", "env_specular", "env_visibility",
+                                 "env_directions", "env_map_size", "env_interleave", "film_samples", "blocker_samples",
+                                 "filter_samples", "motion_blur"]),
               help="Sweep only these knobs (repeatable; default all).")
 @click.option("--frames", type=click.IntRange(1, 1000), default=3, show_default=True,
               help="Timed frames per variant and round (after one warm-up frame).")

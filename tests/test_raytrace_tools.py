@@ -161,6 +161,9 @@ def test_bench_offers_every_knob_of_the_sweep_and_the_environment_ones_where_it_
     assert "lights[1].prefilter_size=128" not in overrides  # the default
     assert "lights[1].samples=32" in overrides and "lights[1].samples=512" not in overrides  # 512: the default
     assert "lights[1].footprint=true" in overrides
+    specular = [v.overrides for v in variants if v.knob == "env_specular"]
+    assert ("lights[1].specular=sampled", "lights[1].specular_samples=32") in specular
+    assert all(o != ("lights[1].specular=split_sum",) for o in specular)  # split_sum: the default
     seen = [o for v in variants if v.knob in ("env_visibility", "env_directions", "env_map_size", "env_interleave")
             for o in v.overrides]
     assert "lights[1].visibility=false" in seen and "lights[1].visibility_directions=32" in seen

@@ -81,6 +81,7 @@ class SceneFeatures:
     environment: tuple | None = None
     environment_classic: bool = False
     environment_footprint: bool = False
+    environment_specular_samples: int = 0  # GGX samples a pixel of the sampled specular term; 0: the split sum
     environment_visibility: int = 0  # directions the scene's occlusion of it is sampled in
     # (N, lookups a pixel) of the blocks the directions are shared out over; N 1: every
     # pixel looks up all of them as it shades (environment_visibility.interleave_pattern)
@@ -189,6 +190,8 @@ class SceneFeatures:
         defines = {"HAS_ENVIRONMENT": True, **specular_layout_defines(self.environment)}
         if self.environment_footprint:
             defines["ENV_FOOTPRINT"] = True
+        if self.environment_specular_samples:
+            defines["ENV_SPECULAR_SAMPLES"] = self.environment_specular_samples
         if self.environment_visibility:
             defines["ENV_VISIBILITY"] = self.environment_visibility
             defines["ENV_VIS_MIN_ALPHA"] = visibility_min_alpha(self.environment_visibility)
@@ -230,6 +233,7 @@ def _environment_features(environment) -> dict:
         return {}
     return {"environment": specular_layout(environment), "environment_classic": environment.classic,
             "environment_footprint": environment.footprint, "environment_visibility": environment.visibility,
+            "environment_specular_samples": environment.specular_samples if environment.specular == "sampled" else 0,
             "environment_interleave": interleave_pattern(environment.visibility, environment.visibility_interleave)
             if environment.visibility else (1, 0)}
 

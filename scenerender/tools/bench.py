@@ -4,9 +4,10 @@ in-process and measured against the CPU reference.
 One knob changes at a time from the scene's own settings (the "default" row): MSAA
 samples, shadow map size, PCF size, shadow bias, ambient occlusion on/off, image size;
 then a few shadow map size and PCF pairs together ("combined"); with an environment light,
-its prefilter size, spherical-harmonic order, prefilter samples and footprint filter, and
-its visibility (off, and its directions, map size and pixel blocks); with a shutter or an
-aperture, the sub-frames a frame (render.film_samples); with a shutter, the other way of
+its prefilter size, spherical-harmonic order, prefilter samples and footprint filter, its
+specular term (split sum, or sampled with a few sample counts), and its visibility (off,
+and its directions, map size and pixel blocks); with a shutter or an aperture, the
+sub-frames a frame (render.film_samples); with a shutter, the other way of
 filming it (render.motion_blur: sub_frames or velocity). What is made once a run
 (the prefiltered environment) is timed apart, in ``once_ms``.
 Timing: every variant keeps its renderer open and the variants take turns frame by frame
@@ -48,9 +49,10 @@ VISIBILITY_MAP_SIZES = (256, 512, 1024)
 BLOCKER_SAMPLES = (8, 16, 32)
 FILTER_SAMPLES = (16, 32, 64)
 VISIBILITY_INTERLEAVES = (1, 2, 3, 4)  # 1: the exact per-pixel sum
+SPECULAR_SAMPLES = (8, 16, 32, 64)  # a pixel's GGX samples of the sampled specular term
 KNOBS = ("samples", "shadow_size", "pcf", "bias", "ao", "size", "combined", "prefilter_size", "sh_order",
-         "env_samples", "env_footprint", "env_visibility", "env_directions", "env_map_size", "env_interleave",
-         "film_samples", "blocker_samples", "filter_samples", "motion_blur")
+         "env_samples", "env_footprint", "env_specular", "env_visibility", "env_directions", "env_map_size",
+         "env_interleave", "film_samples", "blocker_samples", "filter_samples", "motion_blur")
 ONCE_PASSES = ("environment_prefilter",)  # passes a run makes once, whose cost is not per frame
 
 
@@ -101,6 +103,19 @@ def _round(value, digits):
     return round(value, digits) if isinstance(value, float) else value
 
 
+def _specular_variants(key: str, environment) -> list[Variant]:
+    """The environment's specular term other than its own: the split sum, and sampled with
+    each of SPECULAR_SAMPLES (two overrides each: the mode and the count)."""
+    found = []
+    if environment.specular != "split_sum":
+        found.append(Variant("specular split_sum", "env_specular", (f"{key}.specular=split_sum",)))
+    for count in SPECULAR_SAMPLES:
+        if environment.specular != "sampled" or count != environment.specular_samples:
+            found.append(Variant(f"specular sampled {count}", "env_specular",
+                                 (f"{key}.specular=sampled", f"{key}.specular_samples={count}")))
+    return found
+
+
 def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
     """The default row, then one row per other value of each knob in ``knobs``."""
     spec = scene.world.render
@@ -144,6 +159,8 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
         each("env_samples", "prefilter samples {}", f"{key}.samples", PREFILTER_SAMPLES, environment.samples)
         add("env_footprint", "footprint " + ("off" if environment.footprint else "on"),
             f"{key}.footprint={'false' if environment.footprint else 'true'}", False, True)
+        if "env_specular" in knobs:
+            variants += _specular_variants(key, environment)
         seen = bool(environment.visibility)
         add("env_visibility", "visibility " + ("off" if seen else "on"),
             f"{key}.visibility={'false' if seen else 'true'}", False, True)

@@ -50,6 +50,8 @@ class EnvironmentDef:
     sh_order: the highest spherical-harmonic band of the diffuse term (0..4).
     samples: GGX samples a texel of each rough prefiltered level.
     footprint: the specular lookup widened to the pixel's spread of reflection directions.
+    specular: "split_sum" (the prefiltered image at the reflection direction) or "sampled"
+    (``specular_samples`` GGX samples of ``image`` a pixel, at its own normal and view).
     visibility: how many directions the scene's occlusion of the light is sampled in, each
     with a shadow map of ``visibility_map_size`` texels a side (world.environment_visibility);
     0: the scene does not block it. visibility_interleave: pixels a side of the block the
@@ -76,6 +78,8 @@ class EnvironmentDef:
     background: bool = False
     visibility_interleave: int = 1
     visibility_half_resolution: bool = False
+    specular: str = "split_sum"
+    specular_samples: int = 32
 
     @cached_property
     def sh(self) -> np.ndarray:
@@ -140,7 +144,7 @@ def environment_def(scene, images, sky_faces) -> EnvironmentDef | None:
                           light.enabled, light.rotation, light.classic, light.prefilter_size, light.sh_order,
                           light.samples, light.footprint, light.visibility_directions if light.visibility else 0,
                           light.visibility_map_size, light.background, light.visibility_interleave,
-                          light.visibility_half_resolution)
+                          light.visibility_half_resolution, light.specular, light.specular_samples)
 
 
 def skybox_image(faces, images) -> np.ndarray:

@@ -82,6 +82,9 @@ class EnvironmentLighting:
         specular.repeat_x = True
         specular.use(TEXTURE_UNITS["u_env_specular"])
         ctx.input(self.environment_map).diffuse.use(TEXTURE_UNITS["u_env_diffuse"])
+        if ctx.features.environment_specular_samples:
+            # the sampled specular term reads the source image itself, mip levels and all
+            ctx.input(self.environment_map).source.use(TEXTURE_UNITS["u_env_source"])
         if self.visibility is not None:
             bind_visibility_maps(ctx, self.visibility)
         if self.lookups is not None:

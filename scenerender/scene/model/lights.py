@@ -126,6 +126,10 @@ class EnvironmentLight(_LightBase):
     sh_order: number(0, 4, integer=True) = 4
     samples: number(1, 4096, integer=True) = 512
     footprint: Bool = False  # reflections averaged over the pixel's spread of directions (an option)
+    # the pbr specular term: the prefiltered image at the reflection direction (split_sum),
+    # or GGX samples of the image at shading time around the real normal and view (sampled)
+    specular: choice("split_sum", "sampled") = "split_sum"
+    specular_samples: number(1, 256, integer=True) = 32  # a pixel's samples, with specular: sampled
     # the scene blocks the environment's light (world.environment_visibility); false: not
     visibility: Bool = True
     visibility_directions: number(1, 64, integer=True) = 16  # directions, each with a shadow map
