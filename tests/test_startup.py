@@ -9,6 +9,7 @@ commands or options use.
 from __future__ import annotations
 
 import gc
+import os
 import subprocess
 import sys
 import textwrap
@@ -18,8 +19,9 @@ import pytest
 from click.testing import CliRunner
 
 from conftest import skip_without_gl
-from scenerender.cli import COMMAND_GC_THRESHOLD, main
+from scenerender.cli import COMMAND_GC_THRESHOLD, FULL_EXIT_VARIABLE, main
 from scenerender.scene import load_scene
+from scenerender.version import __version__
 
 ROOT = Path(__file__).resolve().parent.parent
 PROPS = ROOT / "scenes" / "assets" / "models" / "pbr_props.glb"
@@ -122,3 +124,71 @@ def test_importing_the_scene_model_builds_no_validator():
     result = subprocess.run([sys.executable, "-c", BUILT_AT_IMPORT], capture_output=True, text=True, check=True,
                             cwd=ROOT)
     assert result.stdout.split() == []
+
+
+# The process entry point: the command runs, exit handlers run, and the interpreter is not
+# torn down (cli.entry_point). A module global's __del__ runs only at a full teardown.
+ENTRY_POINT = textwrap.dedent("""
+    import atexit
+    import sys
+    import threading
+    import time
+
+    class Teardown:
+        def __del__(self):
+            sys.stderr.write("torn down\\n")
+
+    kept = Teardown()
+    atexit.register(lambda: sys.stderr.write("exit handler ran\\n"))
+    if "--with-thread" in sys.argv:
+        sys.argv.remove("--with-thread")
+        threading.Thread(target=lambda: (time.sleep(0.5), sys.stderr.write("thread finished\\n"))).start()
+    from scenerender.cli import entry_point
+    sys.argv[0] = "scenerender"
+    entry_point()
+""")
+
+
+def run_entry_point(*args: str, env: dict | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-c", ENTRY_POINT, *args], capture_output=True, text=True, cwd=ROOT,
+                          env=env)
+
+
+def test_the_entry_point_exits_without_tearing_the_interpreter_down(tmp_path, monkeypatch):
+    monkeypatch.delenv(FULL_EXIT_VARIABLE, raising=False)
+    minimal = str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")
+    quick = run_entry_point("validate", minimal)
+    assert quick.returncode == 0, quick.stderr
+    assert quick.stderr.splitlines() == ["exit handler ran"]
+    full = run_entry_point("validate", minimal, env={**os.environ, FULL_EXIT_VARIABLE: "1"})
+    assert full.returncode == 0, full.stderr
+    assert full.stderr.splitlines() == ["exit handler ran", "torn down"]
+
+
+def test_the_quick_exit_keeps_exit_codes_and_output(tmp_path, monkeypatch):
+    monkeypatch.delenv(FULL_EXIT_VARIABLE, raising=False)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("objects: [{mesh: {primitive: nothing}}]\n", encoding="utf-8")
+    result = run_entry_point("validate", str(bad))
+    assert result.returncode == 2
+    assert "nothing" in result.stderr and "torn down" not in result.stderr
+    version = run_entry_point("--version")
+    assert version.returncode == 0 and version.stdout.strip().endswith(__version__)
+
+
+def test_a_thread_still_running_is_waited_for(monkeypatch):
+    monkeypatch.delenv(FULL_EXIT_VARIABLE, raising=False)
+    result = run_entry_point("--version", "--with-thread")
+    assert result.returncode == 0, result.stderr
+    assert "thread finished" in result.stderr.splitlines()
+
+
+def test_a_one_frame_render_through_the_entry_point_writes_its_frame(tmp_path, monkeypatch):
+    monkeypatch.delenv(FULL_EXIT_VARIABLE, raising=False)
+    out = tmp_path / "out"
+    result = run_entry_point("render", str(ROOT / "benchmarks" / "scenes" / "minimal.yaml"), "-o", str(out), "-q",
+                             "--size", "160x120", "--frames", "0:1")
+    skip_without_gl(result.returncode, result.stderr)
+    assert result.returncode == 0, result.stderr
+    assert "torn down" not in result.stderr
+    assert (out / "frame_0000.png").stat().st_size > 0
