@@ -19,7 +19,7 @@ import pytest
 from click.testing import CliRunner
 
 from conftest import skip_without_gl
-from scenerender.cli import COMMAND_GC_THRESHOLD, FULL_EXIT_VARIABLE, main
+from scenerender.cli import COMMAND_GC_THRESHOLD, FULL_EXIT_VARIABLE, OPENBLAS_THREADS_VARIABLE, main
 from scenerender.scene import load_scene
 from scenerender.version import __version__
 
@@ -196,3 +196,31 @@ def test_a_one_frame_render_through_the_entry_point_writes_its_frame(tmp_path, m
     assert result.returncode == 0, result.stderr
     assert "torn down" not in result.stderr
     assert (out / "frame_0000.png").stat().st_size > 0
+
+
+# What the entry point leaves to NumPy: the command prints OpenBLAS's thread setting as
+# the process saw it, and whether NumPy was loaded before the entry point set it.
+BLAS_SETTING = textwrap.dedent("""
+    import atexit
+    import os
+    import sys
+
+    from scenerender.cli import entry_point
+
+    loaded_early = "numpy" in sys.modules
+    atexit.register(lambda: print(os.environ.get("OPENBLAS_NUM_THREADS"), loaded_early, "numpy" in sys.modules))
+    sys.argv[0] = "scenerender"
+    entry_point()
+""")
+
+
+@pytest.mark.parametrize("given, expected", [(None, "1"), ("3", "3")])
+def test_the_entry_point_starts_openblas_with_one_thread_unless_told(given, expected, tmp_path):
+    env = {key: value for key, value in os.environ.items() if key != OPENBLAS_THREADS_VARIABLE}
+    if given is not None:
+        env[OPENBLAS_THREADS_VARIABLE] = given
+    result = subprocess.run([sys.executable, "-c", BLAS_SETTING, "validate",
+                             str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")],
+                            capture_output=True, text=True, cwd=ROOT, env=env)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split()[-3:] == [expected, "False", "True"]
