@@ -43,7 +43,7 @@ NOT_ON_THE_RENDER_PATH = (
     # passes of features the scenes here lack (rendering/pipeline.py imports them when added)
     "scenerender.rendering.passes.ambient_occlusion", "scenerender.rendering.passes.bloom",
     "scenerender.rendering.passes.depth_of_field", "scenerender.rendering.passes.motion_blur",
-    "scenerender.rendering.passes.views",
+    "scenerender.rendering.passes.views", "scenerender.rendering.passes.environment",
 )
 
 # Runs the command in this process, then prints every module it imported.

@@ -8,15 +8,13 @@ the readback takes, and compiling the graph culls every pass that image does not
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from scenerender.graph import FrameGraph
 from scenerender.rendering.features import environment_shades, specular_layout, visibility_min_alpha
 from scenerender.rendering.graph_inputs import InputHandles, import_inputs
-from scenerender.rendering.passes.environment import (
-    EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentVisibilityBlurPass, EnvironmentVisibilityPass,
-)
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
 from scenerender.rendering.passes.object_ids import ObjectIdPass
 from scenerender.rendering.passes.output import (
@@ -29,9 +27,11 @@ from scenerender.world.frame import FrameEvaluator
 from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
 # The passes of features only some scenes have (ambient occlusion, the lens and motion
-# blurs, bloom, the data views) are imported where the builder adds them: a one-frame
-# render is mostly start-up, and a scene without them need not pay for their modules
-# (tests/test_startup.py).
+# blurs, bloom, the data views, the environment light) are imported where the builder
+# adds them: a one-frame render is mostly start-up, and a scene without them need not
+# pay for their modules (tests/test_startup.py).
+if TYPE_CHECKING:
+    from scenerender.rendering.passes.environment import EnvironmentLighting
 
 
 @dataclass(frozen=True)
@@ -185,6 +185,10 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
     if environment is None or not any(environment_shades(environment.classic, m.model(world.settings.shading))
                                       for m in world.materials()):
         return None
+    from scenerender.rendering.passes.environment import (  # deferred: see the imports
+        EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentVisibilityBlurPass, EnvironmentVisibilityPass,
+    )
+
     specular = graph.add(EnvironmentPrefilterPass(inputs.environment_map, specular_layout(environment),
                                                   environment.samples)).image
     visibility = None
