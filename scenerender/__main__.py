@@ -1,3 +1,3 @@
-from scenerender.cli import main
+from scenerender.cli import entry_point
 
-main()
+entry_point()

@@ -9,6 +9,7 @@ commands or options use.
 from __future__ import annotations
 
 import gc
+import os
 import subprocess
 import sys
 import textwrap
@@ -18,8 +19,9 @@ import pytest
 from click.testing import CliRunner
 
 from conftest import skip_without_gl
-from scenerender.cli import COMMAND_GC_THRESHOLD, main
+from scenerender.cli import COMMAND_GC_THRESHOLD, FULL_EXIT_VARIABLE, OPENBLAS_THREADS_VARIABLE, main
 from scenerender.scene import load_scene
+from scenerender.version import __version__
 
 ROOT = Path(__file__).resolve().parent.parent
 PROPS = ROOT / "scenes" / "assets" / "models" / "pbr_props.glb"
@@ -38,6 +40,10 @@ NOT_ON_THE_RENDER_PATH = (
     "scenerender.compare.report",
     "scenerender.raytrace",                 # `reference`
     "scenerender.tools",                    # `bench`
+    # passes of features the scenes here lack (rendering/pipeline.py imports them when added)
+    "scenerender.rendering.passes.ambient_occlusion", "scenerender.rendering.passes.bloom",
+    "scenerender.rendering.passes.depth_of_field", "scenerender.rendering.passes.motion_blur",
+    "scenerender.rendering.passes.views", "scenerender.rendering.passes.environment",
 )
 
 # Runs the command in this process, then prints every module it imported.
@@ -122,3 +128,99 @@ def test_importing_the_scene_model_builds_no_validator():
     result = subprocess.run([sys.executable, "-c", BUILT_AT_IMPORT], capture_output=True, text=True, check=True,
                             cwd=ROOT)
     assert result.stdout.split() == []
+
+
+# The process entry point: the command runs, exit handlers run, and the interpreter is not
+# torn down (cli.entry_point). A module global's __del__ runs only at a full teardown.
+ENTRY_POINT = textwrap.dedent("""
+    import atexit
+    import sys
+    import threading
+    import time
+
+    class Teardown:
+        def __del__(self):
+            sys.stderr.write("torn down\\n")
+
+    kept = Teardown()
+    atexit.register(lambda: sys.stderr.write("exit handler ran\\n"))
+    if "--with-thread" in sys.argv:
+        sys.argv.remove("--with-thread")
+        threading.Thread(target=lambda: (time.sleep(0.5), sys.stderr.write("thread finished\\n"))).start()
+    from scenerender.cli import entry_point
+    sys.argv[0] = "scenerender"
+    entry_point()
+""")
+
+
+def run_entry_point(*args: str, env: dict | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-c", ENTRY_POINT, *args], capture_output=True, text=True, cwd=ROOT,
+                          env=env)
+
+
+def test_the_entry_point_exits_without_tearing_the_interpreter_down(tmp_path, monkeypatch):
+    monkeypatch.delenv(FULL_EXIT_VARIABLE, raising=False)
+    minimal = str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")
+    quick = run_entry_point("validate", minimal)
+    assert quick.returncode == 0, quick.stderr
+    assert quick.stderr.splitlines() == ["exit handler ran"]
+    full = run_entry_point("validate", minimal, env={**os.environ, FULL_EXIT_VARIABLE: "1"})
+    assert full.returncode == 0, full.stderr
+    assert full.stderr.splitlines() == ["exit handler ran", "torn down"]
+
+
+def test_the_quick_exit_keeps_exit_codes_and_output(tmp_path, monkeypatch):
+    monkeypatch.delenv(FULL_EXIT_VARIABLE, raising=False)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("objects: [{mesh: {primitive: nothing}}]\n", encoding="utf-8")
+    result = run_entry_point("validate", str(bad))
+    assert result.returncode == 2
+    assert "nothing" in result.stderr and "torn down" not in result.stderr
+    version = run_entry_point("--version")
+    assert version.returncode == 0 and version.stdout.strip().endswith(__version__)
+
+
+def test_a_thread_still_running_is_waited_for(monkeypatch):
+    monkeypatch.delenv(FULL_EXIT_VARIABLE, raising=False)
+    result = run_entry_point("--version", "--with-thread")
+    assert result.returncode == 0, result.stderr
+    assert "thread finished" in result.stderr.splitlines()
+
+
+def test_a_one_frame_render_through_the_entry_point_writes_its_frame(tmp_path, monkeypatch):
+    monkeypatch.delenv(FULL_EXIT_VARIABLE, raising=False)
+    out = tmp_path / "out"
+    result = run_entry_point("render", str(ROOT / "benchmarks" / "scenes" / "minimal.yaml"), "-o", str(out), "-q",
+                             "--size", "160x120", "--frames", "0:1")
+    skip_without_gl(result.returncode, result.stderr)
+    assert result.returncode == 0, result.stderr
+    assert "torn down" not in result.stderr
+    assert (out / "frame_0000.png").stat().st_size > 0
+
+
+# What the entry point leaves to NumPy: the command prints OpenBLAS's thread setting as
+# the process saw it, and whether NumPy was loaded before the entry point set it.
+BLAS_SETTING = textwrap.dedent("""
+    import atexit
+    import os
+    import sys
+
+    from scenerender.cli import entry_point
+
+    loaded_early = "numpy" in sys.modules
+    atexit.register(lambda: print(os.environ.get("OPENBLAS_NUM_THREADS"), loaded_early, "numpy" in sys.modules))
+    sys.argv[0] = "scenerender"
+    entry_point()
+""")
+
+
+@pytest.mark.parametrize("given, expected", [(None, "1"), ("3", "3")])
+def test_the_entry_point_starts_openblas_with_one_thread_unless_told(given, expected, tmp_path):
+    env = {key: value for key, value in os.environ.items() if key != OPENBLAS_THREADS_VARIABLE}
+    if given is not None:
+        env[OPENBLAS_THREADS_VARIABLE] = given
+    result = subprocess.run([sys.executable, "-c", BLAS_SETTING, "validate",
+                             str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")],
+                            capture_output=True, text=True, cwd=ROOT, env=env)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split()[-3:] == [expected, "False", "True"]

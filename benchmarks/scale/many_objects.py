@@ -9,13 +9,21 @@ map drawn once, 3x3 PCF, MSAA resolved by a blit, PNG per frame).
     python benchmarks/scale/many_objects.py --write-scene /tmp/many.yaml --counts 1000   # the scene only
 
 ``--main /path/to/checkout`` adds a third runner: ``python -m scenerender`` run from that
-checkout, to compare two versions in the same alternation.
+checkout, to compare two versions in the same alternation. ``--filly-python PYTHON`` adds
+filly (Filament's Python binding) in that interpreter, rendering the same scene: one model
+per sphere (filly's ``uv_sphere``, 256 triangles too), the ground, the sun with a 2048 px
+shadow map, the same 24 camera positions, 4x MSAA, a PNG per frame (``FILLY_SCRIPT``).
+
+    python benchmarks/scale/many_objects.py --counts 1000 --rounds 2 --filly-python /tmp/filly/bin/python
 """
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import textwrap
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -87,10 +95,67 @@ def scene_yaml(count: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-def timed(command: list[str], cwd: Path) -> float:
+# filly's side of the scene, run in filly's interpreter with the setup as a JSON file (3,000
+# positions are too long for one command-line argument). The exposure, tone mapping and
+# encoding are those of benchmarks/compare/run_filly.py; filly has no ambient light, which
+# changes the spheres' shade, not the work.
+FILLY_SCRIPT = textwrap.dedent("""
+    import json, math, sys
+    import numpy as np
+    import filly
+    from PIL import Image
+    setup = json.loads(open(sys.argv[1]).read())
+    with filly.Renderer() as renderer:
+        scene = renderer.create_scene()
+        scene.msaa = setup["samples"]
+        scene.tone_mapping = "linear"
+        scene.encoding = "srgb"
+        scene.shadows = True
+        scene.background = setup["background"] + [1.0]
+        half = setup["ground_half"]
+        corners = np.array([[-half, 0, -half], [half, 0, -half], [half, 0, half], [-half, 0, half]], np.float32)
+        scene.create_mesh(corners, np.array([[0, 2, 1], [0, 3, 2]], np.uint32),
+                          normals=np.tile(np.array([[0, 1, 0]], np.float32), (4, 1)), base_color=[0.8, 0.8, 0.8, 1])
+        sphere = filly.shapes.uv_sphere(setup["radius"], segments=setup["segments"], rings=setup["rings"])
+        for position in setup["positions"]:
+            model = scene.create_mesh(sphere["positions"], sphere["indices"], normals=sphere["normals"],
+                                      base_color=[0.8, 0.55, 0.35, 1.0], roughness=0.5)
+            model.position = tuple(position)
+        light = scene.add_directional_light(direction=setup["sun"], intensity=math.pi)
+        light.casts_shadows = True
+        light.shadow_map_size = 2048
+        camera = renderer.create_camera()
+        camera.set_perspective(fov_y_deg=setup["fov"], aspect=setup["size"][0] / setup["size"][1])
+        camera.exposure = math.log2(1.0 / 1.2)  # EV100: exposure factor 1
+        scene.camera = camera
+        target = renderer.create_render_target(width=setup["size"][0], height=setup["size"][1])
+        for index, position in enumerate(setup["cameras"]):
+            camera.position = position
+            camera.look_at([0.0, 0.0, 0.0])
+            renderer.render(scene, target)
+            Image.fromarray(target.read()[:, :, :3]).save(setup["output"].format(index=index))
+""")
+
+
+def filly_setup(count: int, output: Path) -> dict:
+    """What FILLY_SCRIPT renders: scene_yaml's scene for ``count`` spheres. filly's
+    ``uv_sphere`` with SPHERE's rings has 256 triangles, as scenerender's sphere."""
+    return {"size": list(SIZE), "samples": SAMPLES, "background": [0.5, 0.6, 0.75],
+            "ground_half": math.ceil(math.sqrt(count)) * 0.8 + 2.0, "radius": SPHERE["radius"],
+            "segments": SPHERE["segments"], "rings": SPHERE["rings"], "positions": sphere_positions(count).tolist(),
+            "sun": list(SUN_DIRECTION), "fov": 50.0, "cameras": [list(p) for _, p in orbit(count)[:FRAMES]],
+            "output": str(output / "frame_{index:04d}.png")}
+
+
+def timed(command: list[str], cwd: Path) -> tuple[float, float]:
+    """(wall seconds, CPU seconds: user + system of the process and its children); the CPU
+    time is the steadier of the two on a shared machine."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     started = time.perf_counter()
     subprocess.run(command, cwd=cwd, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - started
+    wall = time.perf_counter() - started
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
 def main() -> None:
@@ -99,12 +164,13 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--main", help="another checkout to time in the same alternation")
     parser.add_argument("--write-scene", help="write the scene of the first count here and stop")
+    parser.add_argument("--filly-python", help="an interpreter with filly: filly renders the scene too")
     args = parser.parse_args()
     if args.write_scene:
         Path(args.write_scene).write_text(scene_yaml(args.counts[0]))
         return
-    print("| objects | runner | whole process, s (median) | runs | vs plain loop |")
-    print("|---|---|---|---|---|")
+    print("| objects | runner | whole process, s (median) | CPU, s (median) | runs (wall) | vs plain loop |")
+    print("|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as work:
         for count in args.counts:
             scene = Path(work) / f"many_{count}.yaml"
@@ -118,15 +184,22 @@ def main() -> None:
             }
             if args.main:
                 runners["scenerender (other checkout)"] = (runners["scenerender"][0], Path(args.main))
-            times: dict[str, list[float]] = {name: [] for name in runners}
+            if args.filly_python:
+                (Path(work) / "filly").mkdir(exist_ok=True)
+                setup = Path(work) / f"filly_{count}.json"
+                setup.write_text(json.dumps(filly_setup(count, Path(work) / "filly")))
+                (Path(work) / "filly_run.py").write_text(FILLY_SCRIPT)
+                runners["filly"] = ([args.filly_python, str(Path(work) / "filly_run.py"), str(setup)], ROOT)
+            times: dict[str, list[tuple[float, float]]] = {name: [] for name in runners}
             for _ in range(args.rounds):
                 for name, (command, cwd) in runners.items():
                     times[name].append(timed(command, cwd))
-            floor = statistics.median(times["plain moderngl loop"])
+            floor = statistics.median(wall for wall, _ in times["plain moderngl loop"])
             for name, values in times.items():
-                median = statistics.median(values)
-                runs = " ".join(f"{v:.2f}" for v in values)
-                print(f"| {count} | {name} | {median:.2f} | {runs} | {median / floor:.2f}x |", flush=True)
+                median = statistics.median(wall for wall, _ in values)
+                cpu = statistics.median(cpu for _, cpu in values)
+                runs = " ".join(f"{wall:.2f}" for wall, _ in values)
+                print(f"| {count} | {name} | {median:.2f} | {cpu:.2f} | {runs} | {median / floor:.2f}x |", flush=True)
 
 
 if __name__ == "__main__":

@@ -8,19 +8,13 @@ the readback takes, and compiling the graph culls every pass that image does not
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from scenerender.graph import FrameGraph
 from scenerender.rendering.features import environment_shades, specular_layout, visibility_min_alpha
 from scenerender.rendering.graph_inputs import InputHandles, import_inputs
-from scenerender.rendering.passes.bloom import add_bloom
-from scenerender.rendering.passes.depth_of_field import DepthOfFieldGatherPass
-from scenerender.rendering.passes.ambient_occlusion import GBufferPass, SSAOBlurPass, SSAOPass
-from scenerender.rendering.passes.motion_blur import add_velocity_blur
-from scenerender.rendering.passes.environment import (
-    EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentVisibilityBlurPass, EnvironmentVisibilityPass,
-)
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
 from scenerender.rendering.passes.object_ids import ObjectIdPass
 from scenerender.rendering.passes.output import (
@@ -28,13 +22,16 @@ from scenerender.rendering.passes.output import (
 )
 from scenerender.rendering.passes.shadow import ShadowMapPass
 from scenerender.rendering.passes.sky import NO_SKY, EnvironmentSky, SkyboxPass, SkyUnder
-from scenerender.rendering.passes.views import (
-    AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
-)
 from scenerender.world.environment_visibility import interleave_pattern, visibility_tiles
 from scenerender.world.frame import FrameEvaluator
 from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
+# The passes of features only some scenes have (ambient occlusion, the lens and motion
+# blurs, bloom, the data views, the environment light) are imported where the builder
+# adds them: a one-frame render is mostly start-up, and a scene without them need not
+# pay for their modules (tests/test_startup.py).
+if TYPE_CHECKING:
+    from scenerender.rendering.passes.environment import EnvironmentLighting
 
 
 @dataclass(frozen=True)
@@ -72,10 +69,14 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
             or lens_blur):
         # EXR's depth view holds distances in scene units: 32-bit, not float16's 11 bits
         precision = "rgba32f" if settings.mode == "depth" and options.want_linear else "rgba16f"
+        from scenerender.rendering.passes.ambient_occlusion import GBufferPass  # deferred: see the imports
+
         geometry = graph.add(GBufferPass(size, inputs.camera, inputs.objects, _masked_materials(world, inputs),
                                          precision))
         gbuffer = geometry.color
     if settings.ambient_occlusion is not None or settings.mode == "ambient_occlusion":
+        from scenerender.rendering.passes.ambient_occlusion import SSAOBlurPass, SSAOPass  # deferred: see the imports
+
         raw = graph.add(SSAOPass(gbuffer, geometry.depth, inputs.camera, size,
                                  settings.ambient_occlusion or AmbientOcclusionSettings.default())).image
         ao = graph.add(SSAOBlurPass(raw, size)).image
@@ -112,10 +113,16 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         if samples > 1:
             color = graph.add(ResolvePass(color, size, sky=sky)).image
         if velocity_blur:
+            from scenerender.rendering.passes.motion_blur import add_velocity_blur  # deferred: see the imports
+
             color = add_velocity_blur(graph, color, inputs, size)
         if lens_blur:
+            from scenerender.rendering.passes.depth_of_field import DepthOfFieldGatherPass  # deferred: see the imports
+
             color = graph.add(DepthOfFieldGatherPass(color, gbuffer, inputs.camera, inputs.lens, size)).image
         if bloom is not None:
+            from scenerender.rendering.passes.bloom import add_bloom  # deferred: see the imports
+
             color = add_bloom(graph, color, size, bloom)
         final = graph.add(OutputTransformPass(color, size, settings.output_transform, settings.gamma, tone)).image
     elif not hdr and settings.output_transform == "srgb" and tone is NO_TONE and options.fuse_resolve:
@@ -178,6 +185,10 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
     if environment is None or not any(environment_shades(environment.classic, m.model(world.settings.shading))
                                       for m in world.materials()):
         return None
+    from scenerender.rendering.passes.environment import (  # deferred: see the imports
+        EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentVisibilityBlurPass, EnvironmentVisibilityPass,
+    )
+
     specular = graph.add(EnvironmentPrefilterPass(inputs.environment_map, specular_layout(environment),
                                                   environment.samples)).image
     visibility = None
@@ -320,6 +331,10 @@ def _masked_materials(world, inputs: InputHandles, casters_only: bool = False):
 
 
 def _add_view(graph, world, mode, inputs: InputHandles, gbuffer, ao, shadow_passes, size, view_format: str):
+    from scenerender.rendering.passes.views import (  # deferred: see the imports
+        AmbientOcclusionViewPass, DepthViewPass, LightDepthViewPass, NormalsViewPass, ShadowFactorViewPass,
+    )
+
     if mode == "depth":
         return graph.add(DepthViewPass(gbuffer, size, inputs.camera, view_format)).image
     if mode == "normals":

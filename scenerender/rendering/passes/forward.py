@@ -3,6 +3,7 @@ wireframe overlay, all into the (multisampled) colour target (the skybox is pass
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import moderngl
 
@@ -14,9 +15,11 @@ from scenerender.rendering.draw import (
 )
 from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
 from scenerender.rendering.graph_inputs import InputHandles
-from scenerender.rendering.passes.environment import EnvironmentLighting
 from scenerender.rendering.passes.data import ImageData, TargetData
 from scenerender.rendering.visible_samples import VisibleSamplesPlan, plan_visible_samples
+
+if TYPE_CHECKING:  # only scenes with an environment light load its passes (rendering/pipeline.py)
+    from scenerender.rendering.passes.environment import EnvironmentLighting
 
 FORWARD_FRAGMENT = "mesh/forward.frag"
 DEPTH_ONLY_FRAGMENT = "mesh/depth_only.frag"
