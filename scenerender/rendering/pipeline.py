@@ -197,10 +197,8 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
                                                     visibility, environment.visibility, interleave, per_pixel,
                                                     visibility_min_alpha(environment.visibility),
                                                     _masked_materials(world, inputs)))
-        across = graph.add(EnvironmentVisibilityBlurPass(found.sums, found.distance, lookup_size, interleave, 0,
-                                                         False)).image
-        lookups = graph.add(EnvironmentVisibilityBlurPass(across, found.distance, lookup_size, interleave, 1,
-                                                          True)).image
+        across = graph.add(EnvironmentVisibilityBlurPass(found.sums, lookup_size, interleave, 0, False)).image
+        lookups = graph.add(EnvironmentVisibilityBlurPass(across, lookup_size, interleave, 1, True)).image
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
                                visibility, lookups, scale)
 

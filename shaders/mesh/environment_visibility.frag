@@ -3,10 +3,14 @@
 // world/environment_visibility.interleave_pattern) at the surface it shows, and writes
 // their weighted sums (lighting/environment_visibility.glsl), for the blur
 // (post/environment_visibility_blur.frag) to add up over the block: diffuse weight, of it
-// lit, specular weight at the narrowest lobe (ENV_VIS_MIN_ALPHA), of it lit; and the
-// surface's distance from the camera (0 where nothing is drawn), which the blur compares.
+// lit, specular weight at the narrowest lobe (ENV_VIS_MIN_ALPHA), of it lit, as two pairs
+// of halves; and the surface's distance from the camera (0 where nothing is drawn), which
+// the blur compares, as its float bits. One image rather than a float16 one and an r32f
+// one: each of the blur's taps is then one fetch (llvmpipe pays for a fetch more than
+// for its bytes), and the pass writes one target.
 #define ENV_VIS_PASS
 #include "common/math.glsl"
+#include "common/halves.glsl"
 #ifdef ALPHA_MASK
 #include "lighting/alpha_mask.glsl"
 #else
@@ -15,8 +19,7 @@ in vec2 v_uv;
 #include "lighting/environment_visibility.glsl"
 in vec3 v_position;
 in vec3 v_normal;
-layout(location = 0) out vec4 sums;
-layout(location = 1) out float surface_distance;
+layout(location = 0) out uvec4 sums_and_distance;  // the sums (xy: diffuse, zw: specular), the distance
 
 void main() {
 #ifdef ALPHA_MASK
@@ -38,6 +41,5 @@ void main() {
         vec2 w = env_vis_weights(at, n, v, a2) * (k < ENV_VISIBILITY ? 1.0 : 0.0);
         sum += vec4(w.x, w.x * lit, w.y, w.y * lit);
     }
-    sums = sum;
-    surface_distance = length(v_position);
+    sums_and_distance = uvec4(pack_halves(sum.xy), pack_halves(sum.zw), floatBitsToUint(length(v_position)), 0u);
 }

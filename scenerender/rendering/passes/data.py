@@ -23,9 +23,9 @@ class TargetData:
 
 @dataclass(frozen=True)
 class LookupsData:
-    """The environment visibility pass's weighted sums, the distance of the surface each
-    pixel shows, and the depth buffer drawn with them."""
+    """The environment visibility pass's weighted sums with the distance of the surface each
+    pixel shows (one image, packed: shaders/mesh/environment_visibility.frag), and the depth
+    buffer drawn with them."""
 
     sums: Handle
-    distance: Handle
     depth: Handle

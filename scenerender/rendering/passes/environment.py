@@ -142,8 +142,7 @@ class EnvironmentVisibilityPass(RenderPass):
     def setup(self, builder) -> LookupsData:
         builder.read(self.camera, self.objects, self.views, self.visibility,
                      *((self.materials,) if self.materials is not None else ()))
-        return LookupsData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba16f")),
-                           builder.create("environment_distance", ResourceDesc("color", self.size, "r32f")),
+        return LookupsData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba32ui")),
                            builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
     def describe(self) -> str:
@@ -151,7 +150,7 @@ class EnvironmentVisibilityPass(RenderPass):
                 f"at {self.size[0]}x{self.size[1]}")
 
     def execute(self, ctx, data: LookupsData) -> None:
-        begin_camera_pass(ctx, [data.sums, data.distance], data.depth, (0.0, 0.0, 0.0, 0.0))
+        begin_camera_pass(ctx, [data.sums], data.depth, (0.0, 0.0, 0.0, 0.0))  # 0.0's bits: 0
         defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
                    "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": self.min_alpha}
         program = ctx.programs.get(MESH_VERTEX, VISIBILITY_FRAGMENT, defines)
@@ -174,10 +173,10 @@ class EnvironmentVisibilityBlurPass(RenderPass):
     """The visibility pass's sums added up along one ``axis`` (0: x, 1: y) over 2N - 1
     pixels, N = ``interleave``, on the pixel's own surface
     (shaders/post/environment_visibility_blur.frag); the second axis writes the ratios
-    (``ratio``) that opaque shading reads."""
+    (``ratio``) that opaque shading reads. Both read and write their values packed in
+    unsigned integers (one fetch a tap)."""
 
     sums: Handle
-    distance: Handle
     size: tuple
     interleave: int
     axis: int
@@ -186,9 +185,9 @@ class EnvironmentVisibilityBlurPass(RenderPass):
     name = "environment_visibility_blur"
 
     def setup(self, builder) -> ImageData:
-        builder.read(self.sums, self.distance)
-        name = "environment_seen" if self.ratio else "environment_lookups_across"
-        return ImageData(builder.create(name, ResourceDesc("color", self.size, "rgba16f")))
+        builder.read(self.sums)
+        name, packing = ("environment_seen", "rg32ui") if self.ratio else ("environment_lookups_across", "rgba32ui")
+        return ImageData(builder.create(name, ResourceDesc("color", self.size, packing)))
 
     def describe(self) -> str:
         return f"{2 * self.interleave - 1} pixels along {'xy'[self.axis]}"
@@ -201,5 +200,4 @@ class EnvironmentVisibilityBlurPass(RenderPass):
         program = ctx.programs.get(FULLSCREEN_VERTEX, BLUR_FRAGMENT, defines)
         bind_texture_units(program)
         ctx.image(self.sums).use(TEXTURE_UNITS["u_env_vis_samples"])
-        ctx.image(self.distance).use(TEXTURE_UNITS["u_env_vis_distance"])
         ctx.fullscreen(program)
