@@ -68,7 +68,7 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
 }
 #elif !defined(ENV_VIS_PASS)
 // The directions shared out over ENV_VIS_INTERLEAVE^2 pixel blocks: the visibility pass
-// (mesh/environment_visibility.frag) and its blur (post/environment_visibility_blur.frag)
+// (post/environment_visibility.frag) and its blur (post/environment_visibility_blur.frag)
 // left, at u_env_vis_scale of this pass's resolution, as halves: V_d and V_s at the
 // narrowest lobe, alpha = ENV_VIS_MIN_ALPHA (x), and the surface's distance from the
 // camera (y, low half). Read

@@ -1,5 +1,5 @@
 // The environment visibility's blur, one axis a pass (ENV_VIS_AXIS): the weighted sums the
-// visibility pass (mesh/environment_visibility.frag) left, added up over 2N - 1 pixels
+// visibility pass (post/environment_visibility.frag) left, added up over 2N - 1 pixels
 // (N = ENV_VIS_INTERLEAVE) with tent weights N - |i|. Every place in the N-pixel pattern
 // then counts N times in all, split between its two nearest pixels as linear
 // interpolation would split it: each direction's lookups are interpolated between the

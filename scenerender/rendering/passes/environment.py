@@ -15,15 +15,16 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
-    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_texture_units, cull_hidden_faces,
-    draw_cutting_masks, stop_culling,
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, begin_fullscreen_pass_where_drawn,
+    bind_texture_units, cull_hidden_faces, draw_cutting_masks, end_where_drawn, far_plane_defines, stop_culling,
 )
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.light_buffers import environment_view_uniforms
-from scenerender.rendering.passes.data import ImageData, LookupsData
+from scenerender.rendering.passes.data import ImageData, SurfacesData
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"
-VISIBILITY_FRAGMENT = "mesh/environment_visibility.frag"
+VISIBILITY_FRAGMENT = "post/environment_visibility.frag"
+SURFACE_FRAGMENT = "mesh/environment_visibility_surface.frag"
 BLUR_FRAGMENT = "post/environment_visibility_blur.frag"
 
 
@@ -118,54 +119,86 @@ def visibility_uniforms(ctx, views: Handle, visibility: Handle, camera_position)
 
 
 @dataclass(frozen=True)
-class EnvironmentVisibilityPass(RenderPass):
-    """Each pixel's share of the environment's visibility lookups, where the directions
-    are shared out over ``interleave`` x ``interleave`` blocks (``per_pixel`` a pixel;
-    world.environment_visibility.interleave_pattern), at the surface the camera sees there,
-    as weighted sums (shaders/mesh/environment_visibility.frag); a geometry pass,
-    single-sampled. ``min_alpha``: the narrowest specular lobe (features.visibility_min_alpha).
-    materials: as GBufferPass's."""
+class EnvironmentSurfacesPass(RenderPass):
+    """What the camera sees at each pixel of the environment visibility's image, ``size``:
+    camera-relative positions and normals facing the camera, whole floats
+    (shaders/mesh/environment_visibility_surface.frag); a geometry pass, single-sampled.
+    EnvironmentVisibilityPass then looks the directions up once a pixel. materials: as
+    GBufferPass's."""
 
     size: tuple
     camera: Handle
     objects: Handle
+    materials: Handle | None = None
+
+    name = "environment_visibility_surfaces"
+
+    def setup(self, builder) -> SurfacesData:
+        builder.read(self.camera, self.objects, *((self.materials,) if self.materials is not None else ()))
+        return SurfacesData(builder.create("environment_positions", ResourceDesc("color", self.size, "rgba32f")),
+                            builder.create("environment_normals", ResourceDesc("color", self.size, "rgba32f")),
+                            builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
+
+    def describe(self) -> str:
+        return f"positions and normals at {self.size[0]}x{self.size[1]}"
+
+    def execute(self, ctx, data: SurfacesData) -> None:
+        begin_camera_pass(ctx, [data.position, data.normal], data.depth, (0.0, 0.0, 0.0, 0.0))
+        program = ctx.programs.get(MESH_VERTEX, SURFACE_FRAGMENT)
+        bind_texture_units(program)
+        uniforms = {"u_view_proj": ctx.input(self.camera).view_proj_relative()}
+        set_uniforms(program, **uniforms)
+        objects = ctx.input(self.objects)
+        materials = ctx.input(self.materials) if self.materials is not None else None
+        for index in objects.in_camera_view():
+            cull_hidden_faces(ctx.gl, objects, index)
+            draw_cutting_masks(ctx, objects, index, program, SURFACE_FRAGMENT, {}, materials, uniforms)
+        stop_culling(ctx.gl)
+
+
+@dataclass(frozen=True)
+class EnvironmentVisibilityPass(RenderPass):
+    """Each pixel's share of the environment's visibility lookups, where the directions
+    are shared out over ``interleave`` x ``interleave`` blocks (``per_pixel`` a pixel;
+    world.environment_visibility.interleave_pattern), at the surface EnvironmentSurfacesPass
+    found there, as weighted sums with the surface's distance, packed
+    (shaders/post/environment_visibility.frag); full-screen, drawn only where a surface
+    is. ``min_alpha``: the narrowest specular lobe (features.visibility_min_alpha)."""
+
+    size: tuple
+    camera: Handle
+    surfaces: SurfacesData
     views: Handle
     visibility: Handle
     directions: int
     interleave: int
     per_pixel: int
     min_alpha: str
-    materials: Handle | None = None
 
     name = "environment_visibility"
 
-    def setup(self, builder) -> LookupsData:
-        builder.read(self.camera, self.objects, self.views, self.visibility,
-                     *((self.materials,) if self.materials is not None else ()))
-        return LookupsData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba32ui")),
-                           builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
+    def setup(self, builder) -> ImageData:
+        builder.read(self.camera, self.views, self.visibility, self.surfaces.position, self.surfaces.normal,
+                     self.surfaces.depth)
+        return ImageData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba32ui")))
 
     def describe(self) -> str:
         return (f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, {self.per_pixel} a pixel, "
                 f"at {self.size[0]}x{self.size[1]}")
 
-    def execute(self, ctx, data: LookupsData) -> None:
-        begin_camera_pass(ctx, [data.sums], data.depth, (0.0, 0.0, 0.0, 0.0))  # 0.0's bits: 0
+    def execute(self, ctx, data: ImageData) -> None:
+        # where nothing is drawn the sums and the distance stay 0 (0.0's bits)
+        fbo = begin_fullscreen_pass_where_drawn(ctx, data.image, self.surfaces.depth, 0.0)
         defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
-                   "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": self.min_alpha}
-        program = ctx.programs.get(MESH_VERTEX, VISIBILITY_FRAGMENT, defines)
+                   "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": self.min_alpha, **far_plane_defines(ctx)}
+        program = ctx.programs.get(FULLSCREEN_VERTEX, VISIBILITY_FRAGMENT, defines)
         bind_texture_units(program)
         bind_visibility_maps(ctx, self.visibility)
-        camera = ctx.input(self.camera)
-        uniforms = {"u_view_proj": camera.view_proj_relative(),
-                    **visibility_uniforms(ctx, self.views, self.visibility, camera.position)}
-        set_uniforms(program, **uniforms)
-        objects = ctx.input(self.objects)
-        materials = ctx.input(self.materials) if self.materials is not None else None
-        for index in objects.in_camera_view():
-            cull_hidden_faces(ctx.gl, objects, index)
-            draw_cutting_masks(ctx, objects, index, program, VISIBILITY_FRAGMENT, defines, materials, uniforms)
-        stop_culling(ctx.gl)
+        ctx.image(self.surfaces.position).use(TEXTURE_UNITS["u_env_vis_position"])
+        ctx.image(self.surfaces.normal).use(TEXTURE_UNITS["u_env_vis_normal"])
+        set_uniforms(program, **visibility_uniforms(ctx, self.views, self.visibility, ctx.input(self.camera).position))
+        ctx.fullscreen(program)
+        end_where_drawn(ctx, fbo)
 
 
 @dataclass(frozen=True)

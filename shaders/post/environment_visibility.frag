@@ -1,35 +1,28 @@
 // The environment visibility pass: each pixel looks up its share of the visibility
 // directions (ENV_VIS_PER_PIXEL of them, by its place in an ENV_VIS_INTERLEAVE^2 block:
-// world/environment_visibility.interleave_pattern) at the surface it shows, and writes
-// their weighted sums (lighting/environment_visibility.glsl), for the blur
+// world/environment_visibility.interleave_pattern) at the surface it shows
+// (mesh/environment_visibility_surface.frag left it; drawn only where there is one), and
+// writes their weighted sums (lighting/environment_visibility.glsl), for the blur
 // (post/environment_visibility_blur.frag) to add up over the block: diffuse weight, of it
 // lit, specular weight at the narrowest lobe (ENV_VIS_MIN_ALPHA), of it lit, as two pairs
 // of halves; and the surface's distance from the camera (0 where nothing is drawn), which
 // the blur compares, as its float bits. One image rather than a float16 one and an r32f
 // one: each of the blur's taps is then one fetch (llvmpipe pays for a fetch more than
-// for its bytes), and the pass writes one target.
+// for its bytes).
 #define ENV_VIS_PASS
 #include "common/math.glsl"
 #include "common/halves.glsl"
-#ifdef ALPHA_MASK
-#include "lighting/alpha_mask.glsl"
-#else
-in vec2 v_uv;
-#endif
 #include "lighting/environment_visibility.glsl"
-in vec3 v_position;
-in vec3 v_normal;
-layout(location = 0) out uvec4 sums_and_distance;  // the sums (xy: diffuse, zw: specular), the distance
+uniform sampler2D u_env_vis_position;  // camera-relative
+uniform sampler2D u_env_vis_normal;    // facing the camera
+out uvec4 sums_and_distance;  // the sums (xy: diffuse, zw: specular), the distance
 
 void main() {
-#ifdef ALPHA_MASK
-    if (cut_away()) {
-        discard;
-    }
-#endif
-    vec3 n = safe_normalize(gl_FrontFacing ? v_normal : -v_normal);
-    vec3 v = safe_normalize(-v_position, n);
-    ivec2 place = ivec2(gl_FragCoord.xy) % ENV_VIS_INTERLEAVE;
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    vec3 position = texelFetch(u_env_vis_position, pixel, 0).xyz;
+    vec3 n = texelFetch(u_env_vis_normal, pixel, 0).xyz;
+    vec3 v = safe_normalize(-position, n);
+    ivec2 place = pixel % ENV_VIS_INTERLEAVE;
     int start = place.x + ENV_VIS_INTERLEAVE * place.y;
     float a2 = ENV_VIS_MIN_ALPHA * ENV_VIS_MIN_ALPHA;
     vec4 sum = vec4(0.0);
@@ -37,9 +30,9 @@ void main() {
         int k = start + j * ENV_VIS_INTERLEAVE * ENV_VIS_INTERLEAVE;
         int at = min(k, ENV_VISIBILITY - 1);
         float n_dot_l = dot(n, u_env_vis_light[at].xyz);
-        float lit = n_dot_l > 0.0 ? env_vis_lookup(at, v_position, n, n_dot_l) : 1.0;
+        float lit = n_dot_l > 0.0 ? env_vis_lookup(at, position, n, n_dot_l) : 1.0;
         vec2 w = env_vis_weights(at, n, v, a2) * (k < ENV_VISIBILITY ? 1.0 : 0.0);
         sum += vec4(w.x, w.x * lit, w.y, w.y * lit);
     }
-    sums_and_distance = uvec4(pack_halves(sum.xy), pack_halves(sum.zw), floatBitsToUint(length(v_position)), 0u);
+    sums_and_distance = uvec4(pack_halves(sum.xy), pack_halves(sum.zw), floatBitsToUint(length(position)), 0u);
 }
