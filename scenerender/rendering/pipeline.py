@@ -199,7 +199,7 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
         found = graph.add(EnvironmentVisibilityPass(lookup_size, inputs.camera, surfaces, inputs.environment_views,
                                                     visibility, environment.visibility, interleave, per_pixel,
                                                     visibility_min_alpha(environment.visibility))).image
-        across = graph.add(EnvironmentVisibilityBlurPass(found, lookup_size, interleave, 0, False)).image
+        across = graph.add(EnvironmentVisibilityBlurPass(found, lookup_size, interleave, 0, False, True)).image
         lookups = graph.add(EnvironmentVisibilityBlurPass(across, lookup_size, interleave, 1, True)).image
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
                                visibility, lookups, scale)

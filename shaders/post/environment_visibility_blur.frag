@@ -8,11 +8,16 @@
 // from the camera within 3 % of this one's carried along the surface's slope (taken on
 // the flatter side, so an edge beside the pixel does not tilt it). Each pixel's sums and
 // distance come packed in one texel (halves and float bits), so a tap is one fetch. The
-// first pass writes them packed the same way; the second (ENV_VIS_RATIO) the ratios, V_d
+// first pass reads them from the visibility pass's sub-images (ENV_VIS_SUB_IMAGES: pixel
+// (x, y) at (x % N, y % N) * its sub-images' size + (x, y) / N) and writes them packed
+// the same way, a pixel where it lies; the second (ENV_VIS_RATIO) the ratios, V_d
 // and V_s at the narrowest lobe (x, halves), and the distance as a half (y, low half),
 // that shading's upsample compares.
 #include "common/halves.glsl"
 uniform usampler2D u_env_vis_samples;  // the sums (xy, halves) and the distance (z, float bits)
+#ifdef ENV_VIS_SUB_IMAGES
+uniform ivec2 u_env_vis_size;  // the image's size (its sub-images may reach past it)
+#endif
 #ifdef ENV_VIS_RATIO
 out uvec2 result;
 #else
@@ -23,10 +28,19 @@ void main() {
     const int n = ENV_VIS_INTERLEAVE;
     const ivec2 axis = ENV_VIS_AXIS;
     ivec2 pixel = ivec2(gl_FragCoord.xy);
+#ifdef ENV_VIS_SUB_IMAGES
+    ivec2 last = u_env_vis_size - 1;
+    ivec2 part = textureSize(u_env_vis_samples, 0) / n;
+#else
     ivec2 last = textureSize(u_env_vis_samples, 0) - 1;
+#endif
     uvec4 taps[2 * n - 1];
     for (int i = 1 - n; i < n; ++i) {
-        taps[i + n - 1] = texelFetch(u_env_vis_samples, clamp(pixel + axis * i, ivec2(0), last), 0);
+        ivec2 at = clamp(pixel + axis * i, ivec2(0), last);
+#ifdef ENV_VIS_SUB_IMAGES
+        at = (at % n) * part + at / n;
+#endif
+        taps[i + n - 1] = texelFetch(u_env_vis_samples, at, 0);
     }
     float here = uintBitsToFloat(taps[n - 1].z);
     float before = here - uintBitsToFloat(taps[n - 2].z);  // the window reaches a pixel each side (n >= 2)

@@ -15,8 +15,8 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import (
-    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, begin_fullscreen_pass_where_drawn,
-    bind_texture_units, cull_hidden_faces, draw_cutting_masks, end_where_drawn, far_plane_defines, stop_culling,
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_camera_pass, begin_fullscreen_pass, bind_texture_units, cull_hidden_faces,
+    draw_cutting_masks, stop_culling,
 )
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.light_buffers import environment_view_uniforms
@@ -162,8 +162,9 @@ class EnvironmentVisibilityPass(RenderPass):
     are shared out over ``interleave`` x ``interleave`` blocks (``per_pixel`` a pixel;
     world.environment_visibility.interleave_pattern), at the surface EnvironmentSurfacesPass
     found there, as weighted sums with the surface's distance, packed
-    (shaders/post/environment_visibility.frag); full-screen, drawn only where a surface
-    is. ``min_alpha``: the narrowest specular lobe (features.visibility_min_alpha)."""
+    (shaders/post/environment_visibility.frag); full-screen, once for each place in the
+    block, into a sub-image of its own (sub_image_layout). ``min_alpha``: the narrowest
+    specular lobe (features.visibility_min_alpha)."""
 
     size: tuple
     camera: Handle
@@ -178,27 +179,44 @@ class EnvironmentVisibilityPass(RenderPass):
     name = "environment_visibility"
 
     def setup(self, builder) -> ImageData:
-        builder.read(self.camera, self.views, self.visibility, self.surfaces.position, self.surfaces.normal,
-                     self.surfaces.depth)
-        return ImageData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba32ui")))
+        builder.read(self.camera, self.views, self.visibility, self.surfaces.position, self.surfaces.normal)
+        part, _ = sub_image_layout(self.size, self.interleave)
+        whole = (part[0] * self.interleave, part[1] * self.interleave)
+        return ImageData(builder.create("environment_lookups", ResourceDesc("color", whole, "rgba32ui")))
 
     def describe(self) -> str:
         return (f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, {self.per_pixel} a pixel, "
                 f"at {self.size[0]}x{self.size[1]}")
 
     def execute(self, ctx, data: ImageData) -> None:
-        # where nothing is drawn the sums and the distance stay 0 (0.0's bits)
-        fbo = begin_fullscreen_pass_where_drawn(ctx, data.image, self.surfaces.depth, 0.0)
+        fbo = ctx.framebuffer([data.image])
+        fbo.use()
+        ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
-                   "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": self.min_alpha, **far_plane_defines(ctx)}
+                   "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": self.min_alpha}
         program = ctx.programs.get(FULLSCREEN_VERTEX, VISIBILITY_FRAGMENT, defines)
         bind_texture_units(program)
         bind_visibility_maps(ctx, self.visibility)
         ctx.image(self.surfaces.position).use(TEXTURE_UNITS["u_env_vis_position"])
         ctx.image(self.surfaces.normal).use(TEXTURE_UNITS["u_env_vis_normal"])
         set_uniforms(program, **visibility_uniforms(ctx, self.views, self.visibility, ctx.input(self.camera).position))
-        ctx.fullscreen(program)
-        end_where_drawn(ctx, fbo)
+        part, places = sub_image_layout(self.size, self.interleave)
+        try:
+            for place in places:
+                fbo.viewport = (place[0] * part[0], place[1] * part[1], *part)
+                program["u_env_vis_place"].value = place
+                ctx.fullscreen(program)
+        finally:
+            fbo.viewport = (0, 0, *fbo.size)
+
+
+def sub_image_layout(size: tuple, interleave: int) -> tuple[tuple, list]:
+    """The visibility pass's sub-images, one for each place (x, y) in the ``interleave``
+    block, of the pixels of ``size`` at that place: their (width, height), each side's
+    count of such pixels rounded up, and the places, the sub-image of (x, y) at
+    (x, y) times that size."""
+    part = tuple(-(-side // interleave) for side in size)
+    return part, [(x, y) for y in range(interleave) for x in range(interleave)]
 
 
 @dataclass(frozen=True)
@@ -214,6 +232,7 @@ class EnvironmentVisibilityBlurPass(RenderPass):
     interleave: int
     axis: int
     ratio: bool
+    sub_images: bool = False  # ``sums`` laid out as EnvironmentVisibilityPass leaves them
 
     name = "environment_visibility_blur"
 
@@ -230,7 +249,11 @@ class EnvironmentVisibilityBlurPass(RenderPass):
         defines = {"ENV_VIS_INTERLEAVE": self.interleave, "ENV_VIS_AXIS": "ivec2(1, 0)" if self.axis == 0 else "ivec2(0, 1)"}
         if self.ratio:
             defines["ENV_VIS_RATIO"] = True
+        if self.sub_images:
+            defines["ENV_VIS_SUB_IMAGES"] = True
         program = ctx.programs.get(FULLSCREEN_VERTEX, BLUR_FRAGMENT, defines)
         bind_texture_units(program)
+        if self.sub_images:
+            program["u_env_vis_size"].value = tuple(int(side) for side in self.size)
         ctx.image(self.sums).use(TEXTURE_UNITS["u_env_vis_samples"])
         ctx.fullscreen(program)
