@@ -5,7 +5,8 @@ a still scene and every frame where objects move, SSAO not darkening twice,
 ``visibility: false`` rendering what the renderer drew before the key existed, and the
 directions shared out over pixel blocks (``visibility_interleave``): every direction in one
 place of the block, the pass before shading, no bleeding across a silhouette, and
-``visibility_interleave: 1`` rendering what the renderer drew before the blocks existed."""
+``visibility_interleave: 1`` rendering what the renderer drew before the blocks existed;
+the lookups' sub-images and their packed halves."""
 from __future__ import annotations
 
 import importlib.util
@@ -315,3 +316,54 @@ def test_the_shared_out_lookups_do_not_bleed_across_a_silhouette(gl, tmp_path):
     edge = (x * x + y * y > 0.75 ** 2) & (x * x + y * y < 0.97 ** 2)
     ratio = seen[edge] / blind[edge]
     assert ratio.mean() > 0.995 and ratio.min() > 0.99, (ratio.mean(), ratio.min())
+
+
+def test_the_lookups_sub_images_hold_every_pixel_once():
+    # the visibility pass draws each place of the block into a sub-image of its own, and
+    # the blur reads pixel (x, y) at (x % N, y % N) * part + (x, y) / N: every pixel of an
+    # odd-sized image lands in a texel of its own, inside the image the pass makes
+    from scenerender.rendering.passes.environment import sub_image_layout
+
+    for size, n in (((5, 3), 2), ((128, 96), 2), ((7, 11), 3), ((9, 4), 4)):
+        part, places = sub_image_layout(size, n)
+        assert places == [(x, y) for y in range(n) for x in range(n)]
+        y, x = np.mgrid[0:size[1], 0:size[0]]
+        tx, ty = (x % n) * part[0] + x // n, (y % n) * part[1] + y // n
+        assert tx.max() < n * part[0] and ty.max() < n * part[1]
+        assert len(set(zip(tx.ravel().tolist(), ty.ravel().tolist()))) == size[0] * size[1]
+
+
+@pytest.mark.gl
+def test_packed_halves_are_the_bits_a_float16_target_stores(gl):
+    # the visibility pass and the blur keep their sums as halves packed in unsigned
+    # integers (shaders/common/halves.glsl), so that a tap is one fetch; the results stay
+    # the bytes of float16 images only while pack_halves rounds as the driver's float16
+    # targets do (llvmpipe: toward zero, where packHalf2x16 alone rounds to nearest). Over
+    # float16's normal and subnormal ranges, both signs
+    from scenerender.gpu.shaders import assemble
+
+    vertex = assemble("common/fullscreen.vert", {})
+    fragment = assemble("common/halves.glsl", {}) + "\n".join([
+        "", "layout(location = 0) out vec4 target;", "layout(location = 1) out uvec2 packed_halves;",
+        "void main() {",
+        "    int i = int(gl_FragCoord.x) + 256 * int(gl_FragCoord.y);",
+        "    float x = exp2(-30.0 + 36.0 * float(i) / 65536.0) * (1.0 + fract(float(i) * 0.6180339));",
+        "    target = vec4(x, -x, 3.1 * x, 0.0);",
+        "    packed_halves = uvec2(pack_halves(target.xy), pack_halves(target.zw));",
+        "}"])
+    program = gl.program(vertex_shader=vertex, fragment_shader=fragment)
+    halves = gl.texture((256, 256), 4, dtype="f2")
+    packed = gl.texture((256, 256), 2, dtype="u4")
+    fbo = gl.framebuffer([halves, packed])
+    try:
+        fbo.use()
+        gl.vertex_array(program, []).render(vertices=3)
+        stored = np.frombuffer(halves.read(), np.uint16).reshape(256, 256, 4)[..., :3]
+        words = np.frombuffer(packed.read(), np.uint32).reshape(256, 256, 2)
+        unpacked = np.stack([words[..., 0] & 0xFFFF, words[..., 0] >> 16, words[..., 1] & 0xFFFF], axis=-1)
+        assert np.array_equal(unpacked.astype(np.uint16), stored), int((unpacked != stored).sum())
+    finally:
+        fbo.release()
+        halves.release()
+        packed.release()
+        program.release()

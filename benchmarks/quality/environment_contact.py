@@ -173,6 +173,33 @@ def main() -> None:
     write_table(results, pixels)
 
 
+# The default's cost before and after the visibility passes' rework (issue 27), kept under
+# the table: the table measures the code as it is, this the two side by side.
+COST_HISTORY = [
+    "## The default's cost, before and after the rework of its passes", "",
+    "The same renders to the byte (the accuracy columns did not move), measured on the loaded",
+    "2-core machine of the table, llvmpipe: before = commit 28e24a3, after = this version; each",
+    "a static run (camera drifting, 40 frames after the first, off and default taking turns in",
+    "one process, three processes a version, the versions taking turns):",
+    "ratios default / visibility off, wall clock and the process's CPU time (llvmpipe's threads",
+    "included, which a loaded machine inflates less).", "",
+    "| scene | before: wall | before: CPU | after: wall | after: CPU |",
+    "|---|---|---|---|---|",
+    "| this scene, 256x192 | 1.67 (1.65-1.84) | 1.68 (1.63-1.73) | 1.50 (1.36-1.64) | 1.57 (1.57-1.60) |",
+    "| scenes/gltf_pbr.yaml, 640x360 (its camera turning), two runs | - | 1.30, 1.37 | - | 1.26, 1.26 |", "",
+    "Per pass (CPU ms a frame, `python -m scenerender render SCENE -o OUT --overwrite -q --profile`",
+    "takes wall ms) on this scene: before, the visibility pass 2.6-3.4 (its lookups shaded once",
+    "for every triangle over each 4x4 block, the uniforms of 16 views made in Python every frame",
+    "0.4), the blur 2 x 0.38, shading's read-back +1.5; after, the surfaces 1.0-1.2, the lookups",
+    "1.7-1.9 (once a pixel, in sub-images), the blur 2 x 0.33-0.37, shading's read-back +1.4.",
+    "On gltf_pbr at 640x360 the passes before shading went from 21-22 to 16-19 ms. Still above",
+    "the 1.30 asked on this scene: what is left is the second drawing of the scene (the",
+    "surfaces: a sphere of 9,000 triangles at half resolution), 4 shadow lookups a pixel",
+    "there, and the read-back in shading, which llvmpipe runs for every triangle over each",
+    "4x4 block. gltf_pbr's wall-clock ratios swung 1.16-1.51 between runs under this load.",
+]
+
+
 def write_table(results: dict, pixels: dict) -> None:
     """environment_contact.md: the module's docstring's regions and costs, one row a setting."""
     base = results["visibility off"]
@@ -193,6 +220,7 @@ def write_table(results: dict, pixels: dict) -> None:
             ms = result.get(f"{motion} ms")
             cells += [f"{ms:.1f}", f"{ms / base[f'{motion} ms']:.2f}"] if ms is not None else ["-", "-"]
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    lines += ["", *COST_HISTORY]
     (HERE / "environment_contact.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 

@@ -15,7 +15,11 @@ _COLOR_FORMATS = {  # format -> (components, dtype, internal format or None for 
     "rgba32f": (4, "f4", None),  # the data views' values kept whole for EXR output
     "r8": (1, "f1", None),
     "r16ui": (1, "u2", None),  # object ids (unsigned integers, never filtered)
-    "r32f": (1, "f4", None),  # a distance kept whole (the environment visibility's blur compares them)
+    "r32f": (1, "f4", None),
+    # values packed by the shaders (packHalf2x16, floatBitsToUint): the environment
+    # visibility's, read in fewer fetches (never filtered)
+    "rg32ui": (2, "u4", None),
+    "rgba32ui": (4, "u4", None),
 }
 
 

@@ -186,7 +186,8 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
                                       for m in world.materials()):
         return None
     from scenerender.rendering.passes.environment import (  # deferred: see the imports
-        EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentVisibilityBlurPass, EnvironmentVisibilityPass,
+        EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentSurfacesPass, EnvironmentVisibilityBlurPass,
+        EnvironmentVisibilityPass,
     )
 
     specular = graph.add(EnvironmentPrefilterPass(inputs.environment_map, specular_layout(environment),
@@ -204,14 +205,13 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
     if visibility is not None and interleave > 1:
         lookup_size = visibility_lookup_size(size, environment.visibility_half_resolution)
         scale = (lookup_size[0] / size[0], lookup_size[1] / size[1])
-        found = graph.add(EnvironmentVisibilityPass(lookup_size, inputs.camera, inputs.objects, inputs.environment_views,
+        surfaces = graph.add(EnvironmentSurfacesPass(lookup_size, inputs.camera, inputs.objects,
+                                                     _masked_materials(world, inputs)))
+        found = graph.add(EnvironmentVisibilityPass(lookup_size, inputs.camera, surfaces, inputs.environment_views,
                                                     visibility, environment.visibility, interleave, per_pixel,
-                                                    visibility_min_alpha(environment.visibility),
-                                                    _masked_materials(world, inputs)))
-        across = graph.add(EnvironmentVisibilityBlurPass(found.sums, found.distance, lookup_size, interleave, 0,
-                                                         False)).image
-        lookups = graph.add(EnvironmentVisibilityBlurPass(across, found.distance, lookup_size, interleave, 1,
-                                                          True)).image
+                                                    visibility_min_alpha(environment.visibility))).image
+        across = graph.add(EnvironmentVisibilityBlurPass(found, lookup_size, interleave, 0, False, True)).image
+        lookups = graph.add(EnvironmentVisibilityBlurPass(across, lookup_size, interleave, 1, True)).image
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
                                visibility, lookups, scale)
 

@@ -144,7 +144,7 @@ def view_rotations(directions: np.ndarray) -> np.ndarray:
 def interleave_pattern(count: int, interleave: int) -> tuple[int, int]:
     """(N, lookups a pixel) of ``count`` directions shared out over N x N blocks, asked
     ``interleave``: pixel (x, y) of the block, i = x % N + N (y % N), looks up directions
-    i, i + N^2, i + 2 N^2 ... (shaders/mesh/environment_visibility.frag). N is no more than
+    i, i + N^2, i + 2 N^2 ... (shaders/post/environment_visibility.frag). N is no more than
     sqrt(count), so every pixel has one; N 1: each pixel looks up all of them as it shades."""
     n = max(1, min(interleave, math.isqrt(count)))
     return n, math.ceil(count / (n * n))

@@ -31,7 +31,9 @@ float env_vis_lookup(int k, vec3 p, vec3 n, float n_dot_l) {
         return 1.0;  // outside every caster's footprint
     }
     float bias = params.x * (params.z + params.w * tan_angle) * params.y;
-    return texture(u_env_visibility, vec3(q.xy, q.z - bias));
+    // level 0 named: the maps have no others, and llvmpipe otherwise works out a level of
+    // detail for every lookup (about a tenth of the visibility pass)
+    return textureLod(u_env_visibility, vec3(q.xy, q.z - bias), 0.0);
 }
 
 // The weights of direction k at a surface facing n, towards the viewer v, of GGX a2 = alpha^2:
@@ -66,27 +68,35 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
 }
 #elif !defined(ENV_VIS_PASS)
 // The directions shared out over ENV_VIS_INTERLEAVE^2 pixel blocks: the visibility pass
-// (mesh/environment_visibility.frag) and its blur (post/environment_visibility_blur.frag)
-// left, at u_env_vis_scale of this pass's resolution, V_d (r), V_s at the narrowest lobe,
-// alpha = ENV_VIS_MIN_ALPHA (g), and the surface's distance from the camera (b). Read
+// (post/environment_visibility.frag) and its blur (post/environment_visibility_blur.frag)
+// left, at u_env_vis_scale of this pass's resolution, as halves: V_d and V_s at the
+// narrowest lobe, alpha = ENV_VIS_MIN_ALPHA (x), and the surface's distance from the
+// camera (y, low half). Read
 // bilinearly among the four texels around the pixel that lie on its surface (distance
 // within 3 % of this one's, carried along its slope), the nearest in distance where none
 // does. The widest lobe, alpha = 1, is GGX D = 1 / pi everywhere, which makes V_s = V_d:
 // between the two, V_s is taken linearly in alpha (exact at both ends; the pass draws no
 // material, so it knows no roughness).
-uniform sampler2D u_env_vis_samples;
+uniform usampler2D u_env_vis_samples;
 uniform vec2 u_env_vis_scale;  // the visibility image's texels a pixel
 
 vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     float dist = length(p);
     vec2 slope = vec2(dFdx(dist), dFdy(dist));
     // the four texels around the pixel, each channel in one gather (texels (0, 1), (1, 1),
-    // (1, 0), (0, 0) of the square, in textureGather's order), rather than four fetches
+    // (1, 0), (0, 0) of the square, in textureGather's order), rather than four fetches:
+    // two gathers, the visibility's halves and the distance's, rather than one a channel:
+    // llvmpipe pays for each (one gather instead of three took 45 % off this read-back)
     vec2 at = gl_FragCoord.xy * u_env_vis_scale;
     vec2 uv = at / vec2(textureSize(u_env_vis_samples, 0));
-    vec4 found_d = textureGather(u_env_vis_samples, uv, 0);
-    vec4 found_s = textureGather(u_env_vis_samples, uv, 1);
-    vec4 found_distance = textureGather(u_env_vis_samples, uv, 2);
+    uvec4 seen_found = textureGather(u_env_vis_samples, uv, 0);
+    uvec4 distance_found = textureGather(u_env_vis_samples, uv, 1);
+    vec2 d0 = unpackHalf2x16(seen_found.x), d1 = unpackHalf2x16(seen_found.y);
+    vec2 d2 = unpackHalf2x16(seen_found.z), d3 = unpackHalf2x16(seen_found.w);
+    vec4 found_d = vec4(d0.x, d1.x, d2.x, d3.x);
+    vec4 found_s = vec4(d0.y, d1.y, d2.y, d3.y);
+    vec4 found_distance = vec4(unpackHalf2x16(distance_found.x).x, unpackHalf2x16(distance_found.y).x,
+                               unpackHalf2x16(distance_found.z).x, unpackHalf2x16(distance_found.w).x);
     vec2 low = floor(at - 0.5) + 0.5;  // the centre of texel (0, 0)
     vec2 away0 = low / u_env_vis_scale - gl_FragCoord.xy;  // in this pass's pixels
     vec2 away1 = (low + 1.0) / u_env_vis_scale - gl_FragCoord.xy;

@@ -22,10 +22,10 @@ class TargetData:
 
 
 @dataclass(frozen=True)
-class LookupsData:
-    """The environment visibility pass's weighted sums, the distance of the surface each
-    pixel shows, and the depth buffer drawn with them."""
+class SurfacesData:
+    """What the camera sees at each pixel of the environment visibility's image: the
+    camera-relative positions, the normals and the depth buffer drawn with them."""
 
-    sums: Handle
-    distance: Handle
+    position: Handle
+    normal: Handle
     depth: Handle

@@ -20,10 +20,11 @@ from scenerender.rendering.draw import (
 )
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.light_buffers import environment_view_uniforms
-from scenerender.rendering.passes.data import ImageData, LookupsData
+from scenerender.rendering.passes.data import ImageData, SurfacesData
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"
-VISIBILITY_FRAGMENT = "mesh/environment_visibility.frag"
+VISIBILITY_FRAGMENT = "post/environment_visibility.frag"
+SURFACE_FRAGMENT = "mesh/environment_visibility_surface.frag"
 BLUR_FRAGMENT = "post/environment_visibility_blur.frag"
 
 
@@ -121,55 +122,104 @@ def visibility_uniforms(ctx, views: Handle, visibility: Handle, camera_position)
 
 
 @dataclass(frozen=True)
-class EnvironmentVisibilityPass(RenderPass):
-    """Each pixel's share of the environment's visibility lookups, where the directions
-    are shared out over ``interleave`` x ``interleave`` blocks (``per_pixel`` a pixel;
-    world.environment_visibility.interleave_pattern), at the surface the camera sees there,
-    as weighted sums (shaders/mesh/environment_visibility.frag); a geometry pass,
-    single-sampled. ``min_alpha``: the narrowest specular lobe (features.visibility_min_alpha).
-    materials: as GBufferPass's."""
+class EnvironmentSurfacesPass(RenderPass):
+    """What the camera sees at each pixel of the environment visibility's image, ``size``:
+    camera-relative positions and normals facing the camera, whole floats
+    (shaders/mesh/environment_visibility_surface.frag); a geometry pass, single-sampled.
+    EnvironmentVisibilityPass then looks the directions up once a pixel. materials: as
+    GBufferPass's."""
 
     size: tuple
     camera: Handle
     objects: Handle
+    materials: Handle | None = None
+
+    name = "environment_visibility_surfaces"
+
+    def setup(self, builder) -> SurfacesData:
+        builder.read(self.camera, self.objects, *((self.materials,) if self.materials is not None else ()))
+        return SurfacesData(builder.create("environment_positions", ResourceDesc("color", self.size, "rgba32f")),
+                            builder.create("environment_normals", ResourceDesc("color", self.size, "rgba32f")),
+                            builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
+
+    def describe(self) -> str:
+        return f"positions and normals at {self.size[0]}x{self.size[1]}"
+
+    def execute(self, ctx, data: SurfacesData) -> None:
+        begin_camera_pass(ctx, [data.position, data.normal], data.depth, (0.0, 0.0, 0.0, 0.0))
+        program = ctx.programs.get(MESH_VERTEX, SURFACE_FRAGMENT)
+        bind_texture_units(program)
+        uniforms = {"u_view_proj": ctx.input(self.camera).view_proj_relative()}
+        set_uniforms(program, **uniforms)
+        objects = ctx.input(self.objects)
+        materials = ctx.input(self.materials) if self.materials is not None else None
+        for index in objects.in_camera_view():
+            cull_hidden_faces(ctx.gl, objects, index)
+            draw_cutting_masks(ctx, objects, index, program, SURFACE_FRAGMENT, {}, materials, uniforms)
+        stop_culling(ctx.gl)
+
+
+@dataclass(frozen=True)
+class EnvironmentVisibilityPass(RenderPass):
+    """Each pixel's share of the environment's visibility lookups, where the directions
+    are shared out over ``interleave`` x ``interleave`` blocks (``per_pixel`` a pixel;
+    world.environment_visibility.interleave_pattern), at the surface EnvironmentSurfacesPass
+    found there, as weighted sums with the surface's distance, packed
+    (shaders/post/environment_visibility.frag); full-screen, once for each place in the
+    block, into a sub-image of its own (sub_image_layout). ``min_alpha``: the narrowest
+    specular lobe (features.visibility_min_alpha)."""
+
+    size: tuple
+    camera: Handle
+    surfaces: SurfacesData
     views: Handle
     visibility: Handle
     directions: int
     interleave: int
     per_pixel: int
     min_alpha: str
-    materials: Handle | None = None
 
     name = "environment_visibility"
 
-    def setup(self, builder) -> LookupsData:
-        builder.read(self.camera, self.objects, self.views, self.visibility,
-                     *((self.materials,) if self.materials is not None else ()))
-        return LookupsData(builder.create("environment_lookups", ResourceDesc("color", self.size, "rgba16f")),
-                           builder.create("environment_distance", ResourceDesc("color", self.size, "r32f")),
-                           builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
+    def setup(self, builder) -> ImageData:
+        builder.read(self.camera, self.views, self.visibility, self.surfaces.position, self.surfaces.normal)
+        part, _ = sub_image_layout(self.size, self.interleave)
+        whole = (part[0] * self.interleave, part[1] * self.interleave)
+        return ImageData(builder.create("environment_lookups", ResourceDesc("color", whole, "rgba32ui")))
 
     def describe(self) -> str:
         return (f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, {self.per_pixel} a pixel, "
                 f"at {self.size[0]}x{self.size[1]}")
 
-    def execute(self, ctx, data: LookupsData) -> None:
-        begin_camera_pass(ctx, [data.sums, data.distance], data.depth, (0.0, 0.0, 0.0, 0.0))
+    def execute(self, ctx, data: ImageData) -> None:
+        fbo = ctx.framebuffer([data.image])
+        fbo.use()
+        ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
                    "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": self.min_alpha}
-        program = ctx.programs.get(MESH_VERTEX, VISIBILITY_FRAGMENT, defines)
+        program = ctx.programs.get(FULLSCREEN_VERTEX, VISIBILITY_FRAGMENT, defines)
         bind_texture_units(program)
         bind_visibility_maps(ctx, self.visibility)
-        camera = ctx.input(self.camera)
-        uniforms = {"u_view_proj": camera.view_proj_relative(),
-                    **visibility_uniforms(ctx, self.views, self.visibility, camera.position)}
-        set_uniforms(program, **uniforms)
-        objects = ctx.input(self.objects)
-        materials = ctx.input(self.materials) if self.materials is not None else None
-        for index in objects.in_camera_view():
-            cull_hidden_faces(ctx.gl, objects, index)
-            draw_cutting_masks(ctx, objects, index, program, VISIBILITY_FRAGMENT, defines, materials, uniforms)
-        stop_culling(ctx.gl)
+        ctx.image(self.surfaces.position).use(TEXTURE_UNITS["u_env_vis_position"])
+        ctx.image(self.surfaces.normal).use(TEXTURE_UNITS["u_env_vis_normal"])
+        set_uniforms(program, **visibility_uniforms(ctx, self.views, self.visibility, ctx.input(self.camera).position))
+        part, places = sub_image_layout(self.size, self.interleave)
+        try:
+            for place in places:
+                fbo.viewport = (place[0] * part[0], place[1] * part[1], *part)
+                program["u_env_vis_place"].value = place
+                ctx.fullscreen(program)
+        finally:
+            fbo.viewport = (0, 0, *fbo.size)
+
+
+def sub_image_layout(size: tuple, interleave: int) -> tuple[tuple, list]:
+    """The visibility pass's sub-images, one for each place (x, y) in the ``interleave``
+    block, of the pixels of ``size`` at that place: their (width, height), each side's
+    count of such pixels rounded up, and the places, the sub-image of (x, y) at
+    (x, y) times that size."""
+    part = tuple(-(-side // interleave) for side in size)
+    return part, [(x, y) for y in range(interleave) for x in range(interleave)]
 
 
 @dataclass(frozen=True)
@@ -177,21 +227,22 @@ class EnvironmentVisibilityBlurPass(RenderPass):
     """The visibility pass's sums added up along one ``axis`` (0: x, 1: y) over 2N - 1
     pixels, N = ``interleave``, on the pixel's own surface
     (shaders/post/environment_visibility_blur.frag); the second axis writes the ratios
-    (``ratio``) that opaque shading reads."""
+    (``ratio``) that opaque shading reads. Both read and write their values packed in
+    unsigned integers (one fetch a tap)."""
 
     sums: Handle
-    distance: Handle
     size: tuple
     interleave: int
     axis: int
     ratio: bool
+    sub_images: bool = False  # ``sums`` laid out as EnvironmentVisibilityPass leaves them
 
     name = "environment_visibility_blur"
 
     def setup(self, builder) -> ImageData:
-        builder.read(self.sums, self.distance)
-        name = "environment_seen" if self.ratio else "environment_lookups_across"
-        return ImageData(builder.create(name, ResourceDesc("color", self.size, "rgba16f")))
+        builder.read(self.sums)
+        name, packing = ("environment_seen", "rg32ui") if self.ratio else ("environment_lookups_across", "rgba32ui")
+        return ImageData(builder.create(name, ResourceDesc("color", self.size, packing)))
 
     def describe(self) -> str:
         return f"{2 * self.interleave - 1} pixels along {'xy'[self.axis]}"
@@ -201,8 +252,11 @@ class EnvironmentVisibilityBlurPass(RenderPass):
         defines = {"ENV_VIS_INTERLEAVE": self.interleave, "ENV_VIS_AXIS": "ivec2(1, 0)" if self.axis == 0 else "ivec2(0, 1)"}
         if self.ratio:
             defines["ENV_VIS_RATIO"] = True
+        if self.sub_images:
+            defines["ENV_VIS_SUB_IMAGES"] = True
         program = ctx.programs.get(FULLSCREEN_VERTEX, BLUR_FRAGMENT, defines)
         bind_texture_units(program)
+        if self.sub_images:
+            program["u_env_vis_size"].value = tuple(int(side) for side in self.size)
         ctx.image(self.sums).use(TEXTURE_UNITS["u_env_vis_samples"])
-        ctx.image(self.distance).use(TEXTURE_UNITS["u_env_vis_distance"])
         ctx.fullscreen(program)
