@@ -47,8 +47,7 @@ CASES = {
     # the studio environment not blocked by the scene: what gltf_pbr drew before visibility
     "gltf_pbr@visibility_off": ("gltf_pbr.yaml", 36, ["lights[2].visibility=false"]),
     "soft_light": ("soft_light.yaml", 0, []),
-    # every pixel looking up every direction: what gltf_pbr drew before the directions were
-    # shared out over pixel blocks
+    # every pixel looking up every direction: the exact sum the default's blocks approximate
     "gltf_pbr@visibility_exact": ("gltf_pbr.yaml", 36, ["lights[2].visibility_interleave=1"]),
 }
 

@@ -75,18 +75,22 @@ def alone_error(gl, reference, overrides=()) -> float:
 @pytest.mark.parametrize("setting", ["split_sum", "sampled"])
 def test_three_spheres_under_a_sky_each_within_3_percent_of_the_reference(gl, three_reference, setting):
     # The GPU's mean linear radiance over each sphere against the reference's, the spheres
-    # blocking part of each other's sky (visibility at 64 directions, the scene's). Measured
-    # here, split_sum (the default): grey +0.9, copper +0.3, white +0.8 %; sampled, 32
-    # samples: +0.9, +0.9, +0.8 % (at 256x192 with a finer reference:
-    # benchmarks/quality/three_spheres.md).
-    errors = three_errors(gl, three_reference, [] if setting == "split_sum" else SAMPLED)
+    # blocking part of each other's sky. split_sum at the light's defaults (32 visibility
+    # directions), measured here: grey +0.4, copper +2.8, white +1.2 % (the copper +1.6 %
+    # at 256x192 against a finer reference: benchmarks/quality/three_spheres.md). The
+    # sampled term is scaled by one specular visibility a pixel, an error the split sum's
+    # happens to offset on the copper (+3.7 % at 32 directions), so it is checked at 64
+    # directions: +0.9, +0.9, +0.8 %.
+    overrides = [] if setting == "split_sum" else [*SAMPLED, "lights[0].visibility_directions=64"]
+    errors = three_errors(gl, three_reference, overrides)
     assert all(abs(error) < 0.03 for error in errors.values()), errors
 
 
 @pytest.mark.gl
 def test_the_three_sphere_check_catches_a_coarser_visibility(gl, three_reference):
-    # the same bound fails where the sky's occlusion is sampled in the default 16
-    # directions (measured: copper +5.6 %, white +5.3 %): the check sees errors of this size
+    # the same bound fails where the sky's occlusion is sampled in 16 directions (the
+    # default before 0.7.0; measured: copper +5.6 %, white +5.3 %): the check sees errors
+    # of this size
     errors = three_errors(gl, three_reference, ["lights[0].visibility_directions=16"])
     assert max(abs(error) for error in errors.values()) > 0.04, errors
 

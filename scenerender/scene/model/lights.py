@@ -132,7 +132,7 @@ class EnvironmentLight(_LightBase):
     specular_samples: number(1, 256, integer=True) = 32  # a pixel's samples, with specular: sampled
     # the scene blocks the environment's light (world.environment_visibility); false: not
     visibility: Bool = True
-    visibility_directions: number(1, 64, integer=True) = 16  # directions, each with a shadow map
+    visibility_directions: number(1, 64, integer=True) = 32  # directions, each with a shadow map
     visibility_map_size: number(32, 4096, integer=True) = 512  # texels per side of each map
     # pixels a side of the block that shares the directions out (each pixel looks up about
     # directions / interleave^2 of them, a blur puts them together); 1: every pixel all
