@@ -11,7 +11,7 @@ install:
 	$(PYTHON) -m pip install --quiet -e '.[test]'
 
 test: install
-	$(PYTHON) -m pytest -q -n $(TEST_WORKERS)
+	$(PYTHON) -m pytest -q -n $(TEST_WORKERS) --dist loadgroup
 
 # everything except the tests that need an OpenGL context
 test-fast: install
