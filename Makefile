@@ -1,8 +1,8 @@
 # scenerender developer tasks. `make test` is what CI runs (.ci/run).
 PYTHON ?= python3
-# pytest-xdist workers for `make test`: on a 2-core machine two workers ran the suite in 0.6
-# of the time of one process (much of a test is single-threaded Python and NumPy, or waits on
-# a child process); 0 runs it in one process
+# pytest-xdist workers for `make test`: two keep both cores of a 2-core machine (CI's) busy,
+# where one process leaves a core idle through single-threaded Python and NumPy and waits on
+# child processes; 0 runs the suite in one process
 TEST_WORKERS ?= 2
 
 .PHONY: install test test-fast fuzz showcase goldens bench assets clean
