@@ -1,5 +1,9 @@
 # scenerender developer tasks. `make test` is what CI runs (.ci/run).
 PYTHON ?= python3
+# pytest-xdist workers for `make test`: two keep both cores of a 2-core machine (CI's) busy,
+# where one process leaves a core idle through single-threaded Python and NumPy and waits on
+# child processes; 0 runs the suite in one process
+TEST_WORKERS ?= 2
 
 .PHONY: install test test-fast fuzz showcase goldens bench assets clean
 
@@ -7,7 +11,7 @@ install:
 	$(PYTHON) -m pip install --quiet -e '.[test]'
 
 test: install
-	$(PYTHON) -m pytest -q
+	$(PYTHON) -m pytest -q -n $(TEST_WORKERS) --dist loadgroup
 
 # everything except the tests that need an OpenGL context
 test-fast: install

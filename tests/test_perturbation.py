@@ -16,6 +16,11 @@ from scenerender.compare import DEFAULT_RULE, compare_paths
 from scenerender.compare.metrics import measure, shift_residual, worst_window_bias
 from scenerender.tools import perturbation as suite
 
+# One worker runs the whole module under `make test` (pytest-xdist's --dist loadgroup): its
+# scores fixture renders and scores the corpus once, the slowest setup in the suite, and
+# split over two workers each of them made it.
+pytestmark = pytest.mark.xdist_group("perturbation")
+
 
 @pytest.fixture(scope="module")
 def scores(gl):
