@@ -6,9 +6,6 @@ falls short, the key unset rendering what the renderer drew before it existed, a
 values refused at their key."""
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -16,9 +13,9 @@ from PIL import Image
 
 import scenerender
 from golden_cases import reference_path, render_case
+from quality_benchmarks import QUALITY, quality_module
 from scenerender.cli import main
 
-QUALITY = Path(__file__).resolve().parent.parent / "benchmarks" / "quality"
 SIZE = (128, 96)
 SAMPLED = ["lights[0].specular=sampled", "lights[0].specular_samples=32"]
 # the copper sphere by itself: its neighbours and the ground hidden, nothing to block
@@ -26,15 +23,7 @@ ALONE = ["objects[0].visible=false", "objects[2].visible=false", "objects[3].vis
          "lights[0].visibility=false"]
 
 
-def _three_spheres_module():
-    """benchmarks/quality/three_spheres.py: the scene's spheres and their pixels."""
-    spec = importlib.util.spec_from_file_location("three_spheres", QUALITY / "three_spheres.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-spheres = _three_spheres_module()
+spheres = quality_module("three_spheres")
 
 
 def _reference(overrides: list) -> tuple[np.ndarray, np.ndarray]:

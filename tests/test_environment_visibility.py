@@ -9,32 +9,21 @@ place of the block, the pass before shading, no bleeding across a silhouette, an
 the lookups' sub-images and their packed halves."""
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 from PIL import Image
 
 import scenerender
 from golden_cases import reference_path, render_case
+from quality_benchmarks import quality_module
 from scenerender.world.environment_light import equirect_directions
 from scenerender.world.environment_files import write_hdr
 from scenerender.world.environment_visibility import interleave_pattern, median_cut
 
-QUALITY = Path(__file__).resolve().parent.parent / "benchmarks" / "quality"
 SIZE = (128, 96)
 
 
-def _contact_module():
-    """benchmarks/quality/environment_contact.py: the contact scene's regions."""
-    spec = importlib.util.spec_from_file_location("environment_contact", QUALITY / "environment_contact.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-contact = _contact_module()
+contact = quality_module("environment_contact")
 
 
 # -- the directions (no GL) -------------------------------------------------------------

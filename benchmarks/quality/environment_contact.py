@@ -120,15 +120,16 @@ def gpu_linear(overrides: list, size: tuple) -> np.ndarray:
         return renderer.render(0).linear[..., :3].astype(np.float64)
 
 
-def frame_times(variants: dict, motion: list, frames: int = 30) -> dict:
-    """{variant: [ms per frame after the first]}, the variants taking turns frame by frame."""
+def frame_times(variants: dict, motion: list, frames: int = 30, scene_path: Path = SCENE) -> dict:
+    """{variant: [ms per frame after the first]} of ``scene_path`` with ``motion`` and each
+    variant's overrides, the variants taking turns frame by frame in one process."""
     from scenerender.gpu.gl_context import create_context
     from scenerender.rendering.renderer import GraphRenderer
 
     gl = create_context()
     renderers = {}
     for name, overrides in variants.items():
-        scene = scenerender.load(SCENE, [*motion, *overrides])
+        scene = scenerender.load(scene_path, [*motion, *overrides])
         renderers[name] = GraphRenderer(scene.world, gl)
         renderers[name].render(0)  # programs compiled, static passes drawn
     times = {name: [] for name in variants}

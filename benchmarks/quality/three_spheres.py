@@ -24,16 +24,17 @@ from __future__ import annotations
 import json
 import statistics
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent.parent))
+sys.path.insert(0, str(HERE))
 
 import scenerender  # noqa: E402
 from scenerender.world.frame import FrameEvaluator  # noqa: E402
+from environment_contact import frame_times  # noqa: E402  (the same alternation)
 
 SCENE = HERE / "scenes" / "three_spheres.yaml"
 # (name, centre) of each sphere, radius 1, as scenes/three_spheres.yaml places them
@@ -109,29 +110,6 @@ def gpu_linear(overrides: list, size: tuple, gl=None) -> np.ndarray:
         return renderer.render(0).linear[..., :3].astype(np.float64).mean(axis=2)
 
 
-def frame_times(variants: dict, frames: int = 30) -> dict:
-    """{variant: [ms per frame after the first]}, the variants taking turns frame by frame."""
-    from scenerender.gpu.gl_context import create_context
-    from scenerender.rendering.renderer import GraphRenderer
-
-    gl = create_context()
-    renderers = {}
-    for name, overrides in variants.items():
-        scene = scenerender.load(SCENE, [*DRIFT, *overrides])
-        renderers[name] = GraphRenderer(scene.world, gl)
-        renderers[name].render(0)  # programs compiled, static passes drawn
-    times = {name: [] for name in variants}
-    for frame in range(1, frames + 1):
-        for name, renderer in renderers.items():
-            start = time.perf_counter()
-            renderer.render(frame)
-            times[name].append((time.perf_counter() - start) * 1000.0)
-    for renderer in renderers.values():
-        renderer.release()
-    gl.release()
-    return times
-
-
 def references(cache: Path | None) -> dict:
     """{"scene" | "alone": ((H, W) truth, (H, W) mixed)} at SIZE, 8x8 samples a pixel, 32
     directions each; kept in ``cache`` (an .npz) where given."""
@@ -160,7 +138,7 @@ def main() -> None:
             errors.update(sphere_errors(gpu_linear([*ALONE, *overrides], SIZE), alone_truth, alone))
         results[name] = {"errors": errors}
         print(name, {k: round(v * 100, 1) for k, v in errors.items()}, flush=True)
-    for name, values in frame_times({k: v for k, v in VARIANTS.items() if k not in UNTIMED}).items():
+    for name, values in frame_times({k: v for k, v in VARIANTS.items() if k not in UNTIMED}, DRIFT, scene_path=SCENE).items():
         results[name]["ms"] = statistics.median(values)
         print(name, round(statistics.median(values), 1), flush=True)
     pixels = {name: int(mask.sum()) for name, mask in {**masks, **alone}.items()}
