@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import moderngl
+import numpy as np
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import matrix_bytes, set_uniforms
@@ -16,7 +17,8 @@ from scenerender.rendering.draw import (
 from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
 from scenerender.rendering.graph_inputs import InputHandles
 from scenerender.rendering.passes.data import ImageData, TargetData
-from scenerender.rendering.visible_samples import VisibleSamplesPlan, plan_visible_samples
+from scenerender.rendering.shadow_reach import around, shadowed_rectangle
+from scenerender.rendering.visible_samples import VisibleSamplesPlan, flat_non_occluders, plan_visible_samples
 
 if TYPE_CHECKING:  # only scenes with an environment light load its passes (rendering/pipeline.py)
     from scenerender.rendering.passes.environment import EnvironmentLighting
@@ -38,8 +40,10 @@ class Shading:
     environment: EnvironmentLighting | None = None
 
     def declare(self, builder) -> None:
+        # the shadow views too: where their casters' shadows can fall (shadow_reach.py)
+        views = tuple(handle for _, handle in self.inputs.shadow_views) if self.atlas_pages else ()
         builder.read(*self.inputs.shading(), *self.atlas_pages, *((self.ao,) if self.ao is not None else ()),
-                     *(self.environment.handles() if self.environment is not None else ()))
+                     *(self.environment.handles() if self.environment is not None else ()), *views)
 
     def bind(self, ctx) -> None:
         bind_lights(ctx.input(self.inputs.lights))
@@ -52,10 +56,13 @@ class Shading:
         if self.environment is not None:
             self.environment.bind(ctx)
 
-    def draw(self, ctx, items, mode=None, cull_hidden: bool = False, before_item=None) -> None:
+    def draw(self, ctx, items, mode=None, cull_hidden: bool = False, before_item=None, shadowed: dict | None = None,
+             size: tuple = (0, 0)) -> None:
         """Shade ``items`` with each material's program variant; ``cull_hidden``: skip the
         faces the camera cannot see (opaque surfaces only), and the back faces of
-        single-sided materials; ``before_item(item)``, where given, runs before each draw."""
+        single-sided materials; ``before_item(item)``, where given, runs before each draw.
+        ``shadowed``: object index -> the screen rectangle (``size`` the target's) outside
+        which no shadow falls on it (shadow_reach.py): there it is drawn without them."""
         camera = ctx.input(self.inputs.camera)
         objects = ctx.input(self.inputs.objects)
         materials = ctx.input(self.inputs.materials)
@@ -80,21 +87,65 @@ class Shading:
                 cull_faces(ctx.gl, objects, item)
             if before_item is not None:
                 before_item(item)
-            draw_item(objects, program, item, mode)
+            rectangle = shadowed.get(item.object_index) if shadowed else None
+            if rectangle is None:
+                draw_item(objects, program, item, mode)
+                continue
+            # scissor rectangles: every pixel is drawn by exactly one of the draws
+            gl = ctx.gl
+            if rectangle[2] > rectangle[0] and rectangle[3] > rectangle[1]:
+                gl.scissor = (rectangle[0], rectangle[1], rectangle[2] - rectangle[0], rectangle[3] - rectangle[1])
+                draw_item(objects, program, item, mode)
+            unshadowed = self._program(ctx, item.material, shadows=False)
+            if id(unshadowed) not in ready:
+                set_uniforms(unshadowed, **frame_values)
+                ready.add(id(unshadowed))
+            bind_material(unshadowed, item.material, materials)
+            for x0, y0, x1, y1 in around(rectangle, size):
+                gl.scissor = (x0, y0, x1 - x0, y1 - y0)
+                draw_item(objects, unshadowed, item, mode)
+            gl.scissor = None
 
-    def _program(self, ctx, material):
-        """The material's shader variant (worked out on its first draw of the run)."""
+    def _program(self, ctx, material, shadows: bool = True):
+        """The material's shader variant (worked out on its first draw of the run);
+        ``shadows=False``: the same without any shadow lookup."""
         with_ao = self.ao is not None
 
         def make():
             defines = ctx.features.forward_defines(material, with_ao)
+            if not shadows:
+                defines.pop("HAS_SHADOWS", None)
             if self.visible_samples and "HAS_SHADOWS" in defines:
                 defines["SHADOW_VISIBLE_SAMPLES"] = True
             program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, defines)
             bind_texture_units(program)
             return program
 
-        return ctx.programs.memo(("forward", id(material), with_ao, self.visible_samples), make)
+        return ctx.programs.memo(("forward", id(material), with_ao, self.visible_samples, shadows), make)
+
+    def shadow_free(self, ctx, items, camera, size: tuple) -> dict:
+        """Object index -> screen rectangle (shadow_reach.shadowed_rectangle) for each flat
+        receiver of ``items`` that casts no shadow itself, where every shadowed light is an
+        unsized directional one (its lookup is the plain filtered one); {} elsewhere."""
+        features = ctx.features
+        if not self.atlas_pages or features.soft_shadows or any(features.dir_sized):
+            return {}
+        objects = ctx.input(self.inputs.objects)
+        receivers = [i for i in flat_non_occluders(objects, camera, items) if not objects.definitions[i].cast_shadows]
+        if not receivers:
+            return {}
+        views = [(view, view.tile.size) for _, handle in self.inputs.shadow_views for view in ctx.input(handle).views]
+        casters = objects.shadow_casters()
+        bounds = np.array([objects.frames[i].bounds for i in casters], dtype=np.float64).reshape(-1, 2, 3)
+        pcf = max(features.dir_shadow_taps, default=1) + 1
+        found = {}
+        for index in receivers:
+            lo, hi = np.asarray(objects.frames[index].bounds, dtype=np.float64)
+            axis = int(np.argmin(hi - lo))
+            rectangle = shadowed_rectangle(views, bounds, axis, 0.5 * (lo[axis] + hi[axis]), camera, size, pcf)
+            if rectangle is not None and rectangle != (0, 0, size[0], size[1]):
+                found[index] = rectangle
+        return found
 
 
 def cull_faces(gl, objects, item) -> None:
@@ -166,16 +217,19 @@ class OpaquePass(RenderPass):
         gl.line_width = self.line_width
         items = opaque_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
         solid = self.fill == "solid"  # wireframes and points show every face's edges
+        shadowed = self.shading.shadow_free(ctx, items, ctx.input(self.shading.inputs.camera), self.size) if solid else {}
         try:
             plan = self._depth_prepass(ctx, items, fbo) if self.prepass else None
             if plan is None or plan.prepass_is_everything:
-                self.shading.draw(ctx, plan.order if plan else items, mode, cull_hidden=solid)
+                self.shading.draw(ctx, plan.order if plan else items, mode, cull_hidden=solid, shadowed=shadowed,
+                                  size=self.size)
             else:
                 # the depth of what the prepass left out is written as it is shaded; what it
                 # drew keeps its own (an alpha-masked surface's holes must stay empty)
                 def depth_writes(item):
                     fbo.depth_mask = item.object_index not in plan.prepass
-                self.shading.draw(ctx, plan.order, mode, cull_hidden=solid, before_item=depth_writes)
+                self.shading.draw(ctx, plan.order, mode, cull_hidden=solid, before_item=depth_writes,
+                                  shadowed=shadowed, size=self.size)
         finally:
             stop_culling(gl)
             gl.wireframe = False
