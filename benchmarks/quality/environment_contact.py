@@ -70,9 +70,9 @@ DRIFT = ["camera.position={keys: [[0, [0.0, 3.2, 6.5]], [1, [0.4, 3.2, 6.5]]]}",
 BOUNCE = DRIFT + ["objects[0].position={keys: [[0, [0, 1, 0]], [1, [0, 1.3, 0]]]}"]
 
 
-def surface_points(world, size: tuple) -> tuple[np.ndarray, np.ndarray]:
-    """((H, W, 3) the world point each pixel's centre sees, (H, W) 0 sphere, 1 ground,
-    -1 nothing): the scene's two surfaces intersected analytically."""
+def camera_rays(world, size: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """((3,) the camera's position, (H, W, 3) float64 the unit direction through each
+    pixel's centre) of frame 0, for intersecting a scene's surfaces analytically."""
     width, height = size
     camera = FrameEvaluator(world, size, None).camera(0.0, np.array([[-12.0, 0.0, -12.0], [12.0, 2.0, 12.0]]))
     clip_to_world = np.linalg.inv(camera.view_proj_relative())
@@ -80,8 +80,13 @@ def surface_points(world, size: tuple) -> tuple[np.ndarray, np.ndarray]:
     ndc = np.stack([x / width * 2.0 - 1.0, 1.0 - y / height * 2.0, np.full_like(x, 0.5), np.ones_like(x)], axis=-1)
     far = ndc @ clip_to_world.T
     direction = far[..., :3] / far[..., 3:4]
-    direction /= np.linalg.norm(direction, axis=-1, keepdims=True)
-    origin = camera.position
+    return camera.position, direction / np.linalg.norm(direction, axis=-1, keepdims=True)
+
+
+def surface_points(world, size: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """((H, W, 3) the world point each pixel's centre sees, (H, W) 0 sphere, 1 ground,
+    -1 nothing): the scene's two surfaces intersected analytically."""
+    origin, direction = camera_rays(world, size)
     # the sphere: |o + t d - c|^2 = r^2
     oc = origin - SPHERE_CENTRE
     b = direction @ oc

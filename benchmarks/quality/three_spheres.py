@@ -33,8 +33,7 @@ sys.path.insert(0, str(HERE.parent.parent))
 sys.path.insert(0, str(HERE))
 
 import scenerender  # noqa: E402
-from scenerender.world.frame import FrameEvaluator  # noqa: E402
-from environment_contact import frame_times  # noqa: E402  (the same alternation)
+from environment_contact import camera_rays, frame_times  # noqa: E402  (the same rays and alternation)
 
 SCENE = HERE / "scenes" / "three_spheres.yaml"
 # (name, centre) of each sphere, radius 1, as scenes/three_spheres.yaml places them
@@ -63,15 +62,7 @@ DRIFT = ["camera.position={keys: [[0, [0.0, 2.1, 7.2]], [1, [0.4, 2.1, 7.2]]]}",
 def surface_points(world, size: tuple) -> np.ndarray:
     """(H, W) int: the surface each pixel's centre sees, 0.. the SPHERES in order, len(SPHERES)
     the ground, -1 nothing (the scene's surfaces intersected analytically)."""
-    width, height = size
-    camera = FrameEvaluator(world, size, None).camera(0.0, np.array([[-12.0, 0.0, -12.0], [12.0, 2.0, 12.0]]))
-    clip_to_world = np.linalg.inv(camera.view_proj_relative())
-    y, x = np.mgrid[0:height, 0:width] + 0.5
-    ndc = np.stack([x / width * 2.0 - 1.0, 1.0 - y / height * 2.0, np.full_like(x, 0.5), np.ones_like(x)], axis=-1)
-    far = ndc @ clip_to_world.T
-    direction = far[..., :3] / far[..., 3:4]
-    direction /= np.linalg.norm(direction, axis=-1, keepdims=True)
-    origin = camera.position
+    origin, direction = camera_rays(world, size)
     hits = []
     for _, centre in SPHERES:  # |o + t d - c|^2 = 1
         oc = origin - centre
