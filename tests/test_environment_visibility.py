@@ -215,47 +215,43 @@ def test_interleave_1_renders_the_exact_sum_the_default_approximates(gl):
     assert not np.array_equal(render_case(gl, "gltf_pbr"), before)
 
 
-def test_visibility_off_leaves_no_trace_in_the_graph(tmp_path):
+def _graph_text(tmp_path, extra: str = "") -> str:
+    """What ``scenerender graph`` prints for the furnace scene with ``extra`` keys on its
+    environment light (a uniform white image)."""
     from click.testing import CliRunner
 
     from scenerender.cli import main
 
     write_hdr(tmp_path / "e.hdr", np.ones((8, 16, 3), np.float32))
     path = tmp_path / "scene.yaml"
-    path.write_text(_furnace_text())
+    path.write_text(_furnace_text(extra))
     result = CliRunner().invoke(main, ["graph", str(path)])
     assert result.exit_code == 0, result.output
-    assert "shadow:environment0 visibility static   32 directions of the environment, 512px each" in result.output
-    path.write_text(_furnace_text(", visibility: false"))
-    result = CliRunner().invoke(main, ["graph", str(path)])
-    assert "environment_visibility" not in result.output and "environment_views" not in result.output
-    assert "shadow:" not in result.output
+    return result.output
+
+
+def test_visibility_off_leaves_no_trace_in_the_graph(tmp_path):
+    output = _graph_text(tmp_path)
+    assert "shadow:environment0 visibility static   32 directions of the environment, 512px each" in output
+    output = _graph_text(tmp_path, ", visibility: false")
+    assert "environment_visibility" not in output and "environment_views" not in output
+    assert "shadow:" not in output
 
 
 # -- the directions shared out over pixel blocks ------------------------------------------------
 
 def test_the_shared_out_lookups_are_a_pass_before_shading_and_interleave_1_has_none(tmp_path):
-    from click.testing import CliRunner
-
-    from scenerender.cli import main
-
-    write_hdr(tmp_path / "e.hdr", np.ones((8, 16, 3), np.float32))
-    path = tmp_path / "scene.yaml"
-    path.write_text(_furnace_text())
-    result = CliRunner().invoke(main, ["graph", str(path)])
-    assert result.exit_code == 0, result.output
+    output = _graph_text(tmp_path)
     # by default at half the image's 48x48, 2x2 blocks
-    assert "environment_visibility static   32 directions over 2x2 pixels, 8 a pixel, at 24x24" in result.output
-    assert "environment_visibility_blur static   3 pixels along x" in result.output
-    assert "environment_visibility_blur static   3 pixels along y" in result.output
-    assert "reads  environment_specular#1, environment_visibility#1, environment_seen#1" in result.output
-    path.write_text(_furnace_text(", visibility_interleave: 4, visibility_half_resolution: false"))
-    result = CliRunner().invoke(main, ["graph", str(path)])
-    assert "32 directions over 4x4 pixels, 2 a pixel, at 48x48" in result.output
-    path.write_text(_furnace_text(", visibility_interleave: 1"))
-    result = CliRunner().invoke(main, ["graph", str(path)])
-    assert "shadow:environment0 visibility" in result.output and "environment_visibility_blur" not in result.output
-    assert "environment_lookups" not in result.output and "environment_seen" not in result.output
+    assert "environment_visibility static   32 directions over 2x2 pixels, 8 a pixel, at 24x24" in output
+    assert "environment_visibility_blur static   3 pixels along x" in output
+    assert "environment_visibility_blur static   3 pixels along y" in output
+    assert "reads  environment_specular#1, environment_visibility#1, environment_seen#1" in output
+    output = _graph_text(tmp_path, ", visibility_interleave: 4, visibility_half_resolution: false")
+    assert "32 directions over 4x4 pixels, 2 a pixel, at 48x48" in output
+    output = _graph_text(tmp_path, ", visibility_interleave: 1")
+    assert "shadow:environment0 visibility" in output and "environment_visibility_blur" not in output
+    assert "environment_lookups" not in output and "environment_seen" not in output
 
 
 def test_transparent_surfaces_look_every_direction_up_themselves(tmp_path):

@@ -77,12 +77,17 @@ class Shading:
             fog = ctx.input(self.inputs.fog)
             frame_values.update(u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
         ready = set()  # the programs given frame_values in this draw (many materials share one)
-        for item in items:
-            program = self._program(ctx, item.material)
+
+        def prepared(material, shadows: bool = True):
+            program = self._program(ctx, material, shadows)
             if id(program) not in ready:
                 set_uniforms(program, **frame_values)
                 ready.add(id(program))
-            bind_material(program, item.material, materials)
+            bind_material(program, material, materials)
+            return program
+
+        for item in items:
+            program = prepared(item.material)
             if cull_hidden:
                 cull_faces(ctx.gl, objects, item)
             if before_item is not None:
@@ -96,11 +101,7 @@ class Shading:
             if rectangle[2] > rectangle[0] and rectangle[3] > rectangle[1]:
                 gl.scissor = (rectangle[0], rectangle[1], rectangle[2] - rectangle[0], rectangle[3] - rectangle[1])
                 draw_item(objects, program, item, mode)
-            unshadowed = self._program(ctx, item.material, shadows=False)
-            if id(unshadowed) not in ready:
-                set_uniforms(unshadowed, **frame_values)
-                ready.add(id(unshadowed))
-            bind_material(unshadowed, item.material, materials)
+            unshadowed = prepared(item.material, shadows=False)
             for x0, y0, x1, y1 in around(rectangle, size):
                 gl.scissor = (x0, y0, x1 - x0, y1 - y0)
                 draw_item(objects, unshadowed, item, mode)
