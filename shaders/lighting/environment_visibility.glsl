@@ -83,10 +83,10 @@ uniform vec2 u_env_vis_scale;  // the visibility image's texels a pixel
 vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     float dist = length(p);
     vec2 slope = vec2(dFdx(dist), dFdy(dist));
-    // the four texels around the pixel, each channel in one gather (texels (0, 1), (1, 1),
-    // (1, 0), (0, 0) of the square, in textureGather's order), rather than four fetches:
-    // two gathers, the visibility's halves and the distance's, rather than one a channel:
-    // llvmpipe pays for each (one gather instead of three took 45 % off this read-back)
+    // the four texels around the pixel (texels (0, 1), (1, 1), (1, 0), (0, 0) of the
+    // square, in textureGather's order) in two gathers, the visibility's halves and the
+    // distance's, rather than four fetches or a gather a channel: llvmpipe pays for each
+    // gather, whatever its bytes
     vec2 at = gl_FragCoord.xy * u_env_vis_scale;
     vec2 uv = at / vec2(textureSize(u_env_vis_samples, 0));
     uvec4 seen_found = textureGather(u_env_vis_samples, uv, 0);

@@ -1,7 +1,8 @@
 // The environment visibility pass: each pixel looks up its share of the visibility
 // directions (ENV_VIS_PER_PIXEL of them, by its place in an ENV_VIS_INTERLEAVE^2 block:
 // world/environment_visibility.interleave_pattern) at the surface it shows
-// (mesh/environment_visibility_surface.frag left it), and writes their weighted sums (lighting/environment_visibility.glsl), for the blur
+// (mesh/environment_visibility_surface.frag left it), and writes their weighted sums
+// (lighting/environment_visibility.glsl), for the blur
 // (post/environment_visibility_blur.frag) to add up over the block: diffuse weight, of it
 // lit, specular weight at the narrowest lobe (ENV_VIS_MIN_ALPHA), of it lit, as two pairs
 // of halves; and the surface's distance from the camera (0 where nothing is drawn), which
