@@ -1,6 +1,7 @@
 // The environment visibility pass: each pixel looks up its share of the visibility
 // directions (ENV_VIS_PER_PIXEL of them, by its place in an ENV_VIS_INTERLEAVE^2 block:
-// world/environment_visibility.interleave_pattern) at the surface it shows
+// world/environment_visibility.interleave_pattern; a place gets one fewer, and a program
+// of its own, where N^2 does not divide ENV_VISIBILITY) at the surface it shows
 // (mesh/environment_visibility_surface.frag left it), and writes their weighted sums
 // (lighting/environment_visibility.glsl), for the blur
 // (post/environment_visibility_blur.frag) to add up over the block: diffuse weight, of it
@@ -40,10 +41,9 @@ void main() {
     vec4 sum = vec4(0.0);
     for (int j = 0; j < ENV_VIS_PER_PIXEL; ++j) {
         int k = start + j * ENV_VIS_INTERLEAVE * ENV_VIS_INTERLEAVE;
-        int at = min(k, ENV_VISIBILITY - 1);
-        float n_dot_l = dot(n, u_env_vis_light[at].xyz);
-        float lit = n_dot_l > 0.0 ? env_vis_lookup(at, position, n, n_dot_l) : 1.0;
-        vec2 w = env_vis_weights(at, n, v, a2) * (k < ENV_VISIBILITY ? 1.0 : 0.0);
+        float n_dot_l = dot(n, u_env_vis_light[k].xyz);
+        float lit = n_dot_l > 0.0 ? env_vis_lookup(k, position, n, n_dot_l) : 1.0;
+        vec2 w = env_vis_weights(k, n, v, a2);
         sum += vec4(w.x, w.x * lit, w.y, w.y * lit);
     }
     sums_and_distance = uvec4(pack_halves(sum.xy), pack_halves(sum.zw), floatBitsToUint(length(position)), 0u);

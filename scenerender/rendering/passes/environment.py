@@ -195,22 +195,40 @@ class EnvironmentVisibilityPass(RenderPass):
         fbo = ctx.framebuffer([data.image])
         fbo.use()
         ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
-                   "ENV_VIS_PER_PIXEL": self.per_pixel, "ENV_VIS_MIN_ALPHA": self.min_alpha}
-        program = ctx.programs.get(FULLSCREEN_VERTEX, VISIBILITY_FRAGMENT, defines)
-        bind_texture_units(program)
         bind_visibility_maps(ctx, self.visibility)
         ctx.image(self.surfaces.position).use(TEXTURE_UNITS["u_env_vis_position"])
         ctx.image(self.surfaces.normal).use(TEXTURE_UNITS["u_env_vis_normal"])
-        set_uniforms(program, **visibility_uniforms(ctx, self.views, self.visibility, ctx.input(self.camera).position))
+        uniforms = visibility_uniforms(ctx, self.views, self.visibility, ctx.input(self.camera).position)
         part, places = sub_image_layout(self.size, self.interleave)
+        programs = {}
         try:
             for place in places:
+                lookups = place_lookups(place, self.interleave, self.directions)
+                if lookups not in programs:
+                    programs[lookups] = self._program(ctx, lookups)
+                    set_uniforms(programs[lookups], **uniforms)
+                program = programs[lookups]
                 fbo.viewport = (place[0] * part[0], place[1] * part[1], *part)
                 program["u_env_vis_place"].value = place
                 ctx.fullscreen(program)
         finally:
             fbo.viewport = (0, 0, *fbo.size)
+
+    def _program(self, ctx, lookups: int):
+        """The pass's program for a place that looks up ``lookups`` directions: a place
+        with fewer than per_pixel (where N^2 does not divide the count) runs a shorter
+        loop rather than lookups it weighs by 0."""
+        defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
+                   "ENV_VIS_PER_PIXEL": lookups, "ENV_VIS_MIN_ALPHA": self.min_alpha}
+        program = ctx.programs.get(FULLSCREEN_VERTEX, VISIBILITY_FRAGMENT, defines)
+        bind_texture_units(program)
+        return program
+
+
+def place_lookups(place: tuple, interleave: int, directions: int) -> int:
+    """How many of ``directions`` the pixels at ``place`` (x, y) of the ``interleave``
+    block look up: i, i + N^2, ... below the count, i = x + N y."""
+    return len(range(place[0] + interleave * place[1], directions, interleave * interleave))
 
 
 def sub_image_layout(size: tuple, interleave: int) -> tuple[tuple, list]:

@@ -136,7 +136,7 @@ class EnvironmentLight(_LightBase):
     visibility_map_size: number(32, 4096, integer=True) = 512  # texels per side of each map
     # pixels a side of the block that shares the directions out (each pixel looks up about
     # directions / interleave^2 of them, a blur puts them together); 1: every pixel all
-    visibility_interleave: number(1, 8, integer=True) = 2
+    visibility_interleave: number(1, 8, integer=True) = 3
     visibility_half_resolution: Bool = True  # those lookups at half the image's resolution, a side
     background: Bool = False  # the image drawn behind the scene (in place of render.skybox), turned by rotation
 
