@@ -1,10 +1,13 @@
 // The environment visibility's surfaces: at each pixel of its image, the surface the camera
-// sees there, its camera-relative position (xyz) and the normal facing the camera (xyz),
-// whole floats, for the lookups (post/environment_visibility.frag) to run once a pixel.
+// sees there, its camera-relative position (xyz, whole floats) and the normal facing the
+// camera (w, common/surface_normal.glsl's code; 0 where nothing is drawn), for the lookups
+// (post/environment_visibility.frag) to run once a pixel. One target rather than a
+// position and a normal image: the pass and each lookup then move half the bytes.
 // Shading the lookups here instead ran them once for every triangle over each of
 // llvmpipe's 4x4 blocks: a finely divided mesh, at half the image's resolution, shaded its
 // blocks several times over.
 #include "common/math.glsl"
+#include "common/surface_normal.glsl"
 #ifdef ALPHA_MASK
 #include "lighting/alpha_mask.glsl"
 #else
@@ -12,8 +15,7 @@ in vec2 v_uv;
 #endif
 in vec3 v_position;
 in vec3 v_normal;
-layout(location = 0) out vec4 surface_position;
-layout(location = 1) out vec4 surface_normal;
+out vec4 surface;
 
 void main() {
 #ifdef ALPHA_MASK
@@ -21,6 +23,5 @@ void main() {
         discard;
     }
 #endif
-    surface_position = vec4(v_position, 1.0);
-    surface_normal = vec4(safe_normalize(gl_FrontFacing ? v_normal : -v_normal), 0.0);
+    surface = vec4(v_position, encode_normal(safe_normalize(gl_FrontFacing ? v_normal : -v_normal)));
 }

@@ -18,23 +18,23 @@
 #define ENV_VIS_PASS
 #include "common/math.glsl"
 #include "common/halves.glsl"
+#include "common/surface_normal.glsl"
 #include "lighting/environment_visibility.glsl"
-uniform sampler2D u_env_vis_position;  // camera-relative
-uniform sampler2D u_env_vis_normal;    // facing the camera
+uniform sampler2D u_env_vis_surfaces;  // camera-relative position, normal facing the camera (encoded)
 uniform ivec2 u_env_vis_place;         // this draw's place in the block
 out uvec4 sums_and_distance;  // the sums (xy: diffuse, zw: specular), the distance
 
 void main() {
-    ivec2 size = textureSize(u_env_vis_position, 0);
+    ivec2 size = textureSize(u_env_vis_surfaces, 0);
     ivec2 part = (size + ENV_VIS_INTERLEAVE - 1) / ENV_VIS_INTERLEAVE;  // a sub-image's size
     ivec2 pixel = (ivec2(gl_FragCoord.xy) - u_env_vis_place * part) * ENV_VIS_INTERLEAVE + u_env_vis_place;
-    vec4 surface = texelFetch(u_env_vis_position, min(pixel, size - 1), 0);
+    vec4 surface = texelFetch(u_env_vis_surfaces, min(pixel, size - 1), 0);
     if (any(greaterThanEqual(pixel, size)) || surface.w == 0.0) {
         sums_and_distance = uvec4(0u);  // no surface: 0.0's bits, sums and distance
         return;
     }
     vec3 position = surface.xyz;
-    vec3 n = texelFetch(u_env_vis_normal, pixel, 0).xyz;
+    vec3 n = decode_normal(surface.w);
     vec3 v = safe_normalize(-position, n);
     int start = u_env_vis_place.x + ENV_VIS_INTERLEAVE * u_env_vis_place.y;
     float a2 = ENV_VIS_MIN_ALPHA * ENV_VIS_MIN_ALPHA;

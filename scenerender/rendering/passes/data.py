@@ -24,8 +24,8 @@ class TargetData:
 @dataclass(frozen=True)
 class SurfacesData:
     """What the camera sees at each pixel of the environment visibility's image: the
-    camera-relative positions, the normals and the depth buffer drawn with them."""
+    camera-relative positions with the normals encoded (shaders/common/surface_normal.glsl)
+    and the depth buffer drawn with them."""
 
-    position: Handle
-    normal: Handle
+    surfaces: Handle
     depth: Handle

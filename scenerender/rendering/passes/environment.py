@@ -138,15 +138,14 @@ class EnvironmentSurfacesPass(RenderPass):
 
     def setup(self, builder) -> SurfacesData:
         builder.read(self.camera, self.objects, *((self.materials,) if self.materials is not None else ()))
-        return SurfacesData(builder.create("environment_positions", ResourceDesc("color", self.size, "rgba32f")),
-                            builder.create("environment_normals", ResourceDesc("color", self.size, "rgba32f")),
+        return SurfacesData(builder.create("environment_surfaces", ResourceDesc("color", self.size, "rgba32f")),
                             builder.create("environment_lookups_depth", ResourceDesc("depth", self.size, "camera_depth")))
 
     def describe(self) -> str:
         return f"positions and normals at {self.size[0]}x{self.size[1]}"
 
     def execute(self, ctx, data: SurfacesData) -> None:
-        begin_camera_pass(ctx, [data.position, data.normal], data.depth, (0.0, 0.0, 0.0, 0.0))
+        begin_camera_pass(ctx, [data.surfaces], data.depth, (0.0, 0.0, 0.0, 0.0))
         program = ctx.programs.get(MESH_VERTEX, SURFACE_FRAGMENT)
         bind_texture_units(program)
         uniforms = {"u_view_proj": ctx.input(self.camera).view_proj_relative()}
@@ -182,7 +181,7 @@ class EnvironmentVisibilityPass(RenderPass):
     name = "environment_visibility"
 
     def setup(self, builder) -> ImageData:
-        builder.read(self.camera, self.views, self.visibility, self.surfaces.position, self.surfaces.normal)
+        builder.read(self.camera, self.views, self.visibility, self.surfaces.surfaces)
         part, _ = sub_image_layout(self.size, self.interleave)
         whole = (part[0] * self.interleave, part[1] * self.interleave)
         return ImageData(builder.create("environment_lookups", ResourceDesc("color", whole, "rgba32ui")))
@@ -196,8 +195,7 @@ class EnvironmentVisibilityPass(RenderPass):
         fbo.use()
         ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         bind_visibility_maps(ctx, self.visibility)
-        ctx.image(self.surfaces.position).use(TEXTURE_UNITS["u_env_vis_position"])
-        ctx.image(self.surfaces.normal).use(TEXTURE_UNITS["u_env_vis_normal"])
+        ctx.image(self.surfaces.surfaces).use(TEXTURE_UNITS["u_env_vis_surfaces"])
         uniforms = visibility_uniforms(ctx, self.views, self.visibility, ctx.input(self.camera).position)
         part, places = sub_image_layout(self.size, self.interleave)
         programs = {}
