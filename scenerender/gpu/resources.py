@@ -18,7 +18,7 @@ _COLOR_FORMATS = {  # format -> (components, dtype, internal format or None for 
     "r32f": (1, "f4", None),
     # values packed by the shaders (packHalf2x16, floatBitsToUint): the environment
     # visibility's, read in fewer fetches (never filtered)
-    "rg32ui": (2, "u4", None),
+    "r32ui": (1, "u4", None),
     "rgba32ui": (4, "u4", None),
 }
 

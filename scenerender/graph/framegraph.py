@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 # Image formats the GL backend allocates (gpu.resources.allocate makes each of these).
-COLOR_FORMATS = ("rgba8", "srgba8", "rgba16f", "rgba32f", "r8", "r16ui", "r32f", "rg32ui", "rgba32ui")
+COLOR_FORMATS = ("rgba8", "srgba8", "rgba16f", "rgba32f", "r8", "r16ui", "r32f", "r32ui", "rgba32ui")
 # "camera_depth" is the depth format the device's depth convention picks (gpu.depth).
 DEPTH_FORMATS = ("depth24", "camera_depth")
 

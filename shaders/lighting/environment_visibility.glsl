@@ -7,6 +7,7 @@
 //             at least ENV_VIS_MIN_ALPHA, the directions' spacing, so a mirror still
 //             weighs the few directions around its reflection)
 // over the directions above the surface. Unblocked, both are exactly 1.
+#include "common/halves.glsl"
 
 uniform sampler2DShadow u_env_visibility;
 uniform mat4 u_env_vis_to_map[ENV_VISIBILITY];  // camera-relative world -> (map u, v, linear depth)
@@ -69,9 +70,9 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
 #elif !defined(ENV_VIS_PASS)
 // The directions shared out over ENV_VIS_INTERLEAVE^2 pixel blocks: the visibility pass
 // (post/environment_visibility.frag) and its blur (post/environment_visibility_blur.frag)
-// left, at u_env_vis_scale of this pass's resolution, as halves: V_d and V_s at the
-// narrowest lobe, alpha = ENV_VIS_MIN_ALPHA (x), and the surface's distance from the
-// camera (y, low half). Read
+// left, at u_env_vis_scale of this pass's resolution, packed in one uint: V_d and V_s at
+// the narrowest lobe, alpha = ENV_VIS_MIN_ALPHA, and the surface's distance from the
+// camera. Read
 // bilinearly among the four texels around the pixel that lie on its surface (distance
 // within 3 % of this one's, carried along its slope), the nearest in distance where none
 // does. The widest lobe, alpha = 1, is GGX D = 1 / pi everywhere, which makes V_s = V_d:
@@ -84,19 +85,14 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     float dist = length(p);
     vec2 slope = vec2(dFdx(dist), dFdy(dist));
     // the four texels around the pixel (texels (0, 1), (1, 1), (1, 0), (0, 0) of the
-    // square, in textureGather's order) in two gathers, the visibility's halves and the
-    // distance's, rather than four fetches or a gather a channel: llvmpipe pays for each
-    // gather, whatever its bytes
+    // square, in textureGather's order) in one gather: llvmpipe pays for each gather,
+    // whatever its bytes, so each texel holds all three (common/halves.glsl's pack_seen)
     vec2 at = gl_FragCoord.xy * u_env_vis_scale;
     vec2 uv = at / vec2(textureSize(u_env_vis_samples, 0));
-    uvec4 seen_found = textureGather(u_env_vis_samples, uv, 0);
-    uvec4 distance_found = textureGather(u_env_vis_samples, uv, 1);
-    vec2 d0 = unpackHalf2x16(seen_found.x), d1 = unpackHalf2x16(seen_found.y);
-    vec2 d2 = unpackHalf2x16(seen_found.z), d3 = unpackHalf2x16(seen_found.w);
-    vec4 found_d = vec4(d0.x, d1.x, d2.x, d3.x);
-    vec4 found_s = vec4(d0.y, d1.y, d2.y, d3.y);
-    vec4 found_distance = vec4(unpackHalf2x16(distance_found.x).x, unpackHalf2x16(distance_found.y).x,
-                               unpackHalf2x16(distance_found.z).x, unpackHalf2x16(distance_found.w).x);
+    uvec4 found = textureGather(u_env_vis_samples, uv, 0);
+    vec4 found_d = seen_diffuse(found);
+    vec4 found_s = seen_specular(found);
+    vec4 found_distance = seen_distance(found);
     vec2 low = floor(at - 0.5) + 0.5;  // the centre of texel (0, 0)
     vec2 away0 = low / u_env_vis_scale - gl_FragCoord.xy;  // in this pass's pixels
     vec2 away1 = (low + 1.0) / u_env_vis_scale - gl_FragCoord.xy;

@@ -11,15 +11,15 @@
 // first pass reads them from the visibility pass's sub-images (ENV_VIS_SUB_IMAGES: pixel
 // (x, y) at (x % N, y % N) * its sub-images' size + (x, y) / N) and writes them packed
 // the same way, a pixel where it lies; the second (ENV_VIS_RATIO) the ratios, V_d
-// and V_s at the narrowest lobe (x, halves), and the distance as a half (y, low half),
-// that shading's upsample compares.
+// and V_s at the narrowest lobe, and the distance, that shading's upsample compares,
+// packed in one uint (common/halves.glsl's pack_seen).
 #include "common/halves.glsl"
 uniform usampler2D u_env_vis_samples;  // the sums (xy, halves) and the distance (z, float bits)
 #ifdef ENV_VIS_SUB_IMAGES
 uniform ivec2 u_env_vis_size;  // the image's size (its sub-images may reach past it)
 #endif
 #ifdef ENV_VIS_RATIO
-out uvec2 result;
+out uint result;
 #else
 out uvec4 result;
 #endif
@@ -56,7 +56,7 @@ void main() {
     }
 #ifdef ENV_VIS_RATIO
     vec2 ratio = vec2(sum.x > 0.0 ? sum.y / sum.x : 1.0, sum.z > 0.0 ? sum.w / sum.z : 1.0);
-    result = uvec2(pack_halves(ratio), pack_halves(vec2(here, 0.0)));
+    result = pack_seen(ratio, here);
 #else
     result = uvec4(pack_halves(sum.xy), pack_halves(sum.zw), floatBitsToUint(here), 0u);
 #endif

@@ -257,7 +257,7 @@ class EnvironmentVisibilityBlurPass(RenderPass):
 
     def setup(self, builder) -> ImageData:
         builder.read(self.sums)
-        name, packing = ("environment_seen", "rg32ui") if self.ratio else ("environment_lookups_across", "rgba32ui")
+        name, packing = ("environment_seen", "r32ui") if self.ratio else ("environment_lookups_across", "rgba32ui")
         return ImageData(builder.create(name, ResourceDesc("color", self.size, packing)))
 
     def describe(self) -> str:
