@@ -215,9 +215,9 @@ def test_interleave_1_renders_the_exact_sum_the_default_approximates(gl):
     assert not np.array_equal(render_case(gl, "gltf_pbr"), before)
 
 
-def _graph_text(tmp_path, extra: str = "") -> str:
+def _graph_text(tmp_path, extra: str = "", *options: str) -> str:
     """What ``scenerender graph`` prints for the furnace scene with ``extra`` keys on its
-    environment light (a uniform white image)."""
+    environment light (a uniform white image), and command-line ``options``."""
     from click.testing import CliRunner
 
     from scenerender.cli import main
@@ -225,7 +225,7 @@ def _graph_text(tmp_path, extra: str = "") -> str:
     write_hdr(tmp_path / "e.hdr", np.ones((8, 16, 3), np.float32))
     path = tmp_path / "scene.yaml"
     path.write_text(_furnace_text(extra))
-    result = CliRunner().invoke(main, ["graph", str(path)])
+    result = CliRunner().invoke(main, ["graph", str(path), *options])
     assert result.exit_code == 0, result.output
     return result.output
 
@@ -252,6 +252,31 @@ def test_the_shared_out_lookups_are_a_pass_before_shading_and_interleave_1_has_n
     output = _graph_text(tmp_path, ", visibility_interleave: 1")
     assert "shadow:environment0 visibility" in output and "environment_visibility_blur" not in output
     assert "environment_lookups" not in output and "environment_seen" not in output
+
+
+def test_auto_blocks_are_3x3_from_an_image_240_pixels_high_and_an_uneven_share_says_so(tmp_path):
+    # 'auto' (the default) by the image's shorter side: 2x2 blocks below 240 pixels, 3x3
+    # from there (world.environment_light.visibility_blocks); 32 directions over 9 places:
+    # five look up 4, four look up 3
+    assert "32 directions over 2x2 pixels, 8 a pixel, at 160x120" in _graph_text(tmp_path, "", "--size", "320x239")
+    output = _graph_text(tmp_path, "", "--size", "320x240")
+    assert "32 directions over 3x3 pixels, 3 or 4 a pixel, at 160x120" in output
+    assert "environment_visibility_blur static   5 pixels along x" in output
+    assert "32 directions over 2x2 pixels" in _graph_text(tmp_path, ", visibility_interleave: 2", "--size", "640x480")
+
+
+def test_visibility_interleave_takes_auto_or_a_whole_number_and_names_the_key(tmp_path):
+    from click.testing import CliRunner
+
+    from scenerender.cli import main
+
+    write_hdr(tmp_path / "e.hdr", np.ones((8, 16, 3), np.float32))
+    path = tmp_path / "scene.yaml"
+    for bad in ("fast", "0", "9", "2.5"):
+        path.write_text(_furnace_text(f", visibility_interleave: {bad}"))
+        result = CliRunner().invoke(main, ["graph", str(path)])
+        assert result.exit_code == 2, result.output
+        assert "visibility_interleave" in result.output and "expected 'auto' or a whole number from 1 to 8" in result.output
 
 
 def test_transparent_surfaces_look_every_direction_up_themselves(tmp_path):

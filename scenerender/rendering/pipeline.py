@@ -201,14 +201,14 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
                                              _masked_materials(world, inputs, casters_only=True),
                                              page_name="environment_visibility", note=note)).atlas
     lookups, scale = None, (1.0, 1.0)
-    interleave, per_pixel = interleave_pattern(environment.visibility, environment.visibility_interleave)
+    interleave, _ = interleave_pattern(environment.visibility, environment.visibility_interleave)
     if visibility is not None and interleave > 1:
         lookup_size = visibility_lookup_size(size, environment.visibility_half_resolution)
         scale = (lookup_size[0] / size[0], lookup_size[1] / size[1])
         surfaces = graph.add(EnvironmentSurfacesPass(lookup_size, inputs.camera, inputs.objects,
                                                      _masked_materials(world, inputs)))
         found = graph.add(EnvironmentVisibilityPass(lookup_size, inputs.camera, surfaces, inputs.environment_views,
-                                                    visibility, environment.visibility, interleave, per_pixel,
+                                                    visibility, environment.visibility, interleave,
                                                     visibility_min_alpha(environment.visibility))).image
         across = graph.add(EnvironmentVisibilityBlurPass(found, lookup_size, interleave, 0, False, True)).image
         lookups = graph.add(EnvironmentVisibilityBlurPass(across, lookup_size, interleave, 1, True)).image

@@ -143,8 +143,27 @@ def environment_def(scene, images, sky_faces) -> EnvironmentDef | None:
     return EnvironmentDef(light.name or f"environment{index}", path, image, light.color, light.intensity,
                           light.enabled, light.rotation, light.classic, light.prefilter_size, light.sh_order,
                           light.samples, light.footprint, light.visibility_directions if light.visibility else 0,
-                          light.visibility_map_size, light.background, light.visibility_interleave,
+                          light.visibility_map_size, light.background,
+                          visibility_blocks(light.visibility_interleave, scene.spec.render.size),
                           light.visibility_half_resolution, light.specular, light.specular_samples)
+
+
+# 'auto' blocks: 3x3 (3 or 4 of 32 directions a pixel) where the image's shorter side has
+# at least this many pixels, 2x2 (8 a pixel) below. On scenes/gltf_pbr.yaml 3x3 blocks
+# cost 1.25x a frame without visibility at 960x540 and 1.28x at 640x360, 2x2 blocks 1.31x
+# and 1.30x; at 256x192 both keep the contact scene and the three spheres within 2.4 %
+# of the reference; at 128x96, where the blur's 5 texels reach 10 pixels, 3x3 blocks let
+# the patch's shadow go from +1.4 to +4.4 % and the copper sphere from +2.8 to +3.8 %
+# (benchmarks/quality/environment_contact.md).
+BLOCKS_3X3_FROM = 240
+
+
+def visibility_blocks(asked, size) -> int:
+    """The visibility's ``interleave`` for an image of ``size`` (width, height): ``asked``,
+    or for 'auto' 3 where the shorter side has BLOCKS_3X3_FROM pixels or more, else 2."""
+    if asked != "auto":
+        return asked
+    return 3 if min(size) >= BLOCKS_3X3_FROM else 2
 
 
 def skybox_image(faces, images) -> np.ndarray:

@@ -124,7 +124,7 @@ def visibility_uniforms(ctx, views: Handle, visibility: Handle, camera_position)
 @dataclass(frozen=True)
 class EnvironmentSurfacesPass(RenderPass):
     """What the camera sees at each pixel of the environment visibility's image, ``size``:
-    camera-relative positions and normals facing the camera, whole floats
+    camera-relative positions (whole floats) and normals facing the camera (coded in w)
     (shaders/mesh/environment_visibility_surface.frag); a geometry pass, single-sampled.
     EnvironmentVisibilityPass then looks the directions up once a pixel. materials: as
     GBufferPass's."""
@@ -161,7 +161,7 @@ class EnvironmentSurfacesPass(RenderPass):
 @dataclass(frozen=True)
 class EnvironmentVisibilityPass(RenderPass):
     """Each pixel's share of the environment's visibility lookups, where the directions
-    are shared out over ``interleave`` x ``interleave`` blocks (``per_pixel`` a pixel;
+    are shared out over ``interleave`` x ``interleave`` blocks (place_lookups a pixel;
     world.environment_visibility.interleave_pattern), at the surface EnvironmentSurfacesPass
     found there, as weighted sums with the surface's distance, packed
     (shaders/post/environment_visibility.frag); full-screen, once for each place in the
@@ -175,7 +175,6 @@ class EnvironmentVisibilityPass(RenderPass):
     visibility: Handle
     directions: int
     interleave: int
-    per_pixel: int
     min_alpha: str
 
     name = "environment_visibility"
@@ -187,8 +186,10 @@ class EnvironmentVisibilityPass(RenderPass):
         return ImageData(builder.create("environment_lookups", ResourceDesc("color", whole, "rgba32ui")))
 
     def describe(self) -> str:
-        return (f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, {self.per_pixel} a pixel, "
-                f"at {self.size[0]}x{self.size[1]}")
+        _, places = sub_image_layout(self.size, self.interleave)
+        counts = sorted({place_lookups(place, self.interleave, self.directions) for place in places})
+        return (f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, "
+                f"{' or '.join(map(str, counts))} a pixel, at {self.size[0]}x{self.size[1]}")
 
     def execute(self, ctx, data: ImageData) -> None:
         fbo = ctx.framebuffer([data.image])
@@ -213,9 +214,9 @@ class EnvironmentVisibilityPass(RenderPass):
             fbo.viewport = (0, 0, *fbo.size)
 
     def _program(self, ctx, lookups: int):
-        """The pass's program for a place that looks up ``lookups`` directions: a place
-        with fewer than per_pixel (where N^2 does not divide the count) runs a shorter
-        loop rather than lookups it weighs by 0."""
+        """The pass's program for a place that looks up ``lookups`` directions: where N^2
+        does not divide the count, the places with one fewer run a shorter loop rather
+        than lookups weighed by 0."""
         defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
                    "ENV_VIS_PER_PIXEL": lookups, "ENV_VIS_MIN_ALPHA": self.min_alpha}
         program = ctx.programs.get(FULLSCREEN_VERTEX, VISIBILITY_FRAGMENT, defines)

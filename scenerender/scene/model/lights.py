@@ -13,8 +13,8 @@ from scenerender.scene.model.render import ShadowOverride
 from scenerender.scene.model.unions import mapping_or, tagged_union
 from scenerender.scene.strict import StrictModel
 from scenerender.scene.values import (
-    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedVec3, Bool, Text, animated_number, choice, number,
-    vector_item,
+    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedVec3, Bool, Text, animated_number, check_number, choice,
+    number, vector_item,
 )
 
 # true / false, or a mapping overriding render.shadows for this light
@@ -34,6 +34,22 @@ def _attenuation(value):
 Attenuation = Annotated[tuple, PlainValidator(_attenuation),
                         WithJsonSchema({"type": "array", "items": {"type": "number", "minimum": 0},
                                         "minItems": 3, "maxItems": 3, "description": "1 / (c + l d + q d^2)"})]
+
+
+def _interleave(value):
+    if value == "auto":
+        return "auto"
+    try:
+        return check_number(value, 1, 8, integer=True)
+    except PydanticCustomError:
+        raise PydanticCustomError("interleave", "expected 'auto' or a whole number from 1 to 8, got {got}",
+                                  {"got": describe(value)}) from None
+
+
+# pixels a side of the block that shares the environment visibility's directions out:
+# 'auto' picks by the image's size (world.environment_light.visibility_blocks)
+Interleave = Annotated[int | str, PlainValidator(_interleave),
+                       WithJsonSchema({"anyOf": [{"const": "auto"}, {"type": "integer", "minimum": 1, "maximum": 8}]})]
 
 
 class _LightBase(StrictModel):
@@ -135,8 +151,9 @@ class EnvironmentLight(_LightBase):
     visibility_directions: number(1, 64, integer=True) = 32  # directions, each with a shadow map
     visibility_map_size: number(32, 4096, integer=True) = 512  # texels per side of each map
     # pixels a side of the block that shares the directions out (each pixel looks up about
-    # directions / interleave^2 of them, a blur puts them together); 1: every pixel all
-    visibility_interleave: number(1, 8, integer=True) = 3
+    # directions / interleave^2 of them, a blur puts them together); 1: every pixel all;
+    # auto: by the image's size
+    visibility_interleave: Interleave = "auto"
     visibility_half_resolution: Bool = True  # those lookups at half the image's resolution, a side
     background: Bool = False  # the image drawn behind the scene (in place of render.skybox), turned by rotation
 
