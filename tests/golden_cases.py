@@ -49,6 +49,9 @@ CASES = {
     "soft_light": ("soft_light.yaml", 0, []),
     # every pixel looking up every direction: the exact sum the default's blocks approximate
     "gltf_pbr@visibility_exact": ("gltf_pbr.yaml", 36, ["lights[2].visibility_interleave=1"]),
+    # 3x3 blocks, what 'auto' takes from 240 pixels up (the golden size takes 2x2): five
+    # places look up 4 directions, four look up 3
+    "gltf_pbr@visibility_3x3": ("gltf_pbr.yaml", 36, ["lights[2].visibility_interleave=3"]),
 }
 
 
