@@ -5,7 +5,8 @@ regions where occlusion matters, and its cost. Writes environment_contact.md and
     python benchmarks/quality/scenes/make_contact_sky.py    # contact_sky.hdr (committed)
     python benchmarks/quality/environment_contact.py [REFERENCE.npz]  # about 5 minutes on 2 cores
 
-REFERENCE.npz, where given, keeps the reference frame between runs (made if missing).
+REFERENCE.npz, where given, keeps the reference frame between runs (made if missing), and
+REFERENCE_128x96.npz beside it the small image's (the 'auto' blocks' rows, below the table).
 
 Regions (ground points by their distance r from the contact point, across the ground):
 - ring: ground with 0.15 < r < 0.9, around the contact;
@@ -49,8 +50,8 @@ D16 = "lights[0].visibility_directions=16"
 VARIANTS = {
     "visibility off": ["lights[0].visibility=false"],
     "32 directions, exact (every pixel all 32)": [EXACT],
-    "32 directions, 2x2 blocks, half resolution (default)": [],
-    "32 directions, 3x3 blocks, half resolution": ["lights[0].visibility_interleave=3"],
+    "32 directions, 2x2 blocks, half resolution (default: auto at this size)": [],
+    "32 directions, 3x3 blocks, half resolution (auto from 240 pixels high)": ["lights[0].visibility_interleave=3"],
     "32 directions, 4x4 blocks, half resolution": ["lights[0].visibility_interleave=4"],
     "32 directions, 2x2 blocks, full resolution": [FULL],
     "16 directions, 2x2 blocks, half resolution (the default before 0.7.0)": [D16],
@@ -176,8 +177,10 @@ def main() -> None:
             results[name][f"{motion_name} ms"] = statistics.median(values)
             print(motion_name, name, round(statistics.median(values), 1), flush=True)
     pixels = {name: int(mask.sum()) for name, mask in masks.items()}
-    (HERE / "environment_contact.json").write_text(json.dumps({"pixels": pixels, "results": results}, indent=1))
-    write_table(results, pixels)
+    small = small_image_errors(cache)
+    (HERE / "environment_contact.json").write_text(json.dumps({"pixels": pixels, "results": results,
+                                                              "small image": small}, indent=1))
+    write_table(results, pixels, small)
 
 
 # The default's cost before and after the visibility passes' rework (issue 27), kept under
@@ -207,7 +210,34 @@ COST_HISTORY = [
 ]
 
 
-def write_table(results: dict, pixels: dict) -> None:
+SMALL = (128, 96)
+SMALL_VARIANTS = {"2x2 blocks (auto at this size)": ["lights[0].visibility_interleave=2"],
+                  "3x3 blocks": ["lights[0].visibility_interleave=3"]}
+
+
+def small_image_errors(cache: Path | None) -> dict:
+    """{variant: {region: error}} at SMALL, where the 'auto' rule keeps 2x2 blocks: the
+    blur's 2N - 1 texels reach 6 pixels with 2x2 blocks and 10 with 3x3
+    (world.environment_light.visibility_blocks)."""
+    from scenerender.raytrace.render import render_reference
+
+    size_key = f"render.size=[{SMALL[0]},{SMALL[1]}]"
+    kept = cache.with_name(f"{cache.stem}_{SMALL[0]}x{SMALL[1]}.npz") if cache is not None else None
+    if kept is not None and kept.exists():
+        found = np.load(kept)
+        truth, mixed = found["truth"], found["mixed"]
+    else:
+        reference = render_reference(scenerender.load(SCENE, [size_key]), 0, spp=8, environment_samples=32)
+        truth, mixed = reference.linear.astype(np.float64).mean(axis=2), reference.mixed
+        if kept is not None:
+            np.savez(kept, truth=truth, mixed=mixed)
+    points, which = surface_points(scenerender.load(SCENE, [size_key]).world, SMALL)
+    masks = region_masks(points, which, mixed)
+    return {name: region_errors(gpu_linear(overrides, SMALL).mean(axis=2), truth, masks)
+            for name, overrides in SMALL_VARIANTS.items()}
+
+
+def write_table(results: dict, pixels: dict, small: dict) -> None:
     """environment_contact.md: the module's docstring's regions and costs, one row a setting."""
     base = results["visibility off"]
     lines = ["# The environment's visibility: a sphere resting on a ground under a sky", "",
@@ -227,6 +257,14 @@ def write_table(results: dict, pixels: dict) -> None:
             ms = result.get(f"{motion} ms")
             cells += [f"{ms:.1f}", f"{ms / base[f'{motion} ms']:.2f}"] if ms is not None else ["-", "-"]
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    lines += ["", f"## 2x2 and 3x3 blocks on a {SMALL[0]}x{SMALL[1]} image", "",
+              "What the 'auto' blocks (`visibility_interleave: auto`, the default) weigh: 3x3 blocks look up",
+              "half the directions a pixel of 2x2 blocks, but their blur reaches 10 pixels rather than 6;",
+              "on a small image the error grows, so 'auto' takes 3x3 blocks only where the image's",
+              "shorter side has 240 pixels or more. Same regions and reference settings as above.", "",
+              "| blocks | " + " | ".join(REGIONS) + " |", "|---|" + "---|" * len(REGIONS)]
+    for name, errors in small.items():
+        lines.append(f"| {name} | " + " | ".join(f"{100.0 * errors[region]:+.1f}" for region in REGIONS) + " |")
     lines += ["", *COST_HISTORY]
     (HERE / "environment_contact.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

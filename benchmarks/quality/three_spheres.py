@@ -51,6 +51,7 @@ VARIANTS = {
     "split_sum, visibility at 16 directions (the default before 0.7.0)": ["lights[0].visibility_directions=16"],
     "split_sum, visibility at 64 directions": ["lights[0].visibility_directions=64"],
     "sampled, 32 samples, visibility at 64 directions": [SAMPLED, "lights[0].visibility_directions=64"],
+    "split_sum, visibility in 3x3 blocks (auto from 240 pixels high)": ["lights[0].visibility_interleave=3"],
 }
 UNTIMED = tuple(list(VARIANTS)[6:])
 # the copper sphere by itself: its neighbours and the ground hidden, nothing to block its sky
