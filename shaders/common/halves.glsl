@@ -17,7 +17,7 @@ uint pack_halves(vec2 v) {
 // The environment visibility's read-back texel (post/environment_visibility_blur.frag
 // writes it, lighting/environment_visibility.glsl gathers it): V_d (11 bits) and V_s
 // (10 bits) as unsigned fractions and the surface's distance from the camera as an
-// 11-bit float (5 exponent bits, 6 mantissa bits: within 0.8 %, 2^-14 to 65,000), all in
+// 11-bit float (5 exponent bits, 6 mantissa bits: within 0.8 %, 2^-14 to about 130,000), all in
 // one uint, so that one gather reads four texels' all.
 uint pack_seen(vec2 seen, float distance) {
     uvec2 v = uvec2(clamp(seen, 0.0, 1.0) * vec2(2047.0, 1023.0) + 0.5);
