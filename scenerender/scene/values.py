@@ -77,6 +77,24 @@ def number(lo=None, hi=None, *, lo_open=False, hi_open=False, integer=False, des
     return Annotated[int if integer else float, PlainValidator(validate), WithJsonSchema(schema)]
 
 
+def auto_or(what: str, lo=None, hi=None, *, lo_open=False, integer=False):
+    """An Annotated type: the word 'auto' or a number with bounds (``what`` names them in
+    the error: "expected 'auto' or WHAT, got ...")."""
+    number_schema = dict(_schema_of(number(lo, hi, lo_open=lo_open, integer=integer)))
+
+    def validate(value):
+        if value == "auto":
+            return "auto"
+        try:
+            return check_number(value, lo, hi, lo_open, False, integer)
+        except PydanticCustomError:
+            raise PydanticCustomError("auto_or", "expected 'auto' or {what}, got {got}",
+                                      {"what": what, "got": describe(value)}) from None
+
+    return Annotated[(int if integer else float) | str, PlainValidator(validate),
+                     WithJsonSchema({"anyOf": [{"const": "auto"}, number_schema]})]
+
+
 def vector(n: int, lo=None, hi=None, *, nonzero=False, description=""):
     """An Annotated type for a list of exactly ``n`` finite numbers -> tuple of floats."""
 

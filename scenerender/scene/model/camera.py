@@ -2,29 +2,14 @@
 clipping planes."""
 from __future__ import annotations
 
-from typing import Annotated, Union
-
-from pydantic import PlainValidator, WithJsonSchema, model_validator
+from pydantic import model_validator
 from pydantic_core import PydanticCustomError
 
-from scenerender.scene.describe import describe
 from scenerender.scene.model.camera_data import IntrinsicsSpec, PoseSpec, check_dataset_camera
 from scenerender.scene.strict import StrictModel
-from scenerender.scene.values import AnimatedFloat, AnimatedVec3, animated_number, check_number, choice, number, vector
+from scenerender.scene.values import AnimatedFloat, AnimatedVec3, animated_number, auto_or, choice, number, vector
 
-
-def _near_far(value):
-    if value == "auto":
-        return "auto"
-    try:
-        return check_number(value, 0.0, lo_open=True)
-    except PydanticCustomError:
-        raise PydanticCustomError("near_far", "expected 'auto' or a positive number, got {got}",
-                                  {"got": describe(value)}) from None
-
-
-NearFar = Annotated[Union[float, str], PlainValidator(_near_far),
-                    WithJsonSchema({"anyOf": [{"const": "auto"}, {"type": "number", "exclusiveMinimum": 0}]})]
+NearFar = auto_or("a positive number", 0, lo_open=True)
 
 
 class CameraSpec(StrictModel):

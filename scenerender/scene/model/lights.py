@@ -13,8 +13,8 @@ from scenerender.scene.model.render import ShadowOverride
 from scenerender.scene.model.unions import mapping_or, tagged_union
 from scenerender.scene.strict import StrictModel
 from scenerender.scene.values import (
-    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedVec3, Bool, Text, animated_number, check_number, choice,
-    number, vector_item,
+    AnimatedBool, AnimatedColor, AnimatedDirection, AnimatedVec3, Bool, Text, animated_number, auto_or, choice, number,
+    vector_item,
 )
 
 # true / false, or a mapping overriding render.shadows for this light
@@ -36,20 +36,9 @@ Attenuation = Annotated[tuple, PlainValidator(_attenuation),
                                         "minItems": 3, "maxItems": 3, "description": "1 / (c + l d + q d^2)"})]
 
 
-def _interleave(value):
-    if value == "auto":
-        return "auto"
-    try:
-        return check_number(value, 1, 8, integer=True)
-    except PydanticCustomError:
-        raise PydanticCustomError("interleave", "expected 'auto' or a whole number from 1 to 8, got {got}",
-                                  {"got": describe(value)}) from None
-
-
 # pixels a side of the block that shares the environment visibility's directions out:
 # 'auto' picks by the image's size (world.environment_light.visibility_blocks)
-Interleave = Annotated[int | str, PlainValidator(_interleave),
-                       WithJsonSchema({"anyOf": [{"const": "auto"}, {"type": "integer", "minimum": 1, "maximum": 8}]})]
+Interleave = auto_or("a whole number from 1 to 8", 1, 8, integer=True)
 
 
 class _LightBase(StrictModel):
