@@ -168,7 +168,9 @@ def test_bench_offers_every_knob_of_the_sweep_and_the_environment_ones_where_it_
             for o in v.overrides]
     assert "lights[1].visibility=false" in seen and "lights[1].visibility_directions=16" in seen
     assert "lights[1].visibility_directions=32" not in seen and "lights[1].visibility_map_size=1024" in seen  # 32: the default
-    assert "lights[1].visibility_interleave=1" in seen and "lights[1].visibility_interleave=2" not in seen  # 2: the default
+    # 3: what the default, auto, takes at the default image size
+    assert "lights[1].visibility_interleave=1" in seen and "lights[1].visibility_interleave=2" in seen
+    assert "lights[1].visibility_interleave=3" not in seen
     without = bench.sweep_variants(scenerender.Scene.from_yaml("objects: [{mesh: {primitive: box}}]\n", tmp_path))
     assert not [v for v in without if v.knob in ("prefilter_size", "sh_order", "env_samples")]
 
