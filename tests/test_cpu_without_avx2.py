@@ -13,8 +13,10 @@ import subprocess
 import sys
 
 import pytest
+from click.testing import CliRunner
 
 from conftest import ROOT
+from scenerender.cli import main
 from scenerender.compare import compare_paths
 from scenerender.gpu import gl_context as context
 
@@ -22,14 +24,20 @@ QEMU = shutil.which("qemu-x86_64")
 
 
 def _render(out, scene, cpu=None):
-    command = [sys.executable, "-m", "scenerender", "render", str(ROOT / "scenes" / scene), "-o", str(out),
-               "--frames", "0:1", "--size", "160x120", "--format", "png"]
+    """The CLI's render of one frame: on an emulated ``cpu`` in a process of its own under
+    qemu, or (None) on this CPU in this process (the same command, without the start-up of
+    another Python)."""
+    args = ["render", str(ROOT / "scenes" / scene), "-o", str(out), "--frames", "0:1", "--size", "160x120",
+            "--format", "png"]
+    if cpu is None:
+        run = CliRunner().invoke(main, args)
+        assert run.exit_code == 0, run.output[-2000:]
+        return run
+    command = [QEMU, "-cpu", cpu, sys.executable, "-m", "scenerender", *args]
     env = dict(os.environ)
-    if cpu is not None:
-        command = [QEMU, "-cpu", cpu, *command]
-        # an OpenBLAS core type named for the real CPU would run instructions the emulated one lacks
-        env.pop("OPENBLAS_CORETYPE", None)
-        env.pop("LP_NATIVE_VECTOR_WIDTH", None)
+    # an OpenBLAS core type named for the real CPU would run instructions the emulated one lacks
+    env.pop("OPENBLAS_CORETYPE", None)
+    env.pop("LP_NATIVE_VECTOR_WIDTH", None)
     run = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert run.returncode == 0, run.stderr[-2000:]
     return run
