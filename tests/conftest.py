@@ -129,13 +129,13 @@ def render_scene(gl):
     return _render
 
 
-# The modules with the longest tests (tens of seconds each on CI's 2 cores), longest first.
-# Under pytest-xdist they are handed out first, so the last tests either worker runs are
-# short ones and the two finish together; in collection order they came last and one
-# worker waited a minute for the other.
-LONGEST_FIRST = ("test_verdict_cases.py", "test_cpu_without_avx2.py", "test_memory.py", "test_environment_light.py",
-                 "test_tone_curve.py", "test_report_browser.py", "test_pytest_plugin.py", "test_ci_guards.py",
-                 "test_edge_accuracy.py")
+# The modules with the longest tests or xdist groups (tens of seconds each on CI's 2
+# cores), longest first. Under pytest-xdist they are handed out first, so the last tests
+# either worker runs are short ones and the two finish together; in collection order they
+# came last and one worker waited a minute for the other.
+LONGEST_FIRST = ("test_cpu_without_avx2.py", "test_perturbation.py", "test_verdict_cases.py", "test_memory.py",
+                 "test_environment_light.py", "test_edge_accuracy.py", "test_tone_curve.py", "test_report_browser.py",
+                 "test_pytest_plugin.py", "test_ci_guards.py")
 
 
 def pytest_collection_modifyitems(config, items):
