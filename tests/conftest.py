@@ -129,8 +129,21 @@ def render_scene(gl):
     return _render
 
 
-def pytest_collection_modifyitems(items):
-    """Tests using the GL context are marked ``gl`` so ``-m "not gl"`` leaves them out."""
+# The modules with the longest tests or xdist groups (tens of seconds each on CI's 2
+# cores), longest first. Under pytest-xdist they are handed out first, so the last tests
+# either worker runs are short ones and the two finish together; in collection order they
+# came last and one worker waited a minute for the other.
+LONGEST_FIRST = ("test_cpu_without_avx2.py", "test_perturbation.py", "test_verdict_cases.py", "test_memory.py",
+                 "test_environment_light.py", "test_edge_accuracy.py", "test_tone_curve.py", "test_report_browser.py",
+                 "test_pytest_plugin.py", "test_ci_guards.py")
+
+
+def pytest_collection_modifyitems(config, items):
+    """Tests using the GL context are marked ``gl`` so ``-m "not gl"`` leaves them out. On
+    an xdist worker, the modules of LONGEST_FIRST come first (every worker orders alike)."""
     for item in items:
         if "gl" in getattr(item, "fixturenames", ()) or "render_scene" in getattr(item, "fixturenames", ()):
             item.add_marker(pytest.mark.gl)
+    if hasattr(config, "workerinput"):
+        rank = {name: index for index, name in enumerate(LONGEST_FIRST)}
+        items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: module order kept otherwise

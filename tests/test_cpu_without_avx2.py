@@ -6,6 +6,7 @@ under the diff rule. Forcing 128-bit vectors on a CPU that
 has AVX2 corrupts Mesa 22's heap, so scenerender lifts that setting."""
 from __future__ import annotations
 
+import json
 import os
 import platform
 import shutil
@@ -13,43 +14,85 @@ import subprocess
 import sys
 
 import pytest
+from click.testing import CliRunner
 
 from conftest import ROOT
+from scenerender.cli import main
 from scenerender.compare import compare_paths
 from scenerender.gpu import gl_context as context
 
 QEMU = shutil.which("qemu-x86_64")
 
 
-def _render(out, scene, cpu=None):
-    command = [sys.executable, "-m", "scenerender", "render", str(ROOT / "scenes" / scene), "-o", str(out),
-               "--frames", "0:1", "--size", "160x120", "--format", "png"]
-    env = dict(os.environ)
-    if cpu is not None:
-        command = [QEMU, "-cpu", cpu, *command]
-        # an OpenBLAS core type named for the real CPU would run instructions the emulated one lacks
-        env.pop("OPENBLAS_CORETYPE", None)
-        env.pop("LP_NATIVE_VECTOR_WIDTH", None)
-    run = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300, cwd=ROOT)
-    assert run.returncode == 0, run.stderr[-2000:]
-    return run
+CASES = [*((scene, "Nehalem", "128 bits") for scene in ("showcase.yaml", "garden.yaml", "island.yaml",
+                                                        "foggy_road.yaml", "viewer_modes.yaml", "primitives.yaml")),
+         ("primitives.yaml", "SandyBridge", "256 bits")]
+
+# Run under qemu, once per CPU model: the CLI command of _args for each scene named on the
+# command line (SCENE OUT pairs), one after another in this one emulated Python, each exit
+# code and output written to the JSON file named first. Python and its imports start once
+# per CPU model, not once per scene: under emulation that start-up is seconds of each render.
+EMULATED_RENDERS = """
+import json, sys
+from click.testing import CliRunner
+from scenerender.cli import main
+results, pairs = {}, sys.argv[2:]
+for scene, out in zip(pairs[0::2], pairs[1::2]):
+    run = CliRunner().invoke(main, ["render", scene, "-o", out, *%r])
+    results[scene] = [run.exit_code, run.output[-2000:] + repr(run.exception or "")]
+with open(sys.argv[1], "w") as file:
+    json.dump(results, file)
+"""
+OPTIONS = ["--frames", "0:1", "--size", "160x120", "--format", "png"]
+
+
+def _render(out, scene):
+    """The CLI's render of one frame on this CPU, in this process."""
+    run = CliRunner().invoke(main, ["render", str(ROOT / "scenes" / scene), "-o", str(out), *OPTIONS])
+    assert run.exit_code == 0, run.output[-2000:]
+
+
+@pytest.fixture(scope="module")
+def emulated(tmp_path_factory):
+    """emulated(scene, cpu) -> the folder of that scene's frame rendered on the emulated
+    ``cpu`` (every scene of CASES for that CPU rendered in one qemu process, on first use)."""
+    done = {}
+
+    def folder(scene, cpu):
+        if cpu not in done:
+            root = tmp_path_factory.mktemp(f"emulated-{cpu}")
+            scenes = [name for name, model, _ in CASES if model == cpu]
+            pairs = [str(arg) for name in scenes for arg in (ROOT / "scenes" / name, root / name)]
+            env = dict(os.environ)
+            # an OpenBLAS core type named for the real CPU would run instructions the emulated one lacks
+            env.pop("OPENBLAS_CORETYPE", None)
+            env.pop("LP_NATIVE_VECTOR_WIDTH", None)
+            results = root / "results.json"
+            run = subprocess.run([QEMU, "-cpu", cpu, sys.executable, "-c", EMULATED_RENDERS % (OPTIONS,),
+                                  str(results), *pairs], env=env, capture_output=True, text=True, timeout=900, cwd=ROOT)
+            done[cpu] = (root, run, json.loads(results.read_text()) if results.is_file() else {})
+        root, run, results = done[cpu]
+        key = str(ROOT / "scenes" / scene)
+        assert run.returncode == 0 and key in results, run.stderr[-2000:]
+        code, output = results[key]
+        assert code == 0, output
+        return root / scene
+
+    return folder
 
 
 @pytest.mark.skipif(platform.machine() != "x86_64", reason="not an x86-64 machine: no x86 CPU to emulate")
 @pytest.mark.skipif(QEMU is None, reason="qemu-x86_64 is not installed (apt-get install qemu-user)")
 @pytest.mark.gl
 @pytest.mark.slow
-@pytest.mark.parametrize("scene, cpu, width", [
-    *((scene, "Nehalem", "128 bits") for scene in ("showcase.yaml", "garden.yaml", "island.yaml", "foggy_road.yaml",
-                                                   "viewer_modes.yaml", "primitives.yaml")),
-    ("primitives.yaml", "SandyBridge", "256 bits"),
-])
-def test_a_cpu_without_avx2_renders_what_this_one_does(gl, tmp_path, scene, cpu, width):
+@pytest.mark.xdist_group("cpu_without_avx2")  # one worker: each emulated CPU's process renders its scenes once
+@pytest.mark.parametrize("scene, cpu, width", CASES)
+def test_a_cpu_without_avx2_renders_what_this_one_does(gl, tmp_path, emulated, scene, cpu, width):
     _render(tmp_path / "native", scene)
-    _render(tmp_path / "emulated", scene, cpu)
-    manifest = (tmp_path / "emulated" / ".scenerender.json").read_text()
+    out = emulated(scene, cpu)
+    manifest = (out / ".scenerender.json").read_text()
     assert width in manifest  # the emulated CPU really gave llvmpipe that vector width
-    result = compare_paths(tmp_path / "native", tmp_path / "emulated")
+    result = compare_paths(tmp_path / "native", out)
     assert result.passed, result.summary_lines()
 
 

@@ -423,15 +423,18 @@ def test_the_numpy_filters_of_the_object_diff_equal_scipy_ndimage():
                                   ndimage.maximum_filter(labels, side, mode="nearest"))
 
 
-def test_the_registrations_samples_equal_those_of_whole_frame_gradients():
-    # compare/objects.py works the gradients out at the pixels it samples, not over the frame
-    # (75 MB at 1080p): the samples must be the numbers the whole-frame arrays give
+@pytest.mark.parametrize("whole_frame", [False, True])
+def test_the_registrations_samples_equal_those_of_whole_frame_gradients(whole_frame):
+    # compare/objects.py works the gradients out at the pixels it samples above
+    # WHOLE_FRAME_PIXELS (75 MB at 1080p), and over the frame in one table up to it: either
+    # way the samples must be the numbers the whole-frame arrays give
     from scenerender.compare.objects import _bilinear, _Images
 
     rng = np.random.default_rng(3)
     for shape in ((1, 1, 3), (1, 6, 3), (5, 1, 3), (2, 2, 3), (37, 53, 3)):
         reference = rng.integers(0, 256, shape).astype(np.uint8)
-        images = _Images.of(reference, reference)
+        images = _Images(reference, reference, whole_frame=whole_frame)
+        assert (images._table is not None) == whole_frame
         padded = np.pad(reference.astype(np.float32), ((1, 1), (1, 1), (0, 0)), mode="edge")
         down = (padded[2:, 1:-1] - padded[:-2, 1:-1]) * 0.5
         across = (padded[1:-1, 2:] - padded[1:-1, :-2]) * 0.5

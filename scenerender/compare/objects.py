@@ -46,6 +46,7 @@ INTERIOR_RADIUS = 2      # interior pixels: the object's own within this many pi
 MIN_INTERIOR = 32        # objects with fewer interior pixels are not judged by their interior
 MAX_REGISTERED = 2048    # pixels a registration reads at most (the strongest edges of a large object)
 MAX_INTERIOR_READ = 65536  # interior pixels read at most per object (evenly spaced)
+WHOLE_FRAME_PIXELS = 640 * 480  # frames up to this size keep their gradients in one table (11 MB)
 CONTESTED_RATIO = 10.0   # how much better an object's own pixels must fit their own displacement
 CONTESTED_LEVELS = 2.0   # ... and by how many levels rms at least
 MIN_OWN_PIXELS = 32      # pixels away from other objects an object needs to be registered by them alone
@@ -331,15 +332,20 @@ def _present(ids: np.ndarray) -> list[int]:
 class _Images:
     """What registering reads of a frame pair: the reference, sampled (bilinear) alone or
     after its gradients down and across (one lookup, (N, 9)), the output's pixels, and the
-    strongest gradient of each pixel (H, W). The gradients are worked out at the pixels a
-    sample reads, not over the frame (a registration reads a few thousand of them; a
-    (H, W, 9) float32 array is 75 MB of fresh memory at 1080p): the same numbers."""
+    strongest gradient of each pixel (H, W). Up to WHOLE_FRAME_PIXELS (or as ``whole_frame``
+    says) the gradients are worked out over the frame once, in one (H * W, 9) float32 table
+    the samples read; a larger frame works them out at the pixels a sample reads (a
+    registration reads a few thousand of them; the table is 75 MB of fresh memory at 1080p).
+    Both give the same numbers."""
 
-    def __init__(self, reference: np.ndarray, output: np.ndarray):
+    def __init__(self, reference: np.ndarray, output: np.ndarray, whole_frame: bool | None = None):
         self.height, self.width, self.channels = reference.shape
         self.reference, self.output = reference, output
         self._flat = reference.reshape(-1, self.channels)
         self.strength = _strongest_gradient(reference)
+        if whole_frame is None:
+            whole_frame = self.height * self.width <= WHOLE_FRAME_PIXELS
+        self._table = _gradient_table(reference) if whole_frame else None
 
     @classmethod
     def of(cls, reference: np.ndarray, output: np.ndarray) -> "_Images":
@@ -367,7 +373,12 @@ class _Images:
 
     def sampled(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
         """The reference and its gradients down and across sampled at float positions -> (N, 9)."""
+        if self._table is not None:
+            return _bilinear_by(self._from_table, self.height, self.width, ys, xs)
         return _bilinear_by(self._with_gradients, self.height, self.width, ys, xs)
+
+    def _from_table(self, index: np.ndarray) -> np.ndarray:
+        return self._table.take(index, axis=0)
 
     def reference_pixels(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
         return self.reference[ys, xs].astype(np.float32)
@@ -375,6 +386,17 @@ class _Images:
     def output_at(self, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
         """The output's pixels at integer positions -> (N, 3) float32."""
         return self.output[ys, xs].astype(np.float32)
+
+
+def _gradient_table(image: np.ndarray) -> np.ndarray:
+    """(H * W, 3 C) float32: what ``_Images._with_gradients`` gives at every pixel, the
+    colour then the central differences down and across (edges repeated), worked out over
+    the whole frame at once: the same float32 operations on the same values."""
+    values = np.pad(image.astype(np.float32), ((1, 1), (1, 1), (0, 0)), mode="edge")
+    half = np.float32(0.5)
+    down = (values[2:, 1:-1] - values[:-2, 1:-1]) * half
+    across = (values[1:-1, 2:] - values[1:-1, :-2]) * half
+    return np.concatenate([values[1:-1, 1:-1], down, across], axis=2).reshape(-1, 3 * image.shape[2])
 
 
 def _strongest_gradient(image: np.ndarray) -> np.ndarray:
