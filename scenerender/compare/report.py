@@ -88,7 +88,10 @@ def png_data_uri(image: np.ndarray) -> str:
     from PIL import Image
 
     buffer = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(image)).save(buffer, format="PNG", optimize=True)
+    # zlib's default level: optimize=True searched every level and filter for 4 % fewer
+    # bytes at 7x the time (433 against 60 ms a 960x540 frame; a passing 96-frame check
+    # at 320x240 took 33 s with it, 27-29 s without)
+    Image.fromarray(np.ascontiguousarray(image)).save(buffer, format="PNG")
     return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
 
 
