@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from pathlib import Path
+
 import moderngl
 import numpy as np
 
@@ -15,6 +17,7 @@ from scenerender.world.shadows import atlas_page_name
 
 # The vertex shader of every pass that draws scene meshes.
 MESH_VERTEX = "mesh/mesh.vert"
+LTC_TABLE = Path(__file__).with_name("ltc_ggx.npy")
 # The vertex shader of every full-screen pass (one triangle, no vertex buffers).
 FULLSCREEN_VERTEX = "common/fullscreen.vert"
 
@@ -188,6 +191,27 @@ def bind_shadow_depth(ctx, atlas, page: int = 0) -> None:
 
 def _plain_depth_sampler(gl):
     return gl.sampler(filter=(moderngl.NEAREST, moderngl.NEAREST), compare_func="", repeat_x=False, repeat_y=False)
+
+
+def bind_ltc(ctx) -> None:
+    """The GGX lobe's linearly transformed cosines (shaders/lighting/area.glsl, the pbr
+    model's rectangle and disk lights) on their unit: a static table, made once a run."""
+    ctx.shared("ltc_ggx", _ltc_texture).use(TEXTURE_UNITS["u_ltc"])
+
+
+def _ltc_texture(gl):
+    """ltc_ggx.npy (benchmarks/ltc/fit_ltc.py wrote it), (roughness, view, 6), as one RGBA
+    float texture: x N.V's column, y the roughness row; rows 0 .. n-1 hold M^-1's
+    (m02, m11, m20, m22), rows n .. 2n-1 the lobe's (magnitude, Fresnel part, 0, 0)."""
+    table = np.load(LTC_TABLE).astype(np.float32)
+    rows, columns = table.shape[:2]
+    texels = np.zeros((2 * rows, columns, 4), np.float32)
+    texels[:rows] = table[:, :, :4]
+    texels[rows:, :, :2] = table[:, :, 4:6]
+    texture = gl.texture((columns, 2 * rows), 4, texels.tobytes(), dtype="f4")
+    texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+    texture.repeat_x = texture.repeat_y = False
+    return texture
 
 
 def bind_lights(lights: LightsInput) -> None:

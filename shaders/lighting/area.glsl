@@ -101,12 +101,83 @@ float cone_sin2(float omega) {
 }
 
 #ifdef SHADING_PBR
+// Specular: linearly transformed cosines (Heitz, Dupuy, Hill and Neubelt 2016). The GGX
+// lobe f cos at (roughness, N.V) is, to a fitted approximation, the cosine distribution
+// transformed by a matrix M, in the frame of N and V's tangent T (x) and N x T (y), times
+// its magnitude; the lobe's integral over the polygon is then the cosine's over the
+// polygon transformed by M^-1: the clipped form factor below. u_ltc holds the fit
+// (benchmarks/ltc/fit_ltc.py wrote scenerender/rendering/ltc_ggx.npy): rows 0 .. n-1 M^-1's
+// (m02, m11, m20, m22) with m00 = 1, rows n .. 2n-1 the magnitude and its Fresnel part.
+uniform sampler2D u_ltc;
+
+// The form factor of the light's polygon whose corners relative to the shaded point go
+// through to_lobe, clipped to the upper hemisphere (z > 0) as it is summed.
+float ltc_form_factor(AreaLight light, vec3 p, mat3 to_lobe) {
+    int count = area_is_disk(light) ? DISK_SIDES : 4;
+    vec3 first = vec3(0.0);
+    vec3 last = vec3(0.0);
+    int emitted = 0;
+    float sum = 0.0;
+    vec3 a = to_lobe * (area_corner(light, 0) - p);
+    vec3 start = a;
+    for (int k = 1; k <= DISK_SIDES; ++k) {
+        if (k > count) {
+            break;
+        }
+        vec3 b = k == count ? start : to_lobe * (area_corner(light, k) - p);
+        for (int step = 0; step < 2; ++step) {
+            vec3 point;
+            if (step == 0) {
+                if (a.z <= 0.0) continue;
+                point = a;
+            } else {
+                if ((a.z > 0.0) == (b.z > 0.0)) continue;
+                point = mix(a, b, a.z / (a.z - b.z));
+            }
+            point = safe_normalize(point, vec3(0.0, 0.0, 1.0));
+            if (emitted == 0) {
+                first = point;
+            } else {
+                sum += edge_vector(last, point).z;
+            }
+            last = point;
+            ++emitted;
+        }
+        a = b;
+    }
+    if (emitted < 3) {
+        return 0.0;
+    }
+    sum += edge_vector(last, first).z;
+    return abs(sum) / 6.28318531;
+}
+
+vec3 ltc_specular(AreaLight light, vec3 p, vec3 n, vec3 v, PbrView view) {
+    vec3 tangent = v - n * dot(v, n);
+    float tangent2 = dot(tangent, tangent);
+    if (tangent2 < 1e-10) {
+        tangent = abs(n.x) < 0.9 ? cross(n, vec3(1.0, 0.0, 0.0)) : cross(n, vec3(0.0, 1.0, 0.0));
+        tangent2 = dot(tangent, tangent);
+    }
+    tangent *= inversesqrt(tangent2);
+    mat3 to_frame = transpose(mat3(tangent, cross(n, tangent), n));
+    vec2 size = vec2(textureSize(u_ltc, 0));  // (view columns, 2 x roughness rows)
+    float rows = 0.5 * size.y;
+    float roughness = sqrt(sqrt(view.alpha2));
+    vec2 cell = vec2(sqrt(1.0 - view.n_dot_v), roughness) * (vec2(size.x, rows) - 1.0) + 0.5;
+    vec4 m = texture(u_ltc, cell / size);
+    vec2 lobe = texture(u_ltc, (cell + vec2(0.0, rows)) / size).xy;
+    // columns: M^-1 = [[1, 0, m02], [0, m11, 0], [m20, 0, m22]]
+    mat3 inverse_m = mat3(vec3(1.0, 0.0, m.z), vec3(0.0, m.y, 0.0), vec3(m.x, 0.0, m.w));
+    float form = ltc_form_factor(light, p, inverse_m * to_frame);
+    return (view.f0 * (lobe.x - lobe.y) + lobe.y) * form;
+}
+
 vec3 shade_area(AreaLight light, vec3 radiance, vec3 p, vec3 n, vec3 v, PbrView view) {
     float form = max(dot(area_irradiance_vector(light, p), n), 0.0);
+    // the diffuse part as before (its Fresnel weight at the representative point)
     vec3 ls = area_representative(light, p, reflect(-v, n));
-    float omega = area_solid_angle(light, p);
-    float normalization = sphere_normalization(sqrt(view.alpha2), cone_sin2(omega)) * omega / 3.14159265;
-    return radiance * pbr_sized(n, ls, v, form, normalization, view);
+    return radiance * (pbr_sized(n, ls, v, form, 0.0, view) + ltc_specular(light, p, n, v, view));
 }
 #define SHADE_AREA(light, radiance) shade_area(light, radiance, p, n, v, pbr)
 #else

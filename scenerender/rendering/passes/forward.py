@@ -11,7 +11,7 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import matrix_bytes, set_uniforms
 from scenerender.rendering.draw import (
-    MESH_VERTEX, begin_camera_pass, bind_lights, bind_material, bind_shadow_atlas, bind_shadow_depth,
+    MESH_VERTEX, begin_camera_pass, bind_lights, bind_ltc, bind_material, bind_shadow_atlas, bind_shadow_depth,
     bind_texture_units, cull_hidden_faces, draw_item, opaque_items, single_sided_faces, skip_faces, stop_culling, transparent_items,
 )
 from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
@@ -47,6 +47,8 @@ class Shading:
 
     def bind(self, ctx) -> None:
         bind_lights(ctx.input(self.inputs.lights))
+        if ctx.features.n_area:
+            bind_ltc(ctx)
         for page, handle in enumerate(self.atlas_pages):
             bind_shadow_atlas(ctx, handle, page)
             if ctx.features.soft_shadows:
