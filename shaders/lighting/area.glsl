@@ -110,73 +110,48 @@ float cone_sin2(float omega) {
 // (m02, m11, m20, m22) with m00 = 1, rows n .. 2n-1 the magnitude and its Fresnel part.
 uniform sampler2D u_ltc;
 
-// angle(a, b) normalize(a x b).z for unit vectors a, b: the z part of edge_vector alone,
-// angle / sin(angle) as a polynomial in the cosine x on [0, 1] (fitted here, relative error
-// under 4e-5), and for x < 0 through angle(-x) = pi - angle(x).
-float ltc_edge(vec3 a, vec3 b) {
+// angle(a, b) normalize(a x b) for unit vectors a, b: edge_vector with angle / sin(angle) as
+// a polynomial in the cosine x on [0, 1] (fitted here, relative error under 4e-5), and for
+// x < 0 through angle(-x) = pi - angle(x).
+vec3 ltc_edge(vec3 a, vec3 b) {
     float x = dot(a, b);
     float y = abs(x);
     float ratio = ((((-0.0666625 * y + 0.27372869) * y - 0.53832206) * y + 0.75800197) * y - 0.99752641) * y + 1.57074165;
     ratio = x < 0.0 ? 3.14159265 * inversesqrt(max(1.0 - x * x, 1e-12)) - ratio : ratio;
-    return (a.x * b.y - a.y * b.x) * ratio;
-}
-
-// One corner of the clipped polygon, summed as it comes.
-void ltc_emit(vec3 point, inout vec3 first, inout vec3 last, inout int emitted, inout float sum) {
-    point = safe_normalize(point, vec3(0.0, 0.0, 1.0));
-    if (emitted == 0) {
-        first = point;
-    } else {
-        sum += ltc_edge(last, point);
-    }
-    last = point;
-    ++emitted;
+    return cross(a, b) * ratio;
 }
 
 // The form factor of the light's polygon whose corners relative to the shaded point go
-// through to_lobe, clipped to the upper hemisphere (z > 0) as it is summed
-// (Sutherland-Hodgman: each corner above it, and each crossing of it, in turn).
+// through to_lobe, cut by the horizon z = 0. Not clipped: the polygon's vector form factor F
+// (its irradiance vector over pi L) stands for a sphere of the same form factor |F| = sin^2
+// sigma in the same direction, and the horizon cuts that sphere (sphere_cosine, exact for
+// the sphere; Heitz and Hill 2017's approximation); exact while all of it is above.
 float ltc_form_factor(AreaLight light, vec3 p, mat3 to_lobe) {
-    vec3 first = vec3(0.0);
-    vec3 last = vec3(0.0);
-    int emitted = 0;
-    float sum = 0.0;
-    vec3 start = to_lobe * (area_corner(light, 0) - p);
-    vec3 a = start;
+    vec3 centre = to_lobe * (light.position.xyz - p);
+    vec3 sum = vec3(0.0);
     if (area_is_disk(light)) {
+        vec3 first = normalize(to_lobe * (area_corner(light, 0) - p));
+        vec3 previous = first;
         for (int k = 1; k <= DISK_SIDES; ++k) {
-            vec3 b = k == DISK_SIDES ? start : to_lobe * (area_corner(light, k) - p);
-            if (a.z > 0.0) ltc_emit(a, first, last, emitted, sum);
-            if ((a.z > 0.0) != (b.z > 0.0)) ltc_emit(mix(a, b, a.z / (a.z - b.z)), first, last, emitted, sum);
-            a = b;
+            vec3 next = k == DISK_SIDES ? first : normalize(to_lobe * (area_corner(light, k) - p));
+            sum += ltc_edge(previous, next);
+            previous = next;
         }
     } else {
-        vec3 centre = to_lobe * (light.position.xyz - p);
         vec3 u = to_lobe * light.axis_u.xyz;
         vec3 v = to_lobe * light.axis_v.xyz;
-        vec3 c1 = centre + u - v;
-        vec3 c2 = centre + u + v;
-        vec3 c3 = centre - u + v;
-        if (min(min(start.z, c1.z), min(c2.z, c3.z)) > 0.0) {
-            // wholly above: no clipping
-            vec3 w0 = normalize(start);
-            vec3 w1 = normalize(c1);
-            vec3 w2 = normalize(c2);
-            vec3 w3 = normalize(c3);
-            return abs(ltc_edge(w0, w1) + ltc_edge(w1, w2) + ltc_edge(w2, w3) + ltc_edge(w3, w0)) / 6.28318531;
-        }
-        for (int k = 1; k <= 4; ++k) {
-            vec3 b = k == 1 ? c1 : (k == 2 ? c2 : (k == 3 ? c3 : start));
-            if (a.z > 0.0) ltc_emit(a, first, last, emitted, sum);
-            if ((a.z > 0.0) != (b.z > 0.0)) ltc_emit(mix(a, b, a.z / (a.z - b.z)), first, last, emitted, sum);
-            a = b;
-        }
+        vec3 w0 = normalize(centre - u - v);
+        vec3 w1 = normalize(centre + u - v);
+        vec3 w2 = normalize(centre + u + v);
+        vec3 w3 = normalize(centre - u + v);
+        sum = ltc_edge(w0, w1) + ltc_edge(w1, w2) + ltc_edge(w2, w3) + ltc_edge(w3, w0);
     }
-    if (emitted < 3) {
-        return 0.0;
-    }
-    sum += ltc_edge(last, first);
-    return abs(sum) / 6.28318531;
+    sum /= 6.28318531;
+    float form = length(sum);
+    // towards the light, whichever way the corners turn
+    float cosine = (dot(sum, centre) < 0.0 ? -sum.z : sum.z) / max(form, 1e-20);
+    float sin2 = min(form, 0.9999);
+    return sin2 * sphere_cosine(cosine, sin2);
 }
 
 vec3 ltc_specular(AreaLight light, vec3 p, vec3 n, vec3 v, PbrView view) {
