@@ -5,9 +5,11 @@
 // Diffuse: the polygon's irradiance by Lambert's edge integral, the form factor
 // n . (1 / 2 pi) sum over edges of angle(w_i, w_i+1) normalize(w_i x w_i+1), w_i the unit
 // vectors to its corners (exact while the light is above the surface's horizon); a disk is
-// the regular 12-gon of its area. Specular: the representative point (Karis 2013), the
-// light's point nearest the mirror ray, with the lobe's peak normalised as a sphere
-// light's of the same solid angle. docs/scene-notes.md has the equations.
+// the regular 12-gon of its area. Specular, pbr model: linearly transformed cosines (below,
+// ltc_specular), rectangles and disks alike. Specular, Phong and Blinn-Phong: the
+// representative point (Karis 2013), the light's point nearest the mirror ray, with the
+// lobe's peak normalised as a sphere light's of the same solid angle. docs/scene-notes.md
+// has the equations of the representative point.
 
 const int DISK_SIDES = 12;
 // circumradius over radius of the regular 12-gon of a disk's area: sqrt(2 pi / (12 sin(pi / 6)))
