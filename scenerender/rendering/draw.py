@@ -3,7 +3,6 @@ camera target, the shadow atlas, texture units and materials."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-
 from pathlib import Path
 
 import moderngl
@@ -17,9 +16,10 @@ from scenerender.world.shadows import atlas_page_name
 
 # The vertex shader of every pass that draws scene meshes.
 MESH_VERTEX = "mesh/mesh.vert"
-LTC_TABLE = Path(__file__).with_name("ltc_ggx.npy")
 # The vertex shader of every full-screen pass (one triangle, no vertex buffers).
 FULLSCREEN_VERTEX = "common/fullscreen.vert"
+# The GGX lobe's linearly transformed cosines, fitted by benchmarks/ltc/fit_ltc.py.
+LTC_TABLE = Path(__file__).with_name("ltc_ggx.npy")
 
 
 @dataclass(frozen=True)
