@@ -7,7 +7,7 @@
 //             at least ENV_VIS_MIN_ALPHA, the directions' spacing, so a mirror still
 //             weighs the few directions around its reflection)
 // over the directions above the surface. Unblocked, both are exactly 1.
-#include "common/halves.glsl"
+#include "common/seen_texel.glsl"
 
 uniform sampler2DShadow u_env_visibility;
 uniform mat4 u_env_vis_to_map[ENV_VISIBILITY];  // camera-relative world -> (map u, v, linear depth)
@@ -86,7 +86,7 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     vec2 slope = vec2(dFdx(dist), dFdy(dist));
     // the four texels around the pixel (texels (0, 1), (1, 1), (1, 0), (0, 0) of the
     // square, in textureGather's order) in one gather: llvmpipe pays for each gather,
-    // whatever its bytes, so each texel holds all three (common/halves.glsl's pack_seen)
+    // whatever its bytes, so each texel holds all three (common/seen_texel.glsl's pack_seen)
     vec2 at = gl_FragCoord.xy * u_env_vis_scale;
     vec2 uv = at / vec2(textureSize(u_env_vis_samples, 0));
     uvec4 found = textureGather(u_env_vis_samples, uv, 0);

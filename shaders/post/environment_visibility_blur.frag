@@ -12,8 +12,9 @@
 // (x, y) at (x % N, y % N) * its sub-images' size + (x, y) / N) and writes them packed
 // the same way, a pixel where it lies; the second (ENV_VIS_RATIO) the ratios, V_d
 // and V_s at the narrowest lobe, and the distance, that shading's upsample compares,
-// packed in one uint (common/halves.glsl's pack_seen).
+// packed in one uint (common/seen_texel.glsl's pack_seen).
 #include "common/halves.glsl"
+#include "common/seen_texel.glsl"
 uniform usampler2D u_env_vis_samples;  // the sums (xy, halves) and the distance (z, float bits)
 #ifdef ENV_VIS_SUB_IMAGES
 uniform ivec2 u_env_vis_size;  // the image's size (its sub-images may reach past it)
