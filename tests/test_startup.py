@@ -19,7 +19,8 @@ import pytest
 from click.testing import CliRunner
 
 from conftest import skip_without_gl
-from scenerender.cli import COMMAND_GC_THRESHOLD, FULL_EXIT_VARIABLE, OPENBLAS_THREADS_VARIABLE, main
+from scenerender.cli import (COMMAND_GC_THRESHOLD, FULL_EXIT_VARIABLE, OPENBLAS_THREADS_VARIABLE,
+                             PYDANTIC_PLUGINS_VARIABLE, main)
 from scenerender.scene import load_scene
 from scenerender.version import __version__
 
@@ -224,3 +225,35 @@ def test_the_entry_point_starts_openblas_with_one_thread_unless_told(given, expe
                             capture_output=True, text=True, cwd=ROOT, env=env)
     assert result.returncode == 0, result.stderr
     assert result.stdout.split()[-3:] == [expected, "False", "True"]
+
+
+PLUGIN_SETTING = textwrap.dedent("""
+    import atexit
+    import importlib.metadata
+    import os
+    import sys
+
+    from scenerender.cli import entry_point
+
+    scans = []  # pydantic's plugin search walks importlib.metadata.distributions()
+    every_distribution = importlib.metadata.distributions
+    importlib.metadata.distributions = lambda *a, **k: scans.append(1) or every_distribution(*a, **k)
+    atexit.register(lambda: print(os.environ.get("PYDANTIC_DISABLE_PLUGINS"), bool(scans)))
+    sys.argv[0] = "scenerender"
+    entry_point()
+""")
+
+
+@pytest.mark.parametrize("given, expected", [(None, ["1", "False"]), ("", ["True"])])
+def test_the_entry_point_skips_pydantic_s_plugin_search_unless_told(given, expected):
+    """pydantic's search of every package's entry points for plugins, as the scene model's
+    validator is built, is skipped, unless the user set PYDANTIC_DISABLE_PLUGINS (here to
+    the empty string: plugins on, and pydantic looked)."""
+    env = {key: value for key, value in os.environ.items() if key != PYDANTIC_PLUGINS_VARIABLE}
+    if given is not None:
+        env[PYDANTIC_PLUGINS_VARIABLE] = given
+    result = subprocess.run([sys.executable, "-c", PLUGIN_SETTING, "validate",
+                             str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")],
+                            capture_output=True, text=True, cwd=ROOT, env=env)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split()[-len(expected):] == expected
