@@ -1,6 +1,6 @@
 """The world's per-frame inputs as graph resources, and their values for one frame.
 
-``import_inputs`` imports every input of ``world.inputs.world_inputs`` into the graph and
+``import_inputs`` imports every input of ``World.inputs`` (world.frame_inputs) into the graph and
 returns their handles; passes declare the ones they read. Each frame,
 ``input_values`` turns the evaluated FrameState, and what GraphRenderer.import_frame uploaded
 from it, into the value each handle resolves to in ``PassContext.input``. Values are
@@ -16,13 +16,13 @@ import numpy as np
 from scenerender.graph import FrameGraph, Handle, InputDesc
 from scenerender.world.camera import CameraState
 from scenerender.world.frame import FrameState
-from scenerender.world.frame_inputs import WorldInput, world_inputs
+from scenerender.world.frame_inputs import WorldInput
 from scenerender.world.lens import lens_radius
 
 
 @dataclass(frozen=True)
 class InputHandles:
-    """Handles of the world's inputs in one graph (see world.inputs.WorldInputs).
+    """Handles of the world's inputs in one graph (see world.frame_inputs.WorldInputs).
 
     per_light:    "light:NAME", one per light of World.lights, same index.
     shadow_views: (light index, "shadow_views:NAME") per shadowed light.
@@ -69,7 +69,7 @@ class InputHandles:
 
 
 def import_inputs(graph: FrameGraph, world) -> InputHandles:
-    inputs = world_inputs(world)
+    inputs = world.inputs
 
     def imported(world_input: WorldInput | None) -> Handle | None:
         if world_input is None:

@@ -21,6 +21,7 @@ from scenerender.world import materials as mats
 from scenerender.world import texture_files
 from scenerender.world.directional_views import fixed_view_sizes
 from scenerender.world.environment_light import EnvironmentDef, environment_def
+from scenerender.world.frame_inputs import AnimatedParts, WorldInputs, animated_parts, world_inputs
 from scenerender.world.images import ImageStore
 from scenerender.world.light_states import LightDef, light_defs, split_ambient
 from scenerender.world.node_animation import ClipPlayer, clips_text, deformation, find_clip, node_motions
@@ -77,6 +78,16 @@ class World:
         put for the whole run (world.directional_views), judged at ``render.size``."""
         width, height = self.settings.size
         return fixed_view_sizes(self, width / height)
+
+    @cached_property
+    def animated_parts(self) -> AnimatedParts:
+        """Which keys of its objects and materials animate, looked for once (world.frame_inputs)."""
+        return animated_parts(self)
+
+    @cached_property
+    def inputs(self) -> WorldInputs:
+        """Its per-frame inputs and which of them change (world.frame_inputs.world_inputs)."""
+        return world_inputs(self)
 
     @property
     def shadowed_lights(self) -> list[LightDef]:

@@ -10,10 +10,8 @@ from functools import cached_property
 
 import numpy as np
 
-from scenerender.animation import animated_keys
 from scenerender.world.build import World, scene_bounds
 from scenerender.world.camera import CameraRig, CameraState
-from scenerender.world.frame_inputs import OBJECT_LOOK_KEYS
 from scenerender.world.lens import lens_radius, through_lens
 from scenerender.world.motion import ShutterMotion, blurs_by_velocity, shutter_motion
 from scenerender.world.environment_light import EnvironmentState
@@ -113,7 +111,8 @@ class FrameEvaluator:
         work for them is the camera-relative shift and the view test. Made on the first
         frame: an evaluator asked only for cameras never needs them."""
         return {i: self._placement(obj, obj.matrices(0.0), self._windings[i], 0.0)
-                for i, obj in enumerate(self.world.objects) if not animated_keys(obj, skip=OBJECT_LOOK_KEYS)}
+                for i, (obj, keys) in enumerate(zip(self.world.objects, self.world.animated_parts.per_object))
+                if not keys}
 
     @cached_property
     def _still(self) -> "StillObjects":
