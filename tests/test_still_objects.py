@@ -69,3 +69,22 @@ def test_the_scene_tests_what_matters():
     edge = names.index("edge")
     clip = frames[0].camera.view_proj_relative() @ np.append(frames[0].objects[edge].models_rel[0][:3, 3], 1.0)
     assert frames[0].objects[edge].in_view == 1 and abs(clip[0] / clip[3]) > 1.0
+
+
+def test_each_object_is_looked_through_once_for_its_animated_keys(gl, monkeypatch):
+    """Which keys of the objects and materials animate is worked out once a world
+    (World.animated_parts) and shared by the inputs with and without fixed shadow views and
+    by the frames' still objects. Each walk goes through every field of every object: at
+    1,000 objects it cost 0.06 s, and it ran three times before a first frame."""
+    from scenerender.world import frame_inputs
+
+    walked = []
+    every_key = frame_inputs.animated_keys
+    monkeypatch.setattr(frame_inputs, "animated_keys", lambda value, skip=(): walked.append(value) or
+                        every_key(value, skip))
+    scene = scenerender.Scene.from_yaml(SCENE, ".")
+    with scenerender.Renderer(scene, gl=gl) as renderer:
+        for index in (0, 7):
+            renderer.render(index)
+    objects = scene.world.objects
+    assert len(objects) == 8 and all(sum(value is obj for value in walked) == 1 for obj in objects)
