@@ -215,16 +215,22 @@ BLAS_SETTING = textwrap.dedent("""
 """)
 
 
-@pytest.mark.parametrize("given, expected", [(None, "1"), ("3", "3")])
-def test_the_entry_point_starts_openblas_with_one_thread_unless_told(given, expected, tmp_path):
-    env = {key: value for key, value in os.environ.items() if key != OPENBLAS_THREADS_VARIABLE}
+def printed_at_exit(script: str, variable: str, given: str | None) -> list[str]:
+    """The words ``script`` (one of the entry point's runs above) prints as its process
+    ends, run with the environment ``variable`` unset (``given`` None) or set to ``given``."""
+    env = {key: value for key, value in os.environ.items() if key != variable}
     if given is not None:
-        env[OPENBLAS_THREADS_VARIABLE] = given
-    result = subprocess.run([sys.executable, "-c", BLAS_SETTING, "validate",
+        env[variable] = given
+    result = subprocess.run([sys.executable, "-c", script, "validate",
                              str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")],
                             capture_output=True, text=True, cwd=ROOT, env=env)
     assert result.returncode == 0, result.stderr
-    assert result.stdout.split()[-3:] == [expected, "False", "True"]
+    return result.stdout.split()
+
+
+@pytest.mark.parametrize("given, expected", [(None, "1"), ("3", "3")])
+def test_the_entry_point_starts_openblas_with_one_thread_unless_told(given, expected):
+    assert printed_at_exit(BLAS_SETTING, OPENBLAS_THREADS_VARIABLE, given)[-3:] == [expected, "False", "True"]
 
 
 PLUGIN_SETTING = textwrap.dedent("""
@@ -249,11 +255,4 @@ def test_the_entry_point_skips_pydantic_s_plugin_search_unless_told(given, expec
     """pydantic's search of every package's entry points for plugins, as the scene model's
     validator is built, is skipped, unless the user set PYDANTIC_DISABLE_PLUGINS (here to
     the empty string: plugins on, and pydantic looked)."""
-    env = {key: value for key, value in os.environ.items() if key != PYDANTIC_PLUGINS_VARIABLE}
-    if given is not None:
-        env[PYDANTIC_PLUGINS_VARIABLE] = given
-    result = subprocess.run([sys.executable, "-c", PLUGIN_SETTING, "validate",
-                             str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")],
-                            capture_output=True, text=True, cwd=ROOT, env=env)
-    assert result.returncode == 0, result.stderr
-    assert result.stdout.split()[-len(expected):] == expected
+    assert printed_at_exit(PLUGIN_SETTING, PYDANTIC_PLUGINS_VARIABLE, given)[-len(expected):] == expected
