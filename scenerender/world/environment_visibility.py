@@ -147,4 +147,10 @@ def interleave_pattern(count: int, interleave: int) -> tuple[int, int]:
     i, i + N^2, i + 2 N^2 ... (shaders/post/environment_visibility.frag). N is no more than
     sqrt(count), so every pixel has one; N 1: each pixel looks up all of them as it shades."""
     n = max(1, min(interleave, math.isqrt(count)))
-    return n, math.ceil(count / (n * n))
+    return n, place_lookups((0, 0), n, count)  # the block's first pixel has the most
+
+
+def place_lookups(place: tuple, interleave: int, count: int) -> int:
+    """How many of ``count`` directions the pixels at ``place`` (x, y) of the
+    ``interleave`` x ``interleave`` block look up: i, i + N^2, ... below the count, i = x + N y."""
+    return len(range(place[0] + interleave * place[1], count, interleave * interleave))

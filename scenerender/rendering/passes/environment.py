@@ -21,6 +21,7 @@ from scenerender.rendering.draw import (
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.light_buffers import environment_view_uniforms
 from scenerender.rendering.passes.data import ImageData, SurfacesData
+from scenerender.world.environment_visibility import place_lookups
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"
 VISIBILITY_FRAGMENT = "post/environment_visibility.frag"
@@ -162,7 +163,7 @@ class EnvironmentSurfacesPass(RenderPass):
 class EnvironmentVisibilityPass(RenderPass):
     """Each pixel's share of the environment's visibility lookups, where the directions
     are shared out over ``interleave`` x ``interleave`` blocks (place_lookups a pixel;
-    world.environment_visibility.interleave_pattern), at the surface EnvironmentSurfacesPass
+    world.environment_visibility), at the surface EnvironmentSurfacesPass
     found there, as weighted sums with the surface's distance, packed
     (shaders/post/environment_visibility.frag); full-screen, once for each place in the
     block, into a sub-image of its own (sub_image_layout). ``min_alpha``: the narrowest
@@ -222,12 +223,6 @@ class EnvironmentVisibilityPass(RenderPass):
         program = ctx.programs.get(FULLSCREEN_VERTEX, VISIBILITY_FRAGMENT, defines)
         bind_texture_units(program)
         return program
-
-
-def place_lookups(place: tuple, interleave: int, directions: int) -> int:
-    """How many of ``directions`` the pixels at ``place`` (x, y) of the ``interleave``
-    block look up: i, i + N^2, ... below the count, i = x + N y."""
-    return len(range(place[0] + interleave * place[1], directions, interleave * interleave))
 
 
 def sub_image_layout(size: tuple, interleave: int) -> tuple[tuple, list]:
