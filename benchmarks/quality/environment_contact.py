@@ -150,20 +150,26 @@ def frame_times(variants: dict, motion: list, frames: int = 30, scene_path: Path
     return times
 
 
-def main() -> None:
+def reference_truth(scene, kept: Path | None) -> tuple[np.ndarray, np.ndarray]:
+    """(H, W) the reference's linear grey, (H, W) its mixed pixels, for ``scene``: read from
+    the .npz ``kept`` where it exists, else rendered (and written there, where given)."""
     from scenerender.raytrace.render import render_reference
 
+    if kept is not None and kept.exists():
+        found = np.load(kept)
+        return found["truth"], found["mixed"]
+    reference = render_reference(scene, 0, spp=8, environment_samples=32)
+    truth, mixed = reference.linear.astype(np.float64).mean(axis=2), reference.mixed
+    if kept is not None:
+        np.savez(kept, truth=truth, mixed=mixed)
+    return truth, mixed
+
+
+def main() -> None:
     size = (256, 192)
     scene = scenerender.load(SCENE)
     cache = Path(sys.argv[1]) if len(sys.argv) > 1 else None  # an .npz keeping the reference between runs
-    if cache is not None and cache.exists():
-        kept = np.load(cache)
-        truth, mixed = kept["truth"], kept["mixed"]
-    else:
-        reference = render_reference(scene, 0, spp=8, environment_samples=32)
-        truth, mixed = reference.linear.astype(np.float64).mean(axis=2), reference.mixed
-        if cache is not None:
-            np.savez(cache, truth=truth, mixed=mixed)
+    truth, mixed = reference_truth(scene, cache)
     points, which = surface_points(scene.world, size)
     masks = region_masks(points, which, mixed)
     results = {}
@@ -219,19 +225,10 @@ def small_image_errors(cache: Path | None) -> dict:
     """{variant: {region: error}} at SMALL, where the 'auto' rule keeps 2x2 blocks: the
     blur's 2N - 1 texels reach 6 pixels with 2x2 blocks and 10 with 3x3
     (world.environment_light.visibility_blocks)."""
-    from scenerender.raytrace.render import render_reference
-
-    size_key = f"render.size=[{SMALL[0]},{SMALL[1]}]"
+    scene = scenerender.load(SCENE, [f"render.size=[{SMALL[0]},{SMALL[1]}]"])
     kept = cache.with_name(f"{cache.stem}_{SMALL[0]}x{SMALL[1]}.npz") if cache is not None else None
-    if kept is not None and kept.exists():
-        found = np.load(kept)
-        truth, mixed = found["truth"], found["mixed"]
-    else:
-        reference = render_reference(scenerender.load(SCENE, [size_key]), 0, spp=8, environment_samples=32)
-        truth, mixed = reference.linear.astype(np.float64).mean(axis=2), reference.mixed
-        if kept is not None:
-            np.savez(kept, truth=truth, mixed=mixed)
-    points, which = surface_points(scenerender.load(SCENE, [size_key]).world, SMALL)
+    truth, mixed = reference_truth(scene, kept)
+    points, which = surface_points(scene.world, SMALL)
     masks = region_masks(points, which, mixed)
     return {name: region_errors(gpu_linear(overrides, SMALL).mean(axis=2), truth, masks)
             for name, overrides in SMALL_VARIANTS.items()}
