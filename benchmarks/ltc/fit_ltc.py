@@ -31,6 +31,8 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import minimize
 
+from scenerender.raytrace.shading import ggx_distribution, smith_visibility
+
 MIN_ALPHA = 0.002
 OUTPUT = Path(__file__).resolve().parents[2] / "scenerender" / "rendering" / "ltc_ggx.npy"
 
@@ -46,17 +48,11 @@ def grid(size: int):
 
 def brdf_cos(l, v, alpha):
     """D V N.L (F = 1) for unit directions l (..., 3); 0 below the horizon."""
-    a2 = alpha * alpha
     n_dot_l = l[..., 2]
-    n_dot_v = v[2]
     h = l + v
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
-    n_dot_h = h[..., 2]
-    k = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0
-    d = a2 / (np.pi * k * k)
     nl = np.maximum(n_dot_l, 0.0)
-    vis = 0.5 / np.maximum(nl * np.sqrt(n_dot_v ** 2 * (1 - a2) + a2) + n_dot_v * np.sqrt(nl ** 2 * (1 - a2) + a2), 1e-30)
-    return np.where(n_dot_l > 0.0, d * vis * nl, 0.0)
+    return np.where(n_dot_l > 0.0, ggx_distribution(h[..., 2], alpha) * smith_visibility(v[2], nl, alpha) * nl, 0.0)
 
 
 def sample_ggx(u1, u2, v, alpha):
@@ -69,19 +65,15 @@ def sample_ggx(u1, u2, v, alpha):
     h = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1)
     v_dot_h = h @ v
     l = 2.0 * v_dot_h[:, None] * h - v
-    k = cos2 * (a2 - 1.0) + 1.0
-    d = a2 / (np.pi * k * k)
-    pdf = d * cos_t / (4.0 * np.maximum(np.abs(v_dot_h), 1e-12))
+    pdf = ggx_distribution(cos_t, alpha) * cos_t / (4.0 * np.maximum(np.abs(v_dot_h), 1e-12))
     return l, pdf, v_dot_h
 
 
 def ggx_pdf(l, v, alpha):
-    a2 = alpha * alpha
     h = l + v
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
     n_dot_h = h[..., 2]
-    k = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0
-    d = a2 / (np.pi * k * k)
+    d = ggx_distribution(n_dot_h, alpha)
     return np.where(n_dot_h > 0.0, d * n_dot_h / (4.0 * np.maximum(np.abs(np.sum(l * h, axis=-1)), 1e-12)), 0.0)
 
 
