@@ -19,6 +19,8 @@ one of:
                    tell which ones the surface shows in (pipeline.visible_samples_pay)
   full-prepass     visible samples with every opaque object through the depth prepass, as
                    before rendering/visible_samples.py left out what cannot hide anything
+  device-srgb      the multisampled 8-bit target encoded by the device, sample by sample,
+                   not by the opaque pass's shaders (pipeline.shader_encoding_pays)
 
     cp -r shaders /tmp/shaders-before   # then edit shaders/
     python benchmarks/variants.py scenes/showcase.yaml --variant before@/tmp/shaders-before
@@ -98,6 +100,9 @@ def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tu
     if variant == "no-visible-samples":
         world = scenerender.load(scene_path, base_overrides).world
         return variant, GraphRenderer(world, gl, profile=True, tuning={"visible_samples": False})
+    if variant == "device-srgb":
+        world = scenerender.load(scene_path, base_overrides).world
+        return variant, GraphRenderer(world, gl, profile=True, tuning={"shader_srgb_encoding": False})
     if variant == "full-prepass":
         return variant, FullPrepass(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if variant == "no-face-culling":

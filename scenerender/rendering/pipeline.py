@@ -49,6 +49,7 @@ class GraphOptions:
     # GraphRenderer sets what its context offers
     post_depth_coverage: bool = True
     visible_samples: bool | None = None
+    shader_srgb_encoding: bool | None = None  # pipeline.shader_encoding_pays
 
 
 def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputHandles]:
@@ -94,9 +95,11 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     # with MSAA the resolve adds the sky behind the samples; without, a pass draws it (passes/sky.py)
     skybox = _sky(world, inputs)
     sky = SkyUnder(inputs.camera, skybox) if skybox is not None and samples > 1 and options.sky_behind_samples else NO_SKY
+    encode_in_shader = not hdr and (options.shader_srgb_encoding if options.shader_srgb_encoding is not None
+                                    else shader_encoding_pays(samples))
     opaque = graph.add(OpaquePass(size, samples, shading, inputs.background, fill, prepass,
                                   "rgba16f" if hdr else "srgba8", settings.line_width, settings.point_size,
-                                  sky_behind=sky is not NO_SKY))
+                                  sky_behind=sky is not NO_SKY, encode_in_shader=encode_in_shader))
     color, depth = opaque.color, opaque.depth
     if skybox is not None and sky is NO_SKY:
         color = graph.add(SkyboxPass(color, depth, inputs.camera, skybox)).image
@@ -276,6 +279,22 @@ def hdr_target_pays(options: GraphOptions, output_transform: str, tone: bool = F
     (writes and resolve), without MSAA about 3 ms.
     """
     return options.want_linear or output_transform != "srgb" or tone
+
+
+def shader_encoding_pays(samples: int) -> bool:
+    """Whether the opaque pass's shaders write the sRGB encoding into the 8-bit target,
+    with the device's own turned off while they draw (passes/forward.py).
+
+    Mesa llvmpipe encodes each sample of a multisampled target as it stores it, with an
+    approximation one level off the exact curve for about 7 % of values; the shader
+    encodes once a pixel, exactly (common/srgb.glsl). Measured on llvmpipe
+    (benchmarks/msaa_cost.py): a 640x480 layer of cheap shading at 4x MSAA costs 5.5 ms
+    into the sRGB target with the device encoding, 3.0 ms without; the benchmark scene's
+    frame 0.98x, the showcase's 0.96x. Without MSAA the device's encoding costs what the
+    shader's does, and stays. Sample values change by at most a level; a blend after the
+    opaque pass (transparent surfaces, outlines) still decodes and encodes on the device.
+    """
+    return samples > 1
 
 
 def depth_complexity(world, atlas, size) -> float:

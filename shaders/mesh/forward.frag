@@ -15,6 +15,9 @@
 #ifdef HAS_ENVIRONMENT
 #include "lighting/environment.glsl"
 #endif
+#ifdef ENCODE_SRGB
+#include "common/srgb.glsl"
+#endif
 
 #ifdef SHADOW_VISIBLE_SAMPLES
 // gl_SampleMaskIn after the depth test (the depth prepass has laid down the final depth)
@@ -100,7 +103,13 @@ void main() {
 #else
     // alpha is coverage: an opaque surface hides the sky composited behind the samples
     // (post/sky_under.glsl), whatever alpha its maps hold
+#ifdef ENCODE_SRGB
+    // an 8-bit sRGB target written without the device's encoding (the opaque pass turns
+    // it off): the shader encodes once per pixel, where the device would per sample
+    frag_color = vec4(srgb_encode(clamp(color, 0.0, 1.0)), 1.0);
+#else
     frag_color = vec4(color, 1.0);
+#endif
 #endif
 #ifdef ALPHA_MASK
     // cut last: the derivatives the lighting takes need every pixel of the quad

@@ -10,12 +10,7 @@ uniform float u_exposure;  // 2^render.exposure
 #elif defined(TONE_MAP_AGX)
 #include "post/tone_agx.glsl"
 #endif
-
-vec3 srgb_encode(vec3 c) {
-    vec3 low = c * 12.92;
-    vec3 high = 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055;
-    return mix(low, high, step(vec3(0.0031308), c));
-}
+#include "common/srgb.glsl"
 
 vec4 encode_output(vec4 c) {
     vec3 scene = c.rgb;

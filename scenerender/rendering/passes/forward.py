@@ -9,6 +9,7 @@ import moderngl
 import numpy as np
 
 from scenerender.graph import Handle, RenderPass, ResourceDesc
+from scenerender.gpu.resources import GL_FRAMEBUFFER_SRGB
 from scenerender.gpu.uniforms import matrix_bytes, set_uniforms
 from scenerender.rendering.draw import (
     MESH_VERTEX, begin_camera_pass, bind_lights, bind_ltc, bind_material, bind_shadow_atlas, bind_shadow_depth,
@@ -59,12 +60,14 @@ class Shading:
             self.environment.bind(ctx)
 
     def draw(self, ctx, items, mode=None, cull_hidden: bool = False, before_item=None, shadowed: dict | None = None,
-             size: tuple = (0, 0)) -> None:
+             size: tuple = (0, 0), encode_srgb: bool = False) -> None:
         """Shade ``items`` with each material's program variant; ``cull_hidden``: skip the
         faces the camera cannot see (opaque surfaces only), and the back faces of
         single-sided materials; ``before_item(item)``, where given, runs before each draw.
         ``shadowed``: object index -> the screen rectangle (``size`` the target's) outside
-        which no shadow falls on it (shadow_reach.py): there it is drawn without them."""
+        which no shadow falls on it (shadow_reach.py): there it is drawn without them.
+        ``encode_srgb``: opaque surfaces write sRGB-encoded values (for an 8-bit sRGB
+        target with the device's encoding off)."""
         camera = ctx.input(self.inputs.camera)
         objects = ctx.input(self.inputs.objects)
         materials = ctx.input(self.inputs.materials)
@@ -81,7 +84,7 @@ class Shading:
         ready = set()  # the programs given frame_values in this draw (many materials share one)
 
         def prepared(material, shadows: bool = True):
-            program = self._program(ctx, material, shadows)
+            program = self._program(ctx, material, shadows, encode_srgb)
             if id(program) not in ready:
                 set_uniforms(program, **frame_values)
                 ready.add(id(program))
@@ -109,9 +112,10 @@ class Shading:
                 draw_item(objects, unshadowed, item, mode)
             gl.scissor = None
 
-    def _program(self, ctx, material, shadows: bool = True):
+    def _program(self, ctx, material, shadows: bool = True, encode_srgb: bool = False):
         """The material's shader variant (worked out on its first draw of the run);
-        ``shadows=False``: the same without any shadow lookup."""
+        ``shadows=False``: the same without any shadow lookup; ``encode_srgb``: writing
+        sRGB-encoded values."""
         with_ao = self.ao is not None
 
         def make():
@@ -120,11 +124,13 @@ class Shading:
                 defines.pop("HAS_SHADOWS", None)
             if self.visible_samples and "HAS_SHADOWS" in defines:
                 defines["SHADOW_VISIBLE_SAMPLES"] = True
+            if encode_srgb:
+                defines["ENCODE_SRGB"] = True
             program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, defines)
             bind_texture_units(program)
             return program
 
-        return ctx.programs.memo(("forward", id(material), with_ao, self.visible_samples, shadows), make)
+        return ctx.programs.memo(("forward", id(material), with_ao, self.visible_samples, shadows, encode_srgb), make)
 
     def shadow_free(self, ctx, items, camera, size: tuple) -> dict:
         """Object index -> screen rectangle (shadow_reach.shadowed_rectangle) for each flat
@@ -166,7 +172,10 @@ class OpaquePass(RenderPass):
 
     fill: "solid", or "wireframe" / "points" for those render modes (drawn with
     ``line_width`` / ``point_size``). color_format: "rgba16f", or "srgba8" where no value
-    above 1 is needed. prepass: lay down depth first (see pipeline.prepass_pays).
+    above 1 is needed. encode_in_shader: into an "srgba8" target the shaders write the
+    exact sRGB encoding, the device's own turned off while they draw (the builder's
+    choice: pipeline.shader_encoding_pays). prepass: lay down depth first (see
+    pipeline.prepass_pays).
     sky_behind: the resolve adds the sky behind the samples (passes/sky.py), so the
     target is cleared to transparent black instead of the background.
     """
@@ -181,6 +190,7 @@ class OpaquePass(RenderPass):
     line_width: float = 1.0
     point_size: float = 3.0
     sky_behind: bool = False
+    encode_in_shader: bool = False
 
     name = "opaque"
 
@@ -195,7 +205,8 @@ class OpaquePass(RenderPass):
 
     def describe(self) -> str:
         extras = [f"{self.samples}x MSAA" if self.samples > 1 else "no MSAA",
-                  "float16 target" if self.color_format == "rgba16f" else "8-bit sRGB target"]
+                  "float16 target" if self.color_format == "rgba16f"
+                  else "8-bit sRGB target" + (", encoded by the shader" if self.encode_in_shader else "")]
         if self.fill != "solid":
             extras.append(self.fill)
         elif self.prepass:
@@ -209,7 +220,10 @@ class OpaquePass(RenderPass):
     def execute(self, ctx, data: TargetData) -> None:
         gl = ctx.gl
         clear = (0.0, 0.0, 0.0, 0.0) if self.sky_behind else (*ctx.input(self.background)[:3], 1.0)
-        fbo = begin_camera_pass(ctx, [data.color], data.depth, clear)
+        fbo = begin_camera_pass(ctx, [data.color], data.depth, clear)  # the clear encoded by the device
+        encode = self.encode_in_shader and self.color_format == "srgba8"
+        if encode:
+            gl.disable_direct(GL_FRAMEBUFFER_SRGB)
         self.shading.bind(ctx)
         mode = None
         if self.fill == "wireframe":
@@ -225,15 +239,17 @@ class OpaquePass(RenderPass):
             plan = self._depth_prepass(ctx, items, fbo) if self.prepass else None
             if plan is None or plan.prepass_is_everything:
                 self.shading.draw(ctx, plan.order if plan else items, mode, cull_hidden=solid, shadowed=shadowed,
-                                  size=self.size)
+                                  size=self.size, encode_srgb=encode)
             else:
                 # the depth of what the prepass left out is written as it is shaded; what it
                 # drew keeps its own (an alpha-masked surface's holes must stay empty)
                 def depth_writes(item):
                     fbo.depth_mask = item.object_index not in plan.prepass
                 self.shading.draw(ctx, plan.order, mode, cull_hidden=solid, before_item=depth_writes,
-                                  shadowed=shadowed, size=self.size)
+                                  shadowed=shadowed, size=self.size, encode_srgb=encode)
         finally:
+            if encode:
+                gl.enable_direct(GL_FRAMEBUFFER_SRGB)
             stop_culling(gl)
             gl.wireframe = False
             fbo.color_mask = (True, True, True, True)
