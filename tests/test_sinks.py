@@ -49,6 +49,33 @@ def all_entries(folder) -> list[str]:
 # image sequences
 
 
+def idat_payload(png: bytes) -> bytes:
+    """The data of a PNG's single IDAT chunk."""
+    start = png.index(b"IDAT")
+    length = int.from_bytes(png[start - 4:start], "big")
+    return png[start + 4:start + 4 + length]
+
+
+def test_png_deflate_writes_the_bytes_of_zlib():
+    """The encoder's deflate (zlib-ng) writes what Python's zlib writes at the same level
+    and strategy, so PNG files are the bytes they were before it; another level or
+    strategy would change them."""
+    import zlib
+
+    rng = np.random.default_rng(3)
+    pixels = (rng.integers(0, 5, (48, 64, 3)) * 50).astype(np.uint8)
+    pixels[:, 20:40] = 128  # runs, as flat areas of a frame give
+    payload = idat_payload(images_module.encode_png(pixels))
+    rows = zlib.decompress(payload)
+
+    def deflated(level: int, strategy: int) -> bytes:
+        deflate = zlib.compressobj(level, zlib.DEFLATED, 15, 9, strategy)
+        return deflate.compress(rows) + deflate.flush()
+
+    assert payload == deflated(1, zlib.Z_RLE)
+    assert payload != deflated(1, zlib.Z_DEFAULT_STRATEGY)
+
+
 @pytest.mark.parametrize("fmt", ["png", "tga"])
 def test_lossless_sequence_reads_back_exactly(tmp_path, fmt):
     sink = ImageSequenceSink(tmp_path / "out", fmt, frame_name_pattern(None, 3))

@@ -1,11 +1,12 @@
 """Encode frames on a small thread pool while the next frame renders.
 
-PNG compression (zlib inside Pillow) and ffmpeg piping release the GIL, so encoder
-threads run beside the renderer. Image sequences get a pool of ``encode_workers()``
-encoder threads; the encoded bytes are then written, in frame order, by one writer
-thread, so the wrapped sink (and the manifest recording behind it) is only ever called
-from one thread. Sinks that cannot encode ahead (a video, fed strictly in order) get the
-writer thread alone. A bounded queue keeps memory flat whatever the frame count.
+Compression (zlib-ng's deflate for PNG, Pillow's encoders for JPG and TGA) and ffmpeg
+piping release the GIL, so encoder threads run beside the renderer. Image sequences get
+a pool of ``encode_workers()`` encoder threads; the encoded bytes are then written, in
+frame order, by one writer thread, so the wrapped sink (and the manifest recording behind
+it) is only ever called from one thread. Sinks that cannot encode ahead (a video, fed
+strictly in order) get the writer thread alone. A bounded queue keeps memory flat
+whatever the frame count.
 """
 from __future__ import annotations
 
