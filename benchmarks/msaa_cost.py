@@ -28,9 +28,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from scenerender.gpu.gl_context import create_context  # noqa: E402
+from scenerender.gpu.resources import GL_FRAMEBUFFER_SRGB, GL_SRGB8_ALPHA8  # noqa: E402
 
-GL_FRAMEBUFFER_SRGB = 0x8DB9
-GL_SRGB8_ALPHA8 = 0x8C43
 FORMATS = {  # name -> moderngl texture arguments, and whether sRGB encoding is on while drawing
     "rgba8 (linear 8-bit)": ({}, False),
     "srgba8, the device encoding": ({"internal_format": GL_SRGB8_ALPHA8}, True),

@@ -172,7 +172,7 @@ class OpaquePass(RenderPass):
 
     fill: "solid", or "wireframe" / "points" for those render modes (drawn with
     ``line_width`` / ``point_size``). color_format: "rgba16f", or "srgba8" where no value
-    above 1 is needed. encode_in_shader: into an "srgba8" target the shaders write the
+    above 1 is needed. encode_in_shader (an "srgba8" target only): the shaders write the
     exact sRGB encoding, the device's own turned off while they draw (the builder's
     choice: pipeline.shader_encoding_pays). prepass: lay down depth first (see
     pipeline.prepass_pays).
@@ -221,9 +221,6 @@ class OpaquePass(RenderPass):
         gl = ctx.gl
         clear = (0.0, 0.0, 0.0, 0.0) if self.sky_behind else (*ctx.input(self.background)[:3], 1.0)
         fbo = begin_camera_pass(ctx, [data.color], data.depth, clear)  # the clear encoded by the device
-        encode = self.encode_in_shader and self.color_format == "srgba8"
-        if encode:
-            gl.disable_direct(GL_FRAMEBUFFER_SRGB)
         self.shading.bind(ctx)
         mode = None
         if self.fill == "wireframe":
@@ -235,7 +232,10 @@ class OpaquePass(RenderPass):
         items = opaque_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
         solid = self.fill == "solid"  # wireframes and points show every face's edges
         shadowed = self.shading.shadow_free(ctx, items, ctx.input(self.shading.inputs.camera), self.size) if solid else {}
+        encode = self.encode_in_shader
         try:
+            if encode:
+                gl.disable_direct(GL_FRAMEBUFFER_SRGB)
             plan = self._depth_prepass(ctx, items, fbo) if self.prepass else None
             if plan is None or plan.prepass_is_everything:
                 self.shading.draw(ctx, plan.order if plan else items, mode, cull_hidden=solid, shadowed=shadowed,
