@@ -21,6 +21,7 @@ from scenerender import option_rules
 from scenerender.compare.rule import DiffRule  # the diff options are its fields (loads no numpy)
 from scenerender.errors import EnvironmentProblem, SceneErrors, UserError
 from scenerender.option_rules import MSAA_SAMPLES
+from scenerender.run import collection
 from scenerender.version import __version__
 
 SET_HELP = "Override any scene key, e.g. --set render.samples=8 or --set objects[0].position=[0,1,0] (repeatable)."
@@ -66,7 +67,8 @@ def _is_user_os_error(exc: BaseException) -> bool:
 # A command's start-up makes many objects that live as long as the process (modules, the
 # scene model's validator, the render graph) and few that die in cycles; with Python's
 # default first threshold (700) the collector walks them some 150 times in a one-frame
-# render, about a tenth of its CPU time. Collections stay on, only rarer.
+# render, about a tenth of its CPU time. Collections stay on, only rarer; `render` pauses
+# them until its first frame is out (run/collection.py).
 COMMAND_GC_THRESHOLD = (10_000, 10, 10)
 
 
@@ -79,6 +81,7 @@ class _Command(click.Group):
         try:
             return self._invoke_with_exit_codes(ctx)
         finally:  # a caller in the same process (a test's CliRunner) keeps its own
+            collection.end_pause()
             gc.set_threshold(*default_threshold)
 
     def _invoke_with_exit_codes(self, ctx):
@@ -295,6 +298,7 @@ def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, prof
     written, 3 the machine lacks something (no OpenGL driver; no GPU with --require-gpu),
     130 / 143 interrupted.
     """
+    collection.pause_until_started()  # before the imports: the first frame ends the pause
     from scenerender.run.interrupts import signals_as_exceptions
     from scenerender.run.job import RenderOptions, run_render
 

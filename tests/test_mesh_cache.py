@@ -10,7 +10,7 @@ from PIL import Image
 
 from scenerender.errors import UserError, Warnings
 from scenerender.mesh import cache as cache_module
-from scenerender.mesh import loader as loader_module
+from scenerender.mesh import obj as obj_module
 from scenerender.mesh import load_mesh
 from scenerender.scene.assets import AssetPolicy
 
@@ -66,7 +66,7 @@ def forbid_parsing(monkeypatch):
     def parse_obj(*args, **kwargs):
         raise AssertionError("parsed although an entry is cached")
 
-    monkeypatch.setattr(loader_module, "parse_obj", parse_obj)
+    monkeypatch.setattr(obj_module, "parse_obj", parse_obj)  # the loader imports it from there when it reads
 
 
 def test_cached_load_equals_a_fresh_parse(tmp_path, cache_dir, monkeypatch):

@@ -45,6 +45,9 @@ NOT_ON_THE_RENDER_PATH = (
     "scenerender.rendering.passes.ambient_occlusion", "scenerender.rendering.passes.bloom",
     "scenerender.rendering.passes.depth_of_field", "scenerender.rendering.passes.motion_blur",
     "scenerender.rendering.passes.views", "scenerender.rendering.passes.environment",
+    "scenerender.rendering.passes.shadow",  # no light of these scenes casts shadows
+    "scenerender.rendering.passes.object_ids",  # --object-ids (and --check)
+    "scenerender.mesh.obj", "scenerender.mesh.mtl",  # OBJ files (mesh/loader.py)
 )
 
 # Runs the command in this process, then prints every module it imported.
@@ -256,3 +259,101 @@ def test_the_entry_point_skips_pydantic_s_plugin_search_unless_told(given, expec
     validator is built, is skipped, unless the user set PYDANTIC_DISABLE_PLUGINS (here to
     the empty string: plugins on, and pydantic looked)."""
     assert printed_at_exit(PLUGIN_SETTING, PYDANTIC_PLUGINS_VARIABLE, given)[-len(expected):] == expected
+
+
+def test_the_egl_context_names_its_libraries_and_falls_back_to_glcontexts_search(monkeypatch):
+    # naming libGL and libEGL saves glcontext two `ldconfig -p` runs; where those names do
+    # not load, glcontext's own search (ctypes.util.find_library) gets its turn
+    import moderngl
+
+    from scenerender.gpu import gl_context
+
+    monkeypatch.setattr(gl_context.sys, "platform", "linux")
+    monkeypatch.delenv("SCENERENDER_GL_BACKEND", raising=False)
+    calls = []
+
+    def first_name_fails(**kwargs):
+        calls.append(sorted(k for k in kwargs if k.startswith("lib")))
+        if "libegl" in kwargs:
+            raise Exception("libEGL.so.1: cannot open shared object file")
+        return "context"
+
+    monkeypatch.setattr(moderngl, "create_context", first_name_fails)
+    assert gl_context.create_context() == "context"
+    assert calls == [["libegl", "libgl"], []]
+    calls.clear()
+    monkeypatch.setattr(moderngl, "create_context", lambda **kwargs: calls.append(kwargs) or "context")
+    gl_context.create_context()
+    assert [call.get("libegl") for call in calls] == ["libEGL.so.1"]
+
+
+BUILT_BY_A_SCENE = textwrap.dedent("""
+    import sys
+    from scenerender.scene.loading import load_scene_text
+    from scenerender.scene.model import lights, meshes
+    load_scene_text("lights: [{type: directional}]\\nobjects: [{mesh: {primitive: box}}]\\n", ".")
+    models = (lights.DirectionalLight, lights.PointLight, lights.EnvironmentLight, meshes.BoxPrimitive,
+              meshes.SpherePrimitive)
+    print(" ".join(model.__name__ for model in models if model.__pydantic_complete__))
+""")
+
+
+def test_a_scene_builds_the_validators_of_the_light_and_primitive_types_it_uses_alone():
+    # each member of a union chosen by `type:` or `primitive:` is validated by its own
+    # validator, built when a scene first uses it (scene/model/unions.py)
+    result = subprocess.run([sys.executable, "-c", BUILT_BY_A_SCENE], capture_output=True, text=True, check=True,
+                            cwd=ROOT)
+    assert result.stdout.split() == ["DirectionalLight", "BoxPrimitive"]
+
+
+def test_collections_pause_until_started_and_end_as_they_were(monkeypatch):
+    from scenerender.run import collection
+
+    monkeypatch.setattr(collection, "_paused", False)
+    monkeypatch.setattr(collection, "_froze", False)
+    assert gc.isenabled() and gc.get_freeze_count() == 0
+    try:
+        collection.pause_until_started()
+        assert not gc.isenabled()
+        collection.startup_done()
+        assert gc.isenabled() and gc.get_freeze_count() > 0  # start-up's objects are not walked again
+        collection.end_pause()
+        assert gc.isenabled() and gc.get_freeze_count() == 0
+        gc.disable()  # a caller's own choice stands
+        collection.pause_until_started()
+        collection.startup_done()
+        collection.end_pause()
+        assert not gc.isenabled()
+    finally:
+        gc.unfreeze()
+        gc.enable()
+
+
+def test_a_render_collects_nothing_until_its_first_frame_and_leaves_the_caller_as_it_was(tmp_path, monkeypatch):
+    from scenerender.run import loop, session
+
+    seen = {}
+    load = session.load
+
+    def load_and_record(*args, **kwargs):
+        seen["loading"] = gc.isenabled()
+        return load(*args, **kwargs)
+
+    class Recording:
+        def __init__(self, renderer):
+            self.renderer = renderer
+
+        def render(self, index):
+            seen.setdefault("frames", []).append(gc.isenabled())
+            return self.renderer.render(index)
+
+    render_into = loop.render_into
+    monkeypatch.setattr("scenerender.run.job.load", load_and_record)
+    monkeypatch.setattr("scenerender.run.job.render_into",
+                        lambda renderer, *args, **kwargs: render_into(Recording(renderer), *args, **kwargs))
+    result = CliRunner().invoke(main, ["render", str(ROOT / "benchmarks" / "scenes" / "minimal.yaml"), "-o",
+                                       str(tmp_path / "out"), "-q", "--size", "32x24", "--set", "output.frames=3"])
+    skip_without_gl(result.exit_code, result.output)
+    assert result.exit_code == 0, result.output
+    assert seen == {"loading": False, "frames": [False, True, True]}
+    assert gc.isenabled() and gc.get_freeze_count() == 0

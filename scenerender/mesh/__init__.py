@@ -4,6 +4,8 @@ without a GL context.
 """
 from __future__ import annotations
 
+import importlib
+
 from scenerender.mesh.data import MeshData, MeshGroup
 from scenerender.mesh.geometry import (
     NORMAL_MODES,
@@ -14,8 +16,6 @@ from scenerender.mesh.geometry import (
     tangents,
 )
 from scenerender.mesh.loader import MESH_FORMATS, load_mesh
-from scenerender.mesh.mtl import MtlMaterial, TextureRef, parse_mtl
-from scenerender.mesh.obj import parse_obj
 from scenerender.mesh.primitives import (
     PRIMITIVES,
     box,
@@ -51,3 +51,13 @@ __all__ = [
     "sphere",
     "tangents",
 ]
+
+# The OBJ and MTL readers load with the first OBJ file (loader.load_mesh); a glTF or
+# primitive scene does not pay for their modules (tests/test_startup.py).
+_OBJ_READERS = {"MtlMaterial": "mtl", "TextureRef": "mtl", "parse_mtl": "mtl", "parse_obj": "obj"}
+
+
+def __getattr__(name: str):
+    if name in _OBJ_READERS:
+        return getattr(importlib.import_module(f"scenerender.mesh.{_OBJ_READERS[name]}"), name)
+    raise AttributeError(f"module 'scenerender.mesh' has no attribute {name!r}")

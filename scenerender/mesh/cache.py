@@ -41,7 +41,6 @@ import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, Warnings, display_path
 from scenerender.mesh.data import MeshData, MeshGroup
-from scenerender.mesh.obj import materials_of_libraries
 from scenerender.scene.files import read_regular_file
 from scenerender.version import __version__
 
@@ -184,6 +183,8 @@ def _revive(stored: StoredMesh, path: Path, warnings: Warnings, assets, budget) 
     """The mesh of a checked entry, or None when it cannot stand for a fresh parse here
     (the materials changed, a library is refused, or the budget is short: the fresh parse
     then reports it exactly, with its line)."""
+    from scenerender.mesh.obj import materials_of_libraries  # as in loader.load_mesh
+
     if len(stored.indices) > budget.remaining:
         return None
     try:

@@ -23,7 +23,6 @@ from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, split_glb, v
 from scenerender.mesh.gltf_animation import read_clips, read_skins
 from scenerender.mesh.gltf_geometry import read_parts
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
-from scenerender.mesh.obj import parse_obj
 from scenerender.scene.assets import AssetPolicy, policy_for
 from scenerender.scene.files import read_regular_file
 
@@ -55,6 +54,8 @@ def load_mesh(
     budget = budget if budget is not None else TriangleBudget.unlimited()
     suffix = path.suffix.lower()
     if suffix == ".obj":
+        from scenerender.mesh.obj import parse_obj  # the OBJ and MTL readers: only scenes with OBJ files
+
         def parse(warned: Warnings) -> MeshData:
             return _finished(parse_obj(path, warned, assets=assets, budget=budget), normals, normalize, shown)
 

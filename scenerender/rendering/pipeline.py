@@ -16,20 +16,18 @@ from scenerender.graph import FrameGraph
 from scenerender.rendering.features import environment_shades, specular_layout, visibility_min_alpha
 from scenerender.rendering.graph_inputs import InputHandles, import_inputs
 from scenerender.rendering.passes.forward import OpaquePass, OutlinePass, Shading, TransparentPass, WireframeOverlayPass
-from scenerender.rendering.passes.object_ids import ObjectIdPass
 from scenerender.rendering.passes.output import (
     NO_TONE, OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass, ToneCurve,
 )
-from scenerender.rendering.passes.shadow import ShadowMapPass
 from scenerender.rendering.passes.sky import NO_SKY, EnvironmentSky, SkyboxPass, SkyUnder
 from scenerender.world.environment_visibility import interleave_pattern, visibility_tiles
 from scenerender.world.frame import FrameEvaluator
 from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
 # The passes of features only some scenes have (ambient occlusion, the lens and motion
-# blurs, bloom, the data views, the environment light) are imported where the builder
-# adds them: a one-frame render is mostly start-up, and a scene without them need not
-# pay for their modules (tests/test_startup.py).
+# blurs, bloom, the data views, the environment light, shadow maps, object ids) are
+# imported where the builder adds them: a one-frame render is mostly start-up, and a scene
+# without them need not pay for their modules (tests/test_startup.py).
 if TYPE_CHECKING:
     from scenerender.rendering.passes.environment import EnvironmentLighting
 
@@ -146,7 +144,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         view_format = "rgba32f" if options.want_linear else "rgba8"
         final = _add_view(graph, world, settings.mode, inputs, gbuffer, ao, shadow_passes, size, view_format)
         linear = final if options.want_linear else None  # the values themselves, not a colour
-    ids = graph.add(ObjectIdPass(size, inputs.camera, inputs.objects)) if options.object_ids else None
+    ids = _add_object_ids(graph, size, inputs) if options.object_ids else None
     graph.add(ReadbackPass(final, size, linear, ids and ids.color, ids and ids.behind))
     return graph, inputs
 
@@ -192,6 +190,7 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
         EnvironmentLighting, EnvironmentPrefilterPass, EnvironmentSurfacesPass, EnvironmentVisibilityBlurPass,
         EnvironmentVisibilityPass,
     )
+    from scenerender.rendering.passes.shadow import ShadowMapPass  # deferred: see the imports
 
     specular = graph.add(EnvironmentPrefilterPass(inputs.environment_map, specular_layout(environment),
                                                   environment.samples)).image
@@ -320,6 +319,12 @@ def depth_complexity(world, atlas, size) -> float:
     return covered
 
 
+def _add_object_ids(graph, size, inputs: InputHandles):
+    from scenerender.rendering.passes.object_ids import ObjectIdPass  # deferred: see the imports
+
+    return graph.add(ObjectIdPass(size, inputs.camera, inputs.objects))
+
+
 def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> tuple[list, tuple]:
     """One pass per shadowed light. Returns [(light index, its page's handle after it)]
     and the final handle of each atlas page, in page order.
@@ -328,6 +333,10 @@ def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> tuple[list,
     redrawn every frame (world.shadows), so its passes are all static or all dynamic. The
     shadow views show the first shadowed light alone; there file order puts it first and
     culls every other pass."""
+    if not inputs.shadow_views:
+        return [], ()
+    from scenerender.rendering.passes.shadow import ShadowMapPass  # deferred: see the imports
+
     handles = []
     current: dict = {}
     for light_index, views in inputs.shadow_views:

@@ -4,5 +4,6 @@
 built on. ``output``: what ``-o`` means and the sink that writes there. ``plan``: which
 frames are due, from ``--frames`` and the run ``manifest``. ``loop``: ``render_into``, the
 one frame loop. ``job``: one ``scenerender render`` run, in this process or on ``workers``.
-``references``: ``--check`` against reference frames.
+``references``: ``--check`` against reference frames. ``collection``: Python's cycle
+collector paused while a render starts.
 """

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from scenerender.gpu.gl_context import gl_info
+from scenerender.run.collection import startup_done
 from scenerender.run.interrupts import signals_as_exceptions
 from scenerender.run.loop import render_into
 from scenerender.run.manifest import fingerprint
@@ -157,6 +158,7 @@ def _render_due(scene: Scene, plan: FramePlan, options: RenderOptions) -> Render
     progress = Progress(len(plan.todo), quiet=options.quiet)
     try:
         if _distributed(options, plan):
+            startup_done()  # this process waits on the workers: its start-up is over
             _workers().render_with_workers(scene, options, plan, progress)
             profile = None
         else:

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from scenerender.run.collection import startup_done
 from scenerender.sinks import ThreadedSink
 
 
@@ -15,6 +16,7 @@ def render_into(renderer, sink, frames: Iterable[int], progress=None) -> None:
     try:
         for index in frames:
             writer.write(renderer.render(index))
+            startup_done()  # collections resume once the first frame is out (run/collection.py)
             if progress is not None:
                 progress.advance()
         writer.close()

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from typing import Annotated, Union
 
-from pydantic import BeforeValidator, Discriminator, Tag
-from pydantic_core import PydanticCustomError
+from pydantic import Discriminator, Tag, TypeAdapter
+from pydantic_core import PydanticCustomError, core_schema
 
 from scenerender.scene.describe import describe
 from scenerender.scene.suggest import did_you_mean
@@ -26,9 +26,31 @@ def mapping_or(mapping_type, other_type):
 def tagged_union(key: str, noun: str, members: dict):
     """A union chosen by the value of ``key`` (``type: point``), with clear errors for a
     missing or misspelt tag. ``members`` maps tag value -> model class."""
-    names = tuple(members)
+    return Annotated[dict, _ChosenByKey(key, noun, members)]
 
-    def check(value):
+
+class _ChosenByKey:
+    """Validates a mapping as the model its ``key`` names, with that model's own validator,
+    built when a scene first uses it (the models are ``defer_build``). A union of all the
+    members would build every member's validator inside the scene's: 10 of the 34 ms the
+    scene model's takes to build, in a one-frame render that uses one light type and no
+    primitive. Errors inside the member keep their locations (pydantic passes a
+    ValidationError raised here on as its own errors). The JSON Schema is the union's,
+    as a discriminated union of all members would write it."""
+
+    def __init__(self, key: str, noun: str, members: dict):
+        self.key, self.noun, self.members = key, noun, members
+
+    def __get_pydantic_core_schema__(self, source, handler):
+        return core_schema.with_info_plain_validator_function(
+            self._validate, metadata={"pydantic_js_functions": [self._json_schema]})
+
+    def _validate(self, value, info):
+        model = self.members[self._tag(value)]
+        return model.model_validate(value, context=info.context)
+
+    def _tag(self, value):
+        key, noun, names = self.key, self.noun, tuple(self.members)
         if not isinstance(value, dict):
             raise PydanticCustomError("mapping", "expected a {noun} mapping with '{key}', got {got}",
                                       {"noun": noun, "key": key, "got": describe(value)})
@@ -41,10 +63,13 @@ def tagged_union(key: str, noun: str, members: dict):
                                       {"key": key, "got": describe(kind),
                                        "hint": did_you_mean(str(kind), names), "names": ", ".join(names),
                                        "subpath": (key,)})
-        return value
+        return kind
 
-    def which(value):
-        return value.get(key) if isinstance(value, dict) else None
+    def _json_schema(self, schema, handler):
+        key = self.key
 
-    union = Union[tuple(Annotated[model, Tag(tag)] for tag, model in members.items())]
-    return Annotated[union, Discriminator(which), BeforeValidator(check)]
+        def which(value):
+            return value.get(key) if isinstance(value, dict) else None
+
+        union = Union[tuple(Annotated[model, Tag(tag)] for tag, model in self.members.items())]
+        return handler(TypeAdapter(Annotated[union, Discriminator(which)]).core_schema)
