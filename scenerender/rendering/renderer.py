@@ -20,6 +20,7 @@ from scenerender.rendering.light_buffers import pack_lights
 from scenerender.rendering.pipeline import GraphOptions, build_graph
 from scenerender.rendering.profile import CPU_SETUP
 from scenerender.rendering.scene_gpu import GpuScene
+from scenerender.sinks.object_ids import MAX_OBJECT_IDS
 from scenerender.world.camera_data import camera_record
 from scenerender.world.frame import FrameEvaluator, FrameState
 from scenerender.world.frame_inputs import redrawn_shadow_maps
@@ -116,14 +117,6 @@ class Plan:
     compiled: CompiledGraph
 
 
-def _check_object_count(world) -> None:
-    from scenerender.rendering.passes.object_ids import MAX_OBJECT_IDS  # only runs with ids need the pass
-
-    if len(world.objects) > MAX_OBJECT_IDS:
-        raise UserError(f"object ids are 16-bit: at most {MAX_OBJECT_IDS} objects, and this scene has "
-                        f"{len(world.objects)}; render without --object-ids")
-
-
 def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: bool = False, warn=None,
          tuning: dict | None = None, object_ids: bool = False) -> Plan:
     """The atlas layout and the compiled graph for ``world`` at ``size`` with ``samples``
@@ -132,8 +125,9 @@ def plan(world, size, samples: int, max_texture_size: int = 16384, want_linear: 
     the builder's per-scene choices (benchmarks compare them). ``object_ids``: add the
     object-id pass (passes/object_ids.py); without it the graph has no trace of one.
     """
-    if object_ids:
-        _check_object_count(world)
+    if object_ids and len(world.objects) > MAX_OBJECT_IDS:
+        raise UserError(f"object ids are 16-bit: at most {MAX_OBJECT_IDS} objects, and this scene has "
+                        f"{len(world.objects)}; render without --object-ids")
     atlas = plan_atlas(world.lights, max_texture_size, warn, redrawn_shadow_maps(world), world.fixed_shadow_sizes)
     options = GraphOptions(tuple(size), samples, want_linear, object_ids, **(tuning or {}))
     graph, inputs = build_graph(world, atlas, options)

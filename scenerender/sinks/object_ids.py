@@ -26,6 +26,8 @@ FOLDER = ".object_ids"
 NAMES_FILE = "objects.json"
 BEHIND = "behind"
 FORMAT = 1
+# ids are 16-bit: object index + 1 must fit, 0 being the background
+MAX_OBJECT_IDS = 65535
 
 
 def ids_path(frame: Path) -> Path:
@@ -61,7 +63,7 @@ def read_ids(path: Path) -> np.ndarray | None:
         return None
     if values.dtype == np.uint16:  # a 16-bit PNG as written: nothing to check or convert (1080p: 4 MB a map)
         return values
-    if values.min(initial=0) < 0 or values.max(initial=0) > 65535:
+    if values.min(initial=0) < 0 or values.max(initial=0) > MAX_OBJECT_IDS:
         return None
     return values.astype(np.uint16)
 

@@ -21,9 +21,6 @@ from scenerender.rendering.draw import (
     MESH_VERTEX, begin_camera_pass, cull_hidden_faces, draw_item, opaque_items, stop_culling, transparent_items,
 )
 
-# ids are 16-bit: object index + 1 must fit, 0 being the background
-MAX_OBJECT_IDS = 65535
-
 
 @dataclass(frozen=True)
 class ObjectIdData:

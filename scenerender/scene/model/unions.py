@@ -40,6 +40,7 @@ class _ChosenByKey:
 
     def __init__(self, key: str, noun: str, members: dict):
         self.key, self.noun, self.members = key, noun, members
+        self.names = tuple(members)
 
     def __get_pydantic_core_schema__(self, source, handler):
         return core_schema.with_info_plain_validator_function(
@@ -50,7 +51,7 @@ class _ChosenByKey:
         return model.model_validate(value, context=info.context)
 
     def _tag(self, value):
-        key, noun, names = self.key, self.noun, tuple(self.members)
+        key, noun, names = self.key, self.noun, self.names
         if not isinstance(value, dict):
             raise PydanticCustomError("mapping", "expected a {noun} mapping with '{key}', got {got}",
                                       {"noun": noun, "key": key, "got": describe(value)})
