@@ -19,6 +19,9 @@ one of:
                    tell which ones the surface shows in (pipeline.visible_samples_pay)
   full-prepass     visible samples with every opaque object through the depth prepass, as
                    before rendering/visible_samples.py left out what cannot hide anything
+  empty-prepass    visible samples with no object through the depth prepass: the prepass's
+                   cost alone, against the default (the shadows are wrong where a surface
+                   is drawn before what hides it)
   device-srgb      the multisampled 8-bit target encoded by the device, sample by sample,
                    not by the opaque pass's shaders (pipeline.shader_encoding_pays)
 
@@ -58,17 +61,31 @@ class NoFaceCulling(GraphRenderer):
             frame.hidden_faces = original
 
 
-class FullPrepass(GraphRenderer):
-    """Visible samples with every opaque object drawn in the depth prepass, nearest first."""
+class ReplannedPrepass(GraphRenderer):
+    """Visible samples with the depth prepass that ``replan(plan, items)`` makes of the
+    usual plan (rendering/visible_samples.py) and the frame's opaque items."""
+
+    def __init__(self, world, gl, replan, **kwargs):
+        super().__init__(world, gl, **kwargs)
+        self.replan = replan
 
     def render(self, index: int):
         original = forward.plan_visible_samples
-        forward.plan_visible_samples = lambda objects, camera, items, last=None: VisibleSamplesPlan(
-            items, frozenset(item.object_index for item in items))
+        forward.plan_visible_samples = lambda objects, camera, items, last=None: self.replan(
+            original(objects, camera, items, last), items)
         try:
             return super().render(index)
         finally:
             forward.plan_visible_samples = original
+
+
+PREPASS_PLANS = {
+    # every opaque object, nearest first
+    "full-prepass": lambda plan, items: VisibleSamplesPlan(items, frozenset(item.object_index for item in items)),
+    # none: the shading draw writes every depth itself (wrong shadows where a surface is
+    # drawn before what hides it; for timing the prepass alone)
+    "empty-prepass": lambda plan, items: VisibleSamplesPlan(plan.order, frozenset()),
+}
 
 
 @contextmanager
@@ -103,8 +120,9 @@ def make_renderer(gl, scene_path: str, base_overrides: list, variant: str) -> tu
     if variant == "device-srgb":
         world = scenerender.load(scene_path, base_overrides).world
         return variant, GraphRenderer(world, gl, profile=True, tuning={"shader_srgb_encoding": False})
-    if variant == "full-prepass":
-        return variant, FullPrepass(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
+    if variant in PREPASS_PLANS:
+        world = scenerender.load(scene_path, base_overrides).world
+        return variant, ReplannedPrepass(world, gl, PREPASS_PLANS[variant], profile=True)
     if variant == "no-face-culling":
         return variant, NoFaceCulling(scenerender.load(scene_path, base_overrides).world, gl, profile=True)
     if "@" in variant and "=" not in variant:
