@@ -80,7 +80,6 @@ def with_writes(renderer: str, size: str, samples: int, frames: int, folder: Pat
     else:
         command = [sys.executable, str(RUNNERS[renderer]), "--size", size, "--samples", str(samples),
                    "--frames", str(frames), "--out", str(folder)]
-    folder.mkdir(parents=True, exist_ok=True)
     started, rss, _ = run_process(command, environment(renderer))
     whole = time.time() - started
     files = sorted(folder.glob("*.png"))
