@@ -3,11 +3,13 @@ small and compared with a committed reference, within the tolerance stated in
 golden_cases.py. The second half shows that tolerance catching real regressions."""
 from __future__ import annotations
 
+import shutil
+
 import numpy as np
 import pytest
 from PIL import Image
 
-from golden_cases import CASES, SCENES, reference_ids, reference_path, render_case_with_ids
+from golden_cases import CASES, SCENES, beyond_cpu_rounding, reference_ids, reference_path, render_case, render_case_with_ids
 from scenerender.compare import DEFAULT_RULE, compare_images
 
 
@@ -92,3 +94,44 @@ def test_tolerance_accepts_driver_level_noise(gl):
     noise = rng.integers(-1, 2, size=image.shape) * (rng.random(image.shape[:2]) < 0.25)[..., None]
     ok, report = matches(reference("showcase"), np.clip(image + noise, 0, 255).astype(np.uint8))
     assert ok, report.summary_line()
+
+
+# -- the CPU-rounding bound of the "renders the bytes it drew before" claims -----------------
+# (golden_cases.beyond_cpu_rounding) passes another CPU's rounding, and fails a shader changed
+# on purpose: each edit is a plausible slip in the environment light's GLSL
+
+SHADER_SLIPS = {
+    "a diffuse 1 % too bright": ("return u_env_scale * textureLod(u_env_diffuse",
+                                 "return 1.01 * u_env_scale * textureLod(u_env_diffuse"),
+    "a specular level a tenth off": ("level - below);", "min(level - below + 0.1, 1.0));"),
+}
+
+
+def _render_with_environment_glsl(gl, tmp_path, monkeypatch, old: str, new: str):
+    """gltf_pbr@visibility_off drawn with ``old`` replaced by ``new`` in a copy of
+    shaders/lighting/environment.glsl -> (H, W, 3) uint8."""
+    import scenerender.gpu.shaders as shaders
+
+    changed = tmp_path / "shaders"
+    shutil.copytree(shaders.shader_dir(), changed)
+    source = changed / "lighting" / "environment.glsl"
+    text = source.read_text(encoding="utf-8")
+    assert old in text
+    source.write_text(text.replace(old, new), encoding="utf-8")
+    monkeypatch.setattr(shaders, "shader_dir", lambda: changed)
+    return render_case(gl, "gltf_pbr@visibility_off")
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("slip", sorted(SHADER_SLIPS))
+def test_the_cpu_rounding_bound_fails_a_changed_shader(gl, tmp_path, monkeypatch, slip):
+    image = _render_with_environment_glsl(gl, tmp_path, monkeypatch, *SHADER_SLIPS[slip])
+    assert beyond_cpu_rounding(image, reference("gltf_pbr@visibility_off")), slip
+
+
+@pytest.mark.gl
+def test_the_copied_shaders_unchanged_pass_the_bound(gl, tmp_path, monkeypatch):
+    """The control of the test above: the copy itself changes nothing."""
+    line = SHADER_SLIPS["a diffuse 1 % too bright"][0]
+    image = _render_with_environment_glsl(gl, tmp_path, monkeypatch, line, line)
+    assert beyond_cpu_rounding(image, reference("gltf_pbr@visibility_off")) is None
