@@ -26,7 +26,7 @@ from scenerender.compare import read_image
 from scenerender.errors import UserError
 from scenerender.preview.scene_info import ReferenceFrames, scene_facts
 from scenerender.preview.views import PlacedCamera, View, camera_yaml
-from scenerender.preview.watcher import SceneWatcher
+from scenerender.preview.watcher import SaveThrottle, SceneWatcher
 from scenerender.preview.worker import RenderWorker, Superseded, error_lines
 from scenerender.sinks.images import encode_png
 
@@ -103,6 +103,7 @@ class Preview:
         self.worker = RenderWorker(self.scene_path, preview_overrides, check_overrides, asset_roots=asset_roots,
                                    limits=limits, on_files=self._files_read, on_result=self._rendered)
         self.watcher = SceneWatcher({self.scene_path}, self._saved)
+        self.throttle = SaveThrottle(self._new_generation)
         self._summary_generation = -1
 
     def start(self) -> None:
@@ -111,6 +112,7 @@ class Preview:
 
     def stop(self) -> None:
         self.watcher.stop()
+        self.throttle.stop()
         self.worker.stop()
 
     # -- from the worker's and the watcher's threads
@@ -119,7 +121,10 @@ class Preview:
         self.watcher.watch(files)
 
     def _saved(self, paths) -> None:
-        """A watched file changed: a new generation, and the page's view rendered for it
+        self.throttle.saved()
+
+    def _new_generation(self) -> None:
+        """The files as saved now are a new generation; the page's view is rendered for it
         at once (coalesced with whatever else is asked meanwhile)."""
         self.state.changed(generation=self.state.generation + 1)
         self.worker.submit(self.state.generation, self.last_view)
@@ -133,10 +138,10 @@ class Preview:
         news = {"errors": []}
         if generation != self._summary_generation:
             self._summary_generation = generation
-            news.update(self._scene_facts())
+            news.update(self.scene_facts())
         self.state.changed(**news)
 
-    def _scene_facts(self) -> dict:
+    def scene_facts(self) -> dict:
         """The summary and camera path of the scene as saved (its own camera and mode)."""
         try:
             summary, path = scene_facts(self.scene_path, self.preview_overrides, self.asset_roots)
@@ -254,8 +259,10 @@ def _view(request: Request) -> View:
 
 
 def _reference_path(preview: Preview, index: int) -> Path | None:
-    scene = preview.state.scene
-    if preview.references is None or scene is None:
+    if preview.references is None:
+        return None
+    scene = preview.state.scene or preview.scene_facts().get("scene")  # asked before the first frame was out
+    if scene is None:
         return None
     return preview.references.frame_path(index, scene.get("name_pattern"), scene["frame_count"],
                                          preview.worker.gl_renderer)

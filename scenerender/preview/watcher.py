@@ -8,14 +8,18 @@ would see nothing after the first save.
 from __future__ import annotations
 
 import threading
+import time
 from pathlib import Path
 
 import watchfiles
 
 # watchfiles hands over a batch of changes once none came for STEP_MS (a save is several
-# writes; an editor's save-all is several files), and at the latest after DEBOUNCE_MS.
-STEP_MS = 100
+# writes in a few ms), and at the latest after DEBOUNCE_MS.
+STEP_MS = 20
 DEBOUNCE_MS = 400
+# Saves closer together than this are one burst (a save-all, a formatter writing after the
+# editor, a script): the first renders at once, the rest once, after the burst.
+BURST_SECONDS = 0.15
 
 
 class SceneWatcher:
@@ -69,3 +73,52 @@ class SceneWatcher:
 
 def _folders(files) -> set[Path]:
     return {path.parent for path in files}
+
+
+class SaveThrottle:
+    """Turns saves into at most two renders a burst: ``fire()`` at once for a save after a
+    quiet spell (no waiting added to a single save), and once more BURST_SECONDS after the
+    last of the saves that followed it within BURST_SECONDS of each other."""
+
+    def __init__(self, fire, burst_seconds: float = BURST_SECONDS):
+        self.fire = fire
+        self.burst_seconds = burst_seconds
+        self._lock = threading.Lock()
+        self._last_save = -float("inf")
+        self._timer: threading.Timer | None = None
+        self._stopped = False
+
+    def saved(self) -> None:
+        now = time.monotonic()
+        with self._lock:
+            if self._stopped:
+                return
+            in_burst = now - self._last_save < self.burst_seconds or self._timer is not None
+            self._last_save = now
+            if in_burst:
+                self._arm()
+                return
+        self.fire()
+
+    def stop(self) -> None:
+        with self._lock:
+            self._stopped = True
+            timer, self._timer = self._timer, None
+        if timer is not None:
+            timer.cancel()
+
+    def _arm(self) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
+        token = object()
+        self._timer = threading.Timer(self.burst_seconds, self._burst_over, args=(token,))
+        self._timer.token = token
+        self._timer.daemon = True
+        self._timer.start()
+
+    def _burst_over(self, token) -> None:
+        with self._lock:
+            if self._stopped or self._timer is None or self._timer.token is not token:
+                return  # a later save armed another timer
+            self._timer = None
+        self.fire()

@@ -72,6 +72,7 @@ class RenderWorker:
         self.gl_renderer = None          # the GL renderer's name, once the context exists
         self._lock = threading.Condition()
         self._waiting = {False: None, True: None}  # full_quality -> the job waiting for the thread
+        self._running: _Job | None = None          # the job the thread is rendering
         self._cache: OrderedDict = OrderedDict()   # (generation, view, full_quality) -> Rendered
         self._loaded = None                        # (generation, scene key, full_quality, Scene, Renderer)
         self._stopping = False
@@ -107,8 +108,9 @@ class RenderWorker:
                 future = Future()
                 future.set_result(done) if done is not None else future.set_exception(Superseded())
                 return future
-            if waiting is not None and (waiting.generation, waiting.view) == (generation, view):
-                return waiting.future
+            for job in (self._running, waiting):  # the same view asked again joins the render of it
+                if job is not None and (job.generation, job.view, job.full_quality) == (generation, view, full_quality):
+                    return job.future
             if waiting is not None:
                 waiting.future.set_exception(Superseded())
             job = _Job(generation, view, full_quality)
@@ -143,6 +145,7 @@ class RenderWorker:
                 return None
             full_quality = self._waiting[False] is None  # the page's own view first
             job, self._waiting[full_quality] = self._waiting[full_quality], None
+            self._running = job
             return job
 
     def _do(self, job: _Job, gl) -> None:
@@ -156,6 +159,8 @@ class RenderWorker:
                               time.perf_counter() - started, frame.pixels)
         except Exception as exc:  # a render that fails is shown, never the end of the server
             error = exc if isinstance(exc, (UserError, EnvironmentProblem)) else _internal(exc)
+            with self._lock:
+                self._running = None
             self.on_result(job.generation, error_lines(error))
             job.future.set_exception(error)
             return
@@ -164,6 +169,7 @@ class RenderWorker:
             self._cache[(job.generation, job.view, job.full_quality)] = result
             while len(self._cache) > CACHED_FRAMES:
                 self._cache.popitem(last=False)
+            self._running = None
         job.future.set_result(result)  # the page's request first: the state's news can wait
         self.on_result(job.generation, None)
 

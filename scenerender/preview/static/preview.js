@@ -61,6 +61,12 @@ async function fetchFrame() {
   if (known.scene && known.scene.check && !playing) checkFrame(view.frame);
 }
 
+function shownWidth(natural) {
+  // beside a reference both are as wide, to compare; alone, a small frame is enlarged to be seen
+  if (known.scene && known.scene.check) return 420;
+  return natural <= 426 ? 640 : natural;
+}
+
 function showImage(blob) {
   const img = $("frame");
   const url = URL.createObjectURL(blob);
@@ -68,7 +74,7 @@ function showImage(blob) {
     img.onload = () => {
       if (img.dataset.url) URL.revokeObjectURL(img.dataset.url);
       img.dataset.url = url;
-      img.style.width = `${img.naturalWidth <= 400 ? img.naturalWidth * 2 : img.naturalWidth}px`;
+      img.style.width = `${shownWidth(img.naturalWidth)}px`;
       resolve();
     };
     img.onerror = () => resolve();
@@ -116,6 +122,7 @@ function applyScene(scene) {
   if (first) {
     for (const mode of scene.modes) select.add(new Option(mode, mode));
     $("check").hidden = !scene.check;
+    if (scene.check) checkFrame(view.frame);
   }
   showFrameLabel();
 }
@@ -265,7 +272,7 @@ function setUpCamera() {
 function drawPath() {
   const svg = $("path");
   const path = known.path;
-  $("path-title").hidden = svg.hidden = !path;
+  $("path-title").hidden = svg.hidden = $("path-legend").hidden = !path;
   if (!path) return;
   const here = currentCamera();
   const all = [...path.points, ...path.keys, ...(here ? [here.position] : [])];
@@ -301,7 +308,9 @@ async function checkFrame(frame) {
   const verdict = $("verdict");
   verdict.textContent = "checking…";
   verdict.className = "verdict";
-  $("reference").src = `/reference?frame=${frame}&generation=${known.generation}`;
+  const reference = $("reference");
+  reference.onload = () => { reference.style.width = `${shownWidth(reference.naturalWidth)}px`; };
+  reference.src = `/reference?frame=${frame}&generation=${known.generation}`;
   const response = await fetch(`/check?frame=${frame}`, { cache: "no-store" });
   if (response.status === 409 || ticket !== checking) return;
   const body = await response.json();
