@@ -434,8 +434,9 @@ def preview(scene, host, port, overrides, check, open_browser, asset_roots, limi
     copy, the camera path seen from above, a render.mode switch, and the CLI's messages
     (file and line) over the last good image while the scene does not validate.
 
-    Preview frames are 320x240 with 1 MSAA sample unless --size, --samples or --set say
-    otherwise; everything else renders as the scene says.
+    Preview frames are lowered: the scene's shape shrunk to fit 320x240 (a 16:9 scene at
+    320x180) and 1 MSAA sample, unless --size, --samples or --set say otherwise; everything
+    else renders as the scene says. --check renders at the scene's own size and samples.
 
     \b
     Examples:
@@ -448,13 +449,12 @@ def preview(scene, host, port, overrides, check, open_browser, asset_roots, limi
         from scenerender.preview.server import Preview
     except ImportError as exc:  # the optional extra is not installed: the machine lacks it (exit 3)
         raise EnvironmentProblem(f"{PREVIEW_INSTALL_HINT} ({exc})") from None
-    from scenerender.preview.views import preview_overrides
+    from scenerender.preview.views import PreviewQuality
 
     size_given = any(text.startswith("render.size=") for text in overrides)
     samples_given = any(text.startswith("render.samples=") for text in overrides)
     references = preview_serve.check_folder(check)
-    session = Preview(scene, preview_overrides(overrides, size_given, samples_given), list(overrides),
-                      references=references, asset_roots=asset_roots, limits=_limits(limit_texts))
+    session = Preview(scene, overrides, PreviewQuality.for_options(size_given, samples_given), references=references, asset_roots=asset_roots, limits=_limits(limit_texts))
     sock = preview_serve.bind(host, port)
     preview_serve.serve(session, sock, echo=click.echo, open_browser=open_browser)
 

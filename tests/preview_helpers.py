@@ -27,7 +27,7 @@ CHROMEDRIVER = shutil.which("chromedriver")
 SCENE = """\
 scenerender: 1
 render:
-  size: [160, 120]
+  size: [640, 480]
   background: {background}
 output:
   fps: 8
@@ -70,7 +70,7 @@ class PreviewProcess:
 
     def __init__(self, scene: Path, *args: str):
         env = dict(os.environ, PYTHONUNBUFFERED="1", PYTHONPATH=str(ROOT))
-        self.process = subprocess.Popen([sys.executable, "-m", "scenerender", "preview", str(scene), "--port", "0",
+        self.process = subprocess.Popen([sys.executable, "-m", "scenerender", "preview", str(scene.resolve()), "--port", "0",
                                          "--no-open", *args], cwd=scene.parent, env=env, stdout=subprocess.PIPE,
                                         stderr=subprocess.PIPE, text=True)
         line = self.process.stdout.readline()

@@ -185,7 +185,7 @@ def test_check_shows_the_reference_and_the_verdict(folder, tmp_path):
         WebDriverWait(driver, WAIT).until(lambda d: verdict.text.startswith("PASS frame_0000"))
         reference = driver.find_element(By.ID, "reference")
         WebDriverWait(driver, WAIT).until(lambda d: d.execute_script("return arguments[0].naturalWidth", reference))
-        assert driver.execute_script("return arguments[0].naturalWidth", reference) == 160  # the scene's own size
+        assert driver.execute_script("return arguments[0].naturalWidth", reference) == 640  # the scene's own size
         screenshot(driver, "check")
         write_scene(folder, background=(0.9, 0.1, 0.05))
         WebDriverWait(driver, WAIT).until(lambda d: verdict.text.startswith("CHANGED frame_0000"))

@@ -13,7 +13,7 @@ pytest.importorskip("watchfiles", reason="the preview extra is not installed (pi
 from preview_helpers import write_paint, write_scene  # noqa: E402
 
 from scenerender.preview.scene_info import scene_facts  # noqa: E402
-from scenerender.preview.views import PlacedCamera, View, camera_from_record, camera_yaml, preview_overrides  # noqa: E402
+from scenerender.preview.views import PlacedCamera, View, camera_from_record, camera_yaml, PreviewQuality  # noqa: E402
 from scenerender.preview.watcher import SaveThrottle  # noqa: E402
 from scenerender.scene.loading import load_scene  # noqa: E402
 
@@ -37,9 +37,16 @@ def test_a_placed_camera_replaces_an_aim_by_yaw_and_pitch(tmp_path: Path):
     assert spec.render.mode == "depth"
 
 
-def test_the_users_own_size_and_samples_win_over_the_previews():
-    assert preview_overrides([], False, False) == ["render.size=[320, 240]", "render.samples=1"]
-    assert preview_overrides(["render.size=[64, 48]"], True, False) == ["render.samples=1", "render.size=[64, 48]"]
+def test_the_preview_size_keeps_the_scenes_shape_and_the_users_own_choice():
+    quality = PreviewQuality.for_options(size_given=False, samples_given=False)
+    assert quality.samples == 1
+    assert quality.size_for((800, 600)) == (320, 240)
+    assert quality.size_for((960, 540)) == (320, 180)
+    assert quality.size_for((480, 320)) == (320, 213)
+    assert quality.size_for((600, 1200)) == (120, 240)
+    assert quality.size_for((160, 120)) == (160, 120)  # never enlarged
+    assert PreviewQuality.for_options(size_given=True, samples_given=True) == PreviewQuality(None, None)
+    assert PreviewQuality(None, None).size_for((960, 540)) is None
 
 
 def test_the_camera_yaml_is_a_scene_files_camera(tmp_path: Path):

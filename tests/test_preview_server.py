@@ -118,8 +118,10 @@ def test_ctrl_c_stops_it_with_nothing_left_behind(preview, folder):
     assert time.monotonic() - started < 10
     assert "preview stopped" in out and "Traceback" not in err
     assert sorted(path.name for path in folder.iterdir()) == listing
-    with socket.socket() as probe:  # the port is free again
+    with socket.socket() as probe:  # nothing listens there any more (a restart binds it as this does)
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         probe.bind(("127.0.0.1", port))
+        probe.listen(1)
 
 
 def test_ctrl_c_while_the_page_waits_for_news(preview):

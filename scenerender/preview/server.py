@@ -25,7 +25,7 @@ from starlette.routing import Route
 from scenerender.compare import read_image
 from scenerender.errors import UserError
 from scenerender.preview.scene_info import ReferenceFrames, scene_facts
-from scenerender.preview.views import PlacedCamera, View, camera_yaml
+from scenerender.preview.views import PlacedCamera, PreviewQuality, View, camera_yaml
 from scenerender.preview.watcher import SaveThrottle, SceneWatcher
 from scenerender.preview.worker import RenderWorker, Superseded, error_lines
 from scenerender.sinks.images import encode_png
@@ -92,15 +92,16 @@ class PreviewState:
 class Preview:
     """The worker, the watcher and the state of one previewed scene."""
 
-    def __init__(self, scene_path: Path, preview_overrides: list[str], check_overrides: list[str], *,
+    def __init__(self, scene_path: Path, overrides: list[str], quality: PreviewQuality = PreviewQuality(), *,
                  references: Path | None = None, asset_roots=(), limits=None):
         self.scene_path = Path(scene_path).resolve()
-        self.preview_overrides = preview_overrides
+        self.overrides = list(overrides)
+        self.quality = quality
         self.asset_roots = tuple(asset_roots)
         self.references = None if references is None else ReferenceFrames(Path(references))
         self.state = PreviewState()
         self.last_view = View()
-        self.worker = RenderWorker(self.scene_path, preview_overrides, check_overrides, asset_roots=asset_roots,
+        self.worker = RenderWorker(self.scene_path, self.overrides, quality, asset_roots=asset_roots,
                                    limits=limits, on_files=self._files_read, on_result=self._rendered)
         self.watcher = SceneWatcher({self.scene_path}, self._saved)
         self.throttle = SaveThrottle(self._new_generation)
@@ -144,10 +145,11 @@ class Preview:
     def scene_facts(self) -> dict:
         """The summary and camera path of the scene as saved (its own camera and mode)."""
         try:
-            summary, path = scene_facts(self.scene_path, self.preview_overrides, self.asset_roots)
+            summary, path = scene_facts(self.scene_path, self.overrides, self.asset_roots)
         except UserError:  # the file changed again meanwhile; its own render reports it
             return {}
         summary["check"] = self.references is not None
+        summary["preview_size"] = list(self.quality.size_for(tuple(summary["size"])) or summary["size"])
         return {"scene": summary, "path": path}
 
     # -- on the event loop

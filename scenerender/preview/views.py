@@ -12,8 +12,9 @@ from dataclasses import dataclass
 import numpy as np
 
 # The settings the preview lowers unless the command line gives its own: the image size
-# and MSAA (one sample). Everything else renders as the scene says.
-PREVIEW_SIZE = (320, 240)
+# (the scene's shape, made to fit 320x240) and MSAA (one sample). Everything else renders
+# as the scene says.
+PREVIEW_FIT = (320, 240)
 PREVIEW_SAMPLES = 1
 
 # A placed camera replaces the scene's aim: these keys would fight position/target.
@@ -64,12 +65,28 @@ class View:
         return out + ([] if self.camera is None else self.camera.overrides())
 
 
-def preview_overrides(user_overrides: list[str], size_given: bool, samples_given: bool) -> list[str]:
-    """The preview's lowered settings first, then the user's own ``--set``/``--size``/
-    ``--samples`` (later overrides win, so the user's choice stands)."""
-    lowered = [] if size_given else [f"render.size=[{PREVIEW_SIZE[0]}, {PREVIEW_SIZE[1]}]"]
-    lowered += [] if samples_given else [f"render.samples={PREVIEW_SAMPLES}"]
-    return lowered + list(user_overrides)
+@dataclass(frozen=True)
+class PreviewQuality:
+    """How preview frames are lowered: ``fit`` (width, height) the frame is shrunk into,
+    keeping the scene's shape (None: the scene's own size); ``samples`` MSAA samples (None:
+    the scene's own)."""
+
+    fit: tuple[int, int] | None = PREVIEW_FIT
+    samples: int | None = PREVIEW_SAMPLES
+
+    @classmethod
+    def for_options(cls, size_given: bool, samples_given: bool) -> "PreviewQuality":
+        """The command line's own --size or --samples (or --set of either) stands."""
+        return cls(None if size_given else PREVIEW_FIT, None if samples_given else PREVIEW_SAMPLES)
+
+    def size_for(self, scene_size: tuple[int, int]) -> tuple[int, int] | None:
+        """The preview frame's (width, height) for a scene of ``scene_size``; None where
+        it is the scene's own (a scene smaller than ``fit`` is not enlarged)."""
+        if self.fit is None:
+            return None
+        width, height = scene_size
+        scale = min(self.fit[0] / width, self.fit[1] / height, 1.0)
+        return max(1, round(width * scale)), max(1, round(height * scale))
 
 
 def camera_from_record(record: dict, target_hint=None) -> dict:

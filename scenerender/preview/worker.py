@@ -19,7 +19,7 @@ from pathlib import Path
 from scenerender.api import Renderer, load
 from scenerender.errors import EnvironmentProblem, SceneErrors, UserError
 from scenerender.gpu.gl_context import create_context
-from scenerender.preview.views import View, camera_from_record
+from scenerender.preview.views import PreviewQuality, View, camera_from_record
 from scenerender.sinks.images import encode_png
 
 CACHED_FRAMES = 24  # frames kept for the timeline to scrub back over
@@ -53,17 +53,17 @@ class _Job:
 class RenderWorker:
     """Renders views of ``scene_path`` on its own thread.
 
-    preview_overrides: ``--set`` strings for preview frames (lowered size and samples, the user's own)
-    check_overrides:   ``--set`` strings for reference checks (the user's alone: the scene's quality)
+    overrides:         the user's ``--set`` strings (``--size`` and ``--samples`` among them)
+    quality:           how preview frames are lowered; reference checks render at the scene's own
     on_files:          called on the worker thread with the set of files (Path) a loaded scene read
     on_result:         called on the worker thread with (generation, error lines or None) after each job
     """
 
-    def __init__(self, scene_path: Path, preview_overrides: list[str], check_overrides: list[str], *,
+    def __init__(self, scene_path: Path, overrides: list[str], quality: PreviewQuality, *,
                  asset_roots=(), limits=None, on_files=None, on_result=None):
         self.scene_path = Path(scene_path)
-        self.preview_overrides = list(preview_overrides)
-        self.check_overrides = list(check_overrides)
+        self.overrides = list(overrides)
+        self.quality = quality
         self.asset_roots = tuple(asset_roots)
         self.limits = limits
         self.on_files = on_files or (lambda files: None)
@@ -180,11 +180,15 @@ class RenderWorker:
         if self._loaded is not None and self._loaded[0] == key:
             return self._loaded[1]
         self._unload()
-        base = self.check_overrides if job.full_quality else self.preview_overrides
-        scene = load(self.scene_path, base + job.view.overrides(), asset_roots=self.asset_roots, limits=self.limits)
+        scene = load(self.scene_path, self.overrides + job.view.overrides(), asset_roots=self.asset_roots,
+                     limits=self.limits)
         self.on_files({self.scene_path.resolve(), *scene.loaded.assets.files_read})
-        self._loaded = (key, Renderer(scene, gl=gl))
-        return self._loaded[1]
+        if job.full_quality:
+            renderer = Renderer(scene, gl=gl)
+        else:
+            renderer = Renderer(scene, size=self.quality.size_for(scene.size), samples=self.quality.samples, gl=gl)
+        self._loaded = (key, renderer)
+        return renderer
 
     def _unload(self) -> None:
         if self._loaded is not None:

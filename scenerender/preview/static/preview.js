@@ -272,7 +272,7 @@ function setUpCamera() {
 function drawPath() {
   const svg = $("path");
   const path = known.path;
-  $("path-title").hidden = svg.hidden = $("path-legend").hidden = !path;
+  $("path-box").hidden = !path;  // an <svg> has no hidden attribute of its own
   if (!path) return;
   const here = currentCamera();
   const all = [...path.points, ...path.keys, ...(here ? [here.position] : [])];
