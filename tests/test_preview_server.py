@@ -102,7 +102,8 @@ def test_a_failing_scene_shows_its_message_and_the_server_goes_on(preview, folde
     assert any(f"scene.yaml:{FOV_LINE}" in line and "camera.fov" in line for line in state["errors"]), state
     status, _, body = preview.get("/frame?frame=1")
     assert status == 422 and f"scene.yaml:{FOV_LINE}" in json.loads(body)["errors"][0]
-    assert preview.get("/frame?frame=1&camera=1,2,3,nan,0,0,50")[0] == 400
+    for query in ("camera=1,2,3,nan,0,0,50", "mode=shaded%0Arender.size%3A%20%5B1%2C1%5D", "frame=-1", "frame=x"):
+        assert preview.get(f"/frame?{query}")[0] == 400, query
     write_scene(folder)
     preview.wait_for_state(lambda s: not s["errors"])
     assert preview.get("/frame?frame=1")[0] == 200

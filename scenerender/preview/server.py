@@ -24,6 +24,7 @@ from starlette.routing import Route
 
 from scenerender.compare import read_image
 from scenerender.errors import UserError
+from scenerender.scene.model.render import MODES
 from scenerender.preview.scene_info import ReferenceFrames, scene_facts
 from scenerender.preview.views import PlacedCamera, PreviewQuality, View, camera_yaml
 from scenerender.preview.watcher import SaveThrottle, SceneWatcher
@@ -256,6 +257,8 @@ def _view(request: Request) -> View:
     if frame < 0:
         raise ValueError(f"frame must be >= 0, got {frame}")
     mode = params.get("mode") or None
+    if mode is not None and mode not in MODES:
+        raise ValueError(f"mode must be one of {', '.join(MODES)}, got {mode!r}")
     camera = params.get("camera")
     return View(frame, mode, PlacedCamera.parse(camera) if camera else None)
 
