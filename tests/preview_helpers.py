@@ -68,8 +68,8 @@ def write_paint(folder: Path, colour=(230, 120, 30)) -> Path:
 class PreviewProcess:
     """`scenerender preview SCENE --port 0 --no-open ARGS` until ``stop()``."""
 
-    def __init__(self, scene: Path, *args: str):
-        env = dict(os.environ, PYTHONUNBUFFERED="1", PYTHONPATH=str(ROOT))
+    def __init__(self, scene: Path, *args: str, env: dict | None = None):
+        env = dict(os.environ, PYTHONUNBUFFERED="1", PYTHONPATH=str(ROOT), **(env or {}))
         self.process = subprocess.Popen([sys.executable, "-m", "scenerender", "preview", str(scene.resolve()), "--port", "0",
                                          "--no-open", *args], cwd=scene.parent, env=env, stdout=subprocess.PIPE,
                                         stderr=subprocess.PIPE, text=True)

@@ -109,6 +109,18 @@ def test_a_failing_scene_shows_its_message_and_the_server_goes_on(preview, folde
     assert preview.get("/frame?frame=1")[0] == 200
 
 
+def test_without_an_opengl_context_the_page_says_why(folder):
+    preview = PreviewProcess(folder / "scene.yaml", env={"SCENERENDER_GL_BACKEND": "no-such-backend"})
+    try:
+        status, _, body = preview.get("/frame?frame=0")
+        assert status == 422 and "cannot create an OpenGL" in json.loads(body)["errors"][0]
+        assert "cannot create an OpenGL" in preview.wait_for_state(lambda s: s["errors"])["errors"][0]
+        assert preview.get("/")[0] == 200  # the page is still served
+    finally:
+        code, _, err = preview.stop()
+    assert code == 0 and "Traceback" not in err, err
+
+
 def test_ctrl_c_stops_it_with_nothing_left_behind(preview, folder):
     listing = sorted(path.name for path in folder.iterdir())
     port = urlsplit(preview.url).port

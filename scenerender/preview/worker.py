@@ -56,7 +56,8 @@ class RenderWorker:
     overrides:         the user's ``--set`` strings (``--size`` and ``--samples`` among them)
     quality:           how preview frames are lowered; reference checks render at the scene's own
     on_files:          called on the worker thread with the set of files (Path) a loaded scene read
-    on_result:         called on the worker thread with (generation, error lines or None) after each job
+    on_result:         called on the worker thread with (generation, error lines or None) after each
+                       preview frame (generation -1: no GL context, nothing can render)
     """
 
     def __init__(self, scene_path: Path, overrides: list[str], quality: PreviewQuality, *,
@@ -76,6 +77,7 @@ class RenderWorker:
         self._cache: OrderedDict = OrderedDict()   # (generation, view, full_quality) -> Rendered
         self._loaded = None                        # (generation, scene key, full_quality, Scene, Renderer)
         self._stopping = False
+        self._failure: Exception | None = None      # why no frame can be rendered at all
         self._thread = threading.Thread(target=self._run, name="scenerender-preview-render", daemon=True)
 
     def start(self) -> None:
@@ -106,7 +108,10 @@ class RenderWorker:
             waiting = self._waiting[full_quality]
             if done is not None or self._stopping:
                 future = Future()
-                future.set_result(done) if done is not None else future.set_exception(Superseded())
+                if done is not None:
+                    future.set_result(done)
+                else:  # stopping, or no GL context could be made (the reason, for every request)
+                    future.set_exception(self._failure or Superseded())
                 return future
             for job in (self._running, waiting):  # the same view asked again joins the render of it
                 if job is not None and (job.generation, job.view, job.full_quality) == (generation, view, full_quality):
@@ -161,7 +166,8 @@ class RenderWorker:
             error = exc if isinstance(exc, (UserError, EnvironmentProblem)) else _internal(exc)
             with self._lock:
                 self._running = None
-            self.on_result(job.generation, error_lines(error))
+            if not job.full_quality:  # a reference check answers its own request alone
+                self.on_result(job.generation, error_lines(error))
             job.future.set_exception(error)
             return
         with self._lock:
@@ -171,7 +177,8 @@ class RenderWorker:
                 self._cache.popitem(last=False)
             self._running = None
         job.future.set_result(result)  # the page's request first: the state's news can wait
-        self.on_result(job.generation, None)
+        if not job.full_quality:
+            self.on_result(job.generation, None)
 
     def _renderer_for(self, job: _Job, gl) -> Renderer:
         """The loaded scene's renderer for the job's scene key; loads the scene again (and
@@ -199,6 +206,7 @@ class RenderWorker:
         self.on_result(-1, error_lines(exc))
         with self._lock:
             self._stopping = True
+            self._failure = exc
             for full_quality, job in self._waiting.items():
                 if job is not None:
                     job.future.set_exception(exc)
