@@ -123,6 +123,8 @@ function applyScene(scene) {
     for (const mode of scene.modes) select.add(new Option(mode, mode));
     $("check").hidden = !scene.check;
     if (scene.check) checkFrame(view.frame);
+    const img = $("frame");  // a frame shown before the scene's facts came: its width again
+    if (img.naturalWidth) img.style.width = `${shownWidth(img.naturalWidth)}px`;
   }
   showFrameLabel();
 }
