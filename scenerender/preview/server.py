@@ -76,6 +76,14 @@ class PreviewState:
         news, self._news = self._news, asyncio.Event()
         news.set()
 
+    def next_generation(self) -> int:
+        """A save: the generation one on (announced), returned; any thread."""
+        with self.lock:
+            self.generation += 1
+            generation = self.generation
+        self.changed()
+        return generation
+
     def close(self) -> None:
         """Answer every waiting poller now (the server is stopping); any thread."""
         self.closing = True
@@ -128,8 +136,7 @@ class Preview:
     def _new_generation(self) -> None:
         """The files as saved now are a new generation; the page's view is rendered for it
         at once (coalesced with whatever else is asked meanwhile)."""
-        self.state.changed(generation=self.state.generation + 1)
-        self.worker.submit(self.state.generation, self.last_view)
+        self.worker.submit(self.state.next_generation(), self.last_view)
 
     def _rendered(self, generation: int, errors: list[str] | None) -> None:
         if generation < self.state.generation and generation != -1:
