@@ -86,6 +86,7 @@ class SaveThrottle:
         self._lock = threading.Lock()
         self._last_save = -float("inf")
         self._timer: threading.Timer | None = None
+        self._armed: object | None = None
         self._stopped = False
 
     def saved(self) -> None:
@@ -110,15 +111,14 @@ class SaveThrottle:
     def _arm(self) -> None:
         if self._timer is not None:
             self._timer.cancel()
-        token = object()
+        self._armed = token = object()  # a timer that fires after another was armed does nothing
         self._timer = threading.Timer(self.burst_seconds, self._burst_over, args=(token,))
-        self._timer.token = token
         self._timer.daemon = True
         self._timer.start()
 
     def _burst_over(self, token) -> None:
         with self._lock:
-            if self._stopped or self._timer is None or self._timer.token is not token:
-                return  # a later save armed another timer
-            self._timer = None
+            if self._stopped or self._armed is not token:
+                return
+            self._timer = self._armed = None
         self.fire()
