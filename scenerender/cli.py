@@ -134,6 +134,7 @@ def main():
       scenerender render scenes/showcase.yaml -o out/
       scenerender render scene.yaml -o out/ --size 320x240 --frames 0:10
       scenerender validate scene.yaml
+      scenerender preview scene.yaml          # a page that renders again on every save
       scenerender graph scene.yaml --dot | dot -Tpng > graph.png
       scenerender diff ref/ out/ --report report.html
 
