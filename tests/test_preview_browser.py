@@ -83,6 +83,7 @@ def test_the_page_shows_the_frame(page):
     assert red > green > blue and red > 120, (red, green, blue)
     assert camera_yaml(page) == "camera: {position: [0, 1.2, 4], target: [0, 0, 0], fov: 50}"
     assert page.find_element(By.ID, "frame-label").text == "frame 0 / 7 · 0.000 s"
+    assert page.find_element(By.ID, "scene-size").text == "320x240 of 640x480"
     assert len(page.find_elements(By.CSS_SELECTOR, "#path circle.key")) == 2  # the path's keys, from above
     assert page.find_elements(By.ID, "path-current")
     assert screenshot(page, "loaded").stat().st_size > 10_000

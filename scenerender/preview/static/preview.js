@@ -112,7 +112,11 @@ function applyState(state) {
 function applyScene(scene) {
   const first = known.scene === null;
   known.scene = scene;
+  const [w, h] = scene.size;
+  const [pw, ph] = scene.preview_size;
   $("scene-name").textContent = scene.name;
+  $("scene-name").title = `${w}x${h}; previewed at ${pw}x${ph}`;
+  $("scene-size").textContent = pw === w && ph === h ? `${w}x${h}` : `${pw}x${ph} of ${w}x${h}`;
   const timeline = $("timeline");
   timeline.max = String(Math.max(0, scene.frame_count - 1));
   if (view.frame > scene.frame_count - 1) view.frame = Math.max(0, scene.frame_count - 1);
