@@ -134,6 +134,7 @@ def main():
       scenerender render scenes/showcase.yaml -o out/
       scenerender render scene.yaml -o out/ --size 320x240 --frames 0:10
       scenerender validate scene.yaml
+      scenerender preview scene.yaml          # a page that renders again on every save
       scenerender graph scene.yaml --dot | dot -Tpng > graph.png
       scenerender diff ref/ out/ --report report.html
 
@@ -408,6 +409,55 @@ def graph(scene, dot, overrides, asset_roots, limit_texts):
         return
     click.echo(report.header(str(scene)))
     click.echo(report.compiled.dump())
+
+
+PREVIEW_INSTALL_HINT = "preview needs its extra libraries: pip install 'scenerender[preview]'"
+
+
+@main.command()
+@click.argument("scene", type=GivenPath(exists=True, dir_okay=False, path_type=Path))
+@click.option("--host", default="127.0.0.1", show_default=True,
+              help="Address to serve the page on; the default is reachable from this machine only.")
+@click.option("--port", type=click.IntRange(0, 65535), default=8765, show_default=True,
+              help="Port to serve the page on; 0 picks a free one (the address is printed).")
+@_scene_overrides()
+@click.option("--check", "check", type=GivenPath(file_okay=False, path_type=Path), metavar="REF_DIR",
+              help="Show each frame's reference from REF_DIR (or REF_DIR/<renderer>/) beside the live one, with "
+                   "the diff verdict of the frame rendered at the scene's own size and samples.")
+@click.option("--open/--no-open", "open_browser", default=True, show_default=True,
+              help="Open the page in the browser, where there is a graphical session to open it in.")
+@_asset_root_option
+@_limit_option
+def preview(scene, host, port, overrides, check, open_browser, asset_roots, limit_texts):
+    """Serve a page that shows SCENE rendered and renders it again whenever the scene file
+    or an asset it uses is saved: a timeline over its frames (play at the scene's fps),
+    a camera to drag (orbit), wheel (dolly) and fly (W A S D, Q E) with its YAML to
+    copy, the camera path seen from above, a render.mode switch, and the CLI's messages
+    (file and line) over the last good image while the scene does not validate.
+
+    Preview frames are lowered: the scene's shape shrunk to fit 320x240 (a 16:9 scene at
+    320x180) and 1 MSAA sample, unless --size, --samples or --set say otherwise; everything
+    else renders as the scene says. --check renders at the scene's own size and samples.
+
+    \b
+    Examples:
+      scenerender preview scene.yaml                  # then open http://127.0.0.1:8765/
+      scenerender preview scene.yaml --port 0 --size 640x480
+      scenerender preview scene.yaml --check ref/     # the reference and the verdict beside each frame
+    """
+    try:
+        from scenerender.preview import serve as preview_serve
+        from scenerender.preview.server import Preview
+    except ImportError as exc:  # the optional extra is not installed: the machine lacks it (exit 3)
+        raise EnvironmentProblem(f"{PREVIEW_INSTALL_HINT} ({exc})") from None
+    from scenerender.preview.views import PreviewQuality
+
+    size_given = any(text.startswith("render.size=") for text in overrides)
+    samples_given = any(text.startswith("render.samples=") for text in overrides)
+    references = preview_serve.check_folder(check)
+    session = Preview(scene, overrides, PreviewQuality.for_options(size_given, samples_given), references=references, asset_roots=asset_roots, limits=_limits(limit_texts))
+    sock = preview_serve.bind(host, port)
+    preview_serve.serve(session, sock, echo=click.echo, open_browser=open_browser)
 
 
 @main.command()

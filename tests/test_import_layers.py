@@ -14,6 +14,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "scenerender"
 # own layer and any layer below it.
 LAYERS = [
     ["scenerender.cli", "scenerender.pytest_plugin", "scenerender.__main__"],  # entry points
+    ["scenerender.preview"],                                                   # the live page (only the CLI imports it)
     ["scenerender.api"],                                                       # the public facade
     ["scenerender.tools"],                                                     # tools that render and measure
     ["scenerender.run"],                                                       # a run: scene -> sink
@@ -137,6 +138,13 @@ def test_the_package_face_imports_only_the_version_when_imported():
     assert [name for name, targets in import_graph().items() if FACE in targets] == []
 
 
+def test_only_the_command_line_imports_the_preview():
+    """The preview is a leaf: its server, watcher and page stay out of every other path."""
+    importers = {source for source, targets in import_graph().items() if not source.startswith("scenerender.preview")
+                 and any(t == "scenerender.preview" or t.startswith("scenerender.preview.") for t in targets)}
+    assert importers == {"scenerender.cli"}
+
+
 # The checks must be able to fail: a small package with one upward import and one circle.
 
 @pytest.fixture
@@ -157,7 +165,7 @@ def bad_package(tmp_path: Path) -> Path:
 def test_the_checks_catch_an_upward_import_and_a_circle(bad_package, monkeypatch):
     monkeypatch.setattr(__import__(__name__), "PACKAGE", bad_package)
     graph = import_graph(bad_package)
-    assert upward_imports(graph) == ["scenerender.errors (layer 10) imports scenerender.scene.model (layer 8)"]
+    assert upward_imports(graph) == ["scenerender.errors (layer 11) imports scenerender.scene.model (layer 9)"]
     assert circles(graph) == [["scenerender.scene.checks", "scenerender.scene.model"]]
 
 
@@ -186,6 +194,6 @@ def tools_below_run(tmp_path: Path) -> Path:
 def test_the_layer_check_catches_a_tool_below_the_run_layer(tools_below_run, monkeypatch):
     monkeypatch.setattr(__import__(__name__), "PACKAGE", tools_below_run)
     assert upward_imports(import_graph(tools_below_run)) == [
-        "scenerender.compare.perturbation (layer 4) imports scenerender.run.session (layer 3)",
-        "scenerender.raytrace.bench (layer 4) imports scenerender.run (layer 3)",
+        "scenerender.compare.perturbation (layer 5) imports scenerender.run.session (layer 4)",
+        "scenerender.raytrace.bench (layer 5) imports scenerender.run (layer 4)",
     ]

@@ -48,3 +48,18 @@ def test_the_version_is_the_one_the_package_is_built_with():
 
     pyproject = (Path(__file__).resolve().parent.parent / "pyproject.toml").read_text(encoding="utf-8")
     assert re.search(r'^version = "([^"]+)"', pyproject, re.M).group(1) == __version__
+
+
+def test_wheel_carries_the_preview_page_and_the_installed_layout_serves_it(wheel, tmp_path):
+    """The page is real files under scenerender/preview/static/, read through the package."""
+    names = set(zipfile.ZipFile(wheel).namelist())
+    page = sorted(p.name for p in (ROOT / "scenerender" / "preview" / "static").iterdir())
+    assert page == ["index.html", "preview.css", "preview.js"]
+    assert {f"scenerender/preview/static/{name}" for name in page} <= names
+    pytest.importorskip("starlette")
+    zipfile.ZipFile(wheel).extractall(tmp_path)
+    probe = "from scenerender.preview.server import static_files; print(sorted(static_files()))"
+    run = subprocess.run([sys.executable, "-c", probe], cwd=tmp_path, capture_output=True, text=True,
+                         env={"PYTHONPATH": str(tmp_path), "PATH": ""}, timeout=60)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == str(page)
