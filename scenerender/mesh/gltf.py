@@ -37,6 +37,15 @@ _NEAREST_FILTERS = (9728, 9984, 9986)  # NEAREST, NEAREST_MIPMAP_NEAREST, NEARES
 _NORMALIZED = {5121: 255.0, 5123: 65535.0}
 
 
+# extensions read somewhere: here (materials, textures), by mesh.gltf_scene (lights), or
+# left to trimesh with the geometry (mesh.gltf_geometry). Any other a file uses is named in
+# a warning: drawn without it, never dropped silently.
+READ_EXTENSIONS = (
+    "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
+    "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
+)
+
+
 class GltfProblem(Exception):
     """The file's JSON says something about materials that cannot be used."""
 
@@ -146,6 +155,10 @@ def read_gltf(raw: bytes, label: str, read_file) -> GltfFile:
     Raises GltfProblem for anything unusable."""
     header, binary = split_glb(raw)
     result = GltfFile()
+    used = header.get("extensionsUsed", [])
+    for extension in used if isinstance(used, list) else ():
+        if isinstance(extension, str) and extension not in READ_EXTENSIONS:
+            result.unsupported.append(f"extension {extension} is not supported: drawn without it")
     names: dict[str, int] = {}
     materials = _list(header, "materials")
     for index, material in enumerate(materials):
