@@ -23,6 +23,8 @@ from urllib.parse import unquote
 
 import numpy as np
 
+from scenerender.scene.model.materials import MAX_IOR  # the largest index of refraction a material takes
+
 GLB_MAGIC = 0x46546C67  # "glTF"
 _JSON_CHUNK = 0x4E4F534A
 _BIN_CHUNK = 0x004E4942
@@ -42,6 +44,7 @@ _NORMALIZED = {5121: 255.0, 5123: 65535.0}
 # a warning: drawn without it, never dropped silently.
 READ_EXTENSIONS = (
     "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
+    "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat",
     "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
 )
 
@@ -95,6 +98,12 @@ class GltfMaterial:
     normal_map: GltfTexture | None = None
     occlusion_map: GltfTexture | None = None
     emissive_map: GltfTexture | None = None
+    # KHR_materials_ior, KHR_materials_specular, KHR_materials_clearcoat (their factors)
+    ior: float = 1.5
+    specular_factor: float = 1.0
+    specular_color: tuple = (1.0, 1.0, 1.0)
+    clearcoat: float = 0.0
+    clearcoat_roughness: float = 0.0
 
     def textures(self) -> dict:
         """{map name: GltfTexture} of the maps it has."""
@@ -239,8 +248,39 @@ def _material(name: str, material: dict, header: dict, result: GltfFile, label: 
         alpha_cutoff=_numbers([material.get("alphaCutoff", 0.5)], 1, "alphaCutoff", 0.0, 1e6)[0],
         double_sided=_bool(material.get("doubleSided", False), "doubleSided"),
         unlit="KHR_materials_unlit" in extensions,
+        **_layers(name, extensions, result),
         **textures,
     )
+
+
+# the textures of the layer extensions, which are not read: their factors alone apply
+_LAYER_TEXTURES = {"KHR_materials_specular": ("specularTexture", "specularColorTexture"),
+                   "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture")}
+
+
+def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
+    """The GltfMaterial fields of KHR_materials_ior, _specular and _clearcoat (glTF's
+    defaults where absent). An ior of 0 is the specification's "infinitely high" index
+    (a dielectric that reflects all), taken here as the largest the scene format takes."""
+    ior = _object(extensions.get("KHR_materials_ior", {}), f"material {name!r}: KHR_materials_ior")
+    specular = _object(extensions.get("KHR_materials_specular", {}), f"material {name!r}: KHR_materials_specular")
+    coat = _object(extensions.get("KHR_materials_clearcoat", {}), f"material {name!r}: KHR_materials_clearcoat")
+    for extension, keys in _LAYER_TEXTURES.items():
+        values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat}[extension]
+        for key in keys:
+            note = f"{extension} {key} is not read (its factor alone applies)"
+            if key in values and note not in result.unsupported:
+                result.unsupported.append(note)
+    index = _numbers([ior.get("ior", 1.5)], 1, "ior", 0.0, MAX_IOR)[0]
+    return {
+        "ior": MAX_IOR if index == 0.0 else max(index, 1.0),
+        "specular_factor": _numbers([specular.get("specularFactor", 1.0)], 1, "specularFactor", 0.0, 1.0)[0],
+        "specular_color": _numbers(specular.get("specularColorFactor", (1.0, 1.0, 1.0)), 3, "specularColorFactor",
+                                   0.0, 1e6),
+        "clearcoat": _numbers([coat.get("clearcoatFactor", 0.0)], 1, "clearcoatFactor", 0.0, 1.0)[0],
+        "clearcoat_roughness": _numbers([coat.get("clearcoatRoughnessFactor", 0.0)], 1, "clearcoatRoughnessFactor",
+                                        0.0, 1.0)[0],
+    }
 
 
 def _texture(info, header: dict, result: GltfFile, label: str, what: str, scale_key: str | None = None):

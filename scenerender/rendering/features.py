@@ -317,4 +317,8 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
         defines["HAS_VERTEX_COLOR"] = True
     if any(tuple(material.maps[key].uv_skew) != (0.0, 0.0) for key in maps):
         defines["UV_AFFINE"] = True
+    if model == "pbr" and material.dielectric_specular:
+        defines["PBR_DIELECTRIC_SPECULAR"] = True
+    if model == "pbr" and material.clearcoat > 0.0:
+        defines["PBR_CLEARCOAT"] = True
     return defines

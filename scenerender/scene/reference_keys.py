@@ -188,6 +188,11 @@ KEYS: dict[str, Key] = {
     "materials.<name>.alpha_mode": Key("`opaque`: alpha ignored; `mask`: pixels with alpha below `alpha_cutoff` cut away, the rest opaque (also in shadows); `blend`: the transparent pass. Not set: the glTF's, else transparent where anything makes alpha below 1.", "mask"),
     "materials.<name>.alpha_cutoff": Key("The alpha below which `alpha_mode: mask` cuts a pixel away. Not set: the glTF's, else 0.5.", "0.3"),
     "materials.<name>.double_sided": Key("Draw and light both faces; `false` skips the back faces (glTF `doubleSided`). Not set: the glTF's, else true.", "false"),
+    "materials.<name>.ior": Key("pbr: the dielectric's index of refraction (glTF KHR_materials_ior): F0 = ((ior - 1) / (ior + 1))^2, 0.04 at the default 1.5; 1 reflects nothing head-on.", "1.33"),
+    "materials.<name>.specular_factor": Key("pbr: the strength of the dielectric's reflection, F0 and F90 times it (glTF KHR_materials_specular `specularFactor`). Not set: 1. Not the Phong models' `specular` colour.", "0.5"),
+    "materials.<name>.specular_color": Key("pbr: tints the dielectric's head-on reflection, F0 times it, clamped to 1 (glTF `specularColorFactor`; may exceed 1). Not set: white.", "[1, 0.8, 0.6]"),
+    "materials.<name>.clearcoat": Key("pbr: the weight of a clear varnish layer over the material (glTF KHR_materials_clearcoat): a GGX highlight of F0 0.04 and its own roughness, taking its Fresnel share of the light. Not set: 0, none.", "1"),
+    "materials.<name>.clearcoat_roughness": Key("pbr: the clear coat's roughness. Not set: 0.", "0.1"),
     # -- objects --------------------------------------------------------------------------
     "objects[].name": Key("A label, used in messages.", "crate"),
     "objects[].mesh": Key("A mesh file (OBJ with its MTL; PLY, STL, GLB/GLTF, OFF through trimesh), or an inline primitive chosen by `primitive`.",

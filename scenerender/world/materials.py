@@ -46,6 +46,8 @@ SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "op
 # a scene's key for a map, where it is not the map's own name
 SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
 SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
+# the pbr model's layer values, alike in glTF materials, scene materials and Material
+LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness")
 
 
 @dataclass(frozen=True)
@@ -120,6 +122,27 @@ class Material:
     alpha_cutoff: float = 0.5
     double_sided: bool = True
     vertex_colors: bool = False
+    # the pbr model's layers (docs/scene-notes.md, "Layers of the pbr model"); glTF's
+    # defaults draw as the model always has
+    ior: float = 1.5
+    specular_factor: float = 1.0
+    specular_color: tuple = (1.0, 1.0, 1.0)
+    clearcoat: float = 0.0
+    clearcoat_roughness: float = 0.0
+
+    @property
+    def dielectric_specular(self) -> bool:
+        """Its dielectric reflection differs from the model's F0 0.04, F90 1 (an ior other
+        than 1.5, a specular factor or colour other than 1)."""
+        return (self.ior != 1.5 or self.specular_factor != 1.0
+                or tuple(self.specular_color) != (1.0, 1.0, 1.0))
+
+    def dielectric_f0_f90(self) -> tuple[np.ndarray, float]:
+        """((3,) F0, F90) of the dielectric part: KHR_materials_specular's
+        min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular_factor, and specular_factor."""
+        reflectance = ((self.ior - 1.0) / (self.ior + 1.0)) ** 2
+        f0 = np.minimum(reflectance * np.asarray(self.specular_color, dtype=np.float64), 1.0) * self.specular_factor
+        return f0, float(self.specular_factor)
 
     def model(self, scene_shading: str) -> str:
         """The shading model this material is drawn with: "unlit" when ``unlit``, else its
@@ -211,6 +234,8 @@ def apply_gltf(material: Material, gltf, location: SourceLocation | None = None)
     material.alpha_cutoff = float(gltf.alpha_cutoff)
     material.double_sided = bool(gltf.double_sided)
     material.shading = "unlit" if gltf.unlit else "pbr"
+    for key in LAYER_KEYS:
+        setattr(material, key, getattr(gltf, key))
     textures = gltf.textures()
     keys = {"base_color_map": "diffuse_map"}
     for name, texture in textures.items():
@@ -246,7 +271,7 @@ def apply_spec(material: Material, spec, where: tuple | None = None) -> Material
             material.maps[map_key] = TextureSource(path=Path(path), srgb=SRGB_MAPS[map_key],
                                                    scene_key=None if where is None else where + (spec_key,))
     for key in ("wrap", "filter", "unlit", "shading", "emissive_strength", "normal_scale", "occlusion_strength",
-                "alpha_mode", "alpha_cutoff", "double_sided"):
+                "alpha_mode", "alpha_cutoff", "double_sided") + LAYER_KEYS:
         value = getattr(spec, key)
         if value is not None:
             setattr(material, key, value)
