@@ -44,7 +44,7 @@ _NORMALIZED = {5121: 255.0, 5123: 65535.0}
 # a warning: drawn without it, never dropped silently.
 READ_EXTENSIONS = (
     "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
-    "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat",
+    "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
     "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
 )
 
@@ -104,6 +104,8 @@ class GltfMaterial:
     specular_color: tuple = (1.0, 1.0, 1.0)
     clearcoat: float = 0.0
     clearcoat_roughness: float = 0.0
+    sheen_color: tuple = (0.0, 0.0, 0.0)  # KHR_materials_sheen
+    sheen_roughness: float = 0.0
 
     def textures(self) -> dict:
         """{map name: GltfTexture} of the maps it has."""
@@ -255,18 +257,21 @@ def _material(name: str, material: dict, header: dict, result: GltfFile, label: 
 
 # the textures of the layer extensions, which are not read: their factors alone apply
 _LAYER_TEXTURES = {"KHR_materials_specular": ("specularTexture", "specularColorTexture"),
-                   "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture")}
+                   "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"),
+                   "KHR_materials_sheen": ("sheenColorTexture", "sheenRoughnessTexture")}
 
 
 def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
-    """The GltfMaterial fields of KHR_materials_ior, _specular and _clearcoat (glTF's
+    """The GltfMaterial fields of KHR_materials_ior, _specular, _clearcoat and _sheen (glTF's
     defaults where absent). An ior of 0 is the specification's "infinitely high" index
     (a dielectric that reflects all), taken here as the largest the scene format takes."""
     ior = _object(extensions.get("KHR_materials_ior", {}), f"material {name!r}: KHR_materials_ior")
     specular = _object(extensions.get("KHR_materials_specular", {}), f"material {name!r}: KHR_materials_specular")
     coat = _object(extensions.get("KHR_materials_clearcoat", {}), f"material {name!r}: KHR_materials_clearcoat")
+    sheen = _object(extensions.get("KHR_materials_sheen", {}), f"material {name!r}: KHR_materials_sheen")
     for extension, keys in _LAYER_TEXTURES.items():
-        values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat}[extension]
+        values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat,
+                  "KHR_materials_sheen": sheen}[extension]
         for key in keys:
             note = f"{extension} {key} is not read (its factor alone applies)"
             if key in values and note not in result.unsupported:
@@ -280,6 +285,8 @@ def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
         "clearcoat": _numbers([coat.get("clearcoatFactor", 0.0)], 1, "clearcoatFactor", 0.0, 1.0)[0],
         "clearcoat_roughness": _numbers([coat.get("clearcoatRoughnessFactor", 0.0)], 1, "clearcoatRoughnessFactor",
                                         0.0, 1.0)[0],
+        "sheen_color": _numbers(sheen.get("sheenColorFactor", (0.0, 0.0, 0.0)), 3, "sheenColorFactor", 0.0, 1.0),
+        "sheen_roughness": _numbers([sheen.get("sheenRoughnessFactor", 0.0)], 1, "sheenRoughnessFactor", 0.0, 1.0)[0],
     }
 
 

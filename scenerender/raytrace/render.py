@@ -608,16 +608,21 @@ def _material_table(materials: list, scene_shading: str = "blinn_phong") -> dict
 
 def _layer_table(materials: list) -> dict:
     """Per-material arrays of the pbr model's layers (shading.pbr_layers): whether it has
-    any, the dielectric's F0 (K, 3) and F90, the clear coat's weight and roughness (K,)."""
+    any, the dielectric's F0 (K, 3) and F90, the clear coat's weight and roughness (K,), the
+    sheen's colour (K, 3) and roughness (K,)."""
     default = (np.full(3, 0.04), 1.0)
     pairs = [m.dielectric_f0_f90() if m is not None else default for m in materials]
     return {
-        "layered": np.array([m is not None and (m.dielectric_specular or m.clearcoat > 0.0) for m in materials]),
+        "layered": np.array([m is not None and m.layered for m in materials]),
         "f0": np.array([f0 for f0, _ in pairs], dtype=np.float64).reshape(-1, 3),
         "f90": np.array([f90 for _, f90 in pairs], dtype=np.float64),
         "clearcoat": np.array([m.clearcoat if m is not None else 0.0 for m in materials], dtype=np.float64),
         "clearcoat_roughness": np.array([m.clearcoat_roughness if m is not None else 0.0 for m in materials],
                                         dtype=np.float64),
+        "sheen_color": np.array([m.sheen_color if m is not None else (0.0, 0.0, 0.0) for m in materials],
+                                dtype=np.float64).reshape(-1, 3),
+        "sheen_roughness": np.array([m.sheen_roughness if m is not None else 0.0 for m in materials],
+                                    dtype=np.float64),
     }
 
 

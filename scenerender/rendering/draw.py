@@ -246,6 +246,8 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
         set_uniforms(program, u_dielectric_f0=tuple(f0), u_dielectric_f90=f90)
     if material.clearcoat > 0.0:
         set_uniforms(program, u_clearcoat=material.clearcoat, u_clearcoat_roughness=material.clearcoat_roughness)
+    if material.sheen:
+        set_uniforms(program, u_sheen_color=tuple(material.sheen_color), u_sheen_roughness=material.sheen_roughness)
     for key, source in material.maps.items():
         if program.get(f"u_{key}", None) is None:
             continue

@@ -321,4 +321,6 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
         defines["PBR_DIELECTRIC_SPECULAR"] = True
     if model == "pbr" and material.clearcoat > 0.0:
         defines["PBR_CLEARCOAT"] = True
+    if model == "pbr" and material.sheen:
+        defines["PBR_SHEEN"] = True
     return defines

@@ -193,6 +193,8 @@ KEYS: dict[str, Key] = {
     "materials.<name>.specular_color": Key("pbr: tints the dielectric's head-on reflection, F0 times it, clamped to 1 (glTF `specularColorFactor`; may exceed 1). Not set: white.", "[1, 0.8, 0.6]"),
     "materials.<name>.clearcoat": Key("pbr: the weight of a clear varnish layer over the material (glTF KHR_materials_clearcoat): a GGX highlight of F0 0.04 and its own roughness, taking its Fresnel share of the light. Not set: 0, none.", "1"),
     "materials.<name>.clearcoat_roughness": Key("pbr: the clear coat's roughness. Not set: 0.", "0.1"),
+    "materials.<name>.sheen_color": Key("pbr: the colour of a sheen at grazing angles, a fabric's (glTF KHR_materials_sheen, the Charlie lobe), taking its share of the light from the material beneath. Not set: black, none.", "[0.9, 0.8, 1.0]"),
+    "materials.<name>.sheen_roughness": Key("pbr: the sheen's roughness: low keeps it at the outline, high spreads it. Not set: 0 (taken as 0.07).", "0.5"),
     # -- objects --------------------------------------------------------------------------
     "objects[].name": Key("A label, used in messages.", "crate"),
     "objects[].mesh": Key("A mesh file (OBJ with its MTL; PLY, STL, GLB/GLTF, OFF through trimesh), or an inline primitive chosen by `primitive`.",

@@ -47,7 +47,8 @@ SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "op
 SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
 SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 # the pbr model's layer values, alike in glTF materials, scene materials and Material
-LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness")
+LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness", "sheen_color",
+              "sheen_roughness")
 
 
 @dataclass(frozen=True)
@@ -129,6 +130,18 @@ class Material:
     specular_color: tuple = (1.0, 1.0, 1.0)
     clearcoat: float = 0.0
     clearcoat_roughness: float = 0.0
+    sheen_color: tuple = (0.0, 0.0, 0.0)
+    sheen_roughness: float = 0.0
+
+    @property
+    def sheen(self) -> bool:
+        """It has a sheen (a sheen colour other than black)."""
+        return max(self.sheen_color) > 0.0
+
+    @property
+    def layered(self) -> bool:
+        """It has any of the pbr model's layers."""
+        return self.dielectric_specular or self.clearcoat > 0.0 or self.sheen
 
     @property
     def dielectric_specular(self) -> bool:

@@ -134,8 +134,8 @@ vec3 env_specular_sampled(vec3 n, vec3 v, Surface s) {
 vec3 pbr_environment_specular(vec3 n, vec3 v, Surface s, PbrAmbientWeights w) {
 #ifdef ENV_SPECULAR_SAMPLES
     vec3 specular = env_specular_sampled(n, v, s);
-#ifdef PBR_CLEARCOAT
-    specular *= w.coat_scale;
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    specular *= w.base_scale;
 #endif
 #else
     vec3 specular = w.specular * env_specular(reflect(-v, n), s.roughness);
@@ -147,17 +147,27 @@ vec3 pbr_environment_specular(vec3 n, vec3 v, Surface s, PbrAmbientWeights w) {
     return specular;
 }
 
+// The weight of the irradiance: the diffuse part's, and the sheen's (its broad lobe lit by
+// the irradiance, as a uniform light of that radiance would light it)
+vec3 pbr_environment_diffuse(PbrAmbientWeights w) {
+#ifdef PBR_SHEEN
+    return w.diffuse + w.sheen;
+#else
+    return w.diffuse;
+#endif
+}
+
 // What the environment gives the pbr model: the split sum, whose BRDF half is the fitted
 // hemisphere integral the uniform ambient light uses (pbr_ambient_weights).
 vec3 pbr_environment(vec3 n, vec3 v, Surface s) {
     PbrAmbientWeights w = pbr_ambient_weights(n, v, s);
-    return w.diffuse * env_diffuse(n) + pbr_environment_specular(n, v, s, w);
+    return pbr_environment_diffuse(w) * env_diffuse(n) + pbr_environment_specular(n, v, s, w);
 }
 
 // The same with the diffuse and specular terms scaled by what reaches the surface of each
 // (seen: env_visibility's (V_d, V_s), with the other occlusions applied).
 vec3 pbr_environment_seen(vec3 n, vec3 v, Surface s, vec2 seen) {
     PbrAmbientWeights w = pbr_ambient_weights(n, v, s);
-    return w.diffuse * env_diffuse(n) * seen.x + pbr_environment_specular(n, v, s, w) * seen.y;
+    return pbr_environment_diffuse(w) * env_diffuse(n) * seen.x + pbr_environment_specular(n, v, s, w) * seen.y;
 }
 #endif

@@ -14,10 +14,15 @@
 //   F0 = min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular and F90 = specular, so
 //   F = F0 + (F90 - F0) (1 - V.H)^5 with F0 = mix(dielectric F0, base, metallic) and
 //   F90 = mix(dielectric F90, 1, metallic).
+// - PBR_SHEEN (KHR_materials_sheen): a Charlie lobe over the base (lighting/sheen.glsl):
+//   f = f_base min(1 - max(sheen) E(N.V), 1 - max(sheen) E(N.L)) + sheen D_s V_s.
 // - PBR_CLEARCOAT (KHR_materials_clearcoat): a GGX layer of F0 0.04 (ior 1.5) and its own
-//   roughness over the rest: f = f_base (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - V.H)^5.
+//   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - V.H)^5.
 
 #include "lighting/ambient_brdf.glsl"
+#ifdef PBR_SHEEN
+#include "lighting/sheen.glsl"
+#endif
 
 // alpha is kept above this (roughness about 0.045) so the distribution stays finite; a
 // smoother surface's highlight from a point light would be narrower than a pixel anyway
@@ -52,6 +57,10 @@ struct PbrView {
 #ifdef PBR_CLEARCOAT
     float coat_alpha2;
     float coat_view_term;
+#endif
+#ifdef PBR_SHEEN
+    float sheen_alpha;
+    float sheen_through_view;  // 1 - max(sheen) E(N.V)
 #endif
 };
 
@@ -97,6 +106,10 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     p.coat_alpha2 = coat_alpha * coat_alpha;
     p.coat_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
 #endif
+#ifdef PBR_SHEEN
+    p.sheen_alpha = sheen_alpha();
+    p.sheen_through_view = sheen_through(p.n_dot_v);
+#endif
     return p;
 }
 
@@ -120,10 +133,18 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
 #else
     vec3 fresnel = fresnel_schlick(p.f0, v_dot_h);
 #endif
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    vec3 layered = p.diffuse + fresnel * (specular - p.diffuse);
+#ifdef PBR_SHEEN
+    float through = min(p.sheen_through_view, sheen_through(n_dot_l));
+    layered = layered * through + u_sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
+#endif
 #ifdef PBR_CLEARCOAT
     float coat = coat_fresnel(v_dot_h);
     float coat_specular = coat_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
-    return ((p.diffuse + fresnel * (specular - p.diffuse)) * (1.0 - coat) + coat * coat_specular) * n_dot_l;
+    layered = layered * (1.0 - coat) + coat * coat_specular;
+#endif
+    return layered * n_dot_l;
 #else
     return (p.diffuse + fresnel * (specular - p.diffuse)) * n_dot_l;
 #endif
@@ -136,8 +157,13 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
 struct PbrAmbientWeights {
     vec3 diffuse;
     vec3 specular;
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    float base_scale;  // what the sheen and coat let through to the base (diffuse and specular carry it)
+#endif
+#ifdef PBR_SHEEN
+    vec3 sheen;        // sheen E(N.V) (times what the coat lets through): the sheen's own reflection
+#endif
 #ifdef PBR_CLEARCOAT
-    float coat_scale;  // 1 - c Fc(N.V): what the coat lets through (diffuse and specular carry it)
     float coat;        // c (0.04 A_c + B_c): the coat's own reflection, at its roughness
 #endif
 };
@@ -157,21 +183,37 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     w.diffuse = s.base * (1.0 - s.metallic) * (1.0 - f0) * (1.0 - ambient_diffuse_fresnel(n_dot_v));
     w.specular = f0 * scale_bias.x + scale_bias.y;
 #endif
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    w.base_scale = 1.0;
+#endif
+#ifdef PBR_SHEEN
+    w.base_scale = sheen_through(n_dot_v);
+    w.sheen = u_sheen_color * sheen_albedo(n_dot_v, u_sheen_roughness);
+#endif
 #ifdef PBR_CLEARCOAT
     vec2 coat_scale_bias = ambient_specular(n_dot_v, u_clearcoat_roughness);
-    w.coat_scale = 1.0 - coat_fresnel(n_dot_v);
-    w.diffuse *= w.coat_scale;
-    w.specular *= w.coat_scale;
+    float coat_through = 1.0 - coat_fresnel(n_dot_v);
+    w.base_scale *= coat_through;
+#ifdef PBR_SHEEN
+    w.sheen *= coat_through;
+#endif
     w.coat = u_clearcoat * (0.04 * coat_scale_bias.x + coat_scale_bias.y);
+#endif
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    w.diffuse *= w.base_scale;
+    w.specular *= w.base_scale;
 #endif
     return w;
 }
 
 vec3 pbr_ambient(vec3 n, vec3 v, Surface s) {
     PbrAmbientWeights w = pbr_ambient_weights(n, v, s);
-#ifdef PBR_CLEARCOAT
-    return w.diffuse + w.specular + vec3(w.coat);
-#else
-    return w.diffuse + w.specular;
+    vec3 reflected = w.diffuse + w.specular;
+#ifdef PBR_SHEEN
+    reflected += w.sheen;
 #endif
+#ifdef PBR_CLEARCOAT
+    reflected += vec3(w.coat);
+#endif
+    return reflected;
 }

@@ -49,12 +49,15 @@ class MaterialSpec(StrictModel):
     alpha_cutoff: number(0, 1) | None = None
     double_sided: Bool | None = None
     # the pbr model's dielectric reflection (KHR_materials_ior, KHR_materials_specular) and
-    # clear coat (KHR_materials_clearcoat): docs/scene-notes.md, "Layers of the pbr model"
+    # clear coat (KHR_materials_clearcoat), sheen (KHR_materials_sheen): docs/scene-notes.md,
+    # "Layers of the pbr model"
     ior: number(1, MAX_IOR) | None = None
     specular_factor: number(0, 1) | None = None
     specular_color: vector(3, 0) | None = None
     clearcoat: number(0, 1) | None = None
     clearcoat_roughness: number(0, 1) | None = None
+    sheen_color: vector(3, 0, 1) | None = None  # KHR_materials_sheen
+    sheen_roughness: number(0, 1) | None = None
 
     @model_validator(mode="after")
     def _one_name_each(self):
