@@ -328,3 +328,46 @@ def test_an_extension_not_read_is_named_in_one_warning(tmp_path):
     lines = [line for line in result.output.splitlines() if line.startswith("warning")]
     assert len(lines) == 1
     assert "shiny.glb" in lines[0] and "extension KHR_materials_iridescence is not supported" in lines[0]
+
+
+# -- TANGENT ---------------------------------------------------------------------------------------
+
+def _normal_mapped_quad(path, tangent=None):
+    """The quad, its normal map tilting every normal towards +u and +v (red and green above
+    0.5), and, where given, its TANGENT (one (4,) value for every vertex)."""
+    builder = GlbBuilder()
+    mesh, uv = quad()
+    tilt = np.full((4, 4, 3), (190, 190, 200), np.uint8)
+    material = builder.material(pbrMetallicRoughness={"metallicFactor": 0.0, "roughnessFactor": 1.0},
+                                normalTexture={"index": builder.texture(tilt)})
+    primitive = builder.primitive(mesh, material, uv=uv)
+    if tangent is not None:
+        primitive["attributes"]["TANGENT"] = builder.accessor(np.tile(tangent, (4, 1)), "VEC4")
+    builder.node(builder.mesh(primitive))
+    return builder.write(path)
+
+
+TILTED = """
+render: {size: [24, 24], samples: 1, background: [0, 0, 0], shading: pbr}
+camera: {position: [0, 0, 5], target: [0, 0, 0], projection: orthographic, height: 2}
+lights: [{type: directional, direction: [-0.5, -0.5, -0.7]}]
+objects: [{mesh: model.glb}]
+"""
+
+
+def test_a_files_tangents_are_read_as_the_specification_says(gl, tmp_path):
+    # the quad's u runs along +x and its v (up the image) along +y: the tangent the
+    # renderer works out is (1, 0, 0) with handedness +1; the file saying so draws the same,
+    # the file saying otherwise turns the mapped normals with it
+    _normal_mapped_quad(tmp_path / "model.glb")
+    computed = render(gl, TILTED, base_dir=tmp_path)[0].astype(int)
+    _normal_mapped_quad(tmp_path / "model.glb", (1.0, 0.0, 0.0, 1.0))
+    stored = render(gl, TILTED, base_dir=tmp_path)[0].astype(int)
+    assert np.array_equal(stored, computed)
+    # handedness -1: the bitangent cross(n, t) w runs down, the green tilt away from the light
+    _normal_mapped_quad(tmp_path / "model.glb", (1.0, 0.0, 0.0, -1.0))
+    mirrored = render(gl, TILTED, base_dir=tmp_path)[0].astype(int)
+    # the tangent along -x with handedness +1: both tilts away from it
+    _normal_mapped_quad(tmp_path / "model.glb", (-1.0, 0.0, 0.0, 1.0))
+    turned = render(gl, TILTED, base_dir=tmp_path)[0].astype(int)
+    assert computed.mean() > mirrored.mean() + 5 > turned.mean() + 10

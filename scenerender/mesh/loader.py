@@ -371,8 +371,12 @@ def _part_arrays(raw: dict, shown: str) -> dict:
     _check_float32(normals, "a normal component after the node transform", where)
     if determinant < 0:  # a mirroring transform turns the winding inside out
         faces = faces[:, ::-1]
+    tangents = raw.get("tangents")
+    if tangents is not None:  # directions in the surface: the transform's linear part; a mirror turns the handedness
+        _check_float32(tangents, "a tangent component", where)
+        tangents = np.hstack([tangents[:, :3] @ linear.T, tangents[:, 3:] * (-1.0 if determinant < 0 else 1.0)])
     return {"positions": positions, "normals": normals, "uvs": uvs, "faces": faces,
-            "material": raw.get("material"), "colors": raw.get("colors")}
+            "material": raw.get("material"), "colors": raw.get("colors"), "tangents": tangents}
 
 
 def _check_float32(values: np.ndarray | None, what: str, where: SourceLocation) -> None:
@@ -405,6 +409,9 @@ def _concatenate(parts: list[dict], shown: str) -> MeshData:
         colors = np.concatenate([p["colors"] if p.get("colors") is not None else np.ones((len(p["positions"]), 4))
                                  for p in parts]).astype(np.float32)
     faces = [p["faces"] + offset for p, offset in zip(parts, offsets)]
+    tangents = None
+    if all(p.get("tangents") is not None for p in parts):  # else worked out from the uvs, for all alike
+        tangents = np.concatenate([p["tangents"] for p in parts]).astype(np.float32)
     return MeshData(
         positions=np.concatenate([p["positions"] for p in parts]).astype(np.float32),
         normals=normals,
@@ -413,6 +420,7 @@ def _concatenate(parts: list[dict], shown: str) -> MeshData:
         groups=_material_groups(parts),
         source=shown,
         colors=colors,
+        tangents=tangents,
     )
 
 
