@@ -351,18 +351,18 @@ def validate(scene, overrides, strict, assets, asset_roots, limit_texts):
     loaded = load_scene_or_model(scene, overrides, asset_roots=tuple(asset_roots), limits=_limits(limit_texts))
     clips, brought = [], 0
     if assets:
-        from scenerender.world.build import build_world
+        from scenerender.world.build import build_world, variant_lines
         from scenerender.world.node_animation import clip_lines
 
         world = build_world(loaded, warnings)
-        clips = clip_lines(loaded)
+        clips = clip_lines(loaded) + variant_lines(loaded)
         brought = sum(1 for light in world.lights if light.path[:1] == ("objects",))  # objects' `lights: true`
     spec = loaded.spec
     noted = f", {len(warnings.items)} warning(s)" if warnings.items else ""
     click.echo(f"ok: {scene} ({len(spec.objects)} objects, {len(spec.lights or []) + brought} lights, "
                f"{spec.output.frame_count} frame(s), {spec.render.size[0]}x{spec.render.size[1]}, "
                f"{len(loaded.assets.files_read)} asset file(s){noted})")
-    for line in clips:  # what `animation: {clip: ...}` can name
+    for line in clips:  # what `animation: {clip: ...}` and `variant:` can name
         click.echo(line)
 
 

@@ -160,7 +160,7 @@ def _own_mapping(table: Table, key: str, value) -> dict:
     if table.path == "camera" and key in ("from", "name"):  # a file's camera places the camera itself
         mapping.pop("position", None)
         mapping["from"] = "walker"
-    if table.path == "objects[]" and key in ("animation", "lights"):  # clips and lights come from a glTF file
+    if table.path == "objects[]" and key in ("animation", "lights", "variant"):  # clips, lights, variants: a glTF file's
         mapping["mesh"] = "models/walker.glb"
     if table.path == "camera.pose" and key == "convention":  # a pose needs its matrix
         mapping["camera_to_world"] = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]]

@@ -371,3 +371,54 @@ def test_a_files_tangents_are_read_as_the_specification_says(gl, tmp_path):
     _normal_mapped_quad(tmp_path / "model.glb", (-1.0, 0.0, 0.0, 1.0))
     turned = render(gl, TILTED, base_dir=tmp_path)[0].astype(int)
     assert computed.mean() > mirrored.mean() + 5 > turned.mean() + 10
+
+
+# -- KHR_materials_variants ------------------------------------------------------------------------
+
+def _variants_file(path):
+    """Two spheres: the left's material switches red / green / blue with the variants
+    'red', 'green' (and 'blue' lists it); the right's is grey in every variant."""
+    builder = GlbBuilder()
+    colours = {name: builder.material(name=name, pbrMetallicRoughness={"baseColorFactor": rgba, "metallicFactor": 0})
+               for name, rgba in (("red", [0.9, 0.1, 0.1, 1]), ("green", [0.1, 0.9, 0.1, 1]),
+                                  ("blue", [0.1, 0.1, 0.9, 1]), ("grey", [0.5, 0.5, 0.5, 1]))}
+    builder.uses("KHR_materials_variants")
+    builder.json.setdefault("extensions", {})["KHR_materials_variants"] = {
+        "variants": [{"name": "red"}, {"name": "green"}, {"name": "blue"}]}
+    left = builder.primitive(sphere(0.8), colours["red"])
+    left["extensions"] = {"KHR_materials_variants": {"mappings": [
+        {"material": colours["green"], "variants": [1]}, {"material": colours["blue"], "variants": [2]}]}}
+    builder.node(builder.mesh(left), translation=[-1, 0, 0])
+    builder.node(builder.mesh(builder.primitive(sphere(0.8), colours["grey"])), translation=[1, 0, 0])
+    return builder.write(path)
+
+
+def _variant_scene(variant: str = "") -> str:
+    chosen = f", variant: {variant}" if variant else ""
+    return f"""
+render: {{size: [64, 32], samples: 1, background: [0, 0, 0]}}
+camera: {{position: [0, 0, 6], target: [0, 0, 0], fov: 35}}
+objects: [{{mesh: model.glb{chosen}}}]
+"""
+
+
+@pytest.mark.parametrize("variant,channel", [("", 0), ("red", 0), ("green", 1), ("blue", 2)])
+def test_a_variant_switches_the_materials_it_lists(gl, tmp_path, variant, channel):
+    _variants_file(tmp_path / "model.glb")
+    image = render(gl, _variant_scene(variant), base_dir=tmp_path)[0].astype(int)
+    left, right = image[10:22, 10:22].reshape(-1, 3).mean(axis=0), image[10:22, 42:54].reshape(-1, 3).mean(axis=0)
+    assert np.argmax(left) == channel and left[channel] > 2 * np.delete(left, channel).max()
+    assert np.ptp(right) < 3  # grey in every variant
+
+
+def test_validate_lists_the_variants_and_an_unknown_one_exits_2_naming_them(tmp_path):
+    _variants_file(tmp_path / "model.glb")
+    listed = CliRunner().invoke(main, ["validate", str(tmp_path / "model.glb")])
+    assert listed.exit_code == 0, listed.output
+    assert "model.glb: variants 'red', 'green', 'blue'" in listed.output
+    (tmp_path / "scene.yaml").write_text(_variant_scene("purple"))
+    unknown = CliRunner().invoke(main, ["validate", str(tmp_path / "scene.yaml")])
+    assert unknown.exit_code == 2
+    assert "objects[0].variant" in unknown.output
+    assert "has no variant 'purple'; its variants: 'red', 'green', 'blue'" in unknown.output
+    assert "Traceback" not in unknown.output

@@ -45,8 +45,12 @@ _NORMALIZED = {5121: 255.0, 5123: 65535.0}
 READ_EXTENSIONS = (
     "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
     "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
+    "KHR_materials_variants",
     "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
 )
+
+
+VARIANTS_EXTENSION = "KHR_materials_variants"
 
 
 class GltfProblem(Exception):
@@ -158,11 +162,12 @@ def _json(data: bytes) -> dict:
     return header
 
 
-def read_gltf(raw: bytes, label: str, read_file) -> GltfFile:
+def read_gltf(raw: bytes, label: str, read_file, variant: str | None = None) -> GltfFile:
     """The materials, primitive slots and images of the glTF file ``raw`` (GLB or text).
 
     label: the file's name, prefixed to image keys. read_file(uri) -> bytes reads a file
     the glTF names (an external buffer or image), through the scene's asset policy.
+    variant: a KHR_materials_variants name: the primitives use its materials.
     Raises GltfProblem for anything unusable."""
     header, binary = split_glb(raw)
     result = GltfFile()
@@ -183,7 +188,7 @@ def read_gltf(raw: bytes, label: str, read_file) -> GltfFile:
                 continue
             attributes = _object(primitive.get("attributes", {}), "a primitive's attributes")
             count = _accessor_count(header, attributes.get("POSITION"))
-            material = primitive.get("material") if mode in _TRIANGLE_MODES else None
+            material = primitive_material(primitive, header, variant) if mode in _TRIANGLE_MODES else None
             if material is not None and not (_is_index(material) and material < len(materials)):
                 raise GltfProblem(f"a primitive names material {material!r}, the file has {len(materials)}")
             color = attributes.get("COLOR_0")
@@ -191,6 +196,33 @@ def read_gltf(raw: bytes, label: str, read_file) -> GltfFile:
             result.slots.append((material, count, color_type))
     _load_images(header, binary, result, label, read_file)
     return result
+
+
+def variant_names(header: dict) -> list[str]:
+    """The names of the file's KHR_materials_variants, in its order (empty without any)."""
+    extension = _object(_object(header.get("extensions", {}), "extensions").get(VARIANTS_EXTENSION, {}),
+                        VARIANTS_EXTENSION)
+    variants = extension.get("variants", [])
+    if not isinstance(variants, list):
+        raise GltfProblem(f"{VARIANTS_EXTENSION}.variants is not a list")
+    return [_text(_object(v, "a variant").get("name")) or f"variant{i}" for i, v in enumerate(variants)]
+
+
+def primitive_material(primitive: dict, header: dict, variant: str | None):
+    """The material index ``primitive`` uses: its own ``material``, or, under ``variant``
+    (a name of ``variant_names``), the one its KHR_materials_variants mappings give that
+    variant (its own where no mapping names it)."""
+    material = primitive.get("material")
+    if variant is None:
+        return material
+    index = variant_names(header).index(variant)
+    extension = _object(_object(primitive.get("extensions", {}), "a primitive's extensions").get(
+        VARIANTS_EXTENSION, {}), f"a primitive's {VARIANTS_EXTENSION}")
+    for mapping in _list(extension, "mappings"):
+        mapping = _object(mapping, f"a {VARIANTS_EXTENSION} mapping")
+        if index in _list(mapping, "variants"):
+            return mapping.get("material")
+    return material
 
 
 def vertex_colors(visual, component_type, vertex_count: int):

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from scenerender.mesh.gltf import GltfProblem, buffer_view_bytes, rgba_colors, split_glb
+from scenerender.mesh.gltf import VARIANTS_EXTENSION, GltfProblem, buffer_view_bytes, primitive_material, rgba_colors, split_glb
 
 _DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 _WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
@@ -35,11 +35,13 @@ class NotReadHere(Exception):
     """The file uses something this reader leaves to trimesh."""
 
 
-def read_parts(raw: bytes, read_file, material_names: list, deformations: bool = False) -> list[dict]:
+def read_parts(raw: bytes, read_file, material_names: list, deformations: bool = False,
+               variant: str | None = None) -> list[dict]:
     """The triangle parts of the glTF file ``raw`` (GLB or text) in world space order of its
     default scene's nodes, depth first. ``read_file(uri)`` reads an external buffer;
     ``material_names``: the names mesh.gltf gave the file's materials, by index.
     ``deformations``: also read each primitive's JOINTS_0, WEIGHTS_0 and morph targets.
+    ``variant``: a KHR_materials_variants name whose materials the primitives use.
 
     Raises NotReadHere where trimesh must read the file, GltfProblem where it is malformed."""
     header, binary = split_glb(raw)
@@ -56,17 +58,20 @@ def read_parts(raw: bytes, read_file, material_names: list, deformations: bool =
         if not (isinstance(mesh_index, int) and 0 <= mesh_index < len(meshes)):
             raise GltfProblem(f"a node names mesh {mesh_index!r}, the file has {len(meshes)}")
         for primitive in meshes[mesh_index].get("primitives", []):
-            part = _primitive(primitive, reader, material_names, deformations)
+            part = _primitive(primitive, reader, material_names, deformations, primitive_material(primitive, header,
+                                                                                                   variant))
             if part is not None:
                 parts.append({**part, "transform": transform, "node": index, "skin": node.get("skin"),
                               "morph_weights": node.get("weights", meshes[mesh_index].get("weights"))})
     return parts
 
 
-def _primitive(primitive: dict, reader: "_Accessors", material_names: list, deformations: bool) -> dict | None:
+def _primitive(primitive: dict, reader: "_Accessors", material_names: list, deformations: bool,
+               material) -> dict | None:
+    """``material``: the index of the material it uses (mesh.gltf.primitive_material)."""
     if primitive.get("mode", 4) != 4:
         raise NotReadHere("a primitive that is not a triangle list")
-    if primitive.get("extensions"):
+    if set(primitive.get("extensions") or ()) - {VARIANTS_EXTENSION}:  # which materials it takes is read here
         raise NotReadHere("a primitive with extensions")
     attributes = primitive.get("attributes", {})
     if "POSITION" not in attributes:
@@ -83,7 +88,6 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list, defo
         uv = np.column_stack([uv[:, 0], 1.0 - uv[:, 1]])
     colors = rgba_colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
     tangents = reader.read(attributes["TANGENT"], 4).astype(np.float64) if "TANGENT" in attributes else None
-    material = primitive.get("material")
     name = material_names[material] if isinstance(material, int) and 0 <= material < len(material_names) else None
     skinning = {}  # read only where a clip plays the file (mesh.loader.load_gltf_nodes)
     if deformations and "JOINTS_0" in attributes and "WEIGHTS_0" in attributes:

@@ -217,6 +217,7 @@ KEYS: dict[str, Key] = {
     "objects[].animation.offset": Key("The scene time (seconds) at which the clip's time 0 plays.", "1.5"),
     "objects[].animation.loop": Key("Wrap the clip's time round its duration; `false` holds its first and last pose.", "false"),
     "objects[].lights": Key("Bring the glTF file's own `KHR_lights_punctual` lights into the scene, placed by their nodes (moving with the object and its clip): point and spot intensity in candela and directional in lux become `intensity` I / pi with attenuation 1 / d^2, so the file looks as the Khronos Sample Viewer shows it. Off by default: a scene file's lights are its own. Any light, in `lights` or brought, replaces the default rig.", "true"),
+    "objects[].variant": Key("Draw the glTF file with the materials of one of its `KHR_materials_variants`, by name (`scenerender validate` lists them; an unknown one is an error naming them). Primitives the variant does not map keep their own material. Not set: the file's own materials.", "red"),
     "objects[].instances": Key("Draw the mesh many times in one draw call: a list of transforms, or `random:` placements. Each instance's transform applies inside the object's.",
                                "[{position: [1, 0, 2]}, {position: [-3, 0, 1], scale: 1.2}]"),
     "objects[].mesh[].primitive": Key("The kind of inline mesh; centred at the origin, axis along +Y.", "box"),

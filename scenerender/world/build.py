@@ -16,7 +16,7 @@ from scenerender.mesh.budget import TriangleBudget
 from scenerender.mesh.gltf import GltfProblem
 from scenerender.mesh.gltf_geometry import placed_nodes
 from scenerender.mesh.gltf_scene import file_cameras, file_lights
-from scenerender.mesh.loader import load_gltf_nodes, read_gltf_clips
+from scenerender.mesh.loader import gltf_variants, load_gltf_nodes, read_gltf_clips
 from scenerender.scene import LoadedScene
 from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
 from scenerender.scene.messages import single_error
@@ -145,6 +145,21 @@ def build_world(scene: LoadedScene, warnings: Warnings | None = None) -> World:
                  warnings=warnings, images=images, file_camera=loader.file_camera())
 
 
+def variant_lines(loaded: LoadedScene) -> list[str]:
+    """One line per glTF file the scene's objects use that has KHR_materials_variants: their
+    names (what ``scenerender validate`` lists, what ``objects[].variant`` can name)."""
+    lines, seen = [], set()
+    for obj in loaded.spec.objects:
+        mesh = obj.mesh
+        if not (isinstance(mesh, Path) and mesh.suffix.lower() in (".gltf", ".glb")) or mesh in seen:
+            continue
+        seen.add(mesh)
+        names = gltf_variants(mesh, loaded.assets)
+        if names:
+            lines.append(f"  {display_path(mesh)}: variants " + ", ".join(f"'{name}'" for name in names))
+    return lines
+
+
 def _limit(scene: LoadedScene, name: str, default: int) -> int:
     return getattr(getattr(scene, "limits", None), name, default)
 
@@ -169,6 +184,8 @@ def _mesh_key(obj) -> tuple:
         return ("memory", id(obj.mesh), obj.normals, obj.normalize)
     if hasattr(obj.mesh, "primitive"):
         return ("primitive", tuple(sorted(obj.mesh.model_dump().items())), obj.normals, obj.normalize)
+    if obj.variant is not None:  # the same file with other materials
+        return ("file", str(obj.mesh), obj.normals, obj.normalize, ("variant", obj.variant))
     return ("file", str(obj.mesh), obj.normals, obj.normalize)
 
 
@@ -190,8 +207,9 @@ class _Loader:
             return [self.build_object(index, obj)]
         path = ("objects", index)
         header, clips, skins = read_gltf_clips(obj.mesh, self.scene.assets)
+        self._check_variant(index, obj)
         meshes = load_gltf_nodes(obj.mesh, normals=obj.normals, warnings=self.warnings,
-                                 assets=self.scene.assets, budget=self.budget)
+                                 assets=self.scene.assets, budget=self.budget, variant=obj.variant)
         clip = find_clip(clips, obj.animation.clip)
         if clip is None:
             have = f"its clips: {clips_text(clips)}" if clips else "it has no animations"
@@ -212,6 +230,16 @@ class _Loader:
                 part.deform = self._deformation(player, skins, node, deform, path)
             parts.append(part)
         return parts
+
+    def _check_variant(self, index: int, obj) -> None:
+        """An object's ``variant`` must be one its glTF file has (exit 2 listing them)."""
+        if obj.variant is None:
+            return
+        names = gltf_variants(obj.mesh, self.scene.assets)
+        if obj.variant not in names:
+            have = "its variants: " + ", ".join(f"'{name}'" for name in names) if names else "it has no variants"
+            raise single_error(f"{display_path(obj.mesh)} has no variant '{obj.variant}'; {have}",
+                               ("objects", index, "variant"), self.scene.source)
 
     def file_lights(self) -> list:
         """LightDefs of the glTF files' lights, for each object with ``lights: true`` in
@@ -292,7 +320,7 @@ class _Loader:
         if loaded is None:
             key, mesh = self.load(obj, path)
         else:
-            key, mesh = ("file", str(obj.mesh), obj.normals, obj.normalize, *loaded[0]), loaded[1]
+            key, mesh = (*_mesh_key(obj), *loaded[0]), loaded[1]
             self.meshes[key] = mesh  # its images join the scene's with every other mesh's
         name = name or obj.name or _default_name(obj, index)
         materials = self.object_materials(obj, mesh, path)
@@ -325,8 +353,9 @@ class _Loader:
                 if obj.normals == "flat":
                     mesh = apply_normals_mode(mesh, "flat")
             else:
+                self._check_variant(path[1], obj)
                 mesh = load_mesh(obj.mesh, normals=obj.normals, normalize=False, warnings=self.warnings,
-                                 assets=self.scene.assets, budget=self.budget)
+                                 assets=self.scene.assets, budget=self.budget, variant=obj.variant)
             if obj.normalize:
                 mesh = normalize_unit(mesh)
             self.meshes[key] = mesh

@@ -64,3 +64,13 @@ def check_file_lights(obj) -> None:
         raise PydanticCustomError("lights", "lights: true places the file's lights by the object's own transform; "
                                   "an object with instances would need one set per instance (remove one of the "
                                   "keys)", {"subpath": ("lights",)})
+
+
+def check_variant(obj) -> None:
+    """``variant`` picks materials of a glTF file's KHR_materials_variants."""
+    if obj.variant is None:
+        return
+    mesh = obj.mesh
+    if not (isinstance(mesh, str) and mesh.lower().endswith(GLTF_SUFFIXES)):
+        raise PydanticCustomError("variant", "variant picks one of a glTF file's material variants (.gltf, .glb), "
+                                  "and this object's mesh is not one", {"subpath": ("variant",)})
