@@ -422,3 +422,54 @@ def test_validate_lists_the_variants_and_an_unknown_one_exits_2_naming_them(tmp_
     assert "objects[0].variant" in unknown.output
     assert "has no variant 'purple'; its variants: 'red', 'green', 'blue'" in unknown.output
     assert "Traceback" not in unknown.output
+
+
+# -- texCoord: 1 ----------------------------------------------------------------------------------
+
+def _two_uv_sets_quad(path, tex_coord: int, second_set: bool = True):
+    """The quad with a left-red, right-blue base colour texture; set 0 maps it as it
+    stands, set 1 mirrored left to right; the texture asks for set ``tex_coord``."""
+    builder = GlbBuilder()
+    mesh, uv = quad()
+    pixels = np.zeros((4, 4, 3), np.uint8)
+    pixels[:, :2] = (230, 20, 20)
+    pixels[:, 2:] = (20, 20, 230)
+    material = builder.material(pbrMetallicRoughness={"baseColorTexture": {"index": builder.texture(
+        pixels, {"magFilter": 9728, "minFilter": 9728}), "texCoord": tex_coord}, "metallicFactor": 0})
+    primitive = builder.primitive(mesh, material, uv=uv)
+    if second_set:
+        primitive["attributes"]["TEXCOORD_1"] = builder.accessor(np.column_stack([1.0 - uv[:, 0], uv[:, 1]]), "VEC2")
+    builder.node(builder.mesh(primitive))
+    return builder.write(path)
+
+
+FLAT_QUAD = """
+render: {size: [32, 32], samples: 1, background: [0, 0, 0], shading: unlit}
+camera: {position: [0, 0, 5], target: [0, 0, 0], projection: orthographic, height: 2}
+objects: [{mesh: model.glb}]
+"""
+
+
+@pytest.mark.parametrize("tex_coord", [0, 1])
+def test_a_texture_reads_the_coordinate_set_it_asks_for(gl, tmp_path, tex_coord):
+    _two_uv_sets_quad(tmp_path / "model.glb", tex_coord)
+    loaded = scenerender.Scene.from_yaml(FLAT_QUAD, tmp_path)
+    with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
+        image = renderer.render(0).pixels.astype(int)
+    left, right = image[8:24, 2:12].reshape(-1, 3).mean(axis=0), image[8:24, 20:30].reshape(-1, 3).mean(axis=0)
+    red_left = left[0] > 150 and right[2] > 150
+    assert red_left == (tex_coord == 0)
+    assert (left[2] > 150 and right[0] > 150) == (tex_coord == 1)
+    # the reference reads the same set
+    from scenerender.raytrace import render_reference
+    reference = render_reference(loaded, 0, spp=1).linear
+    assert (reference[16, 4, 0] > reference[16, 4, 2]) == (tex_coord == 0)
+
+
+def test_a_texture_asking_for_a_set_the_mesh_lacks_reads_set_0_with_a_warning(gl, tmp_path):
+    _two_uv_sets_quad(tmp_path / "model.glb", 1, second_set=False)
+    warned = []
+    image = render(gl, FLAT_QUAD, base_dir=tmp_path, warnings=None)[0].astype(int)
+    assert image[16, 4, 0] > 150 and image[16, 28, 2] > 150  # set 0: red left
+    loaded = scenerender.Scene.from_yaml(FLAT_QUAD, tmp_path, on_warning=warned.append)
+    assert any("texture coordinate set 1" in line and "model.glb" in line for line in loaded.warnings)

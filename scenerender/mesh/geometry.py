@@ -96,6 +96,7 @@ def flat_shaded(mesh: MeshData) -> MeshData:
         uvs=None if mesh.uvs is None else mesh.uvs[corners].astype(np.float32),
         colors=None if mesh.colors is None else mesh.colors[corners].astype(np.float32),
         tangents=None if mesh.tangents is None else mesh.tangents[corners].astype(np.float32),
+        uvs1=None if mesh.uvs1 is None else mesh.uvs1[corners].astype(np.float32),
         indices=np.arange(len(corners), dtype=np.uint32).reshape(-1, 3),
         groups=list(mesh.groups),
     )

@@ -69,7 +69,7 @@ class GltfTexture:
     scale:     ``normalTexture.scale`` or ``occlusionTexture.strength`` (1 elsewhere).
     wrap:      "repeat" | "clamp" | "mirror", from the sampler's ``wrapS``.
     nearest:   the sampler's ``magFilter`` is NEAREST.
-    tex_coord: the ``texCoord`` set it asks for (only set 0 is read).
+    tex_coord: the ``texCoord`` set it asks for (0 or 1; a file asking for more reads 0).
     """
 
     image: str | None
@@ -349,8 +349,8 @@ def _texture(info, header: dict, result: GltfFile, label: str, what: str, scale_
     tex_coord = transform.get("texCoord", tex_coord)
     if not _is_index(tex_coord):
         raise GltfProblem(f"{what}: texCoord {tex_coord!r}")
-    if tex_coord != 0:
-        note = f"texture coordinate set {tex_coord} (only set 0 is read)"
+    if tex_coord > 1:
+        note = f"texture coordinate set {tex_coord} (sets 0 and 1 are read; it reads set 0)"
         if note not in result.unsupported:
             result.unsupported.append(note)
     scale, offset, skew = _uv_affine(transform)
@@ -358,7 +358,7 @@ def _texture(info, header: dict, result: GltfFile, label: str, what: str, scale_
         image=image, uv_scale=scale, uv_offset=offset, uv_skew=skew,
         scale=_numbers([info.get(scale_key, 1.0)], 1, f"{what}.{scale_key}", -1e6, 1e6)[0] if scale_key else 1.0,
         wrap=_WRAP.get(sampler.get("wrapS", 10497), "repeat"),
-        nearest=sampler.get("magFilter") in _NEAREST_FILTERS, tex_coord=tex_coord)
+        nearest=sampler.get("magFilter") in _NEAREST_FILTERS, tex_coord=tex_coord if tex_coord <= 1 else 0)
 
 
 def _uv_affine(transform: dict) -> tuple:

@@ -14,7 +14,7 @@ ignored, as trimesh does.
 The parts come out as the trimesh path gives them (mesh.loader._raw_parts): vertices,
 faces, the normals the file stores (else None), TEXCOORD_0 with v flipped (trimesh's
 convention: v = 0 at the image's bottom row), the node's world transform, the material's
-name, COLOR_0 as linear RGBA and TANGENT (else None; its bitangent keeps its meaning
+name, COLOR_0 as linear RGBA, TEXCOORD_1 as TEXCOORD_0 and TANGENT (else None; its bitangent keeps its meaning
 with v flipped, since the flip turns both the texture's v and the frame's handedness). The checks after (mesh.loader._part_arrays) are shared.
 """
 from __future__ import annotations
@@ -88,6 +88,10 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list, defo
         uv = np.column_stack([uv[:, 0], 1.0 - uv[:, 1]])
     colors = rgba_colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
     tangents = reader.read(attributes["TANGENT"], 4).astype(np.float64) if "TANGENT" in attributes else None
+    uv1 = None
+    if "TEXCOORD_1" in attributes:
+        uv1 = reader.read(attributes["TEXCOORD_1"], 2)
+        uv1 = np.column_stack([uv1[:, 0], 1.0 - uv1[:, 1]])
     name = material_names[material] if isinstance(material, int) and 0 <= material < len(material_names) else None
     skinning = {}  # read only where a clip plays the file (mesh.loader.load_gltf_nodes)
     if deformations and "JOINTS_0" in attributes and "WEIGHTS_0" in attributes:
@@ -98,7 +102,8 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list, defo
     return {**skinning, "vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
             "normals": normals.astype(np.float64) if normals is not None and len(normals) == count else None,
             "uv": uv if uv is not None and len(uv) == count else None, "material": name, "colors": colors,
-            "tangents": tangents if tangents is not None and len(tangents) == count else None}
+            "tangents": tangents if tangents is not None and len(tangents) == count else None,
+            "uv1": uv1 if uv1 is not None and len(uv1) == count else None}
 
 
 def accessor_reader(header: dict, binary: bytes | None, read_file):

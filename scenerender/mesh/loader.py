@@ -376,6 +376,8 @@ def _part_arrays(raw: dict, shown: str) -> dict:
     _check_float32(positions, "a vertex coordinate", where)
     _check_float32(normals, "a normal component", where)
     _check_float32(uvs, "a texture coordinate", where)
+    uvs1 = raw.get("uv1")
+    _check_float32(uvs1, "a texture coordinate", where)
     linear = transform[:3, :3]
     determinant = np.linalg.det(linear)
     with np.errstate(all="ignore"):  # judged by the checks below, not by NumPy's warnings
@@ -392,7 +394,7 @@ def _part_arrays(raw: dict, shown: str) -> dict:
         _check_float32(tangents, "a tangent component", where)
         tangents = np.hstack([tangents[:, :3] @ linear.T, tangents[:, 3:] * (-1.0 if determinant < 0 else 1.0)])
     return {"positions": positions, "normals": normals, "uvs": uvs, "faces": faces,
-            "material": raw.get("material"), "colors": raw.get("colors"), "tangents": tangents}
+            "material": raw.get("material"), "colors": raw.get("colors"), "tangents": tangents, "uvs1": uvs1}
 
 
 def _check_float32(values: np.ndarray | None, what: str, where: SourceLocation) -> None:
@@ -425,6 +427,10 @@ def _concatenate(parts: list[dict], shown: str) -> MeshData:
         colors = np.concatenate([p["colors"] if p.get("colors") is not None else np.ones((len(p["positions"]), 4))
                                  for p in parts]).astype(np.float32)
     faces = [p["faces"] + offset for p, offset in zip(parts, offsets)]
+    uvs1 = None
+    if any(p.get("uvs1") is not None for p in parts):  # parts without: (0, 0), as for set 0
+        uvs1 = np.concatenate([p["uvs1"] if p.get("uvs1") is not None else np.zeros((len(p["positions"]), 2))
+                               for p in parts]).astype(np.float32)
     tangents = None
     if all(p.get("tangents") is not None for p in parts):  # else worked out from the uvs, for all alike
         tangents = np.concatenate([p["tangents"] for p in parts]).astype(np.float32)
@@ -437,6 +443,7 @@ def _concatenate(parts: list[dict], shown: str) -> MeshData:
         source=shown,
         colors=colors,
         tangents=tangents,
+        uvs1=uvs1,
     )
 
 

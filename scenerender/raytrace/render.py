@@ -497,7 +497,8 @@ class _FrameScene:
             rows = np.flatnonzero(m == material_index)
             if not len(rows):
                 continue
-            sample = {key: sampler.sample(uv[rows]) for key, sampler in samplers.items()}
+            sample = {key: sampler.sample(uv[rows, 2:] if sampler.uv_set == 1 else uv[rows, :2])
+                      for key, sampler in samplers.items()}
             if "diffuse_map" in sample:
                 surface["diffuse"][rows] *= sample["diffuse_map"][:, :3]
             if "specular_map" in sample:

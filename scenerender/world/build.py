@@ -4,7 +4,7 @@ Still no GL: the World is CPU data the GPU layer uploads once per run.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 
@@ -326,6 +326,7 @@ class _Loader:
         materials = self.object_materials(obj, mesh, path)
         for material in materials:
             material.vertex_colors = mesh.colors is not None
+            self._read_set_zero_without_set_one(material, mesh)
         if obj.instances is None:
             instances = single_instance()
         elif isinstance(obj.instances, list):
@@ -336,6 +337,17 @@ class _Loader:
                             position=obj.position, rotation=obj.rotation, scale=obj.scale, visible=obj.visible,
                             cast_shadows=obj.cast_shadows, outline=_outline(obj.outline), instances=instances,
                             motion=motion)
+
+    def _read_set_zero_without_set_one(self, material, mesh) -> None:
+        """Textures asking for texture coordinate set 1 of a mesh without one read set 0,
+        with a warning (once per mesh file)."""
+        if mesh.uvs1 is not None or not any(source.uv_set == 1 for source in material.maps.values()):
+            return
+        material.maps = {key: replace(source, uv_set=0) for key, source in material.maps.items()}
+        if (mesh.source, "uv1") not in self.reported:
+            self.reported.add((mesh.source, "uv1"))
+            self.warnings.warn(f"{mesh.source}: a texture asks for texture coordinate set 1 (texCoord: 1), which "
+                               "the mesh does not have; it reads set 0")
 
     def load(self, obj, path: tuple):
         key = _mesh_key(obj)

@@ -64,6 +64,8 @@ class TextureSource:
     strength:  bump multiplier (MTL ``-bm``), normal maps only.
     embedded:  the image is held by the mesh file (a glTF), keyed by ``path``, which names no
                file; it was decoded with the mesh.
+    uv_set:    the mesh's texture coordinates it reads: 0 (``uvs``) or 1 (``uvs1``, glTF
+               ``texCoord: 1``).
     mtl_location: the MTL file and line that named it (None when the scene named it). An
                unreadable texture an MTL names becomes the placeholder with a warning.
     scene_key: the scene's key path that named it, e.g. ("materials", "stone", "diffuse_map");
@@ -79,6 +81,7 @@ class TextureSource:
     scene_key: tuple | None = None
     uv_skew: tuple = (0.0, 0.0)
     embedded: bool = False
+    uv_set: int = 0
 
     @property
     def is_placeholder(self) -> bool:
@@ -256,7 +259,7 @@ def apply_gltf(material: Material, gltf, location: SourceLocation | None = None)
         material.maps[key] = TextureSource(
             path=None if texture.image is None else Path(texture.image), srgb=SRGB_MAPS[key],
             uv_scale=tuple(texture.uv_scale), uv_offset=tuple(texture.uv_offset), uv_skew=tuple(texture.uv_skew),
-            mtl_location=location, embedded=True)
+            mtl_location=location, embedded=True, uv_set=texture.tex_coord)
     if "normal_map" in textures:
         material.normal_scale = float(textures["normal_map"].scale)
     if "occlusion_map" in textures:
