@@ -473,3 +473,59 @@ def test_a_texture_asking_for_a_set_the_mesh_lacks_reads_set_0_with_a_warning(gl
     assert image[16, 4, 0] > 150 and image[16, 28, 2] > 150  # set 0: red left
     loaded = scenerender.Scene.from_yaml(FLAT_QUAD, tmp_path, on_warning=warned.append)
     assert any("texture coordinate set 1" in line and "model.glb" in line for line in loaded.warnings)
+
+
+# -- malformed files -------------------------------------------------------------------------------
+
+JUNK = [None, -1, 0, 1e308, "x", [], {}, [1, 2], {"a": 1}, True, 99, -0.5, [None]]
+
+
+def _json_paths(value, path=()):
+    if isinstance(value, dict):
+        items = value.items()
+    elif isinstance(value, list):
+        items = enumerate(value)
+    else:
+        return
+    for key, child in items:
+        yield path + (key,)
+        yield from _json_paths(child, path + (key,))
+
+
+def test_junk_in_a_files_lights_cameras_nodes_and_variants_exits_0_or_2(tmp_path):
+    # one or two values of the JSON's lights, cameras, nodes, scenes and variants replaced
+    # by junk, 40 files (seeded): each validates or is refused with exit 2, naming the file
+    import copy
+    import json
+    import random
+    import struct
+    blender_style(tmp_path / "base.glb", clip=True)
+    raw = (tmp_path / "base.glb").read_bytes()
+    length = struct.unpack_from("<I", raw, 12)[0]
+    header, binary = json.loads(raw[20:20 + length]), raw[20 + length:]
+    header["extensions"]["KHR_materials_variants"] = {"variants": [{"name": "a"}]}
+    header["meshes"][0]["primitives"][0]["extensions"] = {
+        "KHR_materials_variants": {"mappings": [{"material": 1, "variants": [0]}]}}
+    paths = list(_json_paths({k: header[k] for k in ("extensions", "cameras", "nodes", "scenes", "meshes")}))
+    (tmp_path / "scene.yaml").write_text("camera: {from: f}\nobjects: [{name: f, mesh: f.glb, lights: true, "
+                                         "variant: a, animation: {clip: 0}}]\n")
+    rng = random.Random(7)
+    for _ in range(40):
+        changed = copy.deepcopy(header)
+        for _ in range(rng.randint(1, 2)):
+            *parents, last = rng.choice(paths)
+            holder = changed
+            try:
+                for key in parents:
+                    holder = holder[key]
+                holder[last] = rng.choice(JUNK)
+            except (KeyError, IndexError, TypeError):
+                continue
+        text = json.dumps(changed).encode()
+        text += b" " * (-len(text) % 4)
+        body = struct.pack("<II", len(text), 0x4E4F534A) + text + binary
+        (tmp_path / "f.glb").write_bytes(struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body)
+        for target in ("f.glb", "scene.yaml"):
+            result = CliRunner().invoke(main, ["validate", str(tmp_path / target)])
+            assert result.exit_code in (0, 2), result.output
+            assert "internal error" not in result.output and "Traceback" not in result.output

@@ -174,16 +174,17 @@ def placed_nodes(header: dict, changed: dict | None = None):
     """(index, node, world transform (4, 4) float64) for every node of the default scene
     (all root nodes where the file has no scenes), depth first in the file's order.
     ``changed``: node index -> {"translation" | "rotation" | "scale": value} replacing the
-    file's own (an animation at one instant)."""
-    nodes = header.get("nodes", [])
-    scenes = header.get("scenes", [])
+    file's own (an animation at one instant). Raises GltfProblem where a node, the scene
+    or a transform is malformed."""
+    nodes = _json_list(header.get("nodes", []), "nodes")
+    scenes = _json_list(header.get("scenes", []), "scenes")
     if scenes:
         scene = header.get("scene", 0)
-        if not (isinstance(scene, int) and 0 <= scene < len(scenes)):
+        if not (isinstance(scene, int) and 0 <= scene < len(scenes) and isinstance(scenes[scene], dict)):
             raise GltfProblem(f"the default scene {scene!r} is not one of the {len(scenes)} scenes")
-        roots = scenes[scene].get("nodes", [])
+        roots = _json_list(scenes[scene].get("nodes", []), "a scene's nodes")
     else:
-        children = {c for node in nodes for c in node.get("children", [])}
+        children = {c for node in nodes if isinstance(node, dict) for c in _children(node) if isinstance(c, int)}
         roots = [i for i in range(len(nodes)) if i not in children]
     stack = [(root, np.eye(4), 0) for root in reversed(roots)]
     while stack:
@@ -191,21 +192,30 @@ def placed_nodes(header: dict, changed: dict | None = None):
         if not (isinstance(index, int) and 0 <= index < len(nodes)) or depth > _MAX_DEPTH:
             raise GltfProblem(f"node {index!r} is not in the file, or the hierarchy runs in a circle")
         node = nodes[index]
+        if not isinstance(node, dict):
+            raise GltfProblem(f"nodes[{index}] is not an object")
         world = parent @ _local({**node, **changed[index]} if changed and index in changed else node)
         yield index, node, world
-        stack.extend((child, world, depth + 1) for child in reversed(node.get("children", [])))
+        stack.extend((child, world, depth + 1) for child in reversed(_children(node)))
+
+
+def _json_list(value, what: str) -> list:
+    if not isinstance(value, list):
+        raise GltfProblem(f"{what} is not a list")
+    return value
+
+
+def _children(node: dict) -> list:
+    return _json_list(node.get("children", []), "a node's children")
 
 
 def _local(node: dict) -> np.ndarray:
     """A node's transform: its matrix (column-major in the file), else T R S."""
     if "matrix" in node:
-        matrix = np.asarray(node["matrix"], dtype=np.float64)
-        if matrix.shape != (16,):
-            raise GltfProblem("a node's matrix does not have 16 numbers")
-        return matrix.reshape(4, 4).T
+        return _numbers(node["matrix"], 16, "a node's matrix").reshape(4, 4).T
     transform = np.eye(4)
-    quaternion = np.asarray(node.get("rotation", (0.0, 0.0, 0.0, 1.0)), dtype=np.float64)
-    norm = np.linalg.norm(quaternion) if quaternion.shape == (4,) else 0.0
+    quaternion = _numbers(node.get("rotation", (0.0, 0.0, 0.0, 1.0)), 4, "a node's rotation")
+    norm = np.linalg.norm(quaternion)
     if not norm > 0.0:
         raise GltfProblem("a node's rotation is not a quaternion")
     x, y, z, w = quaternion / norm
@@ -214,7 +224,22 @@ def _local(node: dict) -> np.ndarray:
         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
     ])
-    scale = np.asarray(node.get("scale", (1.0, 1.0, 1.0)), dtype=np.float64)
+    scale = _numbers(node.get("scale", (1.0, 1.0, 1.0)), 3, "a node's scale")
     transform[:3, :3] = rotation * scale[None, :]
-    transform[:3, 3] = np.asarray(node.get("translation", (0.0, 0.0, 0.0)), dtype=np.float64)
+    transform[:3, 3] = _numbers(node.get("translation", (0.0, 0.0, 0.0)), 3, "a node's translation")
     return transform
+
+
+def _numbers(value, count: int, what: str) -> np.ndarray:
+    """(count,) float64 of a JSON list of ``count`` finite numbers (an animation's values
+    are arrays already)."""
+    if isinstance(value, np.ndarray):
+        array = value.astype(np.float64).reshape(-1)
+    elif isinstance(value, (list, tuple)) and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                  for v in value):
+        array = np.asarray(value, dtype=np.float64)
+    else:
+        raise GltfProblem(f"{what} is not {count} numbers")
+    if array.shape != (count,) or not np.isfinite(array).all():
+        raise GltfProblem(f"{what} is not {count} finite numbers")
+    return array

@@ -103,9 +103,9 @@ def file_light(light: GltfLight, placement: NodePlacement, name: str, path: tupl
 class FileCamera:
     """The camera of a glTF file the scene looks through: its lens and where its node is.
 
-    fov: vertical field of view in degrees (perspective); height: the orthographic view's
-    height in world units (2 ymag times the placement's scale along the camera's Y is not
-    applied: glTF's camera ignores its node's scale)."""
+    fov: the vertical field of view in degrees (perspective); height: the orthographic
+    view's height in world units, 2 ymag (the node's scale does not change it: glTF's
+    cameras ignore their node's scale)."""
 
     camera: GltfCamera
     placement: NodePlacement
