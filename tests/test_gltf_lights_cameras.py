@@ -278,11 +278,11 @@ def test_a_blender_style_glb_renders_framed_and_lit_without_a_scene_file(gl, tmp
     assert red.sum() > 3000
     assert abs(cols.mean() - 360) < 20 and 180 < rows.mean() < 330
     # lit by the file's lights: the same picture as the scene that names them
-    written = f"""
-render: {{size: [720, 480], shading: pbr}}
-camera: {{from: model, name: Camera}}
+    written = """
+render: {size: [720, 480], shading: pbr}
+camera: {from: model, name: Camera}
 lights: []
-objects: [{{name: model, mesh: model.glb, lights: true}}]
+objects: [{name: model, mesh: model.glb, lights: true}]
 """
     assert np.abs(render(gl, written, base_dir=tmp_path)[0].astype(int) - image).max() <= 1
 
@@ -468,10 +468,9 @@ def test_a_texture_reads_the_coordinate_set_it_asks_for(gl, tmp_path, tex_coord)
 
 def test_a_texture_asking_for_a_set_the_mesh_lacks_reads_set_0_with_a_warning(gl, tmp_path):
     _two_uv_sets_quad(tmp_path / "model.glb", 1, second_set=False)
-    warned = []
-    image = render(gl, FLAT_QUAD, base_dir=tmp_path, warnings=None)[0].astype(int)
+    image = render(gl, FLAT_QUAD, base_dir=tmp_path)[0].astype(int)
     assert image[16, 4, 0] > 150 and image[16, 28, 2] > 150  # set 0: red left
-    loaded = scenerender.Scene.from_yaml(FLAT_QUAD, tmp_path, on_warning=warned.append)
+    loaded = scenerender.Scene.from_yaml(FLAT_QUAD, tmp_path)
     assert any("texture coordinate set 1" in line and "model.glb" in line for line in loaded.warnings)
 
 
