@@ -278,6 +278,8 @@ def _scene_overrides(with_samples: bool = True):
 def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, profile, check,
            update_references, object_ids, workers, scheduler, require_gpu, asset_roots, limit_texts):
     """Render SCENE into -o OUTPUT: a folder of frames, or the video or image file it names.
+    SCENE is a scene file, or a glTF file (.glb, .gltf) rendered as it stands: its first
+    camera (else framing its bounds), its lights (else the default rig), its first clip.
 
     A frame already in OUTPUT is kept only when the run manifest (OUTPUT/.scenerender.json)
     shows it was made from the same scene, assets, options and scenerender version;
@@ -290,6 +292,7 @@ def render(scene, output, overrides, fmt, frames, overwrite, strict, quiet, prof
       scenerender render scene.yaml -o out/clip.mp4 --format mp4
       scenerender render scene.yaml -o out/ --size 320x240 --samples 1 --frames 0:10
       scenerender render scene.yaml -o still.png --format png --frames 12   # one frame, one file
+      scenerender render model.glb -o out/     # a glTF file as it stands: its camera, lights, first clip
     In CI:
       scenerender render scene.yaml -o out/ --check ref/             # exit 1 when frames changed
       scenerender render scene.yaml -o out/ --check ref/ --update-references
@@ -340,25 +343,27 @@ def validate(scene, overrides, strict, assets, asset_roots, limit_texts):
     values; every file the scene names (inside the allowed folders, regular files); meshes
     and MTL files parsed; textures and skybox faces decoded; limits. Lists every warning,
     then prints 'ok' and exits 0 when the scene is valid; a scene that validates does not
-    fail in `render` because of its input."""
+    fail in `render` because of its input. SCENE may be a glTF file (.glb, .gltf): the
+    scene `render` makes of it."""
     from scenerender.errors import Warnings
-    from scenerender.scene import load_scene
+    from scenerender.run.model_scene import load_scene_or_model
 
     warnings = Warnings(strict=strict, echo=lambda t: click.echo(t, err=True))
-    loaded = load_scene(scene, overrides, asset_roots=tuple(asset_roots), limits=_limits(limit_texts))
-    clips = []
+    loaded = load_scene_or_model(scene, overrides, asset_roots=tuple(asset_roots), limits=_limits(limit_texts))
+    clips, brought = [], 0
     if assets:
-        from scenerender.world.build import build_world
+        from scenerender.world.build import build_world, variant_lines
         from scenerender.world.node_animation import clip_lines
 
-        build_world(loaded, warnings)
-        clips = clip_lines(loaded)
+        world = build_world(loaded, warnings)
+        clips = clip_lines(loaded) + variant_lines(loaded)
+        brought = sum(1 for light in world.lights if light.path[:1] == ("objects",))  # objects' `lights: true`
     spec = loaded.spec
     noted = f", {len(warnings.items)} warning(s)" if warnings.items else ""
-    click.echo(f"ok: {scene} ({len(spec.objects)} objects, {len(spec.lights or [])} lights, "
+    click.echo(f"ok: {scene} ({len(spec.objects)} objects, {len(spec.lights or []) + brought} lights, "
                f"{spec.output.frame_count} frame(s), {spec.render.size[0]}x{spec.render.size[1]}, "
                f"{len(loaded.assets.files_read)} asset file(s){noted})")
-    for line in clips:  # what `animation: {clip: ...}` can name
+    for line in clips:  # what `animation: {clip: ...}` and `variant:` can name
         click.echo(line)
 
 

@@ -104,6 +104,26 @@ class GlbBuilder:
         self.json.setdefault("materials", []).append(fields)
         return len(self.json["materials"]) - 1
 
+    def light(self, **fields) -> int:
+        """A KHR_lights_punctual light (``type``, ``intensity``...); a node holds it with
+        ``extensions={"KHR_lights_punctual": {"light": index}}``."""
+        self.uses("KHR_lights_punctual")
+        lights = self.json.setdefault("extensions", {}).setdefault("KHR_lights_punctual", {"lights": []})["lights"]
+        lights.append(fields)
+        return len(lights) - 1
+
+    def camera(self, **fields) -> int:
+        """A camera (``type`` and its ``perspective`` or ``orthographic``); a node holds it with
+        ``camera=index``."""
+        self.json.setdefault("cameras", []).append(fields)
+        return len(self.json["cameras"]) - 1
+
+    def uses(self, extension: str) -> None:
+        """List ``extension`` in extensionsUsed."""
+        used = self.json.setdefault("extensionsUsed", [])
+        if extension not in used:
+            used.append(extension)
+
     def animation(self, name: str | None, channels: list) -> int:
         """A clip of ``channels``: (node, path, times (K,), values (K or 3 K, D), interpolation)."""
         clip = {"channels": [], "samplers": []}

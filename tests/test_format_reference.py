@@ -157,7 +157,10 @@ def _own_mapping(table: Table, key: str, value) -> dict:
     mapping[key] = value
     if table.path == "camera" and key == "pose":  # a pose places the camera instead of a position
         mapping.pop("position", None)
-    if table.path == "objects[]" and key == "animation":  # clips come from a glTF file
+    if table.path == "camera" and key in ("from", "name"):  # a file's camera places the camera itself
+        mapping.pop("position", None)
+        mapping["from"] = "walker"
+    if table.path == "objects[]" and key in ("animation", "lights", "variant"):  # clips, lights, variants: a glTF file's
         mapping["mesh"] = "models/walker.glb"
     if table.path == "camera.pose" and key == "convention":  # a pose needs its matrix
         mapping["camera_to_world"] = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]]

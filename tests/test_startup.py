@@ -99,7 +99,7 @@ def test_a_command_in_a_callers_process_leaves_its_collector_settings(monkeypatc
     # a command collects garbage less often while it runs (cli.COMMAND_GC_THRESHOLD), and a
     # caller that runs it in its own process (CliRunner, here) gets its settings back
     seen = []
-    monkeypatch.setattr("scenerender.scene.load_scene", _recording_threshold(seen), raising=True)
+    monkeypatch.setattr("scenerender.run.model_scene.load_scene", _recording_threshold(seen), raising=True)
     before = gc.get_threshold()
     result = CliRunner().invoke(main, ["validate", str(ROOT / "benchmarks" / "scenes" / "minimal.yaml")])
     assert result.exit_code == 0, result.output

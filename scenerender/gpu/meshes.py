@@ -11,7 +11,7 @@ INSTANCE_FLOATS = 16 + 9  # camera-relative model matrix, normal matrix
 
 class GpuMesh:
     """Interleaved position/normal/uv (8 float32), uint32 indices, optional tangents and
-    vertex colours (4 float32 each, in buffers of their own)."""
+    vertex colours (4 float32 each) and a second uv set (2 float32), in buffers of their own."""
 
     def __init__(self, ctx, mesh: MeshData, with_tangents: bool):
         uvs = mesh.uvs if mesh.uvs is not None else np.zeros((mesh.vertex_count, 2), dtype=np.float32)
@@ -21,6 +21,9 @@ class GpuMesh:
         self.tangents = None
         if with_tangents:
             self.tangents = ctx.buffer(np.ascontiguousarray(tangents(mesh), dtype=np.float32).tobytes())
+        self.uvs1 = None
+        if mesh.uvs1 is not None:  # glTF TEXCOORD_1, for textures with texCoord: 1
+            self.uvs1 = ctx.buffer(np.ascontiguousarray(mesh.uvs1, dtype=np.float32).tobytes())
         self.colors = None
         if mesh.colors is not None:
             self.colors = ctx.buffer(np.ascontiguousarray(mesh.colors, dtype=np.float32).tobytes())
@@ -29,7 +32,7 @@ class GpuMesh:
         self._smooth = None
 
     def release(self) -> None:
-        for buffer in (self.vertices, self.indices, self.tangents, self.colors, self._smooth):
+        for buffer in (self.vertices, self.indices, self.tangents, self.colors, self.uvs1, self._smooth):
             if buffer is not None:
                 buffer.release()
 
@@ -65,6 +68,8 @@ class GpuMesh:
             layout.append((self.tangents, "4f", "in_tangent"))
         if self.colors is not None and "in_color" in names:
             layout.append((self.colors, "4f", "in_color"))
+        if self.uvs1 is not None and "in_uv1" in names:
+            layout.append((self.uvs1, "2f", "in_uv1"))
         inst_fmt, inst_attrs = [], []
         for size, name in ((16, "in_model"), (9, "in_normal_matrix")):
             if name in names:

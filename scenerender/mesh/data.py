@@ -39,6 +39,11 @@ class MeshData:
     colors:    (N, 4) float32 linear RGBA vertex colours (glTF ``COLOR_0``), or None.
     images:    images the file holds itself (glTF), by the key its materials' textures name:
                (H, W, 4) uint8 RGBA, top row first; empty when none.
+    uvs1:      (N, 2) float32 a second set of texture coordinates (glTF ``TEXCOORD_1``, v
+               up as ``uvs``), or None; a texture with ``uv_set`` 1 reads them.
+    tangents:  (N, 4) float32 tangents the file stores (glTF ``TANGENT``: xyz the direction
+               of increasing u, w the handedness), or None: then ``geometry.tangents``
+               works them out from the texture coordinates.
     """
 
     positions: np.ndarray
@@ -50,6 +55,8 @@ class MeshData:
     source: str = ""
     colors: np.ndarray | None = None
     images: dict = field(default_factory=dict)
+    tangents: np.ndarray | None = None
+    uvs1: np.ndarray | None = None
     _bounds: np.ndarray | None = field(default=None, init=False, repr=False, compare=False)
     _winding: int | None = field(default=None, init=False, repr=False, compare=False)
     _sphere: tuple | None = field(default=None, init=False, repr=False, compare=False)

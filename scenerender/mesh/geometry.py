@@ -95,6 +95,8 @@ def flat_shaded(mesh: MeshData) -> MeshData:
         normals=np.repeat(normals, 3, axis=0).astype(np.float32),
         uvs=None if mesh.uvs is None else mesh.uvs[corners].astype(np.float32),
         colors=None if mesh.colors is None else mesh.colors[corners].astype(np.float32),
+        tangents=None if mesh.tangents is None else mesh.tangents[corners].astype(np.float32),
+        uvs1=None if mesh.uvs1 is None else mesh.uvs1[corners].astype(np.float32),
         indices=np.arange(len(corners), dtype=np.uint32).reshape(-1, 3),
         groups=list(mesh.groups),
     )
@@ -164,6 +166,8 @@ def tangents(mesh: MeshData) -> np.ndarray:
     Triangles contribute weighted by their UV-space orientation only (a triangle whose
     UVs have no area contributes nothing). Vertices left without a tangent, and meshes
     without UVs, get an arbitrary unit vector perpendicular to the normal and w = +1.
+    Tangents the file stores (``mesh.tangents``, glTF's TANGENT) are used instead, made
+    orthogonal to the normal, their handedness kept.
     """
     count = mesh.vertex_count
     if mesh.normals is not None:
@@ -172,7 +176,11 @@ def tangents(mesh: MeshData) -> np.ndarray:
         normals = np.tile(FALLBACK_NORMAL, (count, 1))
     tangent_sum = np.zeros((count, 3))
     bitangent_sum = np.zeros((count, 3))
-    if mesh.uvs is not None and mesh.triangle_count:
+    if mesh.tangents is not None:
+        stored = np.asarray(mesh.tangents, dtype=np.float64)
+        tangent_sum = stored[:, :3]
+        bitangent_sum = np.cross(normals, tangent_sum) * np.where(stored[:, 3:] < 0.0, -1.0, 1.0)
+    elif mesh.uvs is not None and mesh.triangle_count:
         tangent_sum, bitangent_sum = _accumulated_uv_directions(mesh)
 
     # Gram-Schmidt: remove the normal component so the frame is orthogonal.

@@ -23,6 +23,8 @@ from urllib.parse import unquote
 
 import numpy as np
 
+from scenerender.scene.model.materials import MAX_IOR  # the largest index of refraction a material takes
+
 GLB_MAGIC = 0x46546C67  # "glTF"
 _JSON_CHUNK = 0x4E4F534A
 _BIN_CHUNK = 0x004E4942
@@ -35,6 +37,20 @@ _WRAP = {10497: "repeat", 33071: "clamp", 33648: "mirror"}
 _NEAREST_FILTERS = (9728, 9984, 9986)  # NEAREST, NEAREST_MIPMAP_NEAREST, NEAREST_MIPMAP_LINEAR
 # the denominators of normalized integer COLOR_0 components, by componentType
 _NORMALIZED = {5121: 255.0, 5123: 65535.0}
+
+
+# extensions read somewhere: here (materials, textures), by mesh.gltf_scene (lights), or
+# left to trimesh with the geometry (mesh.gltf_geometry). Any other a file uses is named in
+# a warning: drawn without it, never dropped silently.
+READ_EXTENSIONS = (
+    "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
+    "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
+    "KHR_materials_variants",
+    "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
+)
+
+
+VARIANTS_EXTENSION = "KHR_materials_variants"
 
 
 class GltfProblem(Exception):
@@ -53,7 +69,7 @@ class GltfTexture:
     scale:     ``normalTexture.scale`` or ``occlusionTexture.strength`` (1 elsewhere).
     wrap:      "repeat" | "clamp" | "mirror", from the sampler's ``wrapS``.
     nearest:   the sampler's ``magFilter`` is NEAREST.
-    tex_coord: the ``texCoord`` set it asks for (only set 0 is read).
+    tex_coord: the ``texCoord`` set it asks for (0 or 1; a file asking for more reads 0).
     """
 
     image: str | None
@@ -86,6 +102,14 @@ class GltfMaterial:
     normal_map: GltfTexture | None = None
     occlusion_map: GltfTexture | None = None
     emissive_map: GltfTexture | None = None
+    # KHR_materials_ior, KHR_materials_specular, KHR_materials_clearcoat (their factors)
+    ior: float = 1.5
+    specular_factor: float = 1.0
+    specular_color: tuple = (1.0, 1.0, 1.0)
+    clearcoat: float = 0.0
+    clearcoat_roughness: float = 0.0
+    sheen_color: tuple = (0.0, 0.0, 0.0)  # KHR_materials_sheen
+    sheen_roughness: float = 0.0
 
     def textures(self) -> dict:
         """{map name: GltfTexture} of the maps it has."""
@@ -138,14 +162,19 @@ def _json(data: bytes) -> dict:
     return header
 
 
-def read_gltf(raw: bytes, label: str, read_file) -> GltfFile:
+def read_gltf(raw: bytes, label: str, read_file, variant: str | None = None) -> GltfFile:
     """The materials, primitive slots and images of the glTF file ``raw`` (GLB or text).
 
     label: the file's name, prefixed to image keys. read_file(uri) -> bytes reads a file
     the glTF names (an external buffer or image), through the scene's asset policy.
+    variant: a KHR_materials_variants name: the primitives use its materials.
     Raises GltfProblem for anything unusable."""
     header, binary = split_glb(raw)
     result = GltfFile()
+    used = header.get("extensionsUsed", [])
+    for extension in used if isinstance(used, list) else ():
+        if isinstance(extension, str) and extension not in READ_EXTENSIONS:
+            result.unsupported.append(f"extension {extension} is not supported: drawn without it")
     names: dict[str, int] = {}
     materials = _list(header, "materials")
     for index, material in enumerate(materials):
@@ -159,7 +188,7 @@ def read_gltf(raw: bytes, label: str, read_file) -> GltfFile:
                 continue
             attributes = _object(primitive.get("attributes", {}), "a primitive's attributes")
             count = _accessor_count(header, attributes.get("POSITION"))
-            material = primitive.get("material") if mode in _TRIANGLE_MODES else None
+            material = primitive_material(primitive, header, variant) if mode in _TRIANGLE_MODES else None
             if material is not None and not (_is_index(material) and material < len(materials)):
                 raise GltfProblem(f"a primitive names material {material!r}, the file has {len(materials)}")
             color = attributes.get("COLOR_0")
@@ -167,6 +196,33 @@ def read_gltf(raw: bytes, label: str, read_file) -> GltfFile:
             result.slots.append((material, count, color_type))
     _load_images(header, binary, result, label, read_file)
     return result
+
+
+def variant_names(header: dict) -> list[str]:
+    """The names of the file's KHR_materials_variants, in its order (empty without any)."""
+    extension = _object(_object(header.get("extensions", {}), "extensions").get(VARIANTS_EXTENSION, {}),
+                        VARIANTS_EXTENSION)
+    variants = extension.get("variants", [])
+    if not isinstance(variants, list):
+        raise GltfProblem(f"{VARIANTS_EXTENSION}.variants is not a list")
+    return [_text(_object(v, "a variant").get("name")) or f"variant{i}" for i, v in enumerate(variants)]
+
+
+def primitive_material(primitive: dict, header: dict, variant: str | None):
+    """The material index ``primitive`` uses: its own ``material``, or, under ``variant``
+    (a name of ``variant_names``), the one its KHR_materials_variants mappings give that
+    variant (its own where no mapping names it)."""
+    material = primitive.get("material")
+    if variant is None:
+        return material
+    index = variant_names(header).index(variant)
+    extension = _object(_object(primitive.get("extensions", {}), "a primitive's extensions").get(
+        VARIANTS_EXTENSION, {}), f"a primitive's {VARIANTS_EXTENSION}")
+    for mapping in _list(extension, "mappings"):
+        mapping = _object(mapping, f"a {VARIANTS_EXTENSION} mapping")
+        if index in _list(mapping, "variants"):
+            return mapping.get("material")
+    return material
 
 
 def vertex_colors(visual, component_type, vertex_count: int):
@@ -226,8 +282,44 @@ def _material(name: str, material: dict, header: dict, result: GltfFile, label: 
         alpha_cutoff=_numbers([material.get("alphaCutoff", 0.5)], 1, "alphaCutoff", 0.0, 1e6)[0],
         double_sided=_bool(material.get("doubleSided", False), "doubleSided"),
         unlit="KHR_materials_unlit" in extensions,
+        **_layers(name, extensions, result),
         **textures,
     )
+
+
+# the textures of the layer extensions, which are not read: their factors alone apply
+_LAYER_TEXTURES = {"KHR_materials_specular": ("specularTexture", "specularColorTexture"),
+                   "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"),
+                   "KHR_materials_sheen": ("sheenColorTexture", "sheenRoughnessTexture")}
+
+
+def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
+    """The GltfMaterial fields of KHR_materials_ior, _specular, _clearcoat and _sheen (glTF's
+    defaults where absent). An ior of 0 is the specification's "infinitely high" index
+    (a dielectric that reflects all), taken here as the largest the scene format takes."""
+    ior = _object(extensions.get("KHR_materials_ior", {}), f"material {name!r}: KHR_materials_ior")
+    specular = _object(extensions.get("KHR_materials_specular", {}), f"material {name!r}: KHR_materials_specular")
+    coat = _object(extensions.get("KHR_materials_clearcoat", {}), f"material {name!r}: KHR_materials_clearcoat")
+    sheen = _object(extensions.get("KHR_materials_sheen", {}), f"material {name!r}: KHR_materials_sheen")
+    for extension, keys in _LAYER_TEXTURES.items():
+        values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat,
+                  "KHR_materials_sheen": sheen}[extension]
+        for key in keys:
+            note = f"{extension} {key} is not read (its factor alone applies)"
+            if key in values and note not in result.unsupported:
+                result.unsupported.append(note)
+    index = _numbers([ior.get("ior", 1.5)], 1, "ior", 0.0, MAX_IOR)[0]
+    return {
+        "ior": MAX_IOR if index == 0.0 else max(index, 1.0),
+        "specular_factor": _numbers([specular.get("specularFactor", 1.0)], 1, "specularFactor", 0.0, 1.0)[0],
+        "specular_color": _numbers(specular.get("specularColorFactor", (1.0, 1.0, 1.0)), 3, "specularColorFactor",
+                                   0.0, 1e6),
+        "clearcoat": _numbers([coat.get("clearcoatFactor", 0.0)], 1, "clearcoatFactor", 0.0, 1.0)[0],
+        "clearcoat_roughness": _numbers([coat.get("clearcoatRoughnessFactor", 0.0)], 1, "clearcoatRoughnessFactor",
+                                        0.0, 1.0)[0],
+        "sheen_color": _numbers(sheen.get("sheenColorFactor", (0.0, 0.0, 0.0)), 3, "sheenColorFactor", 0.0, 1.0),
+        "sheen_roughness": _numbers([sheen.get("sheenRoughnessFactor", 0.0)], 1, "sheenRoughnessFactor", 0.0, 1.0)[0],
+    }
 
 
 def _texture(info, header: dict, result: GltfFile, label: str, what: str, scale_key: str | None = None):
@@ -257,8 +349,8 @@ def _texture(info, header: dict, result: GltfFile, label: str, what: str, scale_
     tex_coord = transform.get("texCoord", tex_coord)
     if not _is_index(tex_coord):
         raise GltfProblem(f"{what}: texCoord {tex_coord!r}")
-    if tex_coord != 0:
-        note = f"texture coordinate set {tex_coord} (only set 0 is read)"
+    if tex_coord > 1:
+        note = f"texture coordinate set {tex_coord} (sets 0 and 1 are read; it reads set 0)"
         if note not in result.unsupported:
             result.unsupported.append(note)
     scale, offset, skew = _uv_affine(transform)
@@ -266,7 +358,7 @@ def _texture(info, header: dict, result: GltfFile, label: str, what: str, scale_
         image=image, uv_scale=scale, uv_offset=offset, uv_skew=skew,
         scale=_numbers([info.get(scale_key, 1.0)], 1, f"{what}.{scale_key}", -1e6, 1e6)[0] if scale_key else 1.0,
         wrap=_WRAP.get(sampler.get("wrapS", 10497), "repeat"),
-        nearest=sampler.get("magFilter") in _NEAREST_FILTERS, tex_coord=tex_coord)
+        nearest=sampler.get("magFilter") in _NEAREST_FILTERS, tex_coord=tex_coord if tex_coord <= 1 else 0)
 
 
 def _uv_affine(transform: dict) -> tuple:

@@ -14,13 +14,14 @@ ignored, as trimesh does.
 The parts come out as the trimesh path gives them (mesh.loader._raw_parts): vertices,
 faces, the normals the file stores (else None), TEXCOORD_0 with v flipped (trimesh's
 convention: v = 0 at the image's bottom row), the node's world transform, the material's
-name and COLOR_0 as linear RGBA. The checks after (mesh.loader._part_arrays) are shared.
+name, COLOR_0 as linear RGBA, TEXCOORD_1 as TEXCOORD_0 and TANGENT (else None; its bitangent keeps its meaning
+with v flipped, since the flip turns both the texture's v and the frame's handedness). The checks after (mesh.loader._part_arrays) are shared.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from scenerender.mesh.gltf import GltfProblem, buffer_view_bytes, rgba_colors, split_glb
+from scenerender.mesh.gltf import VARIANTS_EXTENSION, GltfProblem, buffer_view_bytes, primitive_material, rgba_colors, split_glb
 
 _DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 _WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
@@ -34,11 +35,13 @@ class NotReadHere(Exception):
     """The file uses something this reader leaves to trimesh."""
 
 
-def read_parts(raw: bytes, read_file, material_names: list, deformations: bool = False) -> list[dict]:
+def read_parts(raw: bytes, read_file, material_names: list, deformations: bool = False,
+               variant: str | None = None) -> list[dict]:
     """The triangle parts of the glTF file ``raw`` (GLB or text) in world space order of its
     default scene's nodes, depth first. ``read_file(uri)`` reads an external buffer;
     ``material_names``: the names mesh.gltf gave the file's materials, by index.
     ``deformations``: also read each primitive's JOINTS_0, WEIGHTS_0 and morph targets.
+    ``variant``: a KHR_materials_variants name whose materials the primitives use.
 
     Raises NotReadHere where trimesh must read the file, GltfProblem where it is malformed."""
     header, binary = split_glb(raw)
@@ -55,17 +58,20 @@ def read_parts(raw: bytes, read_file, material_names: list, deformations: bool =
         if not (isinstance(mesh_index, int) and 0 <= mesh_index < len(meshes)):
             raise GltfProblem(f"a node names mesh {mesh_index!r}, the file has {len(meshes)}")
         for primitive in meshes[mesh_index].get("primitives", []):
-            part = _primitive(primitive, reader, material_names, deformations)
+            part = _primitive(primitive, reader, material_names, deformations, primitive_material(primitive, header,
+                                                                                                   variant))
             if part is not None:
                 parts.append({**part, "transform": transform, "node": index, "skin": node.get("skin"),
                               "morph_weights": node.get("weights", meshes[mesh_index].get("weights"))})
     return parts
 
 
-def _primitive(primitive: dict, reader: "_Accessors", material_names: list, deformations: bool) -> dict | None:
+def _primitive(primitive: dict, reader: "_Accessors", material_names: list, deformations: bool,
+               material) -> dict | None:
+    """``material``: the index of the material it uses (mesh.gltf.primitive_material)."""
     if primitive.get("mode", 4) != 4:
         raise NotReadHere("a primitive that is not a triangle list")
-    if primitive.get("extensions"):
+    if set(primitive.get("extensions") or ()) - {VARIANTS_EXTENSION}:  # which materials it takes is read here
         raise NotReadHere("a primitive with extensions")
     attributes = primitive.get("attributes", {})
     if "POSITION" not in attributes:
@@ -81,7 +87,11 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list, defo
         uv = reader.read(attributes["TEXCOORD_0"], 2)
         uv = np.column_stack([uv[:, 0], 1.0 - uv[:, 1]])
     colors = rgba_colors(reader.read(attributes["COLOR_0"], None), count) if "COLOR_0" in attributes else None
-    material = primitive.get("material")
+    tangents = reader.read(attributes["TANGENT"], 4).astype(np.float64) if "TANGENT" in attributes else None
+    uv1 = None
+    if "TEXCOORD_1" in attributes:
+        uv1 = reader.read(attributes["TEXCOORD_1"], 2)
+        uv1 = np.column_stack([uv1[:, 0], 1.0 - uv1[:, 1]])
     name = material_names[material] if isinstance(material, int) and 0 <= material < len(material_names) else None
     skinning = {}  # read only where a clip plays the file (mesh.loader.load_gltf_nodes)
     if deformations and "JOINTS_0" in attributes and "WEIGHTS_0" in attributes:
@@ -91,7 +101,9 @@ def _primitive(primitive: dict, reader: "_Accessors", material_names: list, defo
         skinning["targets"] = [_target(target, reader, count) for target in primitive["targets"]]
     return {**skinning, "vertices": vertices.astype(np.float64), "faces": indices.astype(np.int64).reshape(-1, 3),
             "normals": normals.astype(np.float64) if normals is not None and len(normals) == count else None,
-            "uv": uv if uv is not None and len(uv) == count else None, "material": name, "colors": colors}
+            "uv": uv if uv is not None and len(uv) == count else None, "material": name, "colors": colors,
+            "tangents": tangents if tangents is not None and len(tangents) == count else None,
+            "uv1": uv1 if uv1 is not None and len(uv1) == count else None}
 
 
 def accessor_reader(header: dict, binary: bytes | None, read_file):
@@ -162,16 +174,17 @@ def placed_nodes(header: dict, changed: dict | None = None):
     """(index, node, world transform (4, 4) float64) for every node of the default scene
     (all root nodes where the file has no scenes), depth first in the file's order.
     ``changed``: node index -> {"translation" | "rotation" | "scale": value} replacing the
-    file's own (an animation at one instant)."""
-    nodes = header.get("nodes", [])
-    scenes = header.get("scenes", [])
+    file's own (an animation at one instant). Raises GltfProblem where a node, the scene
+    or a transform is malformed."""
+    nodes = _json_list(header.get("nodes", []), "nodes")
+    scenes = _json_list(header.get("scenes", []), "scenes")
     if scenes:
         scene = header.get("scene", 0)
-        if not (isinstance(scene, int) and 0 <= scene < len(scenes)):
+        if not (isinstance(scene, int) and 0 <= scene < len(scenes) and isinstance(scenes[scene], dict)):
             raise GltfProblem(f"the default scene {scene!r} is not one of the {len(scenes)} scenes")
-        roots = scenes[scene].get("nodes", [])
+        roots = _json_list(scenes[scene].get("nodes", []), "a scene's nodes")
     else:
-        children = {c for node in nodes for c in node.get("children", [])}
+        children = {c for node in nodes if isinstance(node, dict) for c in _children(node) if isinstance(c, int)}
         roots = [i for i in range(len(nodes)) if i not in children]
     stack = [(root, np.eye(4), 0) for root in reversed(roots)]
     while stack:
@@ -179,21 +192,30 @@ def placed_nodes(header: dict, changed: dict | None = None):
         if not (isinstance(index, int) and 0 <= index < len(nodes)) or depth > _MAX_DEPTH:
             raise GltfProblem(f"node {index!r} is not in the file, or the hierarchy runs in a circle")
         node = nodes[index]
+        if not isinstance(node, dict):
+            raise GltfProblem(f"nodes[{index}] is not an object")
         world = parent @ _local({**node, **changed[index]} if changed and index in changed else node)
         yield index, node, world
-        stack.extend((child, world, depth + 1) for child in reversed(node.get("children", [])))
+        stack.extend((child, world, depth + 1) for child in reversed(_children(node)))
+
+
+def _json_list(value, what: str) -> list:
+    if not isinstance(value, list):
+        raise GltfProblem(f"{what} is not a list")
+    return value
+
+
+def _children(node: dict) -> list:
+    return _json_list(node.get("children", []), "a node's children")
 
 
 def _local(node: dict) -> np.ndarray:
     """A node's transform: its matrix (column-major in the file), else T R S."""
     if "matrix" in node:
-        matrix = np.asarray(node["matrix"], dtype=np.float64)
-        if matrix.shape != (16,):
-            raise GltfProblem("a node's matrix does not have 16 numbers")
-        return matrix.reshape(4, 4).T
+        return _numbers(node["matrix"], 16, "a node's matrix").reshape(4, 4).T
     transform = np.eye(4)
-    quaternion = np.asarray(node.get("rotation", (0.0, 0.0, 0.0, 1.0)), dtype=np.float64)
-    norm = np.linalg.norm(quaternion) if quaternion.shape == (4,) else 0.0
+    quaternion = _numbers(node.get("rotation", (0.0, 0.0, 0.0, 1.0)), 4, "a node's rotation")
+    norm = np.linalg.norm(quaternion)
     if not norm > 0.0:
         raise GltfProblem("a node's rotation is not a quaternion")
     x, y, z, w = quaternion / norm
@@ -202,7 +224,22 @@ def _local(node: dict) -> np.ndarray:
         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
     ])
-    scale = np.asarray(node.get("scale", (1.0, 1.0, 1.0)), dtype=np.float64)
+    scale = _numbers(node.get("scale", (1.0, 1.0, 1.0)), 3, "a node's scale")
     transform[:3, :3] = rotation * scale[None, :]
-    transform[:3, 3] = np.asarray(node.get("translation", (0.0, 0.0, 0.0)), dtype=np.float64)
+    transform[:3, 3] = _numbers(node.get("translation", (0.0, 0.0, 0.0)), 3, "a node's translation")
     return transform
+
+
+def _numbers(value, count: int, what: str) -> np.ndarray:
+    """(count,) float64 of a JSON list of ``count`` finite numbers (an animation's values
+    are arrays already)."""
+    if isinstance(value, np.ndarray):
+        array = value.astype(np.float64).reshape(-1)
+    elif isinstance(value, (list, tuple)) and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                  for v in value):
+        array = np.asarray(value, dtype=np.float64)
+    else:
+        raise GltfProblem(f"{what} is not {count} numbers")
+    if array.shape != (count,) or not np.isfinite(array).all():
+        raise GltfProblem(f"{what} is not {count} finite numbers")
+    return array

@@ -19,7 +19,7 @@ from scenerender.mesh.cache import load_obj_cached
 from scenerender.mesh.data import MeshData
 from scenerender.mesh.data import MeshGroup
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
-from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, split_glb, vertex_colors
+from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, split_glb, variant_names, vertex_colors
 from scenerender.mesh.gltf_animation import read_clips, read_skins
 from scenerender.mesh.gltf_geometry import read_parts
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
@@ -32,7 +32,7 @@ MESH_FORMATS = (".obj",) + TRIMESH_FORMATS
 
 def load_mesh(
     path: Path, *, normals: str = "auto", normalize: bool = False, warnings: Warnings,
-    assets: AssetPolicy | None = None, budget: TriangleBudget | None = None,
+    assets: AssetPolicy | None = None, budget: TriangleBudget | None = None, variant: str | None = None,
 ) -> MeshData:
     """Read a mesh file, give it normals according to ``normals`` (auto | smooth | flat)
     and, with ``normalize``, centre it and scale its bounding-box diagonal to 1.
@@ -40,6 +40,8 @@ def load_mesh(
     ``assets`` confines the files the mesh names (MTL libraries, textures, glTF buffers) and
     records them; without one, the mesh's own folder is the only root. ``budget`` is how
     many triangles the scene may still load; it is charged with this mesh's triangles.
+    ``variant``: a glTF file's KHR_materials_variants name (one of ``gltf_variants``) whose
+    materials its primitives take.
 
     The result always has finite unit normals. Raises UserError (naming the file) when the
     file is missing, of an unsupported type, unreadable, malformed, over the triangle
@@ -63,7 +65,7 @@ def load_mesh(
         return load_obj_cached(path, parse, normals=normals, normalize=normalize, warnings=warnings,
                                assets=assets, budget=budget)
     if suffix in TRIMESH_FORMATS:
-        mesh = _load_other_format(path, assets, budget, warnings)
+        mesh = _load_other_format(path, assets, budget, warnings, variant)
         budget.charge(mesh.triangle_count, SourceLocation(shown))
     else:
         raise UserError(
@@ -74,7 +76,7 @@ def load_mesh(
 
 
 def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, assets: AssetPolicy,
-                    budget: TriangleBudget) -> list[tuple[int, MeshData, dict | None]]:
+                    budget: TriangleBudget, variant: str | None = None) -> list[tuple[int, MeshData, dict | None]]:
     """A glTF file for its animations: [(node index, the node's mesh at rest, its
     deformation or None)], one mesh per node that holds one, so that each can move with its
     node. A node whose vertices move themselves (a skin, morph targets: see _deformation)
@@ -87,8 +89,8 @@ def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, as
     _check_mesh_file(path, assets, SourceLocation(shown))
     raw = read_regular_file(path, "mesh file")
     read_file = _policy_reader(path, assets)
-    gltf = _read_gltf(raw, path, read_file, warnings)
-    parts = _gltf_parts_here(raw, read_file, gltf, deformations=True)
+    gltf = _read_gltf(raw, path, read_file, warnings, variant)
+    parts = _gltf_parts_here(raw, read_file, gltf, deformations=True, variant=variant)
     if parts is None:
         raise UserError("cannot play its animations: its geometry is stored in a way only trimesh reads "
                         "(sparse, compressed or non-triangle primitives), and trimesh keeps no nodes",
@@ -150,6 +152,18 @@ def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list, list]:
         raise UserError(f"cannot read its animations: {_short(exc)}", SourceLocation(shown)) from None
 
 
+def gltf_variants(path: Path, assets: AssetPolicy) -> list[str]:
+    """The KHR_materials_variants names of the glTF file ``path`` (empty without any).
+    Raises UserError naming the file where it cannot be read."""
+    path = Path(path)
+    shown = display_path(path)
+    _check_mesh_file(path, assets, SourceLocation(shown))
+    try:
+        return variant_names(split_glb(read_regular_file(path, "mesh file"))[0])
+    except GltfProblem as exc:
+        raise UserError(f"cannot read its variants: {exc}", SourceLocation(shown)) from None
+
+
 def _check_mesh_file(path: Path, assets: AssetPolicy, where: SourceLocation) -> None:
     """Raise unless ``path`` is a regular file inside the folders ``assets`` allows. Whether
     it lies inside is decided first: nothing outside is looked at."""
@@ -170,7 +184,8 @@ def _finished(mesh: MeshData, normals: str, normalize: bool, shown: str) -> Mesh
     return mesh
 
 
-def _load_other_format(path: Path, assets: AssetPolicy, budget: TriangleBudget, warnings: Warnings) -> MeshData:
+def _load_other_format(path: Path, assets: AssetPolicy, budget: TriangleBudget, warnings: Warnings,
+                       variant: str | None = None) -> MeshData:
     """Read ``path`` (not an OBJ) and flatten the scene it describes into one mesh.
 
     Node transforms are applied; UVs are kept when any part has them (parts without get
@@ -193,21 +208,22 @@ def _load_other_format(path: Path, assets: AssetPolicy, budget: TriangleBudget, 
     read_file = _policy_reader(path, assets)
     gltf = None
     if path.suffix.lower() in (".glb", ".gltf"):
-        gltf = _read_gltf(raw, path, read_file, warnings)
-        parts = _gltf_parts_here(raw, read_file, gltf)
+        gltf = _read_gltf(raw, path, read_file, warnings, variant)
+        parts = _gltf_parts_here(raw, read_file, gltf, variant=variant)
         if parts is not None:
             return _joined(parts, gltf, shown)
     return _joined(_trimesh_parts(path, raw, assets, gltf, warnings), gltf, shown)
 
 
-def _gltf_parts_here(raw: bytes, read_file, gltf: GltfFile | None, deformations: bool = False) -> list[dict] | None:
+def _gltf_parts_here(raw: bytes, read_file, gltf: GltfFile | None, deformations: bool = False,
+                     variant: str | None = None) -> list[dict] | None:
     """The glTF file's parts read without trimesh, or None where trimesh must read it
     (what mesh.gltf_geometry leaves to it, or a file it finds malformed: trimesh then
     gives the reason the user sees, as for every other format)."""
     names = [material.name for material in gltf.materials] if gltf is not None else []
     try:
         with np.errstate(all="ignore"):
-            return read_parts(raw, read_file, names, deformations)
+            return read_parts(raw, read_file, names, deformations, variant)
     except UserError:
         raise  # a file it names outside the allowed folders
     except Exception:  # noqa: BLE001 - NotReadHere, GltfProblem, or malformed JSON values
@@ -258,12 +274,12 @@ def _trimesh_parts(path: Path, raw: bytes, assets: AssetPolicy, gltf: GltfFile |
         raise UserError(f"cannot read mesh: {_short(exc)}", SourceLocation(shown)) from None
 
 
-def _read_gltf(raw: bytes, path: Path, read_file, warnings: Warnings) -> GltfFile | None:
+def _read_gltf(raw: bytes, path: Path, read_file, warnings: Warnings, variant: str | None = None) -> GltfFile | None:
     """The file's own glTF materials (mesh.gltf), or None with a warning where they cannot
     be read (the geometry may still be fine: trimesh judges it)."""
     shown = display_path(path)
     try:
-        gltf = read_gltf(raw, str(path), read_file)
+        gltf = read_gltf(raw, str(path), read_file, variant)
     except GltfProblem as exc:
         warnings.warn(f"materials not read ({exc}); drawn with the scene's material", SourceLocation(shown))
         return None
@@ -360,6 +376,8 @@ def _part_arrays(raw: dict, shown: str) -> dict:
     _check_float32(positions, "a vertex coordinate", where)
     _check_float32(normals, "a normal component", where)
     _check_float32(uvs, "a texture coordinate", where)
+    uvs1 = raw.get("uv1")
+    _check_float32(uvs1, "a texture coordinate", where)
     linear = transform[:3, :3]
     determinant = np.linalg.det(linear)
     with np.errstate(all="ignore"):  # judged by the checks below, not by NumPy's warnings
@@ -371,8 +389,12 @@ def _part_arrays(raw: dict, shown: str) -> dict:
     _check_float32(normals, "a normal component after the node transform", where)
     if determinant < 0:  # a mirroring transform turns the winding inside out
         faces = faces[:, ::-1]
+    tangents = raw.get("tangents")
+    if tangents is not None:  # directions in the surface: the transform's linear part; a mirror turns the handedness
+        _check_float32(tangents, "a tangent component", where)
+        tangents = np.hstack([tangents[:, :3] @ linear.T, tangents[:, 3:] * (-1.0 if determinant < 0 else 1.0)])
     return {"positions": positions, "normals": normals, "uvs": uvs, "faces": faces,
-            "material": raw.get("material"), "colors": raw.get("colors")}
+            "material": raw.get("material"), "colors": raw.get("colors"), "tangents": tangents, "uvs1": uvs1}
 
 
 def _check_float32(values: np.ndarray | None, what: str, where: SourceLocation) -> None:
@@ -405,6 +427,13 @@ def _concatenate(parts: list[dict], shown: str) -> MeshData:
         colors = np.concatenate([p["colors"] if p.get("colors") is not None else np.ones((len(p["positions"]), 4))
                                  for p in parts]).astype(np.float32)
     faces = [p["faces"] + offset for p, offset in zip(parts, offsets)]
+    uvs1 = None
+    if any(p.get("uvs1") is not None for p in parts):  # parts without: (0, 0), as for set 0
+        uvs1 = np.concatenate([p["uvs1"] if p.get("uvs1") is not None else np.zeros((len(p["positions"]), 2))
+                               for p in parts]).astype(np.float32)
+    tangents = None
+    if all(p.get("tangents") is not None for p in parts):  # else worked out from the uvs, for all alike
+        tangents = np.concatenate([p["tangents"] for p in parts]).astype(np.float32)
     return MeshData(
         positions=np.concatenate([p["positions"] for p in parts]).astype(np.float32),
         normals=normals,
@@ -413,6 +442,8 @@ def _concatenate(parts: list[dict], shown: str) -> MeshData:
         groups=_material_groups(parts),
         source=shown,
         colors=colors,
+        tangents=tangents,
+        uvs1=uvs1,
     )
 
 

@@ -19,7 +19,8 @@ class Soup:
 
     corners:  (T, 3, 3) float64 camera-relative positions, corner-major.
     normals:  (T, 3, 3) float64 world-space vertex normals (not renormalised).
-    uvs:      (T, 3, 2) float64 texture coordinates (zero where the mesh has none).
+    uvs:      (T, 3, 4) float64 texture coordinates: set 0 (zero where the mesh has none),
+              then set 1 (glTF TEXCOORD_1; set 0 again where the mesh has none).
     colors:   (T, 3, 4) float64 vertex colours (white where the mesh has none).
     material: (T,) int32 index into ``materials`` (the frame's material values).
     object:   (T,) int32 index of the scene object.
@@ -62,7 +63,7 @@ def frame_soup(world, frame) -> Soup:
                                        obj.cast_shadows))
     if not parts:
         empty = np.zeros((0, 3, 3))
-        return Soup(empty, empty, np.zeros((0, 3, 2)), np.zeros((0, 3, 4)), np.zeros(0, np.int32),
+        return Soup(empty, empty, np.zeros((0, 3, 4)), np.zeros((0, 3, 4)), np.zeros(0, np.int32),
                     np.zeros(0, np.int32), np.zeros(0, bool), materials)
     return Soup(*(np.concatenate([p[k] for p in parts]) for k in range(7)), materials)
 
@@ -76,6 +77,7 @@ def _object_triangles(mesh, matrices: np.ndarray, camera_position: np.ndarray, g
         uvs = mesh.uvs.astype(np.float64)[mesh.indices]
     else:
         uvs = np.zeros((len(mesh.indices), 3, 2))
+    uvs = np.concatenate([uvs, mesh.uvs1.astype(np.float64)[mesh.indices] if mesh.uvs1 is not None else uvs], axis=2)
     if mesh.colors is not None:
         colors = mesh.colors.astype(np.float64)[mesh.indices]
     else:

@@ -356,7 +356,7 @@ class _FrameScene:
         view = shading.safe_normalize(-p, n)
         m = soup.material[tri]
         surface = {key: table[key][m] for key in ("diffuse", "ambient", "specular", "emissive", "shininess",
-                                                   "metallic", "roughness")}
+                                                   "metallic", "roughness", "layered", *shading.LAYER_KEYS)}
         surface["occlusion"] = np.ones(len(m))
         colors = soup.colors[tri]
         surface["diffuse"] = surface["diffuse"] * (colors[:, 0] * (1.0 - u - v)[:, None] + colors[:, 1] * u[:, None]
@@ -407,7 +407,7 @@ class _FrameScene:
             part = {key: value[rows] for key, value in surface.items()}
             if name == "pbr":
                 out[rows] = shading.pbr_direct_term(n[rows], l[rows], view[rows], radiance[rows], part["diffuse"],
-                                                    part["metallic"], part["roughness"])
+                                                    part["metallic"], part["roughness"], shading.pbr_layers(part))
             else:
                 out[rows] = shading.direct_term(n[rows], l[rows], view[rows], radiance[rows], part["diffuse"],
                                                 part["specular"], part["shininess"], name)
@@ -419,8 +419,9 @@ class _FrameScene:
         reflected = surface["diffuse"]
         if pbr.any():
             reflected = reflected.copy()
-            reflected[pbr] = shading.pbr_ambient(n[pbr], view[pbr], surface["diffuse"][pbr], surface["metallic"][pbr],
-                                                 surface["roughness"][pbr])
+            points = {key: value[pbr] for key, value in surface.items()}
+            reflected[pbr] = shading.pbr_ambient(n[pbr], view[pbr], points["diffuse"], points["metallic"],
+                                                 points["roughness"], shading.pbr_layers(points))
         return shading.ambient_term(self.frame.ambient, surface["ambient"], reflected)
 
     def _ambient(self, p, n, facing, view, surface: dict, model: np.ndarray) -> np.ndarray:
@@ -496,7 +497,8 @@ class _FrameScene:
             rows = np.flatnonzero(m == material_index)
             if not len(rows):
                 continue
-            sample = {key: sampler.sample(uv[rows]) for key, sampler in samplers.items()}
+            sample = {key: sampler.sample(uv[rows, 2:] if sampler.uv_set == 1 else uv[rows, :2])
+                      for key, sampler in samplers.items()}
             if "diffuse_map" in sample:
                 surface["diffuse"][rows] *= sample["diffuse_map"][:, :3]
             if "specular_map" in sample:
@@ -601,6 +603,27 @@ def _material_table(materials: list, scene_shading: str = "blinn_phong") -> dict
         "roughness": np.array([v.get("roughness", 0.5) for v in values], dtype=np.float64),
         "model": np.array([MODELS.index(m.model(scene_shading) if m is not None else scene_shading)
                            for m, _ in materials]),
+        **_layer_table([m for m, _ in materials]),
+    }
+
+
+def _layer_table(materials: list) -> dict:
+    """Per-material arrays of the pbr model's layers (shading.pbr_layers): whether it has
+    any, the dielectric's F0 (K, 3) and F90, the clear coat's weight and roughness (K,), the
+    sheen's colour (K, 3) and roughness (K,)."""
+    default = (np.full(3, 0.04), 1.0)
+    pairs = [m.dielectric_f0_f90() if m is not None else default for m in materials]
+    return {
+        "layered": np.array([m is not None and m.layered for m in materials]),
+        "f0": np.array([f0 for f0, _ in pairs], dtype=np.float64).reshape(-1, 3),
+        "f90": np.array([f90 for _, f90 in pairs], dtype=np.float64),
+        "clearcoat": np.array([m.clearcoat if m is not None else 0.0 for m in materials], dtype=np.float64),
+        "clearcoat_roughness": np.array([m.clearcoat_roughness if m is not None else 0.0 for m in materials],
+                                        dtype=np.float64),
+        "sheen_color": np.array([m.sheen_color if m is not None else (0.0, 0.0, 0.0) for m in materials],
+                                dtype=np.float64).reshape(-1, 3),
+        "sheen_roughness": np.array([m.sheen_roughness if m is not None else 0.0 for m in materials],
+                                    dtype=np.float64),
     }
 
 
@@ -626,8 +649,9 @@ def _environment_reflection(state, image: np.ndarray, n: np.ndarray, view: np.nd
         term = base * radiance * np.maximum(np.sum(n[rows] * l, axis=1), 0.0)[:, None]
         glossy = np.flatnonzero(pbr[rows])
         at = rows[glossy]
+        points = {key: value[at] for key, value in surface.items()}
         term[glossy] = shading.pbr_direct_term(n[at], l[glossy], view[at], radiance[glossy], base[glossy],
-                                               surface["metallic"][at], surface["roughness"][at])
+                                               points["metallic"], points["roughness"], shading.pbr_layers(points))
         return term / np.pi
     return reflected
 

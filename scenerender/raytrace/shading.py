@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from scenerender.raytrace import ambient_fit
+from scenerender.raytrace import ambient_fit, sheen_fit
 
 
 def safe_normalize(v: np.ndarray, fallback: np.ndarray | None = None) -> np.ndarray:
@@ -127,36 +127,96 @@ def pbr_brdf(n: np.ndarray, l: np.ndarray, v: np.ndarray, base: np.ndarray, meta
 
 
 def pbr_direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.ndarray, base: np.ndarray,
-                    metallic: np.ndarray, roughness: np.ndarray) -> np.ndarray:
+                    metallic: np.ndarray, roughness: np.ndarray, layers: dict | None = None) -> np.ndarray:
     """One light's contribution under the pbr model, (P, 3): radiance * pi f(l, v) N.L, the
     light units of the other models (Lambert's f = base / pi gives radiance base N.L); zero
     where N.L <= 0. As on the GPU, N.V is clamped to 0 rather than cut (a normal that
-    turns from the eye still reflects)."""
+    turns from the eye still reflects). ``layers``: the points' layer values
+    (``pbr_layers``), or None for a material without any."""
     n_dot_l = _dot(n, l)
     n_dot_v = np.clip(_dot(n, v), 0.0, 1.0)
     h = safe_normalize(l + v, n)
     alpha = pbr_alpha(roughness)
     metallic = np.asarray(metallic, dtype=np.float64)[:, None]
-    f0 = 0.04 * (1.0 - metallic) + base * metallic
-    fresnel = fresnel_schlick(f0, np.clip(_dot(v, h), 0.0, 1.0))
-    specular = np.pi * ggx_distribution(np.clip(_dot(n, h), 0.0, 1.0), alpha) * smith_visibility(
-        n_dot_v, np.clip(n_dot_l, 0.0, 1.0), alpha)
+    v_dot_h = np.clip(_dot(v, h), 0.0, 1.0)
+    n_dot_h = np.clip(_dot(n, h), 0.0, 1.0)
+    if layers is None:
+        f0 = 0.04 * (1.0 - metallic) + base * metallic
+        fresnel = fresnel_schlick(f0, v_dot_h)
+    else:
+        f0 = layers["f0"] * (1.0 - metallic) + base * metallic
+        f90 = layers["f90"][:, None] * (1.0 - metallic) + metallic
+        fresnel = f0 + (f90 - f0) * ((1.0 - v_dot_h) ** 5)[:, None]
+    specular = np.pi * ggx_distribution(n_dot_h, alpha) * smith_visibility(n_dot_v, np.clip(n_dot_l, 0.0, 1.0), alpha)
     term = ((1.0 - fresnel) * (1.0 - metallic) * base + fresnel * specular[:, None]) * n_dot_l[:, None]
+    if layers is not None:
+        term = _sheen_over(term, layers, n_dot_v, np.clip(n_dot_l, 0.0, 1.0), n_dot_h)
+        coat = layers["clearcoat"] * coat_fresnel(v_dot_h)
+        coat_alpha = pbr_alpha(layers["clearcoat_roughness"])
+        coat_lobe = np.pi * ggx_distribution(n_dot_h, coat_alpha) * smith_visibility(
+            n_dot_v, np.clip(n_dot_l, 0.0, 1.0), coat_alpha)
+        term = term * (1.0 - coat)[:, None] + (coat * coat_lobe * n_dot_l)[:, None]
     return np.where((n_dot_l > 0.0)[:, None], radiance * term, 0.0)
 
 
+def _sheen_over(term: np.ndarray, layers: dict, n_dot_v: np.ndarray, n_dot_l: np.ndarray,
+                n_dot_h: np.ndarray) -> np.ndarray:
+    """(P, 3) ``term`` (pi f_base N.L) under KHR_materials_sheen: times its albedo scaling
+    min(1 - max(sheen) E(N.V), 1 - max(sheen) E(N.L)) (kept at 0 or above), plus the sheen's
+    pi sheen_colour D V N.L (Charlie)."""
+    color, roughness = layers["sheen_color"], layers["sheen_roughness"]
+    strongest = color.max(axis=1)
+    scaling = np.maximum(np.minimum(1.0 - strongest * sheen_fit.evaluate(n_dot_v, roughness),
+                                    1.0 - strongest * sheen_fit.evaluate(n_dot_l, roughness)), 0.0)
+    alpha = sheen_fit.sheen_alpha(roughness)
+    lobe = np.pi * sheen_fit.charlie_distribution(n_dot_h, alpha) * sheen_fit.sheen_visibility(n_dot_v, n_dot_l, alpha)
+    return term * scaling[:, None] + color * (lobe * n_dot_l)[:, None]
+
+
+def coat_fresnel(cosine: np.ndarray) -> np.ndarray:
+    """(P,) the clear coat's Fresnel, F0 0.04 (ior 1.5): 0.04 + 0.96 (1 - cos)^5."""
+    return 0.04 + 0.96 * (1.0 - cosine) ** 5
+
+
+LAYER_KEYS = ("f0", "f90", "clearcoat", "clearcoat_roughness", "sheen_color", "sheen_roughness")
+
+
+def pbr_layers(points: dict) -> dict | None:
+    """The layer values of ``points`` (arrays per point: "layered" (P,) bool, f0 (P, 3),
+    f90, clearcoat, clearcoat_roughness (P,), sheen_color (P, 3), sheen_roughness (P,)), or None where no point has a layer (then the
+    model's own formulas apply, to the bit)."""
+    if not np.any(points["layered"]):
+        return None
+    return {key: points[key] for key in LAYER_KEYS}
+
+
 def pbr_ambient(n: np.ndarray, v: np.ndarray, base: np.ndarray, metallic: np.ndarray,
-                roughness: np.ndarray) -> np.ndarray:
+                roughness: np.ndarray, layers: dict | None = None) -> np.ndarray:
     """(P, 3) what a uniform ambient light of radiance 1 gives under the pbr model, as the
     GPU has it: the BRDF's hemisphere integrals from the committed fit
     (scenerender.raytrace.ambient_fit): specular F0 A + B, diffuse
-    (1 - metallic) base (1 - F0) (1 - Cd)."""
+    (1 - metallic) base (1 - F0) (1 - Cd). With ``layers`` (``pbr_layers``): specular
+    F0 A + F90 B, diffuse (1 - metallic) base ((1 - F0) - (F90 - F0) Cd), both times
+    1 - max(sheen) E(N.V) (kept at 0 or above) with the sheen's sheen_colour E(N.V) added
+    (sheen_fit), then times 1 - c Fc(N.V), plus the coat's c (0.04 A_c + B_c)."""
     n_dot_v = np.clip(_dot(n, v), 0.0, 1.0)
     scale, bias, diffuse_fresnel = ambient_fit.evaluate(n_dot_v, roughness)
     metallic = np.asarray(metallic, dtype=np.float64)[:, None]
-    f0 = 0.04 * (1.0 - metallic) + base * metallic
-    diffuse = base * (1.0 - metallic) * (1.0 - f0) * (1.0 - diffuse_fresnel)[:, None]
-    return diffuse + f0 * scale[:, None] + bias[:, None]
+    if layers is None:
+        f0 = 0.04 * (1.0 - metallic) + base * metallic
+        diffuse = base * (1.0 - metallic) * (1.0 - f0) * (1.0 - diffuse_fresnel)[:, None]
+        return diffuse + f0 * scale[:, None] + bias[:, None]
+    f0 = layers["f0"] * (1.0 - metallic) + base * metallic
+    f90 = layers["f90"][:, None] * (1.0 - metallic) + metallic
+    diffuse = base * (1.0 - metallic) * ((1.0 - f0) - (f90 - f0) * diffuse_fresnel[:, None])
+    sheen = sheen_fit.evaluate(n_dot_v, layers["sheen_roughness"])
+    sheen_through = np.maximum(1.0 - layers["sheen_color"].max(axis=1) * sheen, 0.0)
+    sheened = (diffuse + f0 * scale[:, None] + f90 * bias[:, None]) * sheen_through[:, None] \
+        + layers["sheen_color"] * sheen[:, None]
+    coat_scale, coat_bias, _ = ambient_fit.evaluate(n_dot_v, layers["clearcoat_roughness"])
+    through = 1.0 - layers["clearcoat"] * coat_fresnel(n_dot_v)
+    coat = layers["clearcoat"] * (0.04 * coat_scale + coat_bias)
+    return sheened * through[:, None] + coat[:, None]
 
 
 def ambient_term(ambient: np.ndarray, ka: np.ndarray, base: np.ndarray) -> np.ndarray:

@@ -16,10 +16,12 @@ class MapSampler:
 
     pixels: (H, W, 4) uint8 RGBA, top row first (as decoded); srgb: decode colour first.
     wrap: "repeat" | "clamp" | "mirror"; nearest: True for ``filter: nearest`` and the
-    placeholder (the GPU samples those with GL_NEAREST)."""
+    placeholder (the GPU samples those with GL_NEAREST). uv_set: the mesh's texture
+    coordinates it reads (0, or 1: glTF texCoord: 1)."""
 
     def __init__(self, pixels: np.ndarray, srgb: bool, wrap: str, nearest: bool, uv_scale, uv_offset,
-                 uv_skew=(0.0, 0.0)):
+                 uv_skew=(0.0, 0.0), uv_set: int = 0):
+        self.uv_set = uv_set
         values = pixels.astype(np.float64) / 255.0
         if srgb:
             values[:, :, :3] = srgb_decode(values[:, :, :3])
@@ -35,9 +37,9 @@ class MapSampler:
         """The sampler of a TextureSource of ``material``; ``images`` the World's ImageStore."""
         if source.is_placeholder:
             return cls(placeholder_pixels(), False, material.wrap, True, source.uv_scale, source.uv_offset,
-                       source.uv_skew)
+                       source.uv_skew, source.uv_set)
         return cls(images.pixels(source.path), source.srgb, material.wrap, material.filter == "nearest",
-                   source.uv_scale, source.uv_offset, source.uv_skew)
+                   source.uv_scale, source.uv_offset, source.uv_skew, source.uv_set)
 
     def sample(self, uv: np.ndarray) -> np.ndarray:
         """(P, 2) float64 texture coordinates -> (P, 4) float64 RGBA, linear."""

@@ -241,6 +241,13 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
                  u_ke=emissive, u_shininess=values["shininess"], u_opacity=values["opacity"],
                  u_metallic=values["metallic"], u_roughness=values["roughness"],
                  u_alpha_cutoff=material.alpha_cutoff, u_occlusion_strength=material.occlusion_strength)
+    if material.dielectric_specular:
+        f0, f90 = material.dielectric_f0_f90()
+        set_uniforms(program, u_dielectric_f0=tuple(f0), u_dielectric_f90=f90)
+    if material.clearcoat > 0.0:
+        set_uniforms(program, u_clearcoat=material.clearcoat, u_clearcoat_roughness=material.clearcoat_roughness)
+    if material.sheen:
+        set_uniforms(program, u_sheen_color=tuple(material.sheen_color), u_sheen_roughness=material.sheen_roughness)
     for key, source in material.maps.items():
         if program.get(f"u_{key}", None) is None:
             continue

@@ -291,7 +291,10 @@ def mask_defines(material) -> dict:
     """The defines of an alpha-masked material's program in the passes that draw no colour
     (shaders/lighting/alpha_mask.glsl): what its alpha comes from."""
     defines = {key: value for key, value in material_defines(material, "unlit").items()
-               if key in ("HAS_DIFFUSE_MAP", "HAS_OPACITY_MAP", "WRAP_MIRROR", "ALPHA_MASK", "HAS_VERTEX_COLOR")}
+               if key in ("HAS_DIFFUSE_MAP", "HAS_OPACITY_MAP", "WRAP_MIRROR", "ALPHA_MASK", "HAS_VERTEX_COLOR",
+                          "DIFFUSE_MAP_UV1", "OPACITY_MAP_UV1")}
+    if "DIFFUSE_MAP_UV1" in defines or "OPACITY_MAP_UV1" in defines:
+        defines["HAS_UV1"] = True
     if any(tuple(material.maps[key].uv_skew) != (0.0, 0.0) for key in ("diffuse_map", "opacity_map")
            if key in material.maps):
         defines["UV_AFFINE"] = True
@@ -317,4 +320,14 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
         defines["HAS_VERTEX_COLOR"] = True
     if any(tuple(material.maps[key].uv_skew) != (0.0, 0.0) for key in maps):
         defines["UV_AFFINE"] = True
+    for key in maps:
+        if material.maps[key].uv_set == 1:  # glTF texCoord: 1 (shaders/lighting/material.glsl)
+            defines["HAS_UV1"] = True
+            defines[f"{key.upper()}_UV1"] = True
+    if model == "pbr" and material.dielectric_specular:
+        defines["PBR_DIELECTRIC_SPECULAR"] = True
+    if model == "pbr" and material.clearcoat > 0.0:
+        defines["PBR_CLEARCOAT"] = True
+    if model == "pbr" and material.sheen:
+        defines["PBR_SHEEN"] = True
     return defines

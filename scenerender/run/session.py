@@ -24,7 +24,8 @@ from scenerender.option_rules import MSAA_SAMPLES
 from scenerender.rendering.profile import profile_report
 from scenerender.rendering.renderer import FrameResult
 from scenerender.rendering.renderer import GraphRenderer
-from scenerender.scene.loading import load_scene, load_scene_data, load_scene_text
+from scenerender.run.model_scene import load_scene_or_model
+from scenerender.scene.loading import load_scene_data, load_scene_text
 from scenerender.world.build import build_world
 
 REQUIRE_GPU_VARIABLE = "SCENERENDER_REQUIRE_GPU"  # =1: as --require-gpu, for every render of the process
@@ -122,7 +123,8 @@ class Scene:
 
 def load(path, overrides: Iterable[str] = (), *, strict: bool = False, asset_roots: Iterable = (),
          limits=None, on_warning=None) -> Scene:
-    """Read, override and validate a scene file and load what it names.
+    """Read, override and validate a scene file and load what it names; a glTF file
+    (.glb, .gltf) is the scene a viewer would make of it (run.model_scene).
 
     ``overrides`` are ``key.path=value`` strings like the CLI's ``--set``
     (``"render.size=[320,240]"``). ``asset_roots`` are folders besides the scene's own
@@ -130,7 +132,7 @@ def load(path, overrides: Iterable[str] = (), *, strict: bool = False, asset_roo
     is called with each warning line ("warning: ...") as it is raised; ``strict`` makes warnings errors.
     Raises ``SceneError`` naming file, line and key.
     """
-    loaded = load_scene(path, list(overrides), asset_roots=tuple(asset_roots), limits=limits)
+    loaded = load_scene_or_model(path, list(overrides), asset_roots=tuple(asset_roots), limits=limits)
     scene = Scene._built(loaded, Warnings(strict=strict, echo=on_warning))
     scene.source = SceneSource(loaded.path, tuple(overrides), tuple(asset_roots), limits)
     return scene

@@ -86,6 +86,14 @@ def load_scene_data(data, base_dir, overrides=(), name: str = "scene", limits: L
                      overrides, limits or Limits(), asset_roots, mesh_types)
 
 
+def load_scene_mapping(data, path, label: str, overrides=(), limits: Limits | None = None,
+                       asset_roots=()) -> LoadedScene:
+    """Like ``load_scene`` for a mapping made from the file ``path`` (a model rendered as it
+    stands): assets resolve beside it, outputs take its name, messages name ``label``."""
+    return _validate(copy.deepcopy(dict(data)), SourceMap(label), Path(path).resolve(), overrides,
+                     limits or Limits(), asset_roots)
+
+
 def _validate(data, source: SourceMap, path: Path, overrides, limits: Limits, asset_roots=(),
               mesh_types: tuple = ()) -> LoadedScene:
     data = check_document(data, source, limits)

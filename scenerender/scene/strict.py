@@ -27,7 +27,7 @@ class StrictModel(BaseModel):
         if not isinstance(data, dict):
             raise PydanticCustomError("mapping", "expected a mapping (key: value), got {got}",
                                       {"got": describe(data)})
-        reject_unknown_keys(data, cls.model_fields.keys())
+        reject_unknown_keys(data, [field.alias or name for name, field in cls.model_fields.items()])
         return data
 
 

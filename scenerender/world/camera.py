@@ -185,11 +185,15 @@ class CameraRig:
     at frame 0, place the default camera and size an orthographic view without ``height``:
     set once, before the first ``at``, so that every frame of a run is framed alike."""
 
-    def __init__(self, spec, aspect: float, max_depth_ratio: float | None = None, size: tuple | None = None):
+    def __init__(self, spec, aspect: float, max_depth_ratio: float | None = None, size: tuple | None = None,
+                 file_camera=None):
         """max_depth_ratio: the cap on far / near of `near/far: auto` (fit_near_far).
         size: the image (width, height) in pixels that `camera.intrinsics` are given in
-        (render.size); an image of another size scales them with it."""
+        (render.size); an image of another size scales them with it. file_camera: the
+        glTF file's camera of `camera.from` (world.file_nodes.FileCamera), which places
+        the camera and gives its projection."""
         self.spec = spec
+        self.file_camera = file_camera
         self.aspect = aspect
         self.size = tuple(size) if size is not None else None
         self.max_depth_ratio = max_depth_ratio
@@ -200,8 +204,16 @@ class CameraRig:
         spec = self.spec
         intrinsics = spec.intrinsics if spec is not None else None
         fov = intrinsics_fov(intrinsics, self.size) if intrinsics is not None else spec.fov(t) if spec is not None else 60.0
-        position, rotation = self._place(t, fov)
-        ortho = spec is not None and spec.projection == "orthographic"
+        file_camera = self.file_camera
+        if file_camera is not None:
+            fov = file_camera.fov
+            position, rotation = file_camera.place(t)
+        else:
+            position, rotation = self._place(t, fov)
+        if file_camera is not None:
+            ortho = file_camera.orthographic
+        else:
+            ortho = spec is not None and spec.projection == "orthographic"
         near, far = fit_near_far(bounds, position, rotation, ortho, self.max_depth_ratio)
         if spec is not None and spec.near != "auto":
             near = spec.near
@@ -251,6 +263,8 @@ class CameraRig:
         return max(float(np.linalg.norm(forward)), 1e-9)
 
     def _ortho_height(self, t: float) -> float:
+        if self.file_camera is not None:
+            return self.file_camera.height
         if self.spec.height is not None:
             return self.spec.height(t)
         lo, hi = self.first_bounds

@@ -86,6 +86,6 @@ def _sampled_cameras(world, aspect: float, bounds: np.ndarray) -> list:
     count = max(world.output.frame_count, 1)
     sampled = min(count, SAMPLED_FRAMES)
     indices = sorted({round(k * (count - 1) / max(sampled - 1, 1)) for k in range(sampled)})
-    rig = CameraRig(world.spec.camera, aspect, size=world.settings.size)
+    rig = CameraRig(world.spec.camera, aspect, size=world.settings.size, file_camera=world.file_camera)
     rig.first_bounds = bounds
     return [rig.at(index / float(world.output.fps), bounds) for index in indices]

@@ -95,7 +95,7 @@ class FrameEvaluator:
         self.size = size
         self.aspect = size[0] / size[1]
         self.atlas = atlas
-        self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio, world.settings.size)
+        self.rig = CameraRig(world.spec.camera, self.aspect, max_depth_ratio, world.settings.size, world.file_camera)
         self._last_environment_views = None  # (what they were fitted to, EnvironmentViews)
 
     @cached_property

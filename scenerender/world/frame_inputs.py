@@ -136,7 +136,8 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
     has_lens = spec.camera is not None and spec.camera.aperture is not None
     gather = has_lens and render.depth_of_field == "gather"
     lens = ["camera.aperture"] if has_lens and not gather else []
-    camera = _input("camera", animated_keys(spec.camera) + lens, (objects,) if auto_planes else ())
+    file_camera = [f"camera.from.{key}" for key in animated_keys(world.file_camera)]
+    camera = _input("camera", animated_keys(spec.camera) + file_camera + lens, (objects,) if auto_planes else ())
     per_light, views = [], {}
     for index, (light, name) in enumerate(zip(world.lights, _unique_names(world.lights))):
         per_light.append(_input(f"light:{name}", animated_keys(light), (camera,) if light.attach_camera else ()))

@@ -98,13 +98,15 @@ def _unit(v) -> np.ndarray:
     return unit_direction(np.asarray(v, dtype=np.float64)[:3], _NO_DIRECTION)
 
 
-def light_defs(spec, shadows_default) -> list[LightDef]:
-    """LightDefs from the validated ``lights`` list; None gives the default rig
-    (a headlight that follows the camera plus a weak ambient)."""
-    if spec is None:
+def light_defs(spec, shadows_default, brought: list = ()) -> list[LightDef]:
+    """LightDefs from the validated ``lights`` list, then ``brought`` (LightDefs of glTF
+    files' lights, world.file_nodes); neither gives the default rig (a headlight that
+    follows the camera plus a weak ambient)."""
+    if spec is None and not brought:
         return _default_rig()
     # the environment light is world.environment's
-    return [_from_spec(i, light, shadows_default) for i, light in enumerate(spec) if light.type != "environment"]
+    return [_from_spec(i, light, shadows_default) for i, light in enumerate(spec or ())
+            if light.type != "environment"] + list(brought)
 
 
 def _default_rig() -> list[LightDef]:

@@ -46,6 +46,9 @@ SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "op
 # a scene's key for a map, where it is not the map's own name
 SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
 SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
+# the pbr model's layer values, alike in glTF materials, scene materials and Material
+LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness", "sheen_color",
+              "sheen_roughness")
 
 
 @dataclass(frozen=True)
@@ -61,6 +64,8 @@ class TextureSource:
     strength:  bump multiplier (MTL ``-bm``), normal maps only.
     embedded:  the image is held by the mesh file (a glTF), keyed by ``path``, which names no
                file; it was decoded with the mesh.
+    uv_set:    the mesh's texture coordinates it reads: 0 (``uvs``) or 1 (``uvs1``, glTF
+               ``texCoord: 1``).
     mtl_location: the MTL file and line that named it (None when the scene named it). An
                unreadable texture an MTL names becomes the placeholder with a warning.
     scene_key: the scene's key path that named it, e.g. ("materials", "stone", "diffuse_map");
@@ -76,6 +81,7 @@ class TextureSource:
     scene_key: tuple | None = None
     uv_skew: tuple = (0.0, 0.0)
     embedded: bool = False
+    uv_set: int = 0
 
     @property
     def is_placeholder(self) -> bool:
@@ -120,6 +126,39 @@ class Material:
     alpha_cutoff: float = 0.5
     double_sided: bool = True
     vertex_colors: bool = False
+    # the pbr model's layers (docs/scene-notes.md, "Layers of the pbr model"); glTF's
+    # defaults draw as the model always has
+    ior: float = 1.5
+    specular_factor: float = 1.0
+    specular_color: tuple = (1.0, 1.0, 1.0)
+    clearcoat: float = 0.0
+    clearcoat_roughness: float = 0.0
+    sheen_color: tuple = (0.0, 0.0, 0.0)
+    sheen_roughness: float = 0.0
+
+    @property
+    def sheen(self) -> bool:
+        """It has a sheen (a sheen colour other than black)."""
+        return max(self.sheen_color) > 0.0
+
+    @property
+    def layered(self) -> bool:
+        """It has any of the pbr model's layers."""
+        return self.dielectric_specular or self.clearcoat > 0.0 or self.sheen
+
+    @property
+    def dielectric_specular(self) -> bool:
+        """Its dielectric reflection differs from the model's F0 0.04, F90 1 (an ior other
+        than 1.5, a specular factor or colour other than 1)."""
+        return (self.ior != 1.5 or self.specular_factor != 1.0
+                or tuple(self.specular_color) != (1.0, 1.0, 1.0))
+
+    def dielectric_f0_f90(self) -> tuple[np.ndarray, float]:
+        """((3,) F0, F90) of the dielectric part: KHR_materials_specular's
+        min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular_factor, and specular_factor."""
+        reflectance = ((self.ior - 1.0) / (self.ior + 1.0)) ** 2
+        f0 = np.minimum(reflectance * np.asarray(self.specular_color, dtype=np.float64), 1.0) * self.specular_factor
+        return f0, float(self.specular_factor)
 
     def model(self, scene_shading: str) -> str:
         """The shading model this material is drawn with: "unlit" when ``unlit``, else its
@@ -211,6 +250,8 @@ def apply_gltf(material: Material, gltf, location: SourceLocation | None = None)
     material.alpha_cutoff = float(gltf.alpha_cutoff)
     material.double_sided = bool(gltf.double_sided)
     material.shading = "unlit" if gltf.unlit else "pbr"
+    for key in LAYER_KEYS:
+        setattr(material, key, getattr(gltf, key))
     textures = gltf.textures()
     keys = {"base_color_map": "diffuse_map"}
     for name, texture in textures.items():
@@ -218,7 +259,7 @@ def apply_gltf(material: Material, gltf, location: SourceLocation | None = None)
         material.maps[key] = TextureSource(
             path=None if texture.image is None else Path(texture.image), srgb=SRGB_MAPS[key],
             uv_scale=tuple(texture.uv_scale), uv_offset=tuple(texture.uv_offset), uv_skew=tuple(texture.uv_skew),
-            mtl_location=location, embedded=True)
+            mtl_location=location, embedded=True, uv_set=texture.tex_coord)
     if "normal_map" in textures:
         material.normal_scale = float(textures["normal_map"].scale)
     if "occlusion_map" in textures:
@@ -246,7 +287,7 @@ def apply_spec(material: Material, spec, where: tuple | None = None) -> Material
             material.maps[map_key] = TextureSource(path=Path(path), srgb=SRGB_MAPS[map_key],
                                                    scene_key=None if where is None else where + (spec_key,))
     for key in ("wrap", "filter", "unlit", "shading", "emissive_strength", "normal_scale", "occlusion_strength",
-                "alpha_mode", "alpha_cutoff", "double_sided"):
+                "alpha_mode", "alpha_cutoff", "double_sided") + LAYER_KEYS:
         value = getattr(spec, key)
         if value is not None:
             setattr(material, key, value)

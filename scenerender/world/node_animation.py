@@ -92,6 +92,13 @@ def node_motions(header: dict, player: ClipPlayer, nodes: list[int], unplaced: l
                for node in nodes}, **placing}
 
 
+def clip_moves(header: dict, clip: Clip, node: int) -> bool:
+    """Whether ``clip`` drives ``node`` or a node above it."""
+    driven = {channel.node for channel in clip.channels if channel.path in ("translation", "rotation", "scale")}
+    parents = {child: index for index, node in enumerate(header.get("nodes", [])) for child in node.get("children", [])}
+    return _moved(node, driven, parents)
+
+
 def _moved(node: int, driven: set, parents: dict) -> bool:
     """Whether ``node`` or a node above it is ``driven``."""
     seen = set()

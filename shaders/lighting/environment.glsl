@@ -93,7 +93,12 @@ vec3 env_specular_sampled(vec3 n, vec3 v, Surface s) {
     float n_dot_v = ve.z;
     float view_term = sqrt(n_dot_v * n_dot_v * (1.0 - alpha2) + alpha2);
     float g1_view = 2.0 * n_dot_v / (n_dot_v + view_term);
+#ifdef PBR_DIELECTRIC_SPECULAR
+    vec3 f0 = mix(u_dielectric_f0, s.base, s.metallic);
+    vec3 f90 = mix(vec3(u_dielectric_f90), vec3(1.0), s.metallic);
+#else
     vec3 f0 = mix(vec3(0.04), s.base, s.metallic);
+#endif
     vec2 size = vec2(textureSize(u_env_source, 0));
     float texel = 19.739208802178716 / (size.x * size.y);  // a base texel's solid angle at the equator, 2 pi^2 / (W H)
     float max_lod = log2(max(size.x, size.y));
@@ -112,7 +117,11 @@ vec3 env_specular_sampled(vec3 n, vec3 v, Surface s) {
         float g2 = 2.0 * l.z * n_dot_v / (l.z * view_term + n_dot_v * sqrt(l.z * l.z * (1.0 - alpha2) + alpha2));
         vec3 world = tangent * l.x + bitangent * l.y + n * l.z;
         vec3 radiance = textureLod(u_env_source, env_uv(u_env_to_image * world), lod).rgb;
+#ifdef PBR_DIELECTRIC_SPECULAR
+        sum += radiance * fresnel_schlick_f90(f0, f90, clamp(v_dot_h, 0.0, 1.0)) * (g2 / g1_view);
+#else
         sum += radiance * fresnel_schlick(f0, clamp(v_dot_h, 0.0, 1.0)) * (g2 / g1_view);
+#endif
     }
     return u_env_scale * sum / float(ENV_SPECULAR_SAMPLES);
 }
@@ -124,9 +133,27 @@ vec3 env_specular_sampled(vec3 n, vec3 v, Surface s) {
 // BRDF weight.
 vec3 pbr_environment_specular(vec3 n, vec3 v, Surface s, PbrAmbientWeights w) {
 #ifdef ENV_SPECULAR_SAMPLES
-    return env_specular_sampled(n, v, s);
+    vec3 specular = env_specular_sampled(n, v, s);
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    specular *= w.base_scale;
+#endif
 #else
-    return w.specular * env_specular(reflect(-v, n), s.roughness);
+    vec3 specular = w.specular * env_specular(reflect(-v, n), s.roughness);
+#endif
+#ifdef PBR_CLEARCOAT
+    // the coat's reflection by the split sum (also where the base's is sampled)
+    specular += w.coat * env_specular(reflect(-v, n), u_clearcoat_roughness);
+#endif
+    return specular;
+}
+
+// The weight of the irradiance: the diffuse part's, and the sheen's (its broad lobe lit by
+// the irradiance, as a uniform light of that radiance would light it)
+vec3 pbr_environment_diffuse(PbrAmbientWeights w) {
+#ifdef PBR_SHEEN
+    return w.diffuse + w.sheen;
+#else
+    return w.diffuse;
 #endif
 }
 
@@ -134,13 +161,13 @@ vec3 pbr_environment_specular(vec3 n, vec3 v, Surface s, PbrAmbientWeights w) {
 // hemisphere integral the uniform ambient light uses (pbr_ambient_weights).
 vec3 pbr_environment(vec3 n, vec3 v, Surface s) {
     PbrAmbientWeights w = pbr_ambient_weights(n, v, s);
-    return w.diffuse * env_diffuse(n) + pbr_environment_specular(n, v, s, w);
+    return pbr_environment_diffuse(w) * env_diffuse(n) + pbr_environment_specular(n, v, s, w);
 }
 
 // The same with the diffuse and specular terms scaled by what reaches the surface of each
 // (seen: env_visibility's (V_d, V_s), with the other occlusions applied).
 vec3 pbr_environment_seen(vec3 n, vec3 v, Surface s, vec2 seen) {
     PbrAmbientWeights w = pbr_ambient_weights(n, v, s);
-    return w.diffuse * env_diffuse(n) * seen.x + pbr_environment_specular(n, v, s, w) * seen.y;
+    return pbr_environment_diffuse(w) * env_diffuse(n) * seen.x + pbr_environment_specular(n, v, s, w) * seen.y;
 }
 #endif

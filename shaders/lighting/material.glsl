@@ -55,6 +55,57 @@ uniform sampler2D u_emissive_map;
 uniform vec4 u_emissive_map_st;
 #endif
 
+// The texture coordinates each map reads: the mesh's set 0 (``uv``), or set 1 where the
+// map asks for it (glTF texCoord: 1; <MAP>_UV1).
+#ifdef HAS_UV1
+in vec2 v_uv1;
+#endif
+#ifdef DIFFUSE_MAP_UV1
+#define UV_OF_u_diffuse_map(uv) v_uv1
+#else
+#define UV_OF_u_diffuse_map(uv) (uv)
+#endif
+#ifdef SPECULAR_MAP_UV1
+#define UV_OF_u_specular_map(uv) v_uv1
+#else
+#define UV_OF_u_specular_map(uv) (uv)
+#endif
+#ifdef NORMAL_MAP_UV1
+#define UV_OF_u_normal_map(uv) v_uv1
+#else
+#define UV_OF_u_normal_map(uv) (uv)
+#endif
+#ifdef OPACITY_MAP_UV1
+#define UV_OF_u_opacity_map(uv) v_uv1
+#else
+#define UV_OF_u_opacity_map(uv) (uv)
+#endif
+#ifdef METALLIC_ROUGHNESS_MAP_UV1
+#define UV_OF_u_metallic_roughness_map(uv) v_uv1
+#else
+#define UV_OF_u_metallic_roughness_map(uv) (uv)
+#endif
+#ifdef ROUGHNESS_MAP_UV1
+#define UV_OF_u_roughness_map(uv) v_uv1
+#else
+#define UV_OF_u_roughness_map(uv) (uv)
+#endif
+#ifdef METALLIC_MAP_UV1
+#define UV_OF_u_metallic_map(uv) v_uv1
+#else
+#define UV_OF_u_metallic_map(uv) (uv)
+#endif
+#ifdef OCCLUSION_MAP_UV1
+#define UV_OF_u_occlusion_map(uv) v_uv1
+#else
+#define UV_OF_u_occlusion_map(uv) (uv)
+#endif
+#ifdef EMISSIVE_MAP_UV1
+#define UV_OF_u_emissive_map(uv) v_uv1
+#else
+#define UV_OF_u_emissive_map(uv) (uv)
+#endif
+
 // Texture coordinates for a map: MTL -s/-o scale and offset, then the wrap mode. Mirrored
 // wrap folds coordinates here (a triangle wave, so derivatives stay continuous).
 vec2 map_uv(vec2 uv, vec4 st) {
@@ -103,9 +154,9 @@ vec2 map_uv(vec2 uv, vec4 st, vec2 skew) {
 #endif
     return t;
 }
-#define MAP_UV(map, uv) map_uv(uv, map##_st, map##_skew)
+#define MAP_UV(map, uv) map_uv(UV_OF_##map(uv), map##_st, map##_skew)
 #else
-#define MAP_UV(map, uv) map_uv(uv, map##_st)
+#define MAP_UV(map, uv) map_uv(UV_OF_##map(uv), map##_st)
 #endif
 
 struct Surface {

@@ -7,12 +7,35 @@
 //   f = (1 - F) (1 - metallic) base / pi + F D V
 // Light units as for the other models: a light gives pi f E N.L (E its colour x intensity
 // x attenuation), so Lambert's f = base / pi gives base E N.L. docs/scene-notes.md has it.
+//
+// Layers, each only in the programs of materials that have it (docs/scene-notes.md,
+// "Layers of the pbr model"):
+// - PBR_DIELECTRIC_SPECULAR (KHR_materials_ior, KHR_materials_specular): the dielectric's
+//   F0 = min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular and F90 = specular, so
+//   F = F0 + (F90 - F0) (1 - V.H)^5 with F0 = mix(dielectric F0, base, metallic) and
+//   F90 = mix(dielectric F90, 1, metallic).
+// - PBR_SHEEN (KHR_materials_sheen): a Charlie lobe over the base (lighting/sheen.glsl):
+//   f = f_base min(1 - max(sheen) E(N.V), 1 - max(sheen) E(N.L)) + sheen D_s V_s.
+// - PBR_CLEARCOAT (KHR_materials_clearcoat): a GGX layer of F0 0.04 (ior 1.5) and its own
+//   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - V.H)^5.
 
 #include "lighting/ambient_brdf.glsl"
+#ifdef PBR_SHEEN
+#include "lighting/sheen.glsl"
+#endif
 
 // alpha is kept above this (roughness about 0.045) so the distribution stays finite; a
 // smoother surface's highlight from a point light would be narrower than a pixel anyway
 const float PBR_MIN_ALPHA = 0.002;
+
+#ifdef PBR_DIELECTRIC_SPECULAR
+uniform vec3 u_dielectric_f0;    // min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular
+uniform float u_dielectric_f90;  // specular
+#endif
+#ifdef PBR_CLEARCOAT
+uniform float u_clearcoat;            // the layer's weight c
+uniform float u_clearcoat_roughness;
+#endif
 
 vec3 fresnel_schlick(vec3 f0, float v_dot_h) {
     float m = 1.0 - v_dot_h;
@@ -28,7 +51,42 @@ struct PbrView {
     float view_term;  // sqrt((N.V)^2 (1 - alpha^2) + alpha^2), V's half that depends on V alone
     vec3 f0;
     vec3 diffuse;     // (1 - metallic) base
+#ifdef PBR_DIELECTRIC_SPECULAR
+    vec3 f90;
+#endif
+#ifdef PBR_CLEARCOAT
+    float coat_alpha2;
+    float coat_view_term;
+#endif
+#ifdef PBR_SHEEN
+    float sheen_alpha;
+    float sheen_through_view;  // 1 - max(sheen) E(N.V)
+#endif
 };
+
+#ifdef PBR_DIELECTRIC_SPECULAR
+vec3 fresnel_schlick_f90(vec3 f0, vec3 f90, float v_dot_h) {
+    float m = 1.0 - v_dot_h;
+    float m2 = m * m;
+    return f0 + (f90 - f0) * (m2 * m2 * m);
+}
+#endif
+
+#ifdef PBR_CLEARCOAT
+// pi D V of the coat at roughness alpha^2 = coat_alpha2 (pbr_direct's lobe)
+float coat_lobe(float n_dot_h, float n_dot_l, float n_dot_v, float alpha2, float view_term) {
+    float k = 1.0 - n_dot_h * n_dot_h * (1.0 - alpha2);
+    float light_term = n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - alpha2) + alpha2);
+    return 0.5 * alpha2 / (k * k * (n_dot_l * view_term + light_term));
+}
+
+// c Fc: how much of the light the coat takes at an angle of cosine ``cosine``
+float coat_fresnel(float cosine) {
+    float m = 1.0 - cosine;
+    float m2 = m * m;
+    return u_clearcoat * (0.04 + 0.96 * (m2 * m2 * m));
+}
+#endif
 
 PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     PbrView p;
@@ -36,8 +94,22 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     float alpha = max(s.roughness * s.roughness, PBR_MIN_ALPHA);
     p.alpha2 = alpha * alpha;
     p.view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.alpha2) + p.alpha2);
+#ifdef PBR_DIELECTRIC_SPECULAR
+    p.f0 = mix(u_dielectric_f0, s.base, s.metallic);
+    p.f90 = mix(vec3(u_dielectric_f90), vec3(1.0), s.metallic);
+#else
     p.f0 = mix(vec3(0.04), s.base, s.metallic);
+#endif
     p.diffuse = s.base * (1.0 - s.metallic);
+#ifdef PBR_CLEARCOAT
+    float coat_alpha = max(u_clearcoat_roughness * u_clearcoat_roughness, PBR_MIN_ALPHA);
+    p.coat_alpha2 = coat_alpha * coat_alpha;
+    p.coat_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
+#endif
+#ifdef PBR_SHEEN
+    p.sheen_alpha = sheen_alpha();
+    p.sheen_through_view = sheen_through(p.n_dot_v);
+#endif
     return p;
 }
 
@@ -56,8 +128,26 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
     float k = 1.0 - n_dot_h * n_dot_h * (1.0 - p.alpha2);
     float light_term = p.n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - p.alpha2) + p.alpha2);
     float specular = 0.5 * p.alpha2 / (k * k * (n_dot_l * p.view_term + light_term));  // pi D V
+#ifdef PBR_DIELECTRIC_SPECULAR
+    vec3 fresnel = fresnel_schlick_f90(p.f0, p.f90, v_dot_h);
+#else
     vec3 fresnel = fresnel_schlick(p.f0, v_dot_h);
+#endif
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    vec3 layered = p.diffuse + fresnel * (specular - p.diffuse);
+#ifdef PBR_SHEEN
+    float through = min(p.sheen_through_view, sheen_through(n_dot_l));
+    layered = layered * through + u_sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
+#endif
+#ifdef PBR_CLEARCOAT
+    float coat = coat_fresnel(v_dot_h);
+    float coat_specular = coat_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
+    layered = layered * (1.0 - coat) + coat * coat_specular;
+#endif
+    return layered * n_dot_l;
+#else
     return (p.diffuse + fresnel * (specular - p.diffuse)) * n_dot_l;
+#endif
 }
 
 // What a uniform ambient light of radiance 1 gives: the BRDF integrated over the
@@ -67,19 +157,63 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
 struct PbrAmbientWeights {
     vec3 diffuse;
     vec3 specular;
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    float base_scale;  // what the sheen and coat let through to the base (diffuse and specular carry it)
+#endif
+#ifdef PBR_SHEEN
+    vec3 sheen;        // sheen E(N.V) (times what the coat lets through): the sheen's own reflection
+#endif
+#ifdef PBR_CLEARCOAT
+    float coat;        // c (0.04 A_c + B_c): the coat's own reflection, at its roughness
+#endif
 };
 
 PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     float n_dot_v = clamp(dot(n, v), 0.0, 1.0);
     vec2 scale_bias = ambient_specular(n_dot_v, s.roughness);
-    vec3 f0 = mix(vec3(0.04), s.base, s.metallic);
     PbrAmbientWeights w;
+#ifdef PBR_DIELECTRIC_SPECULAR
+    // with F90: the diffuse part keeps (1 - F0) - (F90 - F0) Cd, the specular F0 A + F90 B
+    vec3 f0 = mix(u_dielectric_f0, s.base, s.metallic);
+    vec3 f90 = mix(vec3(u_dielectric_f90), vec3(1.0), s.metallic);
+    w.diffuse = s.base * (1.0 - s.metallic) * ((1.0 - f0) - (f90 - f0) * ambient_diffuse_fresnel(n_dot_v));
+    w.specular = f0 * scale_bias.x + f90 * scale_bias.y;
+#else
+    vec3 f0 = mix(vec3(0.04), s.base, s.metallic);
     w.diffuse = s.base * (1.0 - s.metallic) * (1.0 - f0) * (1.0 - ambient_diffuse_fresnel(n_dot_v));
     w.specular = f0 * scale_bias.x + scale_bias.y;
+#endif
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    w.base_scale = 1.0;
+#endif
+#ifdef PBR_SHEEN
+    w.base_scale = sheen_through(n_dot_v);
+    w.sheen = u_sheen_color * sheen_albedo(n_dot_v, u_sheen_roughness);
+#endif
+#ifdef PBR_CLEARCOAT
+    vec2 coat_scale_bias = ambient_specular(n_dot_v, u_clearcoat_roughness);
+    float coat_through = 1.0 - coat_fresnel(n_dot_v);
+    w.base_scale *= coat_through;
+#ifdef PBR_SHEEN
+    w.sheen *= coat_through;
+#endif
+    w.coat = u_clearcoat * (0.04 * coat_scale_bias.x + coat_scale_bias.y);
+#endif
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+    w.diffuse *= w.base_scale;
+    w.specular *= w.base_scale;
+#endif
     return w;
 }
 
 vec3 pbr_ambient(vec3 n, vec3 v, Surface s) {
     PbrAmbientWeights w = pbr_ambient_weights(n, v, s);
-    return w.diffuse + w.specular;
+    vec3 reflected = w.diffuse + w.specular;
+#ifdef PBR_SHEEN
+    reflected += w.sheen;
+#endif
+#ifdef PBR_CLEARCOAT
+    reflected += vec3(w.coat);
+#endif
+    return reflected;
 }

@@ -12,6 +12,9 @@ in vec4 in_tangent;
 #ifdef HAS_VERTEX_COLOR
 in vec4 in_color;
 #endif
+#ifdef HAS_UV1
+in vec2 in_uv1;  // glTF TEXCOORD_1, for textures with texCoord: 1
+#endif
 in mat4 in_model;          // per instance: camera-relative world matrix
 in mat3 in_normal_matrix;  // per instance: inverse transpose of the model's 3x3
 
@@ -33,6 +36,9 @@ out vec4 v_tangent;
 #ifdef HAS_VERTEX_COLOR
 out vec4 v_color;
 #endif
+#ifdef HAS_UV1
+out vec2 v_uv1;
+#endif
 
 void main() {
     vec4 world = in_model * vec4(in_position, 1.0);
@@ -44,6 +50,9 @@ void main() {
     v_position = world.xyz;
     v_normal = normal;
     v_uv = in_uv;
+#ifdef HAS_UV1
+    v_uv1 = in_uv1;
+#endif
 #ifdef HAS_VERTEX_COLOR
     v_color = in_color;
 #endif

@@ -2,12 +2,14 @@
 clipping planes."""
 from __future__ import annotations
 
-from pydantic import model_validator
+from pydantic import Field, model_validator
 from pydantic_core import PydanticCustomError
 
 from scenerender.scene.model.camera_data import IntrinsicsSpec, PoseSpec, check_dataset_camera
 from scenerender.scene.strict import StrictModel
-from scenerender.scene.values import AnimatedFloat, AnimatedVec3, animated_number, auto_or, choice, number, vector
+from scenerender.scene.values import (
+    AnimatedFloat, AnimatedVec3, Text, animated_number, auto_or, choice, number, vector,
+)
 
 NearFar = auto_or("a positive number", 0, lo_open=True)
 
@@ -31,10 +33,14 @@ class CameraSpec(StrictModel):
     sensor_width: number(1, 1000) = 36.0
     intrinsics: IntrinsicsSpec | None = None
     pose: PoseSpec | None = None
+    # a glTF file's camera: the object whose file holds it, and its name (world.file_nodes)
+    from_object: Text | None = Field(None, alias="from")
+    name: Text | None = None
 
     @model_validator(mode="after")
     def _check(self):
         check_dataset_camera(self)
+        check_file_camera(self)
         if self.target is not None and (self.yaw is not None or self.pitch is not None):
             raise PydanticCustomError("camera_aim", "give either target or yaw/pitch, not both",
                                       {"subpath": ("yaw" if self.yaw is not None else "pitch",)})
@@ -68,6 +74,27 @@ class CameraSpec(StrictModel):
         if not (self.position.is_constant and self.target.is_constant):
             return False
         return tuple(self.position(0.0)) == tuple(self.target(0.0))
+
+
+# what a glTF file's camera gives itself: the scene may not give it too
+FILE_CAMERA_GIVES = ("position", "target", "yaw", "pitch", "up", "fov", "projection", "height", "intrinsics", "pose")
+
+
+def check_file_camera(camera) -> None:
+    """``from`` (an object holding a glTF file) with ``name`` (one of its cameras) places the
+    camera and gives its lens; no key may place it again."""
+    if camera.from_object is None:
+        if camera.name is not None:
+            raise PydanticCustomError("file_camera", "name picks a camera of the glTF file of the object `from` "
+                                      "names; give from too", {"subpath": ("name",)})
+        return
+    given = [key for key in FILE_CAMERA_GIVES if key in camera.model_fields_set]
+    if given:
+        raise PydanticCustomError("file_camera", "the file's camera gives its own {key}; remove {key} or from",
+                                  {"key": given[0], "subpath": (given[0],)})
+    if camera.aperture is not None and camera.focus_distance is None and camera.focus is None:
+        raise PydanticCustomError("camera_lens", "an aperture with a file's camera needs a focus_distance or a focus "
+                                  "object (where the lens is focused)", {"subpath": ("aperture",)})
 
 
 def _vector_text(values) -> str:

@@ -8,7 +8,10 @@ from pydantic_core import PydanticCustomError
 from scenerender.scene.model.paths import ImagePath
 from scenerender.scene.model.unions import mapping_or
 from scenerender.scene.strict import StrictModel
-from scenerender.scene.values import AnimatedColor, Bool, Text, animated_number, choice, number
+from scenerender.scene.values import AnimatedColor, Bool, Text, animated_number, choice, number, vector
+
+# the largest index of refraction a material takes (mesh.gltf.MAX_IOR reads a file's alike)
+MAX_IOR = 10.0
 
 MATERIAL_SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 # the pbr names of keys the Phong models already have: one value, two names
@@ -45,6 +48,16 @@ class MaterialSpec(StrictModel):
     alpha_mode: choice("opaque", "mask", "blend") | None = None
     alpha_cutoff: number(0, 1) | None = None
     double_sided: Bool | None = None
+    # the pbr model's dielectric reflection (KHR_materials_ior, KHR_materials_specular) and
+    # clear coat (KHR_materials_clearcoat), sheen (KHR_materials_sheen): docs/scene-notes.md,
+    # "Layers of the pbr model"
+    ior: number(1, MAX_IOR) | None = None
+    specular_factor: number(0, 1) | None = None
+    specular_color: vector(3, 0) | None = None
+    clearcoat: number(0, 1) | None = None
+    clearcoat_roughness: number(0, 1) | None = None
+    sheen_color: vector(3, 0, 1) | None = None  # KHR_materials_sheen
+    sheen_roughness: number(0, 1) | None = None
 
     @model_validator(mode="after")
     def _one_name_each(self):

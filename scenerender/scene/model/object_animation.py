@@ -49,3 +49,28 @@ def check_animated_mesh(obj) -> None:
         raise PydanticCustomError("animation", "normalize rescales the mesh at rest, which the clip's node "
                                   "transforms know nothing of; remove it (give the object a scale instead)",
                                   {"subpath": ("normalize",)})
+
+
+def check_file_lights(obj) -> None:
+    """``lights: true`` brings in a glTF file's lights, placed by the object's own transform
+    (not repeated per instance)."""
+    if not obj.lights:
+        return
+    mesh = obj.mesh
+    if not (isinstance(mesh, str) and mesh.lower().endswith(GLTF_SUFFIXES)):
+        raise PydanticCustomError("lights", "lights: true brings in the lights of a glTF file (.gltf, .glb), and "
+                                  "this object's mesh is not one", {"subpath": ("lights",)})
+    if obj.instances is not None:
+        raise PydanticCustomError("lights", "lights: true places the file's lights by the object's own transform; "
+                                  "an object with instances would need one set per instance (remove one of the "
+                                  "keys)", {"subpath": ("lights",)})
+
+
+def check_variant(obj) -> None:
+    """``variant`` picks materials of a glTF file's KHR_materials_variants."""
+    if obj.variant is None:
+        return
+    mesh = obj.mesh
+    if not (isinstance(mesh, str) and mesh.lower().endswith(GLTF_SUFFIXES)):
+        raise PydanticCustomError("variant", "variant picks one of a glTF file's material variants (.gltf, .glb), "
+                                  "and this object's mesh is not one", {"subpath": ("variant",)})

@@ -8,7 +8,7 @@ from pydantic_core import PydanticCustomError
 
 from scenerender.scene.model.materials import MaterialRef, MaterialSpec
 from scenerender.scene.model.meshes import MeshSpec
-from scenerender.scene.model.object_animation import AnimationSpec, check_animated_mesh
+from scenerender.scene.model.object_animation import AnimationSpec, check_animated_mesh, check_file_lights, check_variant
 from scenerender.scene.model.unions import mapping_or
 from scenerender.scene.strict import StrictModel, mapping_default
 from scenerender.scene.values import (
@@ -79,8 +79,12 @@ class ObjectSpec(StrictModel):
     outline: Outline | None = None
     instances: Instances | None = None
     animation: AnimationSpec | None = None
+    lights: Bool = False  # the KHR_lights_punctual lights of its glTF file join the scene's (world.file_nodes)
+    variant: Text | None = None  # a KHR_materials_variants name of its glTF file
 
     @model_validator(mode="after")
     def _check_animation(self):
         check_animated_mesh(self)
+        check_file_lights(self)
+        check_variant(self)
         return self
