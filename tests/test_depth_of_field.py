@@ -75,6 +75,37 @@ def test_a_point_out_of_focus_is_a_disc_the_circle_of_confusion_wide(gl):
         assert diameter == pytest.approx(expected, rel=0.10), (depth, diameter, expected)
 
 
+def _disc(light: np.ndarray, column: int) -> tuple:
+    """The centroid (x, y) and the mean squared distance from it (px^2) of the light in
+    the 40 px band around ``column``."""
+    band = light[:, column - 20:column + 20]
+    y, x = np.mgrid[:band.shape[0], :band.shape[1]]
+    total = band.sum()
+    cx, cy = (band * x).sum() / total, (band * y).sum() / total
+    return cx, cy, float((band * ((x - cx) ** 2 + (y - cy) ** 2)).sum() / total)
+
+
+@pytest.mark.parametrize("samples", [8, 16])
+def test_few_lens_samples_give_the_thin_lens_disc_centred(gl, samples):
+    """Points at 0.3 and 1.5 (focus 0.5) at f/0.5 and f/1 (discs of 15.2 and 7.6 px): with
+    8 and 16 sub-frames each disc's diameter, from its second moment about its centroid
+    (a uniform disc of diameter D has D^2 / 8) less the pinhole image's, within 3 % of the
+    thin lens's, and its centroid within 0.25 px of the pinhole image's. Measured: 0.990 to
+    1.009 of it, 0.15 px off at most; the Halton points these replaced gave 0.87 to 0.92,
+    up to 1.0 px off."""
+    depths, focus = (0.3, 1.5, 0.3), 0.5
+    sharp = _render(gl, _points_scene(depths, None, None, radius_px=1.5))
+    for aperture in (0.5, 1.0):
+        blurred = _render(gl, _points_scene(depths, aperture, focus, samples=samples, radius_px=1.5))
+        for column, depth in zip(COLUMNS[:2], depths):
+            sx, sy, sharp_moment = _disc(sharp, column)
+            bx, by, moment = _disc(blurred, column)
+            diameter = math.sqrt(8.0 * (moment - sharp_moment))
+            expected = thin_lens_coc_px(depth, focus, aperture)
+            assert diameter == pytest.approx(expected, rel=0.03), (aperture, depth, diameter, expected)
+            assert math.hypot(bx - sx, by - sy) < 0.25, (aperture, depth, bx - sx, by - sy)
+
+
 def test_the_focus_plane_is_as_sharp_as_the_pinhole(gl):
     depths = (0.5, 0.5, 0.5)
     sharp = _render(gl, _points_scene(depths, None, None))
