@@ -1,0 +1,253 @@
+"""The filmed camera's settings at their defaults: each one's error against what it
+approximates beside its cost. Writes film_exact.md and film_exact.json (or prints, with
+--print).
+
+    python benchmarks/quality/film_exact.py                  # about 10 minutes on 2 cores
+    python benchmarks/quality/film_exact.py --tree /tmp/base --print   # another checkout's numbers
+
+Three measurements, all in one process and one GL context:
+
+- lens: points of light 3 px across at 0.3 and 1.5 (focus 0.5) and at the focus, at f/0.5
+  and f/1, 160x120, in front of black at infinity; each out-of-focus point's disc diameter
+  from its second moment about its centroid (a uniform disc of diameter D has D^2 / 8),
+  less the pinhole image's, as a ratio to the thin lens's circle of confusion (the worst of
+  the four), the worst centroid offset from the pinhole image (px), and the growth of the
+  point at the focus (px, the same measure);
+- shutter: a box 40 px wide moving 40 px a frame at shutter 0.5, at whole and fractional
+  pixel positions (0, 0.25, 0.5 px): each edge's ramp width (sqrt(12) times the standard
+  deviation of where the linear coverage changes along the middle row) less the unblurred
+  edge's, against the 20 px of its motion (the worst), and the most any pixel is brighter
+  than the brightest of 64 sub-frames' 3 x 3 around it (8-bit levels; a box 10 px wide too);
+- scenes/film.yaml at 320x180, frames 32 (the focus on the crate) and 36 (the pan starts):
+  RMSE of the linear image (clipped to [0, 1]) against `scenerender reference` of the same
+  lens and shutter (4x4 rays a pixel, 32 instants over the shutter), and the median ms per
+  frame, the variants taking turns frame by frame (benchmarks/film_cost.py).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import statistics
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+
+
+def _import_tree(tree: Path) -> None:
+    """Import scenerender (and benchmarks/film_cost.py's helpers) from ``tree``."""
+    sys.path.insert(0, str(tree))
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+
+
+WIDTH, HEIGHT, FOV, SENSOR = 160, 120, 40.0, 36.0
+FOCAL_PX = WIDTH / 2 / (math.tan(math.radians(FOV) / 2) * WIDTH / HEIGHT)
+COLUMNS = (36, 80, 124)
+DEPTHS, FOCUS = (0.3, 1.5, 0.5), 0.5
+APERTURES = (0.5, 1.0)
+
+BOX = """
+render: {{size: [160, 120], samples: 4, background: [0, 0, 0], shading: unlit}}
+output: {{fps: 10, duration: 0.2}}
+camera: {{position: [0, 0, 10], target: [0, 0, 0], projection: orthographic, height: 12, shutter: {shutter}}}
+lights: []
+objects:
+  - mesh: {{primitive: box, size: [{size}, {size}, 2]}}
+    position: {{keys: [[0, [{start}, {shift}, 0]], [0.2, [{end}, {shift}, 0]]]}}
+    material: {{diffuse: [1, 1, 1]}}
+"""
+
+FILM_VARIANTS = [
+    ("pinhole, instant", ["camera.aperture=null", "camera.shutter=0"]),
+    ("sub-frames, 8", ["render.film_samples=8"]),
+    ("sub-frames, 16 (default)", ["render.film_samples=16"]),
+    ("sub-frames, 32", ["render.film_samples=32"]),
+    ("velocity + gather, 1 sub-frame", ["render.motion_blur=velocity", "render.depth_of_field=gather"]),
+    ("velocity, 16 sub-frames of the lens", ["render.motion_blur=velocity", "render.film_samples=16"]),
+    ("gather, 16 sub-frames of the shutter", ["render.depth_of_field=gather", "render.film_samples=16"]),
+]
+FILM_FRAMES = (32, 36)
+
+HEADER = """# The filmed camera: each setting's error at its default beside its cost
+
+Made by `python benchmarks/quality/film_exact.py` (see its docstring for each measure) on
+Mesa llvmpipe, 2 cores. "Its error": the setting against what it approximates, on scenes
+made for it (the lens: points of light at two depths and two apertures against the thin
+lens's circle of confusion; the shutter: a box moving 40 px a frame at shutter 0.5, its
+smear against its 20 px of motion and its brightest pixel against 64 sub-frames'). Every
+film.yaml row is against the one reference of the scene's own lens and shutter (4x4 rays a
+pixel, 32 instants), 320x180; ms/frame: the median frame, the variants taking turns frame
+by frame in one process. The rows for `velocity` and `gather` film the other key by 16
+sub-frames; the last row uses both fast settings, one sub-frame a frame.
+
+"""
+
+
+def thin_lens_px(depth: float, aperture: float) -> float:
+    image_distance = SENSOR * 1e-3 * FOCAL_PX / WIDTH
+    f = image_distance * FOCUS / (image_distance + FOCUS)
+    return (f / aperture) * f * abs(depth - FOCUS) / (depth * (FOCUS - f)) / (SENSOR * 1e-3) * WIDTH
+
+
+def points_scene(aperture, overrides: str) -> str:
+    objects = []
+    for column, depth in zip(COLUMNS, DEPTHS):
+        x = (column + 0.5 - WIDTH / 2) / FOCAL_PX * depth
+        objects.append(f"  - {{mesh: {{primitive: sphere, radius: {1.5 * depth / FOCAL_PX:.6g}}}, "
+                       f"position: [{x:.6g}, 0, {-depth:.6g}], material: {{diffuse: [1, 1, 1], unlit: true}}}}")
+    lens = f", aperture: {aperture}, focus_distance: {FOCUS}" if aperture is not None else ""
+    return (f"render: {{size: [{WIDTH}, {HEIGHT}], samples: 4, background: [0, 0, 0]{overrides}}}\n"
+            f"camera: {{position: [0, 0, 0], target: [0, 0, -1], fov: {FOV}, near: 0.01, far: 10{lens}}}\n"
+            "lights: []\nobjects:\n" + "\n".join(objects) + "\n")
+
+
+def render_levels(gl, text: str, frame: int = 0, overrides=()) -> np.ndarray:
+    """(H, W) int: the 8-bit frame's red channel."""
+    import scenerender
+
+    with scenerender.Renderer(scenerender.Scene.from_yaml(text, ".", list(overrides)), gl=gl) as renderer:
+        return renderer.render(frame).pixels[..., 0].astype(int)
+
+
+def render(gl, text: str, frame: int = 0, overrides=()) -> np.ndarray:
+    """(H, W) float64: the 8-bit frame's red channel in linear light."""
+    from scenerender.colorspace import srgb_decode
+
+    return srgb_decode(render_levels(gl, text, frame, overrides) / 255.0)
+
+
+def disc(light: np.ndarray, column: int) -> tuple:
+    band = light[:, column - 20:column + 20]
+    y, x = np.mgrid[:band.shape[0], :band.shape[1]]
+    total = band.sum()
+    cx, cy = (band * x).sum() / total, (band * y).sum() / total
+    return cx, cy, float((band * ((x - cx) ** 2 + (y - cy) ** 2)).sum() / total)
+
+
+def lens_errors(gl, overrides: str) -> dict:
+    """The worst disc ratio to the thin lens, centroid offset (px) and in-focus growth (px)."""
+    sharp = render(gl, points_scene(None, ""))
+    ratios, offsets, growth = [], [], []
+    for aperture in APERTURES:
+        blurred = render(gl, points_scene(aperture, overrides))
+        for column, depth in zip(COLUMNS, DEPTHS):
+            (sx, sy, sharp_moment), (bx, by, moment) = disc(sharp, column), disc(blurred, column)
+            diameter = math.sqrt(max(8.0 * (moment - sharp_moment), 0.0))
+            if depth == FOCUS:
+                growth.append(diameter)
+            else:
+                ratios.append(diameter / thin_lens_px(depth, aperture))
+                offsets.append(math.hypot(bx - sx, by - sy))
+    worst = max(ratios, key=lambda r: abs(r - 1.0))
+    return {"disc_ratio_worst": worst, "disc_ratio_range": [min(ratios), max(ratios)],
+            "centroid_offset_px": max(offsets), "in_focus_growth_px": max(growth)}
+
+
+def ramp_width(light: np.ndarray, columns: slice) -> float:
+    change = np.abs(np.diff(light[60, columns]))
+    x = np.arange(len(change)) + 0.5
+    mean = (x * change).sum() / change.sum()
+    return float(np.sqrt(12.0 * ((x - mean) ** 2 * change).sum() / change.sum()))
+
+
+def box(size_px: int, shift_px: float, shutter: float) -> str:
+    shift = shift_px / 10.0
+    return BOX.format(shutter=shutter, size=size_px / 10.0, start=shift - 4, end=shift + 4, shift=shift)
+
+
+def shutter_errors(gl, overrides: list) -> dict:
+    """The smears (px) of both edges at each shift, and the worst seam excess (levels)."""
+    from scipy import ndimage
+
+    smears, excess = [], 0
+    for shift in (0.0, 0.25, 0.5):
+        sharp, blurred = render(gl, box(40, shift, 0.0), 1), render(gl, box(40, shift, 0.5), 1, overrides)
+        for columns in (slice(30, 80), slice(80, 130)):
+            smears.append(math.sqrt(ramp_width(blurred, columns) ** 2 - ramp_width(sharp, columns) ** 2))
+        for size in (20, 10):
+            levels = [render_levels(gl, box(size, shift, 0.5), 1, o) for o in (overrides, ["render.film_samples=64"])]
+            excess = max(excess, int((levels[0] - ndimage.maximum_filter(levels[1], size=3)).max()))
+    return {"smear_px_range": [min(smears), max(smears)], "seam_levels": excess}
+
+
+def film_errors(gl, frames: int, rounds: int) -> dict:
+    from film_cost import errors, timings
+
+    scene, sets = str(ROOT / "scenes" / "film.yaml"), ["render.size=[320, 180]"]
+    totals = timings(scene, sets, FILM_VARIANTS, frames, rounds, gl)
+    found = {name: {"ms": statistics.median(totals[name])} for name, _ in FILM_VARIANTS}
+    for frame in FILM_FRAMES:
+        # every variant against the reference of the scene's own lens and shutter
+        for name, (linear, _) in errors(scene, sets, FILM_VARIANTS, frame, 4, 32, gl, reference_sets=[]).items():
+            found[name][f"rmse_linear_frame_{frame}"] = linear
+    return found
+
+
+def table(results: dict) -> str:
+    lens, shutter, film = results["lens"], results["shutter"], results["film"]
+    first = film[FILM_VARIANTS[0][0]]["ms"]
+    rows = ["| setting (default) | its error at the default | goal | film.yaml RMSE % (frames 32 / 36) | ms/frame | "
+            "vs the instant |", "|---|---|---|---|---|---|"]
+
+    def film_cells(name):
+        f = film[name]
+        return (f"{f['rmse_linear_frame_32']:.2f} / {f['rmse_linear_frame_36']:.2f} | {f['ms']:.0f} | "
+                f"{f['ms'] / first:.2f} |")
+
+    rows.append(f"| pinhole, instant | - | - | {film_cells(FILM_VARIANTS[0][0])}")
+    for count in (8, 16, 32):
+        lens_row = lens[f"sub_frames_{count}"]
+        name = next(n for n, o in FILM_VARIANTS if o == [f"render.film_samples={count}"])
+        rows.append(f"| `film_samples: {count}`{' (default)' if count == 16 else ''}: lens | disc "
+                    f"{lens_row['disc_ratio_range'][0]:.3f}-{lens_row['disc_ratio_range'][1]:.3f} of the thin lens, "
+                    f"centred within {lens_row['centroid_offset_px']:.2f} px | 0.97-1.03, 0.25 px | "
+                    f"{film_cells(name)}")
+    sub = shutter["sub_frames_16"]
+    rows.append(f"| `film_samples: 16`: shutter | smear {sub['smear_px_range'][0]:.1f}-{sub['smear_px_range'][1]:.1f} "
+                f"px for 20 | 20 +- 1 | (above) | | |")
+    velocity = shutter["velocity"]
+    rows.append(f"| `motion_blur: velocity` (24 taps) | smear {velocity['smear_px_range'][0]:.1f}-"
+                f"{velocity['smear_px_range'][1]:.1f} px for 20, seam {velocity['seam_levels']} levels | 20 +- 1, "
+                f"<= 2 | {film_cells('velocity, 16 sub-frames of the lens')}")
+    gather = lens["gather"]
+    rows.append(f"| `depth_of_field: gather` (48 taps) | disc {gather['disc_ratio_range'][0]:.3f}-"
+                f"{gather['disc_ratio_range'][1]:.3f}, in-focus growth {gather['in_focus_growth_px']:.2f} px | "
+                f"0.90-1.10, <= 2 px | {film_cells('gather, 16 sub-frames of the shutter')}")
+    rows.append(f"| velocity + gather | - | - | {film_cells('velocity + gather, 1 sub-frame')}")
+    return "\n".join(rows)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--tree", type=Path, default=ROOT, help="the checkout whose scenerender is measured")
+    parser.add_argument("--print", action="store_true", help="print the table, write nothing")
+    parser.add_argument("--frames", type=int, default=4, help="timed film.yaml frames a variant and round")
+    parser.add_argument("--rounds", type=int, default=3)
+    args = parser.parse_args()
+    _import_tree(args.tree.resolve())
+    from scenerender.gpu.gl_context import create_context
+
+    gl = create_context()
+    results = {
+        "lens": {**{f"sub_frames_{n}": lens_errors(gl, f", film_samples: {n}") for n in (4, 8, 12, 16, 32)},
+                 "gather": lens_errors(gl, ", depth_of_field: gather")},
+        "shutter": {"sub_frames_16": shutter_errors(gl, ["render.film_samples=16"]),
+                    "velocity": shutter_errors(gl, ["render.motion_blur=velocity"])},
+        "film": film_errors(gl, args.frames, args.rounds),
+    }
+    text = table(results)
+    if args.print:
+        print(text)
+        print(json.dumps(results, indent=1))
+        return
+    (HERE / "film_exact.json").write_text(json.dumps(results, indent=1) + "\n", encoding="utf-8")
+    (HERE / "film_exact.md").write_text(HEADER + text + "\n", encoding="utf-8")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
