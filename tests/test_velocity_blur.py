@@ -60,8 +60,9 @@ def _shifted_box(width_px: int, shift_px: float) -> str:
     fractional shift its edges at the frame's time cut pixels (the colour's edge pixels
     then mix the box and the background, the velocity image's hold one of them)."""
     shift = shift_px / 10.0
+    keys = f"[[0, [{shift - 4}, {shift}, 0]], [{{end}}, [{shift + 4}, {shift}, 0]]]"
     return MOVING_BOX.replace("size: [2, 2, 2]", f"size: [{width_px / 10}, {width_px / 10}, 2]").replace(
-        "[[0, [-4, 0, 0]], [{end}, [4, 0, 0]]]", f"[[0, [{shift - 4}, {shift}, 0]], [{{end}}, [{shift + 4}, {shift}, 0]]]")
+        "[[0, [-4, 0, 0]], [{end}, [4, 0, 0]]]", keys)
 
 
 def _ramp_width(pixels: np.ndarray, columns: slice) -> float:
