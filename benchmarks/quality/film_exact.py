@@ -4,6 +4,7 @@ approximates beside its cost. Writes film_exact.md and film_exact.json (or print
 
     python benchmarks/quality/film_exact.py                  # about 10 minutes on 2 cores
     python benchmarks/quality/film_exact.py --tree /tmp/base --print   # another checkout's numbers
+    (--references film.npz keeps the reference frames between runs)
 
 Three measurements, all in one process and one GL context:
 
@@ -18,10 +19,11 @@ Three measurements, all in one process and one GL context:
   deviation of where the linear coverage changes along the middle row) less the unblurred
   edge's, against the 20 px of its motion (the worst), and the most any pixel is brighter
   than the brightest of 64 sub-frames' 3 x 3 around it (8-bit levels; a box 10 px wide too);
-- scenes/film.yaml at 320x180, frames 32 (the focus on the crate) and 36 (the pan starts):
-  RMSE of the linear image (clipped to [0, 1]) against `scenerender reference` of the same
-  lens and shutter (4x4 rays a pixel, 32 instants over the shutter), and the median ms per
-  frame, the variants taking turns frame by frame (benchmarks/film_cost.py).
+- scenes/film.yaml at 320x180, frames 32 (the focus on the crate) and 36 (the pan starts),
+  with its lens and shutter, its shutter alone and its lens alone (FILM_GROUPS): RMSE of
+  the linear image (clipped to [0, 1]) against `scenerender reference` of the group's keys
+  (4x4 rays a pixel, 32 instants over the shutter), and the median ms per frame, the
+  variants taking turns frame by frame (benchmarks/film_cost.py).
 """
 from __future__ import annotations
 
@@ -61,15 +63,28 @@ objects:
     material: {{diffuse: [1, 1, 1]}}
 """
 
-FILM_VARIANTS = [
-    ("pinhole, instant", ["camera.aperture=null", "camera.shutter=0"]),
-    ("sub-frames, 8", ["render.film_samples=8"]),
-    ("sub-frames, 16 (default)", ["render.film_samples=16"]),
-    ("sub-frames, 32", ["render.film_samples=32"]),
-    ("velocity + gather, 1 sub-frame", ["render.motion_blur=velocity", "render.depth_of_field=gather"]),
-    ("velocity, 16 sub-frames of the lens", ["render.motion_blur=velocity", "render.film_samples=16"]),
-    ("gather, 16 sub-frames of the shutter", ["render.depth_of_field=gather", "render.film_samples=16"]),
-]
+# film.yaml in three groups, each timed (alternated) and measured against the reference of
+# its own keys: the lens and the shutter, the shutter alone, the lens alone; the first
+# variant of each is the instant / pinhole its costs are compared with
+FILM_GROUPS = {
+    "lens and shutter": ([], [
+        ("pinhole, instant", ["camera.aperture=null", "camera.shutter=0"]),
+        ("sub-frames, 8", ["render.film_samples=8"]),
+        ("sub-frames, 16 (default)", ["render.film_samples=16"]),
+        ("sub-frames, 32", ["render.film_samples=32"]),
+        ("velocity + gather", ["render.motion_blur=velocity", "render.depth_of_field=gather"]),
+    ]),
+    "shutter alone": (["camera.aperture=null"], [
+        ("instant", ["camera.shutter=0"]),
+        ("sub-frames, 16 (default)", ["render.film_samples=16"]),
+        ("velocity", ["render.motion_blur=velocity"]),
+    ]),
+    "lens alone": (["camera.shutter=0"], [
+        ("pinhole", ["camera.aperture=null"]),
+        ("sub-frames, 16 (default)", ["render.film_samples=16"]),
+        ("gather", ["render.depth_of_field=gather"]),
+    ]),
+}
 FILM_FRAMES = (32, 36)
 
 HEADER = """# The filmed camera: each setting's error at its default beside its cost
@@ -79,10 +94,9 @@ Mesa llvmpipe, 2 cores. "Its error": the setting against what it approximates, o
 made for it (the lens: points of light at two depths and two apertures against the thin
 lens's circle of confusion; the shutter: a box moving 40 px a frame at shutter 0.5, its
 smear against its 20 px of motion and its brightest pixel against 64 sub-frames'). Every
-film.yaml row is against the one reference of the scene's own lens and shutter (4x4 rays a
-pixel, 32 instants), 320x180; ms/frame: the median frame, the variants taking turns frame
-by frame in one process. The rows for `velocity` and `gather` film the other key by 16
-sub-frames; the last row uses both fast settings, one sub-frame a frame.
+film.yaml variant is against the reference of its group's keys (the lens and the shutter,
+the shutter alone, the lens alone; 4x4 rays a pixel, 32 instants), 320x180; ms/frame: the
+median frame, the variants of a group taking turns frame by frame in one process.
 
 """
 
@@ -174,50 +188,73 @@ def shutter_errors(gl, overrides: list) -> dict:
     return {"smear_px_range": [min(smears), max(smears)], "seam_levels": excess}
 
 
-def film_errors(gl, frames: int, rounds: int) -> dict:
-    from film_cost import errors, timings
+def film_references(scene: str, sets: list, group: str, cache: Path | None) -> dict:
+    """frame -> (H, W, 3) float32 linear reference of film.yaml with ``sets`` (a group's
+    keys), kept in ``cache`` (an .npz, made if missing or without the group) between runs."""
+    kept = dict(np.load(cache)) if cache is not None and cache.exists() else {}
+    names = {frame: f"{group}/frame_{frame}" for frame in FILM_FRAMES}
+    if all(name in kept for name in names.values()):
+        return {frame: kept[name] for frame, name in names.items()}
+    import scenerender
+    from scenerender.raytrace import render_reference
 
-    scene, sets = str(ROOT / "scenes" / "film.yaml"), ["render.size=[320, 180]"]
-    totals = timings(scene, sets, FILM_VARIANTS, frames, rounds, gl)
-    found = {name: {"ms": statistics.median(totals[name])} for name, _ in FILM_VARIANTS}
-    for frame in FILM_FRAMES:
-        # every variant against the reference of the scene's own lens and shutter
-        for name, (linear, _) in errors(scene, sets, FILM_VARIANTS, frame, 4, 32, gl, reference_sets=[]).items():
-            found[name][f"rmse_linear_frame_{frame}"] = linear
+    loaded = scenerender.load(scene, sets)
+    references = {frame: render_reference(loaded, frame, spp=4, shutter_samples=32).linear for frame in FILM_FRAMES}
+    if cache is not None:
+        kept.update({names[frame]: image for frame, image in references.items()})
+        np.savez_compressed(cache, **kept)
+    return references
+
+
+def film_errors(gl, frames: int, rounds: int, cache: Path | None) -> dict:
+    """group -> variant -> {"ms": median ms/frame, "rmse_linear_frame_N": % against the
+    group's reference}."""
+    import scenerender
+    from film_cost import rmse_percent, timings
+    from scenerender.rendering.renderer import GraphRenderer
+
+    scene, size = str(ROOT / "scenes" / "film.yaml"), ["render.size=[320, 180]"]
+    found = {}
+    for group, (keys, variants) in FILM_GROUPS.items():
+        sets = size + keys
+        totals = timings(scene, sets, variants, frames, rounds, gl)
+        found[group] = {name: {"ms": statistics.median(totals[name])} for name, _ in variants}
+        for frame, reference in film_references(scene, sets, group, cache).items():
+            for name, overrides in variants:
+                renderer = GraphRenderer(scenerender.load(scene, sets + overrides).world, gl, want_linear=True)
+                linear = renderer.render(frame).linear
+                renderer.release()
+                found[group][name][f"rmse_linear_frame_{frame}"] = rmse_percent(np.clip(reference, 0, 1),
+                                                                                 np.clip(linear, 0, 1))
     return found
 
 
 def table(results: dict) -> str:
-    lens, shutter, film = results["lens"], results["shutter"], results["film"]
-    first = film[FILM_VARIANTS[0][0]]["ms"]
-    rows = ["| setting (default) | its error at the default | goal | film.yaml RMSE % (frames 32 / 36) | ms/frame | "
-            "vs the instant |", "|---|---|---|---|---|---|"]
-
-    def film_cells(name):
-        f = film[name]
-        return (f"{f['rmse_linear_frame_32']:.2f} / {f['rmse_linear_frame_36']:.2f} | {f['ms']:.0f} | "
-                f"{f['ms'] / first:.2f} |")
-
-    rows.append(f"| pinhole, instant | - | - | {film_cells(FILM_VARIANTS[0][0])}")
-    for count in (8, 16, 32):
-        lens_row = lens[f"sub_frames_{count}"]
-        name = next(n for n, o in FILM_VARIANTS if o == [f"render.film_samples={count}"])
-        rows.append(f"| `film_samples: {count}`{' (default)' if count == 16 else ''}: lens | disc "
-                    f"{lens_row['disc_ratio_range'][0]:.3f}-{lens_row['disc_ratio_range'][1]:.3f} of the thin lens, "
-                    f"centred within {lens_row['centroid_offset_px']:.2f} px | 0.97-1.03, 0.25 px | "
-                    f"{film_cells(name)}")
+    lens, shutter = results["lens"], results["shutter"]
+    rows = ["## Each setting's error at its default", "",
+            "| setting | its error | goal |", "|---|---|---|"]
+    for count in (4, 8, 12, 16, 32):
+        row = lens[f"sub_frames_{count}"]
+        rows.append(f"| `film_samples: {count}`{' (default)' if count == 16 else ''}, the lens | discs "
+                    f"{row['disc_ratio_range'][0]:.3f}-{row['disc_ratio_range'][1]:.3f} of the thin lens's, "
+                    f"centred within {row['centroid_offset_px']:.2f} px | 0.97-1.03, 0.25 px (8 and 16) |")
     sub = shutter["sub_frames_16"]
-    rows.append(f"| `film_samples: 16`: shutter | smear {sub['smear_px_range'][0]:.1f}-{sub['smear_px_range'][1]:.1f} "
-                f"px for 20 | 20 +- 1 | (above) | | |")
+    rows.append(f"| `film_samples: 16` (default), the shutter | smear {sub['smear_px_range'][0]:.1f}-"
+                f"{sub['smear_px_range'][1]:.1f} px for 20, seam {sub['seam_levels']} levels | 20 +- 1, <= 2 |")
     velocity = shutter["velocity"]
     rows.append(f"| `motion_blur: velocity` (24 taps) | smear {velocity['smear_px_range'][0]:.1f}-"
-                f"{velocity['smear_px_range'][1]:.1f} px for 20, seam {velocity['seam_levels']} levels | 20 +- 1, "
-                f"<= 2 | {film_cells('velocity, 16 sub-frames of the lens')}")
+                f"{velocity['smear_px_range'][1]:.1f} px for 20, seam {velocity['seam_levels']} levels | 20 +- 1, <= 2 |")
     gather = lens["gather"]
-    rows.append(f"| `depth_of_field: gather` (48 taps) | disc {gather['disc_ratio_range'][0]:.3f}-"
-                f"{gather['disc_ratio_range'][1]:.3f}, in-focus growth {gather['in_focus_growth_px']:.2f} px | "
-                f"0.90-1.10, <= 2 px | {film_cells('gather, 16 sub-frames of the shutter')}")
-    rows.append(f"| velocity + gather | - | - | {film_cells('velocity + gather, 1 sub-frame')}")
+    rows.append(f"| `depth_of_field: gather` (48 taps) | discs {gather['disc_ratio_range'][0]:.3f}-"
+                f"{gather['disc_ratio_range'][1]:.3f}, the point at the focus grown by "
+                f"{gather['in_focus_growth_px']:.2f} px | 0.90-1.10, <= 2 px |")
+    for group, variants in results["film"].items():
+        first = next(iter(variants.values()))["ms"]
+        rows += ["", f"## film.yaml, 320x180: {group}", "",
+                 "| variant | RMSE linear %, frame 32 / 36 | ms/frame | against the first |", "|---|---|---|---|"]
+        for name, found in variants.items():
+            rows.append(f"| {name} | {found['rmse_linear_frame_32']:.2f} / {found['rmse_linear_frame_36']:.2f} | "
+                        f"{found['ms']:.0f} | {found['ms'] / first:.2f} |")
     return "\n".join(rows)
 
 
@@ -227,6 +264,8 @@ def main() -> None:
     parser.add_argument("--print", action="store_true", help="print the table, write nothing")
     parser.add_argument("--frames", type=int, default=4, help="timed film.yaml frames a variant and round")
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--references", type=Path, default=None,
+                        help="an .npz keeping film.yaml's reference frames between runs (made if missing)")
     args = parser.parse_args()
     _import_tree(args.tree.resolve())
     from scenerender.gpu.gl_context import create_context
@@ -237,7 +276,7 @@ def main() -> None:
                  "gather": lens_errors(gl, ", depth_of_field: gather")},
         "shutter": {"sub_frames_16": shutter_errors(gl, ["render.film_samples=16"]),
                     "velocity": shutter_errors(gl, ["render.motion_blur=velocity"])},
-        "film": film_errors(gl, args.frames, args.rounds),
+        "film": film_errors(gl, args.frames, args.rounds, args.references),
     }
     text = table(results)
     if args.print:
