@@ -102,7 +102,7 @@ def lens_points(count: int) -> np.ndarray:
     A Vogel spiral (radius sqrt((k + 1/2) / count), k golden angles round) has the disc's
     mean squared radius but is neither centred nor isotropic; moved onto its centroid and
     stretched by (4 C)^(-1/2) (C its covariance) it is both, and stays inside the disc
-    (largest radius 0.9994 up to 1024 points). One point is the lens's centre; two cannot
+    (largest radius 0.9993 up to 1024 points). One point is the lens's centre; two cannot
     be isotropic, so they are a centred pair with the disc's mean squared radius."""
     k = np.arange(count)
     radius, angle = np.sqrt((k + 0.5) / count), k * GOLDEN_ANGLE
