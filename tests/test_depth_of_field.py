@@ -75,6 +75,37 @@ def test_a_point_out_of_focus_is_a_disc_the_circle_of_confusion_wide(gl):
         assert diameter == pytest.approx(expected, rel=0.10), (depth, diameter, expected)
 
 
+def _disc(light: np.ndarray, column: int) -> tuple:
+    """The centroid (x, y) and the mean squared distance from it (px^2) of the light in
+    the 40 px band around ``column``."""
+    band = light[:, column - 20:column + 20]
+    y, x = np.mgrid[:band.shape[0], :band.shape[1]]
+    total = band.sum()
+    cx, cy = (band * x).sum() / total, (band * y).sum() / total
+    return cx, cy, float((band * ((x - cx) ** 2 + (y - cy) ** 2)).sum() / total)
+
+
+@pytest.mark.parametrize("samples", [8, 16])
+def test_few_lens_samples_give_the_thin_lens_disc_centred(gl, samples):
+    """Points at 0.3 and 1.5 (focus 0.5) at f/0.5 and f/1 (discs of 15.2 and 7.6 px): with
+    8 and 16 sub-frames each disc's diameter, from its second moment about its centroid
+    (a uniform disc of diameter D has D^2 / 8) less the pinhole image's, within 3 % of the
+    thin lens's, and its centroid within 0.25 px of the pinhole image's. Measured: 0.990 to
+    1.009 of it, 0.15 px off at most; the Halton points these replaced gave 0.87 to 0.92,
+    up to 1.0 px off."""
+    depths, focus = (0.3, 1.5, 0.3), 0.5
+    sharp = _render(gl, _points_scene(depths, None, None, radius_px=1.5))
+    for aperture in (0.5, 1.0):
+        blurred = _render(gl, _points_scene(depths, aperture, focus, samples=samples, radius_px=1.5))
+        for column, depth in zip(COLUMNS[:2], depths):
+            sx, sy, sharp_moment = _disc(sharp, column)
+            bx, by, moment = _disc(blurred, column)
+            diameter = math.sqrt(8.0 * (moment - sharp_moment))
+            expected = thin_lens_coc_px(depth, focus, aperture)
+            assert diameter == pytest.approx(expected, rel=0.03), (aperture, depth, diameter, expected)
+            assert math.hypot(bx - sx, by - sy) < 0.25, (aperture, depth, bx - sx, by - sy)
+
+
 def test_the_focus_plane_is_as_sharp_as_the_pinhole(gl):
     depths = (0.5, 0.5, 0.5)
     sharp = _render(gl, _points_scene(depths, None, None))
@@ -187,12 +218,33 @@ def test_the_gather_blurs_an_edge_by_about_the_circle_of_confusion(gl):
         assert diameter == pytest.approx(expected, rel=tolerance), (method, diameter, expected)
 
 
-def test_the_gather_is_one_pass_on_the_depth_prepass_and_no_sub_frames(gl):
+@pytest.mark.parametrize("depths", [(0.3, 1.5, 0.5), (0.35, 1.0, 0.5)])
+def test_the_gather_spreads_each_point_by_its_own_circle(gl, depths):
+    """Points 3 px across in front of black at infinity, focus 0.5, f/0.5 and f/1: the near
+    and the far one blur into discs within 10 % of the thin lens's diameter (from the
+    second moment, as above), the one at the focus stays sharp (its spread grows by a disc
+    of at most 2 px). The points' edge pixels hold their light but the background's depth;
+    taken for the background, they spread it over the background's circle: measured
+    before, the far discs 1.10 to 1.25 of the thin lens's, the sharp point's halo 5 to 10 px."""
+    sharp = _render(gl, _points_scene(depths, None, None, radius_px=1.5))
+    for aperture in (0.5, 1.0):
+        text = _points_scene(depths, aperture, 0.5, samples=64, radius_px=1.5)
+        blurred = _render(gl, text.replace("film_samples: 64}", "film_samples: 64, depth_of_field: gather}"))
+        for column, depth in zip(COLUMNS, depths):
+            growth = math.sqrt(max(8.0 * (_disc(blurred, column)[2] - _disc(sharp, column)[2]), 0.0))
+            if depth == 0.5:
+                assert growth <= 2.0, (aperture, growth)
+            else:
+                expected = thin_lens_coc_px(depth, 0.5, aperture)
+                assert growth == pytest.approx(expected, rel=0.10), (aperture, depth, growth, expected)
+
+
+def test_the_gather_is_two_passes_on_the_depth_prepass_and_no_sub_frames(gl):
     world = scenerender.Scene.from_yaml(_edge_scene("gather"), ".").world
     compiled = plan(world, world.settings.size, 4).compiled
-    assert {"gbuffer", "depth_of_field"} <= set(compiled.pass_names)
+    assert {"gbuffer", "lens_depth", "depth_of_field"} <= set(compiled.pass_names)
     assert "lens" in [name for _, name, _ in compiled.inputs()]
     assert Film.of_world(world) is None
     exact = scenerender.Scene.from_yaml(_edge_scene("sub_frames"), ".").world
-    assert "depth_of_field" not in plan(exact, exact.settings.size, 4).compiled.pass_names
+    assert not {"lens_depth", "depth_of_field"} & set(plan(exact, exact.settings.size, 4).compiled.pass_names)
     assert Film.of_world(exact) is not None

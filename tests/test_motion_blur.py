@@ -10,7 +10,7 @@ import pytest
 import scenerender
 from scenerender.colorspace import srgb_decode, srgb_encode
 from scenerender.raytrace import render_reference
-from scenerender.world.lens import film_samples
+from scenerender.world.lens import film_samples, lens_points, shutter_times
 
 # 10 px a unit (orthographic, 12 units tall in 120 px); the unlit box is 20 px wide and
 # moves 8 units (80 px) in 0.2 s: 40 px a frame at 10 frames a second.
@@ -79,15 +79,51 @@ def test_shutter_0_renders_the_bytes_of_a_scene_without_the_key(gl):
 
 
 def test_sub_frame_times_are_stratified_over_the_shutter_centred_on_the_frame():
+    """One time in each of 16 equal slices of the open interval, centred on the frame's
+    time, spread by 16 / sqrt(16^2 - 1) about it (shutter_times: the interval's variance)."""
     samples = film_samples(16, 0.05, lens=False)
     offsets = sorted(s.time_offset for s in samples)
-    np.testing.assert_allclose(offsets, (np.arange(16) + 0.5) / 16 * 0.05 - 0.025)
+    middles = (np.arange(16) + 0.5) / 16 * 0.05 - 0.025
+    np.testing.assert_allclose(offsets, middles * 16 / np.sqrt(255), rtol=1e-12)
+    assert all(k / 16 * 0.05 - 0.025 < t < (k + 1) / 16 * 0.05 - 0.025 for k, t in enumerate(offsets))
     assert all(s.lens is None for s in samples)
     assert [s.time_offset for s in samples] != offsets  # not in time order: decoupled from the lens points
-    points = np.array([s.lens for s in film_samples(64, 0.0, lens=True)])
-    assert np.all(np.hypot(points[:, 0], points[:, 1]) <= 1.0)
-    assert np.abs(points.mean(axis=0)).max() < 0.05  # spread evenly over the disc
-    assert np.mean(points[:, 0] ** 2) == pytest.approx(0.25, abs=0.02)  # the disc's second moment
+
+
+@pytest.mark.parametrize("count", range(1, 65))
+def test_the_shutter_times_have_the_open_interval_s_mean_and_variance(count):
+    """Mean 0 (the frame's time) and variance 1/12 (a uniform interval's) of the open
+    interval, exactly; inside it. One time cannot have the variance: it is the centre."""
+    times = shutter_times(count)
+    assert times.shape == (count,) and np.all(np.abs(times) < 0.5)
+    assert abs(times.mean()) < 1e-15
+    assert np.mean(times ** 2) == (0.0 if count == 1 else pytest.approx(1.0 / 12.0, rel=1e-12))
+
+
+@pytest.mark.parametrize("count", range(1, 65))
+def test_the_lens_points_have_the_disc_s_centroid_and_second_moment(count):
+    """Centroid (0, 0), E[x^2] = E[y^2] = 1/4 and E[xy] = 0 (a uniform unit disc's), exactly,
+    every point inside the disc. One point is the centre; two cannot be isotropic, so they
+    keep only the mean squared radius (1/2)."""
+    points = lens_points(count)
+    assert points.shape == (count, 2) and np.all(np.hypot(points[:, 0], points[:, 1]) < 1.0)
+    np.testing.assert_allclose(points.mean(axis=0), 0.0, atol=1e-15)
+    moments = points.T @ points / count
+    if count == 1:
+        np.testing.assert_array_equal(points, 0.0)
+    elif count == 2:
+        assert np.trace(moments) == pytest.approx(0.5, rel=1e-12)
+    else:
+        np.testing.assert_allclose(moments, np.eye(2) / 4.0, atol=1e-14)
+    filmed = np.array([s.lens for s in film_samples(count, 0.0, lens=True)])
+    np.testing.assert_array_equal(filmed, points)
+
+
+def test_the_lens_points_stay_inside_the_disc_at_every_allowed_count():
+    """render.film_samples allows up to 1024: the stretch that makes the points isotropic
+    never carries one out of the lens (largest radius 0.9993)."""
+    largest = max(float(np.hypot(*lens_points(count).T).max()) for count in range(1, 1025))
+    assert largest < 1.0, largest
 
 
 def test_static_passes_run_once_across_sub_frames(gl):

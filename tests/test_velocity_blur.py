@@ -10,8 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
+from scipy import ndimage
 
 import scenerender
+from scenerender.colorspace import srgb_decode
 from scenerender.raytrace import render_reference
 from scenerender.run.graph_report import graph_report
 from scenerender.world.frame import FrameEvaluator
@@ -47,10 +49,57 @@ def _smear(gl, shutter, text=MOVING_BOX) -> float:
 
 
 def test_a_box_moving_40_px_a_frame_smears_over_20_px_at_shutter_half(gl):
-    """Within 2 px (the gather's taps are jittered per pixel, so the ramp is noisy at the
-    scale of a tap's spacing); 19.0 and 9.2 px measured."""
+    """Within 2 px (the edge's own ramp is measured over 80 columns, which at this box's
+    width end where the triangle's fall begins); 19.5 and 10.1 px measured."""
     assert _smear(gl, 0.5) == pytest.approx(20.0, abs=2.0)
     assert _smear(gl, 0.25) == pytest.approx(10.0, abs=2.0)
+
+
+def _shifted_box(width_px: int, shift_px: float) -> str:
+    """MOVING_BOX ``width_px`` wide and tall, moved ``shift_px`` right and up, so that at a
+    fractional shift its edges at the frame's time cut pixels (the colour's edge pixels
+    then mix the box and the background, the velocity image's hold one of them)."""
+    shift = shift_px / 10.0
+    keys = f"[[0, [{shift - 4}, {shift}, 0]], [{{end}}, [{shift + 4}, {shift}, 0]]]"
+    return MOVING_BOX.replace("size: [2, 2, 2]", f"size: [{width_px / 10}, {width_px / 10}, 2]").replace(
+        "[[0, [-4, 0, 0]], [{end}, [4, 0, 0]]]", keys)
+
+
+def _ramp_width(pixels: np.ndarray, columns: slice) -> float:
+    """sqrt(12) times the standard deviation of where the linear coverage changes along
+    the middle row over ``columns`` (a ramp of width L: L / sqrt(12)), in pixels."""
+    change = np.abs(np.diff(srgb_decode(pixels[60, columns, 0] / 255.0)))
+    x = np.arange(len(change)) + 0.5
+    mean = (x * change).sum() / change.sum()
+    return float(np.sqrt(12.0 * ((x - mean) ** 2 * change).sum() / change.sum()))
+
+
+@pytest.mark.parametrize("shift_px", [0.0, 0.25, 0.5])
+def test_a_wide_box_s_smear_is_its_motion_over_the_shutter_within_a_pixel(gl, shift_px):
+    """A box 40 px wide moving 40 px a frame, shutter 0.5: both edges ramp over 20 px
+    (less the unblurred edge's own width), 20 +- 1 at whole and fractional positions.
+    Measured 19.3 to 20.1 (the sub-frames: 20.3); before the taps reached the path's last
+    half pixel, 18.5 to 19.4."""
+    text = _shifted_box(40, shift_px)
+    sharp, blurred = _render(gl, 0.0, text=text), _render(gl, text=text)
+    for columns in (slice(30, 80), slice(80, 130)):
+        smear = np.sqrt(_ramp_width(blurred, columns) ** 2 - _ramp_width(sharp, columns) ** 2)
+        assert smear == pytest.approx(20.0, abs=1.0), (columns, smear)
+
+
+@pytest.mark.parametrize("shift_px", [0.0, 0.25, 0.5])
+def test_no_seam_along_the_instant_s_edges(gl, shift_px):
+    """The box of test_motion_blur (20 px, 40 px a frame, shutter 0.5) and one 10 px wide,
+    cutting pixels at the frame's time: no pixel of the velocity blur brighter than the
+    64 sub-frames' brightest pixel around it (3 x 3) by more than 2 levels. The blur read
+    edge pixels as the still background and kept their share of the box unblurred: 11 to
+    34 levels over (a seam along the box's instant edges)."""
+    for width in (20, 10):
+        text = _shifted_box(width, shift_px)
+        velocity = _render(gl, text=text)[..., 0].astype(int)
+        sub_frames = _render(gl, overrides=("render.film_samples=64",), text=text)[..., 0].astype(int)
+        excess = velocity - ndimage.maximum_filter(sub_frames, size=3)
+        assert excess.max() <= 2, (width, excess.max(), np.unravel_index(np.argmax(excess), excess.shape))
 
 
 def test_a_panning_camera_smears_a_still_box_the_same(gl):

@@ -118,9 +118,9 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
 
             color = add_velocity_blur(graph, color, inputs, size)
         if lens_blur:
-            from scenerender.rendering.passes.depth_of_field import DepthOfFieldGatherPass  # deferred: see the imports
+            from scenerender.rendering.passes.depth_of_field import add_depth_of_field  # deferred: see the imports
 
-            color = graph.add(DepthOfFieldGatherPass(color, gbuffer, inputs.camera, inputs.lens, size)).image
+            color = add_depth_of_field(graph, color, gbuffer, inputs, size)
         if bloom is not None:
             from scenerender.rendering.passes.bloom import add_bloom  # deferred: see the imports
 

@@ -71,6 +71,9 @@ class Film:
         return film_samples(self.samples, self.shutter * frame_interval, self.aperture is not None)
 
 
+GOLDEN_ANGLE = math.pi * (3.0 - math.sqrt(5.0))
+
+
 def radical_inverse(index: int, base: int) -> float:
     """``index``'s digits in ``base`` mirrored about the point: the van der Corput sequence."""
     result, scale = 0.0, 1.0 / base
@@ -81,33 +84,48 @@ def radical_inverse(index: int, base: int) -> float:
     return result
 
 
-def concentric_disc(u: float, v: float) -> tuple:
-    """A point of the unit square -> the unit disc, keeping areas (Shirley and Chiu's
-    concentric map: strata stay compact, unlike r = sqrt(u))."""
-    a, b = 2.0 * u - 1.0, 2.0 * v - 1.0
-    if a == 0.0 and b == 0.0:
-        return 0.0, 0.0
-    if abs(a) > abs(b):
-        radius, angle = a, math.pi / 4.0 * (b / a)
-    else:
-        radius, angle = b, math.pi / 2.0 - math.pi / 4.0 * (a / b)
-    return radius * math.cos(angle), radius * math.sin(angle)
+def shutter_times(count: int) -> np.ndarray:
+    """(count,) float64 offsets in units of the open interval, centred on 0: one in each of
+    ``count`` equal slices, spread so that their mean (0) and variance (1/12) are a uniform
+    interval's exactly (the slices' middles alone have (1 - 1/count^2) / 12, which blurs a
+    moving edge over sqrt(1 - 1/count^2) of its path); every offset stays inside
+    (-1/2, 1/2). One time is the instant at the centre."""
+    middles = (np.arange(count) + 0.5) / count - 0.5
+    return middles if count == 1 else middles * (count / math.sqrt(count * count - 1.0))
+
+
+def lens_points(count: int) -> np.ndarray:
+    """(count, 2) float64 points of the unit disc whose mean (0, 0) and second moments
+    (E[x^2] = E[y^2] = 1/4, E[xy] = 0) are the uniform disc's exactly, so that the blur of
+    ``count`` sub-frames has the thin lens's width and centre at every count.
+
+    A Vogel spiral (radius sqrt((k + 1/2) / count), k golden angles round) has the disc's
+    mean squared radius but is neither centred nor isotropic; moved onto its centroid and
+    stretched by (4 C)^(-1/2) (C its covariance) it is both, and stays inside the disc
+    (largest radius 0.9993 up to 1024 points). One point is the lens's centre; two cannot
+    be isotropic, so they are a centred pair with the disc's mean squared radius."""
+    k = np.arange(count)
+    radius, angle = np.sqrt((k + 0.5) / count), k * GOLDEN_ANGLE
+    points = np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
+    points -= points.mean(axis=0)
+    if count < 3:
+        squared = float(np.mean(np.sum(points * points, axis=1)))
+        return points * math.sqrt(0.5 / squared) if squared > 0.0 else points
+    values, vectors = np.linalg.eigh(points.T @ points / count)
+    return points @ (vectors @ np.diag(0.5 / np.sqrt(values)) @ vectors.T)
 
 
 def film_samples(count: int, open_seconds: float, lens: bool) -> list[FilmSample]:
-    """``count`` sub-frames: times stratified over the open shutter, centred on the frame
-    time (one in each of ``count`` equal slices, at its middle), in the order of the van
-    der Corput sequence so that the times do not follow the lens points; lens points from
-    the Halton sequence in bases 3 and 5 through the concentric map."""
+    """``count`` sub-frames: times over the open shutter centred on the frame time
+    (shutter_times), in the order of the van der Corput sequence so that the times do not
+    follow the lens points (lens_points, which run outwards along their spiral)."""
     slices = np.argsort([radical_inverse(k, 2) for k in range(count)], kind="stable")
     order = np.empty(count, dtype=int)
     order[slices] = np.arange(count)
-    samples = []
-    for k in range(count):
-        offset = ((order[k] + 0.5) / count - 0.5) * open_seconds
-        point = concentric_disc(radical_inverse(k + 1, 3), radical_inverse(k + 1, 5)) if lens else None
-        samples.append(FilmSample(offset, point))
-    return samples
+    times = shutter_times(count) * open_seconds
+    points = lens_points(count) if lens else None
+    return [FilmSample(float(times[order[k]]), None if points is None else (float(points[k, 0]), float(points[k, 1])))
+            for k in range(count)]
 
 
 def lens_radius(camera: CameraState, aperture: float, focus_distance: float, sensor_width_mm: float) -> float:

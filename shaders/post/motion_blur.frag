@@ -1,7 +1,9 @@
 // Motion blur along the velocity buffer (render.motion_blur: velocity;
 // rendering/passes/motion_blur.py), after McGuire et al., "A reconstruction filter for
-// plausible motion blur" (I3D 2012). Each pixel X reads TAPS points Y along its
-// neighbourhood's longest smear v_N (u_velocity_tiles), from X - v_N to X + v_N. A point whose
+// plausible motion blur" (I3D 2012). Each pixel X reads up to TAPS points Y along its
+// neighbourhood's longest smear v_N (u_velocity_tiles), from X - v_N to X + v_N and the half
+// pixel beyond, every pixel once where that path is TAPS pixels or fewer. X's own motion and
+// depth are its 3 x 3 neighbourhood's nearest surface's (nearest_around). A point whose
 // colour moves with smear radius r spreads it evenly over 2r pixels of its path, so a tap
 // standing for `spacing` pixels adds spacing / (2r) of its colour where its path covers X:
 //  - Y in front of X: by Y's own smear (a moving object in front blurs over X);
@@ -35,6 +37,27 @@ float jitter(vec2 p) {
     return fract(52.9829189 * fract(dot(p, vec2(0.06711056, 0.00583715)))) - 0.5;
 }
 
+// the pixel's own motion and depth: of the nearest surface among its 3 x 3 neighbours. The
+// velocity image holds one surface a pixel while the colour's edge pixels mix two; an edge
+// pixel taken for the still background would keep its share of a moving edge's colour
+// where it is, unblurred, on top of that edge's blur (a bright seam along the instant's
+// edges); taken for the moving surface, its colour is one tap of that surface's blur.
+vec3 nearest_around(ivec2 x, ivec2 last) {
+    vec3 nearest = texelFetch(u_velocity, x, 0).xyz;
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            vec3 there = texelFetch(u_velocity, clamp(x + ivec2(dx, dy), ivec2(0), last), 0).xyz;
+            nearest = there.z < nearest.z ? there : nearest;
+        }
+    }
+    return nearest;
+}
+
+// the longer of a unit direction's two components: pixels along the major axis per pixel of path
+float major(vec2 direction) {
+    return max(abs(direction.x), abs(direction.y));
+}
+
 void main() {
     ivec2 x = ivec2(gl_FragCoord.xy);
     vec4 centre = texelFetch(u_color, x, 0);
@@ -44,11 +67,13 @@ void main() {
         frag_color = centre;
         return;
     }
-    vec3 here = texelFetch(u_velocity, x, 0).xyz;
-    float radius_x = max(length(here.xy), SMALLEST_RADIUS);
     ivec2 last = textureSize(u_color, 0) - 1;
-    float spacing = 2.0 * reach / float(TAPS);
-    float offset = jitter(gl_FragCoord.xy);
+    vec3 here = nearest_around(x, last);
+    float radius_x = max(length(here.xy), SMALLEST_RADIUS);
+    // the taps span the smear's reach and the half pixel its end covers (spread): taps over
+    // the reach alone sample the two end pixels half as often as the rest, and the smear
+    // comes out short by about a pixel
+    float span = reach + 0.5;
     vec3 front_sum = vec3(0.0);
     float front_weight = 0.0;
     vec3 rest_sum = centre.rgb * (0.5 / radius_x);
@@ -57,11 +82,29 @@ void main() {
     // "A fast and stable feature-aware motion blur filter", 2014): where motion turns
     // across the neighbourhood (a camera turning: the corners move along curves), the
     // longest smear alone would lead the taps off the pixel's own path
-    vec2 own = length(here.xy) > 1.0 ? normalize(here.xy) * reach : leading;
+    vec2 lead_direction = leading / reach;
+    vec2 own_direction = length(here.xy) > 1.0 ? normalize(here.xy) : lead_direction;
+    // a path of up to TAPS pixels (along its major axis) is read one tap a pixel, no pixel
+    // twice or skipped, so a short smear has no noise; a longer one by TAPS jittered taps
+    int whole = int(span * major(lead_direction));
+    bool every_pixel = 2 * whole <= TAPS;
+    float offset = jitter(gl_FragCoord.xy);
     for (int i = 0; i < TAPS; ++i) {
-        float t = (float(i) + 0.5 + offset) / float(TAPS) * 2.0 - 1.0;
-        vec2 along = (i % 2 == 0) ? leading : own;
-        ivec2 y = clamp(x + ivec2(round(along * t)), ivec2(0), last);
+        vec2 direction = (i % 2 == 0) ? lead_direction : own_direction;
+        float along, spacing;
+        if (every_pixel) {
+            if (i >= 2 * whole) {
+                break;
+            }
+            // steps 1..whole each way; the two directions take turns on each side
+            float side = ((i / 2) % 2 == i % 2) ? 1.0 : -1.0;
+            spacing = 1.0 / major(direction);
+            along = side * float(i / 2 + 1) * spacing;
+        } else {
+            spacing = 2.0 * span / float(TAPS);
+            along = ((float(i) + 0.5 + offset) / float(TAPS) * 2.0 - 1.0) * span;
+        }
+        ivec2 y = clamp(x + ivec2(round(direction * along)), ivec2(0), last);
         if (y == x) {
             continue;
         }
