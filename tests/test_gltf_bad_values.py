@@ -215,3 +215,33 @@ def test_the_readers_meet_the_guard_too(tmp_path):
     raw = _fan(tmp_path / "model.glb", edit=_set(("animations", 0, "channels"), [3])).read_bytes()
     with pytest.raises(GltfProblem, match=r"animations\[0\]\.channels\[0\]"):
         read_clips(raw)
+
+
+# Keys each finite, whose products are not: a part placed beyond 32-bit floats at some time
+# of the clip. The world's build bounds every part's transform over the whole clip
+# (world/reach.py), as it does an object's own tracks, so the frames never round one to
+# infinity (and NumPy never warns of the overflow).
+HUGE = 3.0e38
+OVERFLOWING = {
+    "translation-times-scale": lambda path: _fan(path, [("hub", "scale", TIMES, [[1, 1, 1], [HUGE] * 3, [1, 1, 1]],
+                                                         "LINEAR"),
+                                                        ("blades", "translation", TIMES, [[0, 0, 0], [HUGE, 0, 0],
+                                                                                          [0, 0, 0]], "STEP")]),
+    # 10 s between keys: the out-tangent's term reaches 10 * 4/27 * 3e38 = 4.4e38 (values stay at 1)
+    "cubic-tangents": lambda path: _fan(path, [("hub", "translation", [0.0, 10.0, 20.0],
+                                                [[0, 0, 0], [0, 1, 0], [HUGE, HUGE, HUGE]] * 3, "CUBICSPLINE")]),
+    "skin-inverse-binds": lambda path: _skinned(path, binds=np.stack([np.eye(4), np.diag([HUGE, HUGE, 1.0, 1.0])])),
+}
+
+
+@pytest.mark.parametrize("command", ["validate", "render"])
+@pytest.mark.parametrize("build", OVERFLOWING.values(), ids=OVERFLOWING.keys())
+def test_finite_keys_that_multiply_beyond_float32_are_refused_at_the_animation_key(tmp_path, monkeypatch, command,
+                                                                                  build):
+    build(tmp_path / "model.glb")
+    result, numpy_warnings = _run(tmp_path, monkeypatch, command)
+    lines = result.stderr.splitlines()
+    assert result.exit_code == 2 and len(lines) == 1, result.stderr
+    assert lines[0].startswith("error: scene.yaml:7:5: objects[0].animation: object 'model0/"), lines[0]
+    assert "with its glTF clip" in lines[0] and "beyond 32-bit floats" in lines[0], lines[0]
+    assert not numpy_warnings and not (tmp_path / "out").exists()

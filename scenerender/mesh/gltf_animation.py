@@ -71,6 +71,18 @@ class Channel:
             return slerp(keys[k], keys[k + 1], u)
         return keys[k] * (1.0 - u) + keys[k + 1] * u
 
+    def magnitude_bound(self) -> np.ndarray:
+        """(D,) float64: no value of the channel, at any time, is larger in size. STEP and
+        LINEAR stay between their keys; a cubic spline's tangent terms add at most
+        td * 4/27 * (|a| + |b|) (the largest size of u^3 - 2u^2 + u and u^3 - u^2 on [0, 1])."""
+        cubic = self.interpolation == "CUBICSPLINE"
+        keys = np.abs(self.values[1::3] if cubic else self.values)
+        bound = keys.max(axis=0)
+        if cubic and len(self.times) > 1:
+            tangents = np.abs(self.values[0::3]).max(axis=0) + np.abs(self.values[2::3]).max(axis=0)
+            bound = bound + float(np.diff(self.times).max()) * 4.0 / 27.0 * tangents
+        return bound
+
 
 def hermite(v0: np.ndarray, out_tangent: np.ndarray, v1: np.ndarray, in_tangent: np.ndarray, td: float,
             u: float) -> np.ndarray:

@@ -8,7 +8,8 @@ Invariants:
 - an ignore.json is read, or refused with a one-line UserError naming it; what is read
   prints (no UnicodeEncodeError) and gives masks;
 - a GLB's clips are read, or refused with a one-line UserError naming the file; the clips
-  read give finite transforms at any time, and no NumPy warning reaches the terminal.
+  read give finite transforms at any time, a world built with one playing has finite
+  32-bit matrices and bounds at any time, and no NumPy warning reaches the terminal.
 
 Every input that once broke one of them is a case in tests/corpus/.
 """
@@ -34,6 +35,9 @@ from scenerender.mesh.gltf_geometry import placed_nodes
 from scenerender.mesh.loader import load_gltf_nodes, read_gltf_clips
 from scenerender.run.manifest import Fingerprint, Manifest, read_sidecar
 from scenerender.scene.assets import AssetPolicy
+from scenerender.scene.loading import load_scene
+from scenerender.world.build import build_world
+from scenerender.world.transforms import normal_matrices
 
 # a NumPy warning (overflow, an invalid value) would reach the user's terminal: a finding too
 pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
@@ -222,6 +226,9 @@ def key_numbers():
     return st.floats(width=32) | st.sampled_from([0.0, -0.0, np.nan, np.inf, -np.inf, 3.4e38, -3.4e38, 1e-45])
 
 
+TIMES_ASKED = (-1.0, 0.0, 0.3, 1.0, 1.7, 2.0, 3.0)
+
+
 def check_clips(data: bytes) -> None:
     with tempfile.TemporaryDirectory() as temp:
         folder = Path(temp)
@@ -235,11 +242,31 @@ def check_clips(data: bytes) -> None:
             assert "\n" not in str(exc) and "model.glb" in str(exc)
             return
         for clip in clips:
-            for t in (-1.0, 0.0, 0.3, 1.0, 1.7, clip.duration, clip.duration + 1.0):
+            for t in TIMES_ASKED:
                 values = clip.node_values(t)
                 assert all(np.isfinite(v).all() for node in values.values() for v in node.values())
                 for _index, _node, world in placed_nodes(header, values):
                     assert np.isfinite(world).all()
+        if clips:
+            check_world_playing(folder)
+
+
+def check_world_playing(folder: Path) -> None:
+    """A scene playing the file's first clip: refused at build (what ``validate`` runs), or
+    every part's matrices, normal matrices and bounds are finite 32-bit values at any time."""
+    (folder / "scene.yaml").write_text("objects:\n  - mesh: model.glb\n    animation: {clip: 0}\n")
+    try:
+        world = build_world(load_scene(folder / "scene.yaml"), Warnings())
+    except UserError as exc:
+        lines = exc.lines() if hasattr(exc, "lines") else [str(exc)]
+        assert all("\n" not in line for line in lines)
+        return
+    for obj in world.objects:
+        for t in TIMES_ASKED:
+            matrices = obj.matrices(t)
+            assert np.isfinite(matrices.astype(np.float32)).all()
+            assert np.isfinite(normal_matrices(matrices).astype(np.float32)).all()
+            assert np.isfinite(obj.world_bounds(matrices, t).astype(np.float32)).all()
 
 
 @given(values=st.lists(st.tuples(st.integers(0, len(KEY_REGIONS) - 1), st.integers(0, 63), key_numbers()),
@@ -248,6 +275,7 @@ def check_clips(data: bytes) -> None:
 @example(values=[(1, 4, 0.0), (1, 5, 0.0), (1, 6, 0.0), (1, 7, 0.0)])  # a rotation key of length 0
 @example(values=[(3, 1, np.inf)])       # a translation key
 @example(values=[(0, 1, np.nan)])       # a key time
+@example(values=[(3, 0, 3.4e38), (5, 3, 3.4e38)])  # finite keys whose product is not: a translation and a scale
 def test_animation_key_values(values):
     binary = bytearray(GLB_BIN)
     for region, position, value in values:
