@@ -50,15 +50,16 @@ def parse_json(data: bytes, max_depth: int = JSON_MAX_DEPTH):
 
 def nested_deeper(text: str, max_depth: int) -> bool:
     """Whether the lists and objects of JSON ``text`` nest deeper than ``max_depth``
-    (brackets inside strings do not count; text that is not JSON may count too deep).
-    Each pass drops the innermost pairs of brackets: ``max_depth`` passes empty a text
-    nested no deeper, each linear in C."""
+    (brackets inside strings do not count). Each pass drops the innermost pairs of brackets,
+    linear in C: a text nested d deep empties in d passes. Brackets left unpaired (text that
+    is not JSON) count as deep as they could reach, so the decoder never meets more."""
     brackets = _NOT_A_BRACKET.sub("", _JSON_STRING.sub("", text))
-    for _ in range(max_depth):
-        if not brackets:
-            return False
-        brackets = _INNERMOST_PAIR.sub("", brackets)
-    return bool(brackets)
+    for passes in range(max_depth + 1):
+        fewer = _INNERMOST_PAIR.sub("", brackets)
+        if fewer == brackets:
+            return passes + brackets.count("[") + brackets.count("{") > max_depth
+        brackets = fewer
+    return True
 
 
 def _not_standard(constant: str):

@@ -30,7 +30,7 @@ from pydantic import BaseModel, ConfigDict, ValidationError
 
 from scenerender.errors import UserError, display_path
 from scenerender.gpu.gl_context import is_software
-from scenerender.json_input import MANIFEST_MAX_BYTES
+from scenerender.json_input import MANIFEST_MAX_BYTES, JsonProblem, parse_json
 from scenerender.mesh.data import MeshData
 from scenerender.scene.files import read_json_file
 from scenerender.scene.messages import json_file_error
@@ -303,11 +303,12 @@ class Manifest:
             write_file(temp, (json.dumps(self.data, indent=1, sort_keys=True) + "\n").encode("utf-8"))
 
 
-def _camera(text) -> dict:
-    """A camera record the manifest keeps as JSON text; {} where it is unreadable."""
+def _camera(text: str) -> dict:
+    """A camera record the manifest keeps as JSON text (read through the same guard); {}
+    where it is unreadable."""
     try:
-        record = json.loads(text)
-    except (TypeError, ValueError):
+        record = parse_json(text.encode("utf-8", "surrogatepass"))
+    except JsonProblem:
         return {}
     return record if isinstance(record, dict) else {}
 

@@ -126,6 +126,7 @@ def test_manifest_bytes_mutated(changes):
 @given(value=json_values())
 @example(value={"format": 1, "frames": 5})
 @example(value={"format": 1, "runs": {"scene.yaml": "abc"}})
+@example(value={"format": 1, "frames": {"f.png": {"cameras": ["[" * 10_000 + "]" * 10_000, "\ud800", "{"]}}})
 def test_manifest_of_any_json_value(value):
     check_manifest(json.dumps(value).encode("utf-8", "surrogatepass"))
 
