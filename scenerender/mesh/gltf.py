@@ -25,7 +25,7 @@ from pydantic import ValidationError
 
 from scenerender.json_input import GLTF_JSON_MAX_BYTES, JsonProblem, parse_json
 from scenerender.mesh.gltf_document import GltfDocument
-from scenerender.scene.messages import json_file_error
+from scenerender.scene.messages import first_problem
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 _JSON_CHUNK = 0x4E4F534A
@@ -156,8 +156,8 @@ def _json(data: bytes) -> dict:
     try:
         GltfDocument.model_validate(header)
     except ValidationError as exc:
-        problem = json_file_error(exc, header, "")
-        raise GltfStructureProblem(problem.message, problem.key) from None
+        key, message = first_problem(exc, header)
+        raise GltfStructureProblem(message, key) from None
     return header
 
 

@@ -149,7 +149,7 @@ def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list, list]:
         raise  # a buffer outside the allowed folders
     except GltfProblem as exc:
         raise UserError(f"cannot read its animations: {exc}", SourceLocation(shown)) from None
-    except Exception as exc:  # noqa: BLE001 - GltfProblem, or malformed JSON values
+    except Exception as exc:  # noqa: BLE001 - values NumPy cannot shape (a weights channel of no targets...)
         raise UserError(f"cannot read its animations: {_short(exc)}", SourceLocation(shown)) from None
 
 

@@ -83,7 +83,7 @@ class GlRecord(_Record):
 class ManifestFile(_Record):
     """What a manifest file holds."""
 
-    format: Literal[1]
+    format: Literal[FORMAT_VERSION]
     scenerender: str | None = None
     frames: dict[str, FrameRecord] = {}
     runs: dict[str, RunRecord] = {}

@@ -63,20 +63,24 @@ def to_user_errors(exc: ValidationError, data, source: SourceMap) -> SceneErrors
     return SceneErrors(errors)
 
 
-class _WholeFile:
-    """Locates every key at the file alone: a JSON file is read without a map of lines."""
+class _NoLines:
+    """Locates no key: a JSON file is read without a map of lines."""
 
-    def __init__(self, file: str):
-        self.file = file
+    def locate(self, path: tuple) -> None:
+        return None
 
-    def locate(self, path: tuple) -> SourceLocation:
-        return SourceLocation(self.file)
+
+def first_problem(exc: ValidationError, data) -> tuple[str | None, str]:
+    """(key, message) of the first problem pydantic found in the JSON value ``data``."""
+    error = to_user_errors(exc, data, _NoLines()).errors[0]
+    return error.key, error.message
 
 
 def json_file_error(exc: ValidationError, data, file: str) -> UserError:
     """The first problem pydantic found in the value ``data`` of the JSON file ``file``
     (as shown to the user): one line naming the file and the key."""
-    return to_user_errors(exc, data, _WholeFile(file)).errors[0]
+    key, message = first_problem(exc, data)
+    return UserError(message, SourceLocation(file), key)
 
 
 # top-level keys whose absence needs more than its name
