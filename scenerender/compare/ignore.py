@@ -6,10 +6,12 @@ A reference folder may hold ``ignore.json``::
     {"rectangles": [{"x": 280, "y": 0, "w": 40, "h": 16, "frames": "frame_00*", "why": "clock"}]}
 
 (``frames``, a shell pattern of frame names, defaults to every frame; ``why`` is shown in
-the summary, characters a terminal cannot show escaped), and ``ignore.png``, a mask of the frames' size whose non-black pixels are
-ignored in every frame. Neither is a frame. Ignored pixels of the output are taken from the
-reference (colours and object ids) before the comparison, so nothing there can fail, and
-every verdict says how many pixels it ignored and why.
+the summary, characters a terminal cannot show escaped), and ``ignore.png``, a mask of the
+frames' size whose non-black pixels are ignored in every frame. Neither is a frame. Ignored
+pixels of the output are taken from the reference (colours and object ids) before the
+comparison, so nothing there can fail, and every verdict says how many pixels it ignored
+and why. ignore.json is read through the JSON guard and validated into ``RectanglesFile``:
+anything else in it is bad input naming the file and the key.
 """
 from __future__ import annotations
 

@@ -255,7 +255,8 @@ def read_skins(raw: bytes, read_file=None) -> list[Skin]:
             binds = read(skin["inverseBindMatrices"], 16).astype(np.float64).reshape(-1, 4, 4).transpose(0, 2, 1)
         bad = np.flatnonzero(~np.isfinite(binds).all(axis=(1, 2)))
         if bad.size:
-            raise GltfProblem(f"skins[{i}]: the inverse bind matrix of joint {bad[0]} holds numbers that are not finite")
+            raise GltfProblem(f"skins[{i}]: the inverse bind matrix of joint {bad[0]} holds numbers "
+                              "that are not finite")
         if len(binds) != len(joints):
             raise GltfProblem(f"skins[{i}] has {len(binds)} inverse bind matrices for {len(joints)} joints")
         found.append(Skin(tuple(joints), binds))

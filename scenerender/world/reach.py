@@ -126,7 +126,11 @@ def instanced_placement_problem(obj: RenderObject) -> tuple[str, tuple] | None:
 
 def animated_part_problem(obj: RenderObject) -> tuple[str, tuple] | None:
     """(message, key under the object) when a part of an animated glTF file can leave
-    float32 at some time of its clip; the key is the object's ``animation``."""
+    float32 at some time of its clip: at its ``scale`` or ``instances`` where those alone
+    do, else at its ``animation``."""
+    own_problem = instanced_placement_problem(obj)
+    if own_problem is not None:
+        return own_problem
     placed = TransformBound.of_tracks(magnitude_bounds([obj.position]), magnitude_bounds([obj.scale]))
     placed = placed.then(instances_bound(obj.instances))
     if obj.motion is not None:
