@@ -114,10 +114,21 @@ def one_line(text: str) -> str:
     """Messages are one line: control characters in user values are shown escaped, and a
     run of more than LONGEST_WORD characters without a space (a pasted value) is cut in the
     middle, so one bad value cannot fill the terminal."""
+    text = printable(text)
     if "\n" in text or "\r" in text or "\t" in text:
         text = text.replace("\r", "\\r").replace("\n", "\\n").replace("\t", "\\t")
     if len(text) > LONGEST_WORD:
         text = " ".join(_shortened(word) for word in text.split(" "))
+    return text
+
+
+def printable(text: str) -> str:
+    """``text`` with what no terminal can be sent escaped: a lone surrogate (valid in a JSON
+    string as ``\\ud800``, or a file name's undecodable byte) becomes ``\\ud800``."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return text.encode("utf-8", "backslashreplace").decode("utf-8")
     return text
 
 

@@ -24,7 +24,7 @@ LAYERS = [
     ["scenerender.mesh"],                                                      # mesh files and primitives
     ["scenerender.scene"],                                                     # the validated scene model
     ["scenerender.sinks", "scenerender.graph", "scenerender.animation"],       # independent of each other
-    ["scenerender.errors", "scenerender.limits", "scenerender.colorspace", "scenerender.machine",
+    ["scenerender.errors", "scenerender.limits", "scenerender.json_input", "scenerender.colorspace", "scenerender.machine",
      "scenerender.version", "scenerender.option_rules"],
 ]
 FACE = "scenerender"  # the package's __init__: __version__ and the lazy facade (see below)

@@ -144,3 +144,40 @@ def test_a_single_image_output_is_fingerprinted_too(project):
     assert "nothing to do" in again.stderr
     (project / "scene.yaml").write_text(SCENE.replace("output: {frames: 3}", "output: {frames: 1}").replace("0.8,", "0.5,"))
     assert "rendered 1 frame" in CliRunner().invoke(main, ["render", "scene.yaml", "-o", "still.png"]).stderr
+
+
+# A manifest the product cannot use (cut short, edited by hand, written by something else)
+# is as good as absent: one warning naming it, and every frame is rendered again.
+GARBAGE_MANIFESTS = {
+    "frames-a-number": b'{"format": 1, "frames": 5}',
+    "run-a-string": b'{"format": 1, "runs": {"scene.yaml": "abc"}}',
+    "frame-entry-a-list": b'{"format": 1, "frames": {"frame_0000.png": [1, 2]}}',
+    "inputs-null": b'{"format": 1, "runs": {"scene.yaml": {"run": "x", "inputs": null}}}',
+    "bytes-as-text": b'{"format": 1, "frames": {"frame_0000.png": {"bytes": "12", "sha256": "x"}}}',
+    "nested-100000": b"[" * 100_000 + b"]" * 100_000,
+    "not-utf8": b'{"format": 1, "scenerender": "\xff"}',
+    "not-json": b'{"format": 1,',
+    "nan": b'{"format": 1, "frames": {"f": {"bytes": NaN}}}',
+    "a-list": b"[1, 2]",
+    "other-format": b'{"format": 2}',
+}
+
+
+@pytest.mark.parametrize("garbage", GARBAGE_MANIFESTS.values(), ids=GARBAGE_MANIFESTS.keys())
+def test_a_garbage_manifest_is_treated_as_absent_with_a_warning(project, garbage):
+    render()
+    (project / "out" / ".scenerender.json").write_bytes(garbage)
+    again = render()
+    assert "rendered 3 frames" in again
+    warnings = [line for line in again.splitlines() if line.startswith("warning:")]
+    assert len(warnings) == 1 and ".scenerender.json" in warnings[0] and "rendered again" in warnings[0], again
+    assert "nothing to do" in render()  # the run wrote a good one back
+
+
+def test_a_huge_manifest_is_not_read(project, monkeypatch):
+    render()
+    monkeypatch.setattr("scenerender.run.manifest.MANIFEST_MAX_BYTES", 1000)
+    manifest = project / "out" / ".scenerender.json"
+    manifest.write_bytes(manifest.read_bytes() + b" " * 1000)
+    again = render()
+    assert "rendered 3 frames" in again and "over the limit of 1,000" in again

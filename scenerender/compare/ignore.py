@@ -6,35 +6,56 @@ A reference folder may hold ``ignore.json``::
     {"rectangles": [{"x": 280, "y": 0, "w": 40, "h": 16, "frames": "frame_00*", "why": "clock"}]}
 
 (``frames``, a shell pattern of frame names, defaults to every frame; ``why`` is shown in
-the summary), and ``ignore.png``, a mask of the frames' size whose non-black pixels are
-ignored in every frame. Neither is a frame. Ignored pixels of the output are taken from the
-reference (colours and object ids) before the comparison, so nothing there can fail, and
-every verdict says how many pixels it ignored and why.
+the summary, characters a terminal cannot show escaped), and ``ignore.png``, a mask of the
+frames' size whose non-black pixels are ignored in every frame. Neither is a frame. Ignored
+pixels of the output are taken from the reference (colours and object ids) before the
+comparison, so nothing there can fail, and every verdict says how many pixels it ignored
+and why. ignore.json is read through the JSON guard and validated into ``RectanglesFile``:
+anything else in it is bad input naming the file and the key.
 """
 from __future__ import annotations
 
 import fnmatch
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from pydantic import BaseModel, ConfigDict, PositiveInt, ValidationError, field_validator
 
-from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.errors import SourceLocation, UserError, display_path, printable
+from scenerender.json_input import IGNORE_MAX_BYTES
+from scenerender.scene.files import read_json_file
+from scenerender.scene.messages import json_file_error
 
 RECTANGLES_FILE = "ignore.json"
 MASK_FILE = "ignore.png"
 FILES = (RECTANGLES_FILE, MASK_FILE)
 
 
-@dataclass(frozen=True)
-class Rectangle:
+class Rectangle(BaseModel):
+    """One ignored rectangle, in pixels from the top left; strict: 1.5 or true is no pixel."""
+
+    model_config = ConfigDict(strict=True, frozen=True)
+
     x: int
     y: int
-    w: int
-    h: int
+    w: PositiveInt
+    h: PositiveInt
     frames: str = "*"
     why: str = ""
+
+    @field_validator("why")
+    @classmethod
+    def _printable(cls, why: str) -> str:
+        return printable(why)  # the verdict prints it
+
+
+class RectanglesFile(BaseModel):
+    """The contents of ignore.json."""
+
+    model_config = ConfigDict(strict=True)
+
+    rectangles: list[Rectangle]
 
 
 @dataclass
@@ -87,23 +108,8 @@ def read_ignore(folder: Path) -> IgnoreRegions:
 
 
 def _rectangles(path: Path) -> list[Rectangle]:
+    data = read_json_file(path, "ignore regions file", IGNORE_MAX_BYTES)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise UserError(f"cannot read the ignore regions ({exc})", SourceLocation(display_path(path))) from None
-    entries = data.get("rectangles") if isinstance(data, dict) else None
-    if not isinstance(entries, list):
-        raise UserError('rectangles: expected {"rectangles": [{"x": .., "y": .., "w": .., "h": ..}, ...]}',
-                        SourceLocation(display_path(path)))
-    out = []
-    for index, entry in enumerate(entries):
-        key = f"rectangles[{index}]"
-        if not isinstance(entry, dict) or not all(isinstance(entry.get(k), int) and not isinstance(entry.get(k), bool)
-                                                  for k in ("x", "y", "w", "h")):
-            raise UserError(f"{key}: each rectangle needs whole numbers x, y, w and h (pixels from the top left)",
-                            SourceLocation(display_path(path)))
-        if entry["w"] <= 0 or entry["h"] <= 0:
-            raise UserError(f"{key}: w and h must be positive", SourceLocation(display_path(path)))
-        out.append(Rectangle(entry["x"], entry["y"], entry["w"], entry["h"], str(entry.get("frames", "*")),
-                             str(entry.get("why", ""))))
-    return out
+        return RectanglesFile.model_validate(data).rectangles
+    except ValidationError as exc:
+        raise json_file_error(exc, data, display_path(path)) from None

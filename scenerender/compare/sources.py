@@ -7,7 +7,6 @@ the same rule as every other format, at the 8-bit precision a person sees.
 """
 from __future__ import annotations
 
-import json
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,6 +18,8 @@ from scenerender.colorspace import srgb_encode
 from scenerender.compare.ignore import FILES as IGNORE_FILES
 from scenerender.compare.objects import IdMap
 from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.json_input import MANIFEST_MAX_BYTES
+from scenerender.scene.files import read_json_file
 from scenerender.sinks.object_ids import behind_path, ids_path, read_ids, read_names
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tga", ".exr")
@@ -64,8 +65,8 @@ def read_provenance(path: Path) -> Provenance:
         if not candidate.is_file():
             continue
         try:
-            data = json.loads(candidate.read_text(encoding="utf-8"))
-        except (OSError, ValueError):
+            data = read_json_file(candidate, "run manifest", MANIFEST_MAX_BYTES)
+        except UserError:  # unreadable: as good as absent, like the run that would reuse it
             continue
         if not isinstance(data, dict):
             continue

@@ -40,6 +40,7 @@ from typing import Callable
 import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, Warnings, display_path
+from scenerender.json_input import parse_json
 from scenerender.mesh.data import MeshData, MeshGroup
 from scenerender.scene.files import read_regular_file
 from scenerender.version import __version__
@@ -246,7 +247,7 @@ def read_entry(entry: Path, key: str) -> StoredMesh | None:
     try:
         with np.load(entry, allow_pickle=False) as npz:
             arrays = {name: npz[name] for name in npz.files}
-        meta = json.loads(bytes(arrays.pop("meta")).decode("utf-8", "surrogateescape"))
+        meta = parse_json(bytes(arrays.pop("meta")))
         return _checked(arrays, meta, key)
     except Exception:  # any way of being unreadable (zip, npy header, JSON...) means "no entry"
         return None

@@ -15,13 +15,17 @@ scene's (or the default) material instead.
 from __future__ import annotations
 
 import base64
-import json
 import math
 import struct
 from dataclasses import dataclass, field
 from urllib.parse import unquote
 
 import numpy as np
+from pydantic import ValidationError
+
+from scenerender.json_input import GLTF_JSON_MAX_BYTES, JsonProblem, parse_json
+from scenerender.mesh.gltf_document import GltfDocument
+from scenerender.scene.messages import first_problem
 
 from scenerender.scene.model.materials import MAX_IOR  # the largest index of refraction a material takes
 
@@ -55,6 +59,16 @@ VARIANTS_EXTENSION = "KHR_materials_variants"
 
 class GltfProblem(Exception):
     """The file's JSON says something about materials that cannot be used."""
+
+
+class GltfStructureProblem(GltfProblem):
+    """The file's JSON is no glTF document: not JSON within the bounds, or a part of the
+    wrong type (``key`` names it: ``materials[1]``). Bad input whatever reads the file."""
+
+    def __init__(self, message: str, key: str | None = None):
+        super().__init__(f"{key}: {message}" if key else message)
+        self.message = message
+        self.key = key
 
 
 @dataclass(frozen=True)
@@ -135,7 +149,11 @@ class GltfFile:
 
 
 def split_glb(raw: bytes) -> tuple[dict, bytes | None]:
-    """(JSON header, BIN chunk or None) of a GLB container, or of a .gltf file's text."""
+    """(JSON header, BIN chunk or None) of a GLB container, or of a .gltf file's text.
+
+    The root guard of every glTF reader: the JSON is read with bounded size and depth
+    (json_input) and validated into mesh.gltf_document's model, so no reader after meets
+    a part of the wrong type. Raises GltfStructureProblem where it fails."""
     if len(raw) >= 12 and struct.unpack_from("<I", raw, 0)[0] == GLB_MAGIC:
         offset, binary, header = 12, None, None
         while offset + 8 <= len(raw):
@@ -147,18 +165,23 @@ def split_glb(raw: bytes) -> tuple[dict, bytes | None]:
                 binary = chunk
             offset += 8 + length + (-length % 4)
         if header is None:
-            raise GltfProblem("no JSON chunk")
+            raise GltfStructureProblem("no JSON chunk")
         return header, binary
     return _json(raw), None
 
 
 def _json(data: bytes) -> dict:
+    if len(data) > GLTF_JSON_MAX_BYTES:
+        raise GltfStructureProblem(f"its JSON is {len(data):,} bytes, over the limit of {GLTF_JSON_MAX_BYTES:,}")
     try:
-        header = json.loads(data.decode("utf-8-sig"))
-    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
-        raise GltfProblem(f"JSON not readable ({type(exc).__name__})") from None
-    if not isinstance(header, dict):
-        raise GltfProblem("the JSON is not an object")
+        header = parse_json(data)
+    except JsonProblem as exc:
+        raise GltfStructureProblem(f"its JSON is {exc}") from None
+    try:
+        GltfDocument.model_validate(header)
+    except ValidationError as exc:
+        key, message = first_problem(exc, header)
+        raise GltfStructureProblem(message, key) from None
     return header
 
 

@@ -17,6 +17,11 @@ u = (t - t_k) / td:
 
 Before the first key a channel holds its first value, after the last its last one. Morph
 target ``weights`` channels are read with the rest, and skipped where transforms are asked for.
+
+Key values are checked as they are read: every time and value finite, every rotation key
+a quaternion of non-zero length (the tangents of a CUBICSPLINE rotation may be zero). A key
+that is not is a GltfProblem naming the clip, the channel and the key's index, so neither
+``validate`` nor ``render`` goes on with a NaN that would surface as a broken transform.
 """
 from __future__ import annotations
 
@@ -65,6 +70,18 @@ class Channel:
         if self.path == "rotation":
             return slerp(keys[k], keys[k + 1], u)
         return keys[k] * (1.0 - u) + keys[k + 1] * u
+
+    def magnitude_bound(self) -> np.ndarray:
+        """(D,) float64: no value of the channel, at any time, is larger in size. STEP and
+        LINEAR stay between their keys; a cubic spline's tangent terms add at most
+        td * 4/27 * (|a| + |b|) (the largest size of u^3 - 2u^2 + u and u^3 - u^2 on [0, 1])."""
+        cubic = self.interpolation == "CUBICSPLINE"
+        keys = np.abs(self.values[1::3] if cubic else self.values)
+        bound = keys.max(axis=0)
+        if cubic and len(self.times) > 1:
+            tangents = np.abs(self.values[0::3]).max(axis=0) + np.abs(self.values[2::3]).max(axis=0)
+            bound = bound + float(np.diff(self.times).max()) * 4.0 / 27.0 * tangents
+        return bound
 
 
 def hermite(v0: np.ndarray, out_tangent: np.ndarray, v1: np.ndarray, in_tangent: np.ndarray, td: float,
@@ -131,7 +148,8 @@ def read_clips(raw: bytes, read_file=None) -> list[Clip]:
 
 
 def _clip(index: int, animation: dict, read, node_count: int) -> Clip:
-    where = f"animations[{index}]"
+    name = animation.get("name")
+    where = f"animations[{index}]" + (f" ('{name}')" if name else "")
     samplers = animation.get("samplers", [])
     channels = []
     for c, channel in enumerate(animation.get("channels", [])):
@@ -146,8 +164,9 @@ def _clip(index: int, animation: dict, read, node_count: int) -> Clip:
         sampler_index = channel.get("sampler")
         if not (isinstance(sampler_index, int) and 0 <= sampler_index < len(samplers)):
             raise GltfProblem(f"{where}.channels[{c}] names sampler {sampler_index!r}, the clip has {len(samplers)}")
-        channels.append(_channel(samplers[sampler_index], node, path, read, f"{where}.samplers[{sampler_index}]"))
-    return Clip(index, animation.get("name"), tuple(channels))
+        channels.append(_channel(samplers[sampler_index], node, path, read,
+                                 f"{where}.channels[{c}] ({path} of node {node}, samplers[{sampler_index}])"))
+    return Clip(index, name, tuple(channels))
 
 
 def _channel(sampler: dict, node: int, path: str, read, where: str) -> Channel:
@@ -158,12 +177,43 @@ def _channel(sampler: dict, node: int, path: str, read, where: str) -> Channel:
     values = read(sampler.get("output"), _WIDTH.get(path)).astype(np.float64)
     if path == "weights":  # one scalar per target per key
         values = values.reshape(len(times) * (3 if interpolation == "CUBICSPLINE" else 1), -1)
+    _check_finite_times(times, where)
     if not len(times) or (len(times) > 1 and not np.all(np.diff(times) > 0)):
         raise GltfProblem(f"{where}: key times must be there and strictly increasing")
     expected = len(times) * (3 if interpolation == "CUBICSPLINE" else 1)
     if len(values) != expected:
         raise GltfProblem(f"{where}: {len(values)} values for {len(times)} {interpolation} keys ({expected} expected)")
+    _check_values(values, path, interpolation == "CUBICSPLINE", where)
     return Channel(node, path, interpolation, times, values)
+
+
+def _check_finite_times(times: np.ndarray, where: str) -> None:
+    """times (K,) float64: each finite, else a GltfProblem naming the first key that is not."""
+    bad = np.flatnonzero(~np.isfinite(times))
+    if bad.size:
+        raise GltfProblem(f"{where}: key {bad[0]} has the time {times[bad[0]]}, not a finite number")
+
+
+def _check_values(values: np.ndarray, path: str, cubic: bool, where: str) -> None:
+    """values (K, D), or (3 K, D) for a cubic spline: each finite, and each rotation key
+    (not its tangents) a quaternion of non-zero length; a GltfProblem names the key."""
+    per_key = 3 if cubic else 1
+    bad = np.flatnonzero(~np.isfinite(values).all(axis=1))
+    if bad.size:
+        row = int(bad[0])
+        part = ("in-tangent", "value", "out-tangent")[row % 3] + " of " if cubic else ""
+        raise GltfProblem(f"{where}: the {part}key {row // per_key} holds {_shown(values[row])}, "
+                          "not finite numbers")
+    if path == "rotation":
+        keys = values[1::3] if cubic else values
+        zero = np.flatnonzero(~(np.linalg.norm(keys, axis=1) > 0.0))
+        if zero.size:
+            raise GltfProblem(f"{where}: key {zero[0]} holds {_shown(keys[zero[0]])}, a quaternion of length 0, "
+                              "not a rotation")
+
+
+def _shown(row: np.ndarray) -> str:
+    return "[" + ", ".join(f"{float(v):g}" for v in row) + "]"
 
 
 def clip_time(t: float, duration: float, speed: float, offset: float, loop: bool) -> float:
@@ -203,6 +253,10 @@ def read_skins(raw: bytes, read_file=None) -> list[Skin]:
             binds = np.tile(np.eye(4), (len(joints), 1, 1))
         else:  # column-major in the file
             binds = read(skin["inverseBindMatrices"], 16).astype(np.float64).reshape(-1, 4, 4).transpose(0, 2, 1)
+        bad = np.flatnonzero(~np.isfinite(binds).all(axis=(1, 2)))
+        if bad.size:
+            raise GltfProblem(f"skins[{i}]: the inverse bind matrix of joint {bad[0]} holds numbers "
+                              "that are not finite")
         if len(binds) != len(joints):
             raise GltfProblem(f"skins[{i}] has {len(binds)} inverse bind matrices for {len(joints)} joints")
         found.append(Skin(tuple(joints), binds))

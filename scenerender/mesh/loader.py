@@ -19,7 +19,7 @@ from scenerender.mesh.cache import load_obj_cached
 from scenerender.mesh.data import MeshData
 from scenerender.mesh.data import MeshGroup
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
-from scenerender.mesh.gltf import GltfFile, GltfProblem, read_gltf, split_glb, variant_names, vertex_colors
+from scenerender.mesh.gltf import GltfFile, GltfProblem, GltfStructureProblem, read_gltf, split_glb, variant_names, vertex_colors
 from scenerender.mesh.gltf_animation import read_clips, read_skins
 from scenerender.mesh.gltf_geometry import read_parts
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
@@ -89,6 +89,7 @@ def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, as
     _check_mesh_file(path, assets, SourceLocation(shown))
     raw = read_regular_file(path, "mesh file")
     read_file = _policy_reader(path, assets)
+    _gltf_json(raw, path)
     gltf = _read_gltf(raw, path, read_file, warnings, variant)
     parts = _gltf_parts_here(raw, read_file, gltf, deformations=True, variant=variant)
     if parts is None:
@@ -142,13 +143,15 @@ def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list, list]:
     shown = display_path(path)
     _check_mesh_file(path, assets, SourceLocation(shown))
     raw = read_regular_file(path, "mesh file")
+    header, _ = _gltf_json(raw, path)
     try:
-        header, _ = split_glb(raw)
         read_file = _policy_reader(path, assets)
         return header, read_clips(raw, read_file), read_skins(raw, read_file)
     except UserError:
         raise  # a buffer outside the allowed folders
-    except Exception as exc:  # noqa: BLE001 - GltfProblem, or malformed JSON values
+    except GltfProblem as exc:
+        raise UserError(f"cannot read its animations: {exc}", SourceLocation(shown)) from None
+    except Exception as exc:  # noqa: BLE001 - values NumPy cannot shape (a weights channel of no targets...)
         raise UserError(f"cannot read its animations: {_short(exc)}", SourceLocation(shown)) from None
 
 
@@ -158,10 +161,22 @@ def gltf_variants(path: Path, assets: AssetPolicy) -> list[str]:
     path = Path(path)
     shown = display_path(path)
     _check_mesh_file(path, assets, SourceLocation(shown))
+    gltf_json, _ = _gltf_json(read_regular_file(path, "mesh file"), path)
     try:
-        return variant_names(split_glb(read_regular_file(path, "mesh file"))[0])
+        return variant_names(gltf_json)
     except GltfProblem as exc:
         raise UserError(f"cannot read its variants: {exc}", SourceLocation(shown)) from None
+
+
+def _gltf_json(raw: bytes, path: Path) -> tuple[dict, bytes | None]:
+    """(JSON, BIN chunk or None) of the glTF file ``raw`` read from ``path``, through the
+    root guard (mesh.gltf.split_glb): a file whose JSON is no glTF document is a UserError
+    naming the file and the key, whatever would read it next."""
+    try:
+        return split_glb(raw)
+    except GltfStructureProblem as exc:
+        raise UserError(f"not a usable glTF file: {exc.message}", SourceLocation(display_path(path)),
+                        exc.key) from None
 
 
 def _check_mesh_file(path: Path, assets: AssetPolicy, where: SourceLocation) -> None:
@@ -208,6 +223,7 @@ def _load_other_format(path: Path, assets: AssetPolicy, budget: TriangleBudget, 
     read_file = _policy_reader(path, assets)
     gltf = None
     if path.suffix.lower() in (".glb", ".gltf"):
+        _gltf_json(raw, path)
         gltf = _read_gltf(raw, path, read_file, warnings, variant)
         parts = _gltf_parts_here(raw, read_file, gltf, variant=variant)
         if parts is not None:

@@ -139,7 +139,7 @@ def _run_loaded(scene: Scene, overrides: list, options: RenderOptions, echo, not
     if options.check is not None:  # before planning, which may delete out-of-date frames
         _references().require_apart_before_rendering(sink.target, sink.is_sequence, Path(options.check))
     plan = plan_frames(sink, frames, fingerprint(loaded, overrides, keeps_ids), loaded.path.as_posix(),
-                       options.overwrite, echo)
+                       options.overwrite, echo, notice)
     if plan.todo:
         summary = _render_due(scene, plan, dataclasses.replace(options, object_ids=keeps_ids))
     else:

@@ -10,6 +10,11 @@ Where it lives: ``<folder>/.scenerender.json`` for an image sequence, and
 ``<parent>/.<file name>.scenerender.json`` for a video or a single image. Besides the
 fingerprints it records provenance: the scenerender version and the GL renderer that made
 the frames (and whether it drew on the CPU: ``gl.software``), which ``scenerender diff`` shows.
+
+A manifest is read through the JSON guard (json_input: bounded size and depth)
+and validated into ``ManifestFile``; one that fails (cut short, edited, written by another
+format) is treated as absent, with one warning: nothing is reused and every frame is
+rendered again.
 """
 from __future__ import annotations
 
@@ -18,12 +23,17 @@ import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
+from pydantic import BaseModel, ConfigDict, ValidationError
 
 from scenerender.errors import UserError, display_path
 from scenerender.gpu.gl_context import is_software
+from scenerender.json_input import MANIFEST_MAX_BYTES, JsonProblem, parse_json
 from scenerender.mesh.data import MeshData
+from scenerender.scene.files import read_json_file
+from scenerender.scene.messages import json_file_error
 from scenerender.sinks.base import atomic_path, write_file
 from scenerender.sinks.cameras import cameras_path, write_cameras
 from scenerender.version import __version__
@@ -34,19 +44,72 @@ SIDECAR_SUFFIX = ".scenerender.json"
 FOLDER_SIDECAR = ".scenerender.json"
 
 
+class _Record(BaseModel):
+    # strict: what a run wrote comes back with the same types. Keys a newer run adds are
+    # kept, and keys an older one left out are absent: each has the default its reader uses.
+    model_config = ConfigDict(strict=True, extra="allow")
+
+
+class FileRecord(_Record):
+    bytes: int | None = None
+    sha256: str | None = None
+
+
+class FrameRecord(FileRecord):
+    """A frame file (or a video, a single image) written completely; ``cameras``: the
+    camera record of each frame it holds, each as JSON text."""
+
+    index: int | None = None
+    scene: str | None = None
+    run: str | None = None
+    object_ids: FileRecord | None = None
+    cameras: list[str] | None = None
+
+
+class RunRecord(_Record):
+    """A scene's last run into the output: its fingerprint digest and parts."""
+
+    run: str | None = None
+    inputs: dict[str, str] = {}
+
+
+class GlRecord(_Record):
+    renderer: str | None = None
+    vendor: str | None = None
+    version: str | None = None
+    software: bool | None = None
+
+
+class ManifestFile(_Record):
+    """What a manifest file holds."""
+
+    format: Literal[FORMAT_VERSION]
+    scenerender: str | None = None
+    frames: dict[str, FrameRecord] = {}
+    runs: dict[str, RunRecord] = {}
+    gl: GlRecord | None = None
+
+
 def sidecar_for(target: Path, is_folder: bool) -> Path:
     """Where the manifest of ``target`` lives."""
     target = Path(target)
     return target / FOLDER_SIDECAR if is_folder else target.parent / f".{target.name}{SIDECAR_SUFFIX}"
 
 
-def read_sidecar(path: Path) -> dict:
-    """The manifest at ``path``, or {} when absent or unreadable (then nothing is reused)."""
+def read_sidecar(path: Path) -> tuple[dict, str | None]:
+    """(the manifest at ``path`` as plain JSON values, None), or ({}, why it is unusable):
+    ({}, None) where there is none. An unusable one is as good as absent: nothing is reused."""
+    path = Path(path)
+    if not path.exists() and not path.is_symlink():
+        return {}, None
     try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return {}
-    return data if isinstance(data, dict) and data.get("format") == FORMAT_VERSION else {}
+        data = read_json_file(path, "run manifest", MANIFEST_MAX_BYTES)
+        ManifestFile.model_validate(data)
+    except UserError as exc:
+        return {}, str(exc)
+    except ValidationError as exc:
+        return {}, str(json_file_error(exc, data, display_path(path)))
+    return data, None
 
 
 def file_digest(path: Path) -> str:
@@ -150,17 +213,18 @@ class Manifest:
     scene: str            # which scene's frames these are: several scenes may share a folder
     data: dict = field(default_factory=dict)
     cameras_file: Path | None = None  # the output's cameras.json (sinks/cameras.py)
+    unusable: str | None = None       # why the manifest found there was treated as absent
     _last_save: float = 0.0
 
     @classmethod
     def open(cls, target: Path, is_folder: bool, run: Fingerprint, scene: str, cameras: bool = True) -> "Manifest":
         """``cameras``: keep a cameras.json beside the output (not beside one image)."""
         path = sidecar_for(target, is_folder)
-        data = read_sidecar(path)
+        data, unusable = read_sidecar(path)
         data.setdefault("frames", {})
         data.setdefault("runs", {})
         return cls(path=path, run=run, scene=scene, data=data,
-                   cameras_file=cameras_path(target, is_folder) if cameras else None)
+                   cameras_file=cameras_path(target, is_folder) if cameras else None, unusable=unusable)
 
     @property
     def previous_run(self) -> str | None:
@@ -239,11 +303,12 @@ class Manifest:
             write_file(temp, (json.dumps(self.data, indent=1, sort_keys=True) + "\n").encode("utf-8"))
 
 
-def _camera(text) -> dict:
-    """A camera record the manifest keeps as JSON text; {} where it is unreadable."""
+def _camera(text: str) -> dict:
+    """A camera record the manifest keeps as JSON text (read through the same guard); {}
+    where it is unreadable."""
     try:
-        record = json.loads(text)
-    except (TypeError, ValueError):
+        record = parse_json(text.encode("utf-8", "surrogatepass"))
+    except JsonProblem:
         return {}
     return record if isinstance(record, dict) else {}
 

@@ -47,14 +47,17 @@ class FramePlan:
     recording: object     # the sink wrapped so that finished frames enter the manifest
 
 
-def plan_frames(sink, frames: range, run, scene: str, overwrite: bool, echo) -> FramePlan:
+def plan_frames(sink, frames: range, run, scene: str, overwrite: bool, echo, notice=None) -> FramePlan:
     """Decide which of ``frames`` to render: those the manifest does not vouch for.
 
     Frames an earlier run made from other inputs are deleted first (they are out of date),
-    and one line says what changed.
+    and one line says what changed (to ``echo``). A manifest that cannot be used is one
+    warning (to ``notice``, by default ``echo``), and every frame is rendered again.
     """
     target = sink.target
     manifest = Manifest.open(target, sink.is_sequence, run, scene, getattr(sink, "keeps_cameras", True))
+    if manifest.unusable is not None:
+        (notice or echo)(f"warning: {manifest.unusable}; it is treated as absent and every frame is rendered again")
     _say_what_changed(manifest, run, target, echo)
     if sink.is_sequence:
         _remove_stale_frames(manifest, target)

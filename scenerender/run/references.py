@@ -129,7 +129,7 @@ def check_output(target: Path, root: Path, update: bool = False, echo=print, rul
 
 def recorded_renderer(target: Path) -> str | None:
     """The GL renderer that made ``target``, from its run manifest."""
-    gl = read_sidecar(sidecar_for(target, target.is_dir())).get("gl") or {}
+    gl = read_sidecar(sidecar_for(target, target.is_dir()))[0].get("gl") or {}
     return gl.get("renderer")
 
 

@@ -4,6 +4,9 @@ A path is opened without blocking and checked with fstat before anything is read
 FIFO, a device or a folder named as an input is refused instead of hanging the run or
 flooding memory; at most ``max_bytes + 1`` bytes are ever read. Every OSError (missing,
 permission, name too long...) becomes a one-line UserError naming the file.
+
+A JSON file is read by ``read_json_file``: bounded in size here, in depth by
+json_input.parse_json; the reader then validates the value into its typed model.
 """
 from __future__ import annotations
 
@@ -13,6 +16,7 @@ import stat
 from pathlib import Path
 
 from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.json_input import JSON_MAX_DEPTH, JsonProblem, parse_json
 
 
 def open_regular_file(path: Path, what: str = "file"):
@@ -91,3 +95,13 @@ def file_kind(mode: int) -> str:
     if stat.S_ISSOCK(mode):
         return "a socket"
     return "not a plain file"
+
+
+def read_json_file(path: Path, what: str, max_bytes: int, max_depth: int = JSON_MAX_DEPTH):
+    """The JSON value of the regular file ``path`` of at most ``max_bytes``: a UserError
+    naming the file where it cannot be read, is larger, or is not JSON within the bounds."""
+    data = read_regular_file(path, what, max_bytes)
+    try:
+        return parse_json(data, max_depth)
+    except JsonProblem as exc:
+        raise UserError(f"the {what} is {exc}", SourceLocation(display_path(path))) from None

@@ -7,13 +7,15 @@ from __future__ import annotations
 
 from pydantic import ValidationError
 
-from scenerender.errors import SceneErrors, UserError
+from scenerender.errors import SceneErrors, SourceLocation, UserError
 from scenerender.scene.describe import describe
 from scenerender.scene.yaml_source import SourceMap
 
 _GENERIC = {
     "list_type": "expected a list, got {got}",
     "dict_type": "expected a mapping (key: value), got {got}",
+    "model_type": "expected a mapping (key: value), got {got}",
+    "greater_than": "must be greater than {gt}, got {got}",
     "string_type": "expected text, got {got}",
     "too_short": "needs at least {min_length} item(s)",
     "too_long": "allows at most {max_length} item(s)",
@@ -59,6 +61,26 @@ def to_user_errors(exc: ValidationError, data, source: SourceMap) -> SceneErrors
             seen.add(str(error))
             errors.append(error)
     return SceneErrors(errors)
+
+
+class _NoLines:
+    """Locates no key: a JSON file is read without a map of lines."""
+
+    def locate(self, path: tuple) -> None:
+        return None
+
+
+def first_problem(exc: ValidationError, data) -> tuple[str | None, str]:
+    """(key, message) of the first problem pydantic found in the JSON value ``data``."""
+    error = to_user_errors(exc, data, _NoLines()).errors[0]
+    return error.key, error.message
+
+
+def json_file_error(exc: ValidationError, data, file: str) -> UserError:
+    """The first problem pydantic found in the value ``data`` of the JSON file ``file``
+    (as shown to the user): one line naming the file and the key."""
+    key, message = first_problem(exc, data)
+    return UserError(message, SourceLocation(file), key)
 
 
 # top-level keys whose absence needs more than its name

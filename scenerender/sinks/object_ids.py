@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from scenerender.errors import SourceLocation, UserError, display_path
+from scenerender.json_input import OBJECT_NAMES_MAX_BYTES, parse_json
 from scenerender.sinks.base import atomic_path, write_file
 
 FOLDER = ".object_ids"
@@ -70,22 +71,32 @@ def read_ids(path: Path) -> np.ndarray | None:
 
 def read_names(folder: Path) -> dict:
     """id -> object name from ``folder``'s objects.json; {} when absent or unreadable."""
-    try:
-        data = json.loads(names_path(folder).read_text(encoding="utf-8"))
-        objects = data["objects"]
-        return {int(key): str(value) for key, value in objects.items()}
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+    data = _read_names_file(names_path(folder))
+    objects = data.get("objects") if isinstance(data, dict) else None
+    if not isinstance(objects, dict):
         return {}
+    try:
+        return {int(key): str(value) for key, value in objects.items()}
+    except ValueError:  # a key that is not a number
+        return {}
+
+
+def _read_names_file(path: Path):
+    """The JSON value of an objects.json (read through the JSON guard), None where there is
+    none or it cannot be read."""
+    try:
+        with open(path, "rb") as stream:
+            data = stream.read(OBJECT_NAMES_MAX_BYTES + 1)
+        return parse_json(data) if len(data) <= OBJECT_NAMES_MAX_BYTES else None
+    except (OSError, ValueError):  # ValueError: json_input.JsonProblem
+        return None
 
 
 def write_names(folder: Path, scene: str, names: dict, option: str = "-o") -> None:
     """Write ``folder``'s objects.json (whole or not at all). Another scene's names there
     are a UserError: two scenes' ids in one folder could not both be named."""
     path = names_path(folder)
-    try:
-        old = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        old = None
+    old = _read_names_file(path)
     if isinstance(old, dict) and old.get("scene") not in (None, scene) and any(
             p.name != NAMES_FILE for p in path.parent.iterdir()):
         raise UserError(f"{display_path(path.parent)} holds the object ids of {old.get('scene')}; render "

@@ -43,6 +43,35 @@ class ClipPlayer:
     loop: bool
     _cached: tuple = field(default=(None, None), repr=False)
 
+    def chain_bounds(self, node: int) -> list[tuple]:
+        """The nodes from the root down to ``node``, each node's transform over the whole
+        clip as bounds on the sizes of its parts: ("matrix", (4, 4) float64: a node placed by
+        its matrix, which no channel moves) or ("trs", translation (3,), scale (3,))."""
+        nodes = self.header.get("nodes", [])
+        parents = {child: index for index, entry in enumerate(nodes) for child in entry.get("children", [])}
+        chain, seen = [], set()
+        while node is not None and node not in seen:  # placed_nodes refuses a circle before this runs
+            seen.add(node)
+            chain.append(self._node_bound(node, nodes[node]))
+            node = parents.get(node)
+        return chain[::-1]
+
+    def _node_bound(self, index: int, node: dict) -> tuple:
+        if "matrix" in node:
+            return "matrix", np.asarray(node["matrix"], dtype=np.float64).reshape(4, 4).T
+        bounds = {"translation": np.abs(np.asarray(node.get("translation", (0.0, 0.0, 0.0)), dtype=np.float64)),
+                  "scale": np.abs(np.asarray(node.get("scale", (1.0, 1.0, 1.0)), dtype=np.float64))}
+        for channel in self.clip.channels:
+            if channel.node == index and channel.path in bounds:
+                bounds[channel.path] = np.maximum(bounds[channel.path], channel.magnitude_bound())
+        return "trs", bounds["translation"], bounds["scale"]
+
+    def weights_bound(self, node: int) -> np.ndarray | None:
+        """(T,) bound on the sizes of the morph weights the clip gives ``node``, or None
+        where no channel drives them."""
+        channels = [c for c in self.clip.channels if c.node == node and c.path == "weights"]
+        return channels[0].magnitude_bound() if channels else None
+
     def node_worlds(self, t: float) -> dict:
         """node index -> its (4, 4) float64 world transform in the file at scene time ``t``."""
         if self._cached[0] != t:

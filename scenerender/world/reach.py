@@ -14,7 +14,13 @@ animation is:
   scale factor j, and entry (i, j) of its cofactor matrix (the normal matrix up to its sign,
   see world.transforms.normal_matrices) at most the product of the two other factors;
 - entrywise |A B| <= |A| |B|, and the cofactor matrix of a product is the product of the
-  cofactor matrices: together they bound an object's transform times each instance's.
+  cofactor matrices: together they bound an object's transform times each instance's;
+- a part of an animated glTF file is placed by its node's transform too (world.node_animation):
+  each node of the chain from the root is bounded over the whole clip from its channels'
+  keys (``Channel.magnitude_bound``), times the part's fixed rest inverse; a skinned part's
+  vertices by its joints' transforms times their inverse bind matrices (the largest over
+  the joints: each vertex is a weighted mean of its joints' placements of it), its morph
+  targets growing its extent by their largest deltas times their largest weights.
 
 The bounds may exceed what any frame reaches (a rotation never has all entries at 1), so a
 placement within a factor of a few of the limit can be refused; none that can overflow passes.
@@ -57,6 +63,17 @@ class TransformBound:
         return TransformBound(self.linear @ inner.linear, self.cofactor @ inner.cofactor,
                               (self.linear @ inner.move[..., None])[..., 0] + self.move)
 
+    @classmethod
+    def of_matrix(cls, matrix: np.ndarray) -> "TransformBound":
+        """The bound of one fixed (4, 4) transform, as K = 1 arrays."""
+        matrix = np.asarray(matrix, dtype=np.float64)[None]
+        return cls(np.abs(matrix[:, :3, :3]), np.abs(normal_matrices(matrix)), np.abs(matrix[:, :3, 3]))
+
+    def largest(self, other: "TransformBound") -> "TransformBound":
+        """Entrywise the larger of two bounds: a bound of either transform."""
+        return TransformBound(np.maximum(self.linear, other.linear), np.maximum(self.cofactor, other.cofactor),
+                              np.maximum(self.move, other.move))
+
     def largest_model_entries(self) -> np.ndarray:
         """(K,) bounds on the largest entry of each model matrix's upper 3x3."""
         return self.linear.max(axis=(1, 2))
@@ -75,13 +92,18 @@ def check_placements(objects: list[RenderObject], source) -> None:
     """Raise a UserError at the first object whose model matrices, normal matrices or
     vertices in world space can leave the range of 32-bit floats in any frame."""
     # Objects without instances (often tens of thousands) are checked together, in NumPy.
-    single = [i for i, obj in enumerate(objects) if obj.instances.single]
+    single = [i for i, obj in enumerate(objects)
+              if obj.instances.single and obj.motion is None and obj.deform is None]
     own = TransformBound.of_tracks(magnitude_bounds([objects[i].position for i in single]),
                                    magnitude_bounds([objects[i].scale for i in single]))
     found = zip(single, placement_problems(own, _extents([objects[i].mesh for i in single])))
     problems = {i: problem for i, problem in found if problem is not None}
     for i, obj in enumerate(objects):
-        if not obj.instances.single:
+        if obj.motion is not None or obj.deform is not None:
+            problem = animated_part_problem(obj)
+            if problem is not None:
+                problems[i] = problem
+        elif not obj.instances.single:
             problem = instanced_placement_problem(obj)
             if problem is not None:
                 problems[i] = problem
@@ -100,6 +122,52 @@ def instanced_placement_problem(obj: RenderObject) -> tuple[str, tuple] | None:
         return problem
     own_scale = max(own.largest_model_entries()[0], own.largest_normal_entries()[0])
     return problem[0], ("scale",) if own_scale > FLOAT32_MAX else ("instances",)
+
+
+def animated_part_problem(obj: RenderObject) -> tuple[str, tuple] | None:
+    """(message, key under the object) when a part of an animated glTF file can leave
+    float32 at some time of its clip: at its ``scale`` or ``instances`` where those alone
+    do, else at its ``animation``."""
+    own_problem = instanced_placement_problem(obj)
+    if own_problem is not None:
+        return own_problem
+    placed = TransformBound.of_tracks(magnitude_bounds([obj.position]), magnitude_bounds([obj.scale]))
+    placed = placed.then(instances_bound(obj.instances))
+    if obj.motion is not None:
+        placed = placed.then(_chain_bound(obj.motion.player, obj.motion.node).then(
+            TransformBound.of_matrix(obj.motion.rest_inverse)))
+    extent = _extents([obj.mesh])
+    deform = obj.deform
+    if deform is not None and deform.targets is not None:
+        weights = deform.player.weights_bound(deform.node)
+        weights = np.abs(deform.rest_weights if weights is None else weights)
+        deltas = np.abs(deform.targets[:, :, :3].astype(np.float64)).max(axis=1)  # (T, 3)
+        count = min(len(weights), len(deltas))
+        extent = extent + (weights[:count, None] * deltas[:count]).sum(axis=0)
+    if deform is not None and deform.skin is not None:
+        used = np.unique(deform.joints[deform.weights > 0]).astype(int)
+        joints = [_chain_bound(deform.player, deform.skin.joints[j]).then(
+            TransformBound.of_matrix(deform.skin.inverse_binds[j])) for j in used]
+        if joints:
+            skinned = joints[0]
+            for joint in joints[1:]:
+                skinned = skinned.largest(joint)
+            placed = placed.then(skinned)
+    problem = placement_problems(placed, extent)[0]
+    if problem is None:
+        return None
+    return f"with its glTF clip, {problem[0]}", ("animation",)
+
+
+def _chain_bound(player, node: int) -> TransformBound:
+    """The bound of a glTF node's world transform over the whole clip (ClipPlayer.chain_bounds)."""
+    bound = TransformBound.of_matrix(np.eye(4))
+    for kind, *parts in player.chain_bounds(node):
+        if kind == "matrix":
+            bound = bound.then(TransformBound.of_matrix(parts[0]))
+        else:
+            bound = bound.then(TransformBound.of_tracks(parts[0][None], parts[1][None]))
+    return bound
 
 
 def placement_problems(placed: TransformBound, extents: np.ndarray) -> list:
