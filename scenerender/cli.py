@@ -507,7 +507,9 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
     error is measured against (`scenerender bench`), not a second renderer: normal and
     opacity maps, ambient occlusion, transparency, alpha masks, outlines and the skybox are
     left out (one warning names what the scene has of them); rays that miss the scene show
-    the background colour, also where an environment light lights it."""
+    the background colour, also where an environment light lights it. With --bounces N it
+    path-traces: light that bounced off up to N surfaces too (docs/scene-notes.md, "Light
+    that bounces, in the reference"); 0 is direct light only."""
     import time
 
     from scenerender.api import load
@@ -577,7 +579,7 @@ def bench(scene, output, knobs, frames, rounds, spp, environment_samples, bounce
     if as_json:
         click.echo(json.dumps([row.to_json() for row in rows], indent=2))
     else:
-        click.echo(sweep.markdown_table(scene.stem, rows))
+        click.echo(sweep.markdown_table(scene.stem, rows, bounces))
     echo("wrote " + ", ".join(str(p) for p in paths))
 
 

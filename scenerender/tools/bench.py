@@ -269,10 +269,14 @@ COLUMNS = (("ms/frame", "ms_per_frame", "{:.1f}"), ("ms IQR", "ms_iqr", "{:.1f}"
            ("penumbra band RMS %", "penumbra_rms", "{:.1f}"), ("penumbra band mean %", "penumbra_bias", "{:+.1f}"))
 
 
-def markdown_table(title: str, rows: list[BenchRow]) -> str:
-    """A Markdown section: one line per variant, Pareto rows marked with *."""
+def markdown_table(title: str, rows: list[BenchRow], bounces: int = 0) -> str:
+    """A Markdown section: one line per variant, Pareto rows marked with *; a line under
+    the title says when the reference path-traced ``bounces`` bounces (0: direct light)."""
     head = "| variant | " + " | ".join(label for label, _, _ in COLUMNS) + " | Pareto |"
-    lines = [f"### {title}", "", head, "|" + "---|" * (len(COLUMNS) + 2)]
+    lines = [f"### {title}", ""]
+    if bounces:
+        lines += [f"Against the reference path-traced to {bounces} bounces.", ""]
+    lines += [head, "|" + "---|" * (len(COLUMNS) + 2)]
     for row in rows:
         values = {"ms_per_frame": row.ms_per_frame, "ms_iqr": row.ms_iqr, "once_ms": row.once_ms, **row.errors}
         cells = [_cell(values.get(key), fmt) for _, key, fmt in COLUMNS]
@@ -288,7 +292,7 @@ def write_outputs(name: str, rows: list[BenchRow], folder: Path, meta: dict) -> 
     """folder/NAME.md, NAME.json and NAME.png (each written whole, then renamed)."""
     folder = Path(folder)
     payload = {"scene": name, **meta, "rows": [r.to_json() for r in rows]}
-    outputs = {folder / f"{name}.md": markdown_table(name, rows).encode(),
+    outputs = {folder / f"{name}.md": markdown_table(name, rows, meta.get("bounces", 0)).encode(),
                folder / f"{name}.json": (json.dumps(payload, indent=2) + "\n").encode()}
     for path, data in outputs.items():
         with atomic_path(path) as temp:
