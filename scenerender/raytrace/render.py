@@ -32,6 +32,12 @@ is times Ka and the occlusion map. pbr materials take the whole BRDF; Phong and
 Blinn-Phong ones only the diffuse part, and only where the light has ``classic: true``;
 unlit ones nothing. Rays that miss the scene still
 show the background colour, not the environment (as they do not show the skybox).
+
+With ``bounces`` the reference path-traces (_FrameScene._indirect): from each visible point
+a path goes on in directions drawn from the BRDF, and every surface it meets is shaded as a
+visible point is (emission, ambient, environment, every light with its shadow ray: next-event
+estimation), times the path's throughput; Russian roulette ends paths after ROULETTE_AFTER
+bounces. docs/scene-notes.md ("Light that bounces, in the reference") has the details.
 """
 from __future__ import annotations
 
@@ -242,14 +248,14 @@ class _FrameScene:
         number from ``bounce_rng`` (so the direct light at visible points draws what it
         draws without bounces)."""
         self.world = world
-        self.light_rng = light_rng if light_rng is not None else np.random.Generator(np.random.PCG64(3))
         self.lens = lens
         self.frame = frame
         self.ambient_samples = ambient_samples
-        self.ambient_rng = ambient_rng
         self.environment_samples = environment_samples
         self.environment_rng = environment_rng
-        self.draws = _Draws(ambient_rng, environment_rng, self.light_rng)
+        # what shading a visible point draws from; light_rng: points of lights with a size
+        self.draws = _Draws(ambient_rng, environment_rng,
+                            light_rng if light_rng is not None else np.random.Generator(np.random.PCG64(3)))
         self.bounces = bounces
         self.bounce_rng = bounce_rng if bounce_rng is not None else np.random.Generator(np.random.PCG64(4))
         self.bounce_draws = _Draws(self.bounce_rng, self.bounce_rng, self.bounce_rng)
