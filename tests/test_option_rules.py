@@ -128,14 +128,17 @@ def test_the_diff_limits_at_their_bounds_pass_everywhere(two_images):
     assert cli("diff", *two_images, *args).exit_code == 0
 
 
-# --- the CPU reference: --spp, --ambient-samples, --environment-samples, --shutter-samples and render_reference
+# --- the CPU reference: --spp, --ambient-samples, --environment-samples, --shutter-samples, --bounces and
+# render_reference
 
 REFERENCE_LIMITS = [("spp", option_rules.SPP, 0), ("spp", option_rules.SPP, 33),
                     ("ambient_samples", option_rules.AMBIENT_SAMPLES, -1),
                     ("environment_samples", option_rules.ENVIRONMENT_SAMPLES, 0),
                     ("environment_samples", option_rules.ENVIRONMENT_SAMPLES, 65537),
                     ("shutter_samples", option_rules.SHUTTER_SAMPLES, 0),
-                    ("shutter_samples", option_rules.SHUTTER_SAMPLES, 4097)]
+                    ("shutter_samples", option_rules.SHUTTER_SAMPLES, 4097),
+                    ("bounces", option_rules.BOUNCES, -1), ("bounces", option_rules.BOUNCES, 1025),
+                    ("bounces", option_rules.BOUNCES, 2.5)]
 
 
 @pytest.mark.parametrize("name, rule, value", REFERENCE_LIMITS)
@@ -150,7 +153,8 @@ def test_a_reference_count_is_refused_alike_by_the_option_and_the_function(tmp_p
 
 
 def test_the_bench_command_shares_the_reference_rules():
-    for option, rule in (("--spp", option_rules.SPP), ("--environment-samples", option_rules.ENVIRONMENT_SAMPLES)):
+    for option, rule in (("--spp", option_rules.SPP), ("--environment-samples", option_rules.ENVIRONMENT_SAMPLES),
+                         ("--bounces", option_rules.BOUNCES)):
         for command in ("reference", "bench"):
             param = next(p for p in main.commands[command].params if option in p.opts)
             assert param.type.rule is rule

@@ -148,6 +148,24 @@ def test_bench_command_writes_table_json_and_plot(gl, tmp_path):
     assert (tmp_path / "q" / "tiny.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_bench_measures_against_the_path_traced_reference_where_asked(gl, tmp_path):
+    scene = tmp_path / "tiny.yaml"
+    scene.write_text(SCENE)
+    runs = {}
+    for bounces in ("0", "3"):
+        folder = tmp_path / f"q{bounces}"
+        result = CliRunner().invoke(main, ["bench", str(scene), "-o", str(folder), "--knob", "ao", "--frames", "1",
+                                           "--rounds", "1", "--spp", "2", "--bounces", bounces])
+        assert result.exit_code == 0, result.output
+        runs[bounces] = (json.loads((folder / "tiny.json").read_text()), (folder / "tiny.md").read_text())
+    assert runs["0"][0]["bounces"] == 0 and "path-traced" not in runs["0"][1]
+    assert runs["3"][0]["bounces"] == 3 and "Against the reference path-traced to 3 bounces." in runs["3"][1]
+    # the floor lights the box's sides: the GPU, with no bounce light, is further off
+    default = [r for r in runs["3"][0]["rows"] if r["name"] == "default"][0]
+    direct = [r for r in runs["0"][0]["rows"] if r["name"] == "default"][0]
+    assert default["rmse_linear"] > direct["rmse_linear"]
+
+
 def test_bench_offers_every_knob_of_the_sweep_and_the_environment_ones_where_it_has_one(tmp_path):
     command = next(c for name, c in main.commands.items() if name == "bench")
     knob_option = next(p for p in command.params if p.name == "knobs")

@@ -183,10 +183,11 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
 
 def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int = 2, spp: int = 16,
               echo=lambda text: None, asset_roots=(),
-              environment_samples: int = ENVIRONMENT_SAMPLES) -> list[BenchRow]:
+              environment_samples: int = ENVIRONMENT_SAMPLES, bounces: int = 0) -> list[BenchRow]:
     """Sweep ``path`` (a scene file) and return one BenchRow per variant, Pareto flags set
     on (ms_per_frame, rmse_linear); the reference gathers an environment light from
-    ``environment_samples`` directions a sample."""
+    ``environment_samples`` directions a sample, and path-traces ``bounces`` bounces (0:
+    direct light only)."""
 
     base = load(path, list(overrides), asset_roots=asset_roots)
     rows = [BenchRow(v) for v in sweep_variants(base, knobs)]
@@ -198,8 +199,9 @@ def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int =
             if scene.size not in references:
                 started = time.perf_counter()
                 references[scene.size] = render_reference(scene, 0, spp=spp, warn=echo,
-                                                          environment_samples=environment_samples)
-                echo(f"reference {scene.size[0]}x{scene.size[1]}, {spp}x{spp} samples a pixel: "
+                                                          environment_samples=environment_samples,
+                                                          bounces=bounces)
+                echo(f"reference {scene.size[0]}x{scene.size[1]}, {spp}x{spp} samples a pixel, {bounces} bounces: "
                      f"{time.perf_counter() - started:.1f} s")
             with Renderer(scene, gl=gl, want_linear=True, profile=True) as renderer:
                 frame = renderer.render(0)
@@ -267,10 +269,14 @@ COLUMNS = (("ms/frame", "ms_per_frame", "{:.1f}"), ("ms IQR", "ms_iqr", "{:.1f}"
            ("penumbra band RMS %", "penumbra_rms", "{:.1f}"), ("penumbra band mean %", "penumbra_bias", "{:+.1f}"))
 
 
-def markdown_table(title: str, rows: list[BenchRow]) -> str:
-    """A Markdown section: one line per variant, Pareto rows marked with *."""
+def markdown_table(title: str, rows: list[BenchRow], bounces: int = 0) -> str:
+    """A Markdown section: one line per variant, Pareto rows marked with *; a line under
+    the title says when the reference path-traced ``bounces`` bounces (0: direct light)."""
     head = "| variant | " + " | ".join(label for label, _, _ in COLUMNS) + " | Pareto |"
-    lines = [f"### {title}", "", head, "|" + "---|" * (len(COLUMNS) + 2)]
+    lines = [f"### {title}", ""]
+    if bounces:
+        lines += [f"Against the reference path-traced to {bounces} bounces.", ""]
+    lines += [head, "|" + "---|" * (len(COLUMNS) + 2)]
     for row in rows:
         values = {"ms_per_frame": row.ms_per_frame, "ms_iqr": row.ms_iqr, "once_ms": row.once_ms, **row.errors}
         cells = [_cell(values.get(key), fmt) for _, key, fmt in COLUMNS]
@@ -286,7 +292,7 @@ def write_outputs(name: str, rows: list[BenchRow], folder: Path, meta: dict) -> 
     """folder/NAME.md, NAME.json and NAME.png (each written whole, then renamed)."""
     folder = Path(folder)
     payload = {"scene": name, **meta, "rows": [r.to_json() for r in rows]}
-    outputs = {folder / f"{name}.md": markdown_table(name, rows).encode(),
+    outputs = {folder / f"{name}.md": markdown_table(name, rows, meta.get("bounces", 0)).encode(),
                folder / f"{name}.json": (json.dumps(payload, indent=2) + "\n").encode()}
     for path, data in outputs.items():
         with atomic_path(path) as temp:
