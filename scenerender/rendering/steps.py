@@ -16,12 +16,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-# Texture lookups (the unit of ``Step.work``) a step may do: about 0.2 s on Mesa llvmpipe
-# on 2 cores of an AMD EPYC (measured at 44 million a second, the prefilter's lookups at
-# 512 px and 512 samples); docs/performance.md#interruptible-gpu-work has the worst step.
-STEP_LOOKUPS = 8_000_000
+# Texture lookups (the unit of ``Step.work``) a step may do: the prefilter's run 34 to 73
+# million a second on Mesa llvmpipe on 2 cores of an AMD EPYC, so a step takes under 0.2 s
+# (benchmarks/interruptible_work.py; docs/performance.md#interruptible-gpu-work).
+STEP_LOOKUPS = 5_000_000
 # llvmpipe shades 4x4 pixel blocks and bins 64x64 tiles, one thread a tile: rows in fours
-# waste no lanes, and columns in 64s keep whole tiles to a thread.
+# waste no lanes, and a power of two of 64-column tiles shares out evenly over its threads.
 BLOCK_ROWS = 4
 TILE_COLUMNS = 64
 
@@ -48,7 +48,8 @@ def steps_over(rect: tuple, lookups_per_pixel: int, budget: int | None = None) -
         rows = min(height, pixels // width // BLOCK_ROWS * BLOCK_ROWS)
         return [Step((x, top, width, min(rows, y + height - top)), lookups_per_pixel * width * min(rows, y + height - top))
                 for top in range(y, y + height, rows)]
-    columns = max(pixels // BLOCK_ROWS // TILE_COLUMNS, 1) * TILE_COLUMNS
+    tiles = max(pixels // BLOCK_ROWS // TILE_COLUMNS, 1)
+    columns = (1 << (tiles.bit_length() - 1)) * TILE_COLUMNS
     steps = []
     for top in range(y, y + height, BLOCK_ROWS):
         rows = min(BLOCK_ROWS, y + height - top)

@@ -1,0 +1,219 @@
+"""Long GPU work in steps (rendering.steps): the environment's prefilter at the scene format's
+largest size stops on SIGTERM within a second or so and leaves nothing, the steps draw the
+same bytes as one draw, the work tells its progress, and ``--limit prefilter_lookups``
+refuses it before any work."""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import scenerender
+from conftest import skip_without_gl
+from scenerender.cli import main
+from scenerender.rendering import steps as steps_module
+from scenerender.rendering.passes import environment
+from scenerender.rendering.renderer import GraphRenderer
+from scenerender.rendering.steps import BLOCK_ROWS, TILE_COLUMNS, Step, steps_over
+from scenerender.run import progress as progress_module
+from scenerender.run.progress import Progress
+from scenerender.scene.model.lights import prefilter_lookups
+from scenerender.world.environment_files import write_hdr
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENE = """render: {{size: [64, 48], shading: pbr}}
+lights:
+  - {{type: environment, image: sky.hdr, prefilter_size: {size}, samples: {samples}, visibility: false}}
+objects:
+  - mesh: {{primitive: sphere}}
+    material: {{metallic: 1, roughness: 0.4}}
+"""
+
+
+def write_scene(folder: Path, size: int, samples: int) -> Path:
+    """A sphere under an environment light with the prefilter's ``size`` and ``samples``, its
+    sky (a gradient with a bright patch, 64x32) made here."""
+    rows = np.linspace(0.0, 1.0, 32)[:, None, None]
+    sky = np.broadcast_to(0.2 + 0.8 * rows * np.array([0.4, 0.6, 1.0]), (32, 64, 3)).copy()
+    sky[5:9, 38:42] = (40.0, 36.0, 30.0)
+    write_hdr(folder / "sky.hdr", sky.astype(np.float32))
+    (folder / "scene.yaml").write_text(SCENE.format(size=size, samples=samples), encoding="utf-8")
+    return folder / "scene.yaml"
+
+
+# ---------------------------------------------------------------------------------------
+# the steps
+
+
+@pytest.mark.parametrize("rect, per_pixel, budget", [
+    ((0, 0, 2048, 1024), 1, 5_000_000),        # whole bands of rows
+    ((0, 1024, 2048, 1024), 4096, 5_000_000),  # pieces of 4-row bands
+    ((0, 64, 128, 64), 64, 4096),              # a piece per 64-column tile
+    ((3, 5, 70, 9), 1000, 100),                # over budget at the smallest piece; sides not multiples
+])
+def test_steps_cover_each_pixel_once_within_the_budget(rect, per_pixel, budget):
+    steps = steps_over(rect, per_pixel, budget)
+    x, y, width, height = rect
+    covered = np.zeros((y + height + 8, x + width + 8), dtype=np.int32)
+    for step in steps:
+        left, top, w, h = step.rect
+        covered[top:top + h, left:left + w] += 1
+        assert step.work == w * h * per_pixel
+        assert step.work <= budget or (w <= TILE_COLUMNS and h <= BLOCK_ROWS)  # the smallest piece
+    assert (covered[y:y + height, x:x + width] == 1).all() and covered.sum() == width * height
+
+
+def test_the_prefilter_steps_count_the_lookups_the_limit_counts():
+    for size, samples in [(8, 1), (128, 512), (2048, 4096), (100, 7)]:
+        layout = (6, size, max(size // 2, 1))
+        assert sum(step.work for step in environment.prefilter_steps(layout, samples)) == prefilter_lookups(size, samples)
+
+
+def specular_image(gl, scene_path: Path, monkeypatch, one_draw: bool, budget: int | None = None) -> tuple[bytes, int]:
+    """The prefiltered image's bytes (rgba16f) and the count of steps drawn: in one
+    draw over the whole image (``one_draw``) or in steps of at most ``budget`` lookups."""
+    if one_draw:
+        monkeypatch.setattr(environment, "prefilter_steps",
+                            lambda layout, samples: [Step((0, 0, layout[1], layout[2] * layout[0]), 1)])
+    if budget is not None:
+        monkeypatch.setattr(steps_module, "STEP_LOOKUPS", budget)
+    reports = []
+    renderer = GraphRenderer(scenerender.load(scene_path).world, gl, report_work=lambda *report: reports.append(report))
+    try:
+        renderer.render(0)
+        index = next(i for i, name, _ in renderer.compiled.resources() if name == "environment_specular")
+        return renderer.backend.images[index].read(), len(reports) - 1
+    finally:
+        renderer.release()
+        monkeypatch.undo()
+
+
+@pytest.mark.gl
+def test_the_prefilter_in_steps_draws_the_bytes_of_one_draw(gl, tmp_path, monkeypatch):
+    # A scissor drops fragments and changes none: the same bytes, not a bound (the
+    # image is the 16-bit floats the shading reads). 4,096 lookups a step at 128 px and
+    # 64 samples: the mirror level in bands of 32 rows, the rough ones in 64x4 pieces.
+    scene_path = write_scene(tmp_path, 128, 64)
+    whole, drawn = specular_image(gl, scene_path, monkeypatch, one_draw=True)
+    assert drawn == 1
+    stepped, drawn = specular_image(gl, scene_path, monkeypatch, one_draw=False, budget=4096)
+    assert drawn == 2 + 5 * 2 * 16
+    assert stepped == whole
+    # the comparison sees a change of one sample in 64
+    fewer = write_scene(tmp_path, 128, 63)
+    assert specular_image(gl, fewer, monkeypatch, one_draw=False, budget=4096)[0] != whole
+
+
+# ---------------------------------------------------------------------------------------
+# a signal during the prefilter
+
+
+def read_stderr(process: subprocess.Popen, lines: list, renderer_made: threading.Event) -> None:
+    for line in process.stderr:
+        lines.append(line.rstrip("\n"))
+        if line.startswith("GL renderer"):
+            renderer_made.set()
+
+
+@pytest.mark.gl
+@pytest.mark.slow
+def test_sigterm_during_the_largest_prefilter_exits_143_within_3_seconds(tmp_path):
+    # The scene format's largest prefilter (2048 px, 4096 samples: 10 to 20 minutes on a
+    # 2-core CPU) drawn in one go held SIGTERM back until it ended. SIGTERM 2 s into the
+    # prefilter (after the renderer line, which comes as the first frame starts): exit
+    # 143 well within 3 s, one line, no output file, no temporary file.
+    scene_path = write_scene(tmp_path, 2048, 4096)
+    process = subprocess.Popen([sys.executable, "-m", "scenerender", "render", str(scene_path), "-o", str(tmp_path / "out")],
+                               cwd=ROOT, stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    lines, renderer_made = [], threading.Event()
+    reader = threading.Thread(target=read_stderr, args=(process, lines, renderer_made), daemon=True)
+    reader.start()
+    if not renderer_made.wait(60):
+        process.kill()
+        process.wait()
+        skip_without_gl(process.returncode, "\n".join(lines))
+        pytest.fail(f"no renderer line within 60 s: {lines}")
+    time.sleep(2.0)
+    assert process.poll() is None, lines
+    sent = time.monotonic()
+    process.send_signal(signal.SIGTERM)
+    try:
+        code = process.wait(timeout=3.0)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait()
+        pytest.fail(f"still running 3 s after SIGTERM: {lines}")
+    took = time.monotonic() - sent
+    reader.join(5)
+    assert code == 143, lines
+    assert took < 3.0
+    assert lines[-1] == "error: interrupted by SIGTERM; frames already finished are complete, nothing partial was left"
+    assert not any("Traceback" in line for line in lines)
+    out = tmp_path / "out"
+    left = [p.name for p in out.iterdir() if p.name != ".scenerender.json"] if out.exists() else []
+    assert left == []
+
+
+# ---------------------------------------------------------------------------------------
+# progress and the limit
+
+
+class Clock:
+    def __init__(self):
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def test_long_work_says_its_estimate_then_what_is_left(monkeypatch, capsys):
+    clock = Clock()
+    monkeypatch.setattr(progress_module.time, "perf_counter", clock)
+    progress = Progress(1, stream=sys.stderr, interval=5.0)
+    what = "prefiltering the environment (2048 px, 4096 samples)"
+    progress.work(what, 0.0)
+    clock.now += 0.5
+    progress.work(what, 0.001)  # under a second: no estimate yet
+    clock.now += 0.5
+    progress.work(what, 0.01)   # 1 s for 1 %: about 100 s
+    clock.now += 2.0
+    progress.work(what, 0.03)   # within the interval: nothing
+    clock.now += 3.0
+    progress.work(what, 0.06)   # 6 s for 6 %: 94 s left
+    clock.now += 1.0
+    progress.work(what, 1.0)
+    assert capsys.readouterr().err.splitlines() == [
+        f"{what}: about 100 s on this renderer",
+        f"{what}: 6% done, about 94 s left",
+    ]
+
+
+def test_short_work_and_quiet_runs_say_nothing(monkeypatch, capsys):
+    clock = Clock()
+    monkeypatch.setattr(progress_module.time, "perf_counter", clock)
+    for progress, fraction in [(Progress(1, stream=sys.stderr), 0.5), (Progress(1, quiet=True, stream=sys.stderr), 0.01)]:
+        progress.work("prefiltering", 0.0)
+        clock.now += 1.5
+        progress.work("prefiltering", fraction)  # 3 s in all; 150 s but -q
+    assert capsys.readouterr().err == ""
+
+
+def test_the_prefilter_limit_refuses_the_scene_before_rendering(tmp_path):
+    scene_path = write_scene(tmp_path, 2048, 4096)
+    result = CliRunner().invoke(main, ["render", str(scene_path), "-o", str(tmp_path / "out"),
+                                       "--limit", "prefilter_lookups=1000000000"])
+    assert result.exit_code == 2, result.output
+    assert result.stderr.strip() == (
+        f"error: {scene_path}:3:63: lights[0].samples: the prefilter's count of texture lookups at 2048 px and "
+        "4096 samples is 42,951,770,112, over the limit of 1,000,000,000 (raise with --limit prefilter_lookups=N)")
+    assert not (tmp_path / "out").exists()
+    # the default lets the scene format's largest through
+    assert CliRunner().invoke(main, ["validate", str(scene_path)]).exit_code == 0
