@@ -20,7 +20,8 @@ import scenerender
 from conftest import skip_without_gl
 from scenerender.cli import main
 from scenerender.rendering import steps as steps_module
-from scenerender.rendering.passes import environment
+from scenerender.rendering.pass_context import PassContext
+from scenerender.rendering.passes import environment, shadow
 from scenerender.rendering.renderer import GraphRenderer
 from scenerender.rendering.steps import BLOCK_ROWS, TILE_COLUMNS, Step, steps_over
 from scenerender.run import progress as progress_module
@@ -77,12 +78,17 @@ def test_the_prefilter_steps_count_the_lookups_the_limit_counts():
         assert sum(step.work for step in environment.prefilter_steps(layout, samples)) == prefilter_lookups(size, samples)
 
 
-def specular_image(gl, scene_path: Path, monkeypatch, one_draw: bool, budget: int | None = None) -> tuple[bytes, int]:
-    """The prefiltered image's bytes (rgba16f) and the count of steps drawn: in one
-    draw over the whole image (``one_draw``) or in steps of at most ``budget`` lookups."""
+def specular_image(gl, scene_path: Path, monkeypatch, one_draw: bool, budget: int | None = None) -> tuple[bytes, int, int]:
+    """The prefiltered image's bytes (rgba16f), the count of steps drawn and of waits
+    between them (the progress told at each): in one draw over the whole image
+    (``one_draw``) or in steps of at most ``budget`` lookups."""
+    drawn = []
     if one_draw:
-        monkeypatch.setattr(environment, "prefilter_steps",
-                            lambda layout, samples: [Step((0, 0, layout[1], layout[2] * layout[0]), 1)])
+        def prefilter_steps(layout, samples):
+            return [Step((0, 0, layout[1], layout[2] * layout[0]), 1)]
+    else:
+        prefilter_steps = environment.prefilter_steps
+    monkeypatch.setattr(environment, "prefilter_steps", lambda *args: drawn.extend(prefilter_steps(*args)) or drawn)
     if budget is not None:
         monkeypatch.setattr(steps_module, "STEP_LOOKUPS", budget)
     reports = []
@@ -90,7 +96,8 @@ def specular_image(gl, scene_path: Path, monkeypatch, one_draw: bool, budget: in
     try:
         renderer.render(0)
         index = next(i for i, name, _ in renderer.compiled.resources() if name == "environment_specular")
-        return renderer.backend.images[index].read(), len(reports) - 1
+        assert reports[0][1] == 0.0 and reports[-1][1] == 1.0
+        return renderer.backend.images[index].read(), len(drawn), len(reports) - 2
     finally:
         renderer.release()
         monkeypatch.undo()
@@ -102,10 +109,10 @@ def test_the_prefilter_in_steps_draws_the_bytes_of_one_draw(gl, tmp_path, monkey
     # image is the 16-bit floats the shading reads). 4,096 lookups a step at 128 px and
     # 64 samples: the mirror level in bands of 32 rows, the rough ones in 64x4 pieces.
     scene_path = write_scene(tmp_path, 128, 64)
-    whole, drawn = specular_image(gl, scene_path, monkeypatch, one_draw=True)
-    assert drawn == 1
-    stepped, drawn = specular_image(gl, scene_path, monkeypatch, one_draw=False, budget=4096)
-    assert drawn == 2 + 5 * 2 * 16
+    whole, drawn, waits = specular_image(gl, scene_path, monkeypatch, one_draw=True)
+    assert (drawn, waits) == (1, 0)
+    stepped, drawn, waits = specular_image(gl, scene_path, monkeypatch, one_draw=False, budget=4096)
+    assert drawn == waits == 2 + 5 * 2 * 16  # every step over the budget alone: a wait after each
     assert stepped == whole
     # the comparison sees a change of one sample in 64
     fewer = write_scene(tmp_path, 128, 63)
@@ -123,14 +130,32 @@ def read_stderr(process: subprocess.Popen, lines: list, renderer_made: threading
             renderer_made.set()
 
 
+FILM = """render: {size: [64, 48], film_samples: 1024, motion_blur: sub_frames, depth_of_field: sub_frames}
+camera: {position: [0, 1, 5], target: [0, 0, 0], shutter: 0.5, aperture: 2.8, focus_distance: 5}
+output: {frames: 12, fps: 24}
+objects:
+  - mesh: {primitive: box}
+    rotation: {keys: [[0, [0, 0, 0]], [1, [30, 180, 0]]]}
+"""
+
+
+def write_film_scene(folder: Path) -> Path:
+    """12 frames, each the mean of 1,024 sub-frames (a shutter and a lens): 1.5 to 3 s a frame."""
+    (folder / "film.yaml").write_text(FILM, encoding="utf-8")
+    return folder / "film.yaml"
+
+
 @pytest.mark.gl
 @pytest.mark.slow
-def test_sigterm_during_the_largest_prefilter_exits_143_within_3_seconds(tmp_path):
+@pytest.mark.parametrize("make_scene", [lambda folder: write_scene(folder, 2048, 4096), write_film_scene],
+                         ids=["largest_prefilter", "sub_frames"])
+def test_sigterm_2_s_into_long_work_exits_143_within_3_seconds(tmp_path, make_scene):
     # The scene format's largest prefilter (2048 px, 4096 samples: 10 to 20 minutes on a
-    # 2-core CPU) drawn in one go held SIGTERM back until it ended. SIGTERM 2 s into the
-    # prefilter (after the renderer line, which comes as the first frame starts): exit
-    # 143 well within 3 s, one line, no output file, no temporary file.
-    scene_path = write_scene(tmp_path, 2048, 4096)
+    # 2-core CPU) drawn in one go held SIGTERM back until it ended; sub-frames wait for
+    # each other's readback. SIGTERM 2 s after the renderer line (which comes as the first
+    # frame starts): exit 143 well within 3 s, one line, no temporary file, and only
+    # frames finished before it (none of the prefilter's).
+    scene_path = make_scene(tmp_path)
     process = subprocess.Popen([sys.executable, "-m", "scenerender", "render", str(scene_path), "-o", str(tmp_path / "out")],
                                cwd=ROOT, stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
     lines, renderer_made = [], threading.Event()
@@ -158,8 +183,39 @@ def test_sigterm_during_the_largest_prefilter_exits_143_within_3_seconds(tmp_pat
     assert lines[-1] == "error: interrupted by SIGTERM; frames already finished are complete, nothing partial was left"
     assert not any("Traceback" in line for line in lines)
     out = tmp_path / "out"
-    left = [p.name for p in out.iterdir() if p.name != ".scenerender.json"] if out.exists() else []
-    assert left == []
+    left = sorted(p.name for p in out.iterdir() if p.name != ".scenerender.json") if out.exists() else []
+    assert not any(".partial" in name for name in left)
+    if scene_path.name == "scene.yaml":
+        assert left == []
+    else:
+        assert len(left) < 12 + 1  # the frames finished, and their cameras.json
+
+
+@pytest.mark.gl
+def test_the_visibility_maps_and_lookups_in_steps_draw_the_same_frame(gl, tmp_path, monkeypatch):
+    # The environment's visibility: maps drawn with a wait after each (CHECKPOINT_TEXELS
+    # 1), the lookups of each place in 64x4 pieces (STEP_LOOKUPS 1): the same bytes as
+    # the default render, where a frame this small waits for nothing before its readback.
+    scene_path = write_scene(tmp_path, 32, 16)
+    overrides = ["lights[0].visibility=true", "lights[0].visibility_directions=8",
+                 "objects[0].position=[0, 1, 0]", "objects[1]={mesh: {primitive: plane, size: 6}}",
+                 "camera={position: [0, 2, 5], target: [0, 0.5, 0]}", "render.size=[96, 64]"]
+    waited = []
+    monkeypatch.setattr(PassContext, "checkpoint", lambda ctx: waited.append(ctx.pass_name))
+    default = render_linear(gl, scene_path, overrides)
+    assert waited == []
+    monkeypatch.setattr(steps_module, "STEP_LOOKUPS", 1)
+    monkeypatch.setattr(shadow, "CHECKPOINT_TEXELS", 1)
+    stepped = render_linear(gl, scene_path, overrides)
+    assert waited.count("shadow:environment0 visibility") == 8
+    assert waited.count("environment_visibility") >= 4
+    assert np.array_equal(stepped, default)
+
+
+def render_linear(gl, scene_path: Path, overrides: list) -> np.ndarray:
+    """Frame 0's linear colours, (H, W, 3) float32."""
+    with scenerender.Renderer(scenerender.load(scene_path, overrides), gl=gl, want_linear=True) as renderer:
+        return renderer.render(0).linear
 
 
 # ---------------------------------------------------------------------------------------

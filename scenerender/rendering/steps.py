@@ -20,6 +20,9 @@ from dataclasses import dataclass
 # million a second on Mesa llvmpipe on 2 cores of an AMD EPYC, so a step takes under 0.2 s
 # (benchmarks/interruptible_work.py; docs/performance.md#interruptible-gpu-work).
 STEP_LOOKUPS = 5_000_000
+# Texels of depth maps drawn between waits (ShadowMapPass): one map of 4096 px, the
+# largest, takes about 0.2 s on the same machine.
+CHECKPOINT_TEXELS = 4096 * 4096
 # llvmpipe shades 4x4 pixel blocks and bins 64x64 tiles, one thread a tile: rows in fours
 # waste no lanes, and a power of two of 64-column tiles shares out evenly over its threads.
 BLOCK_ROWS = 4
@@ -38,16 +41,16 @@ class Step:
 def steps_over(rect: tuple, lookups_per_pixel: int, budget: int | None = None) -> list[Step]:
     """``rect`` (x, y, width, height) cut into steps of at most ``budget`` lookups where a
     pixel costs ``lookups_per_pixel``, in reading order: bands of whole rows, or where a
-    band of BLOCK_ROWS rows is over the budget, pieces of such bands TILE_COLUMNS wide or
-    a multiple of that (one piece of that width over the budget is still one step).
+    band of BLOCK_ROWS rows is over the budget, pieces of such bands TILE_COLUMNS wide
+    times a power of two (one piece TILE_COLUMNS wide over the budget is still one step).
     ``budget``: STEP_LOOKUPS where None."""
     x, y, width, height = rect
     budget = STEP_LOOKUPS if budget is None else budget
     pixels = max(budget // max(lookups_per_pixel, 1), 1)
     if pixels >= width * BLOCK_ROWS:
         rows = min(height, pixels // width // BLOCK_ROWS * BLOCK_ROWS)
-        return [Step((x, top, width, min(rows, y + height - top)), lookups_per_pixel * width * min(rows, y + height - top))
-                for top in range(y, y + height, rows)]
+        bands = [(top, min(rows, y + height - top)) for top in range(y, y + height, rows)]
+        return [Step((x, top, width, band), lookups_per_pixel * width * band) for top, band in bands]
     tiles = max(pixels // BLOCK_ROWS // TILE_COLUMNS, 1)
     columns = (1 << (tiles.bit_length() - 1)) * TILE_COLUMNS
     steps = []
@@ -59,19 +62,45 @@ def steps_over(rect: tuple, lookups_per_pixel: int, budget: int | None = None) -
     return steps
 
 
-def draw_in_steps(ctx, steps: list[Step], draw, what: str) -> None:
-    """Call ``draw()`` under the scissor of each of ``steps`` and wait for it before the
-    next, reporting the share done as ``what`` (PassContext.report_work) after each."""
+class Waits:
+    """Waits for the GPU (PassContext.checkpoint) whenever ``every`` units of work
+    (STEP_LOOKUPS where None) were sent since the last wait: long work becomes steps a signal stops between, while work
+    that is short all along (every default render) waits no more than it did."""
+
+    def __init__(self, ctx, every: int | None = None):
+        self.ctx = ctx
+        self.every = STEP_LOOKUPS if every is None else every
+        self.sent = 0
+
+    def after(self, work: int) -> bool:
+        """``work`` more was sent: wait if the total since the last wait reaches ``every``;
+        whether it waited."""
+        self.sent += work
+        if self.sent < self.every:
+            return False
+        self.ctx.checkpoint()
+        self.sent = 0
+        return True
+
+
+def draw_in_steps(ctx, steps: list[Step], draw, what: str | None = None, waits: Waits | None = None) -> None:
+    """Call ``draw()`` under the scissor of each of ``steps``, waiting for the GPU whenever
+    STEP_LOOKUPS were sent since the last wait (counted by ``waits``, where several calls
+    share them); ``what``: the work's name, its share done told at each wait
+    (PassContext.report_work)."""
     total = sum(step.work for step in steps)
+    waits = waits or Waits(ctx)
     done = 0
-    ctx.report_work(what, 0.0)
+    if what is not None:
+        ctx.report_work(what, 0.0)
     try:
         for step in steps:
             ctx.gl.scissor = step.rect
             draw()
-            ctx.checkpoint()
             done += step.work
-            ctx.report_work(what, done / total if total else 1.0)
+            if waits.after(step.work) and what is not None:
+                ctx.report_work(what, done / total)
     finally:
         ctx.gl.scissor = None
-
+    if what is not None:
+        ctx.report_work(what, 1.0)

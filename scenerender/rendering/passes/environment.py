@@ -21,7 +21,7 @@ from scenerender.rendering.draw import (
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.light_buffers import environment_view_uniforms
 from scenerender.rendering.passes.data import ImageData, SurfacesData
-from scenerender.rendering.steps import Step, draw_in_steps, steps_over
+from scenerender.rendering.steps import Step, Waits, draw_in_steps, steps_over
 from scenerender.world.environment_visibility import place_lookups
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"
@@ -216,6 +216,7 @@ class EnvironmentVisibilityPass(RenderPass):
         uniforms = visibility_uniforms(ctx, self.views, self.visibility, ctx.input(self.camera).position)
         part, places = sub_image_layout(self.size, self.interleave)
         programs = {}
+        waits = Waits(ctx)  # over all places: each may be short, all of them long
         try:
             for place in places:
                 lookups = place_lookups(place, self.interleave, self.directions)
@@ -225,7 +226,8 @@ class EnvironmentVisibilityPass(RenderPass):
                 program = programs[lookups]
                 fbo.viewport = (place[0] * part[0], place[1] * part[1], *part)
                 program["u_env_vis_place"].value = place
-                ctx.fullscreen(program)
+                # at the largest images a place's draw takes seconds on a software renderer
+                draw_in_steps(ctx, steps_over(fbo.viewport, lookups), lambda: ctx.fullscreen(program), waits=waits)
         finally:
             fbo.viewport = (0, 0, *fbo.size)
 

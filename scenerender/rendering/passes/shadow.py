@@ -10,6 +10,7 @@ from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import bind_material, bind_texture_units, skip_faces, stop_culling
 from scenerender.rendering.features import mask_defines
+from scenerender.rendering.steps import CHECKPOINT_TEXELS, Waits
 from scenerender.world.shadows import CUBE_MAP_KINDS, atlas_page_name, hidden_from_light
 
 
@@ -97,6 +98,9 @@ class ShadowMapPass(RenderPass):
         from_eye = np.eye(4)
         from_eye[:3, 3] = eye
         masked = self._masked_programs(ctx, defines, objects, casters)
+        # many large maps (the environment's visibility: up to 64, 16 of 4096 px) take
+        # seconds on a software renderer: a signal stops them between maps
+        waits = Waits(ctx, CHECKPOINT_TEXELS)
         for view in views:
             tile = view.tile
             fbo.viewport = (tile.x, tile.y, tile.size, tile.size)
@@ -116,6 +120,7 @@ class ShadowMapPass(RenderPass):
                         ctx.draw_placed(masked.get(id(material), program), objects, index, group)
                 else:
                     ctx.draw_placed(program, objects, index)
+            waits.after(tile.size * tile.size)
         stop_culling(gl)
 
     def _masked_programs(self, ctx, defines: dict, objects, casters) -> dict:
