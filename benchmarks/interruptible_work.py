@@ -2,15 +2,17 @@
 render stops on SIGTERM, at the scene format's largest prefilter: prefilter_size 2048,
 samples 4096, a 64x48 frame.
 
-    python benchmarks/interruptible_work.py [--steps 12] [--signals 5] [--after 2]
+    python benchmarks/interruptible_work.py [--steps 12] [--signals 5] [--after 2] [--defaults 0]
 
 Steps: ``--steps`` steps of each roughness level, spread evenly over it (pole to pole),
-drawn (and waited for) one by one as the pass draws them, in one process: the longest, each level's median and its
-texture lookups a second, and the whole prefilter's time estimated from those (each
-level's median step time x its step count). Signals: ``--signals`` renders of the scene
-as the command line runs them, each sent SIGTERM ``--after`` seconds after its
-"GL renderer" line (the renderer made, the prefilter starting): the exit code and the
-seconds from the signal to the exit.
+drawn as the pass draws them, in one process, with its waits between them: the time
+between two waits (what a signal may wait for), each level's median and longest, its
+texture lookups a second, and the whole prefilter's time estimated from those.
+Signals: ``--signals`` renders of the scene as the command line runs them, each sent
+SIGTERM ``--after`` seconds after its "GL renderer" line (the renderer made, the
+prefilter starting): the exit code and the seconds from the signal to the exit.
+Defaults: ``--defaults`` rounds of the prefilter at its defaults in steps and in one draw
+(as before the steps), alternated.
 """
 from __future__ import annotations
 
@@ -30,8 +32,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import scenerender  # noqa: E402
 from scenerender.gpu.gl_context import create_context  # noqa: E402
+from scenerender.rendering import steps as steps_module  # noqa: E402
+from scenerender.rendering.pass_context import PassContext  # noqa: E402
 from scenerender.rendering.passes import environment  # noqa: E402
 from scenerender.rendering.renderer import GraphRenderer  # noqa: E402
+from scenerender.rendering.steps import Step  # noqa: E402
 from scenerender.world.environment_files import write_hdr  # noqa: E402
 
 SCENE = """render: {size: [64, 48], shading: pbr}
@@ -53,12 +58,25 @@ def write_scene(folder: Path) -> Path:
     return folder / "scene.yaml"
 
 
+def wait_groups(steps: list, every: int) -> list[list]:
+    """``steps`` as the waits of rendering.steps.Waits split them: the steps drawn between
+    two waits."""
+    groups, sent = [[]], 0
+    for step in steps:
+        if 0 < sent and every < sent + step.work:
+            groups.append([])
+            sent = 0
+        groups[-1].append(step)
+        sent += step.work
+    return groups
+
+
 def step_times(scene: Path, per_level: int) -> None:
-    layout_steps, chosen = {}, {}  # level -> all its steps; the ones drawn
+    layout_steps, chosen, strip = {}, {}, {}  # level -> all its steps; the ones drawn; a level's height
     original = environment.prefilter_steps
 
     def spread_steps(layout, samples):
-        height = layout[2]
+        height = strip["height"] = layout[2]
         for step in original(layout, samples):
             layout_steps.setdefault(step.rect[1] // height, []).append(step)
         for level, steps in layout_steps.items():
@@ -66,30 +84,38 @@ def step_times(scene: Path, per_level: int) -> None:
             chosen[level] = [steps[k] for k in picks]
         return [step for level in sorted(chosen) for step in chosen[level]]
 
-    times = []
+    waited = []
+    wait = PassContext.checkpoint
 
-    def report(_what, fraction):
-        times.append((time.perf_counter(), fraction))
+    def timed_wait(ctx):
+        wait(ctx)
+        waited.append(time.perf_counter())
 
     environment.prefilter_steps = spread_steps
+    PassContext.checkpoint = timed_wait
     gl = create_context()
-    renderer = GraphRenderer(scenerender.load(scene).world, gl, report_work=report)
+    renderer = GraphRenderer(scenerender.load(scene).world, gl,
+                             report_work=lambda what, fraction: fraction == 0.0 and waited.append(time.perf_counter()))
     renderer.render(0)
-    seconds = iter(later[0] - earlier[0] for earlier, later in zip(times, times[1:]))
-    timed_by_level = {level: [next(seconds) for _ in chosen[level]] for level in sorted(chosen)}
+    groups = wait_groups([step for level in sorted(chosen) for step in chosen[level]], steps_module.STEP_LOOKUPS)
+    height = strip["height"]
+    by_level = {}
+    for group, started, ended in zip(groups, waited, waited[1:]):  # the last group: waited for by the readback
+        by_level.setdefault(group[-1].rect[1] // height, []).append((ended - started, sum(s.work for s in group)))
+    print(f"GL renderer: {gl.info['GL_RENDERER']}; {steps_module.STEP_LOOKUPS:,} lookups between waits at most")
+    print("| level | steps | step | timed waits | median s between waits | longest s | lookups/s | level's estimate s |")
+    print("|---|---|---|---|---|---|---|---|")
     total = 0.0
-    print(f"GL renderer: {gl.info['GL_RENDERER']}")
-    print("| level | steps | step size | median s | longest s | lookups/s | level's estimate s |")
-    print("|---|---|---|---|---|---|---|")
-    for level, timed in timed_by_level.items():
+    for level, timed in sorted(by_level.items()):
         first = chosen[level][0]
-        median = statistics.median(timed)
-        estimate = median * len(layout_steps[level])
+        seconds = [s for s, _ in timed]
+        rate = sum(work for _, work in timed) / sum(seconds)
+        estimate = sum(step.work for step in layout_steps[level]) / rate
         total += estimate
-        print(f"| {level} | {len(layout_steps[level])} | {first.rect[2]}x{first.rect[3]} | {median:.3f} | "
-              f"{max(timed):.3f} | {first.work / median / 1e6:.0f} M | {estimate:.0f} |")
-    longest = max(s for timed in timed_by_level.values() for s in timed)
-    print(f"longest step: {longest:.3f} s (the mirror level's one step includes the shader's first use); "
+        print(f"| {level} | {len(layout_steps[level])} | {first.rect[2]}x{first.rect[3]} | {len(timed)} | "
+              f"{statistics.median(seconds):.3f} | {max(seconds):.3f} | {rate / 1e6:.0f} M | {estimate:.0f} |")
+    longest = max(s for timed in by_level.values() for s, _ in timed)
+    print(f"longest time between waits: {longest:.3f} s (the first includes the shader's first use); "
           f"whole prefilter estimated at {total:.0f} s")
 
 
@@ -117,11 +143,39 @@ def signal_latency(scene: Path, runs: int, after: float) -> None:
         print(f"| {run} | {code} | {took:.2f} | {lines[-1]} | files left: {left or 'none'}")
 
 
+def default_cost(folder: Path, rounds: int) -> None:
+    """The prefilter at its defaults (128 px, 512 samples) in steps against one draw, as
+    before the steps, alternated in one process: seconds of the pass, GPU-synchronised."""
+    scene = folder / "default.yaml"
+    scene.write_text(SCENE.replace("prefilter_size: 2048, samples: 4096", "prefilter_size: 128, samples: 512"),
+                     encoding="utf-8")
+    gl = create_context()
+    stepped = environment.prefilter_steps
+
+    def one_draw(layout, samples):
+        return [Step((0, 0, layout[1], layout[2] * layout[0]), 1)]
+
+    times = {"steps": [], "one draw": []}
+    for _ in range(rounds):
+        for name, steps in (("steps", stepped), ("one draw", one_draw)):
+            environment.prefilter_steps = steps
+            renderer = GraphRenderer(scenerender.load(scene).world, gl, profile=True)
+            renderer.render(0)
+            times[name].append(renderer.timings["environment_prefilter"][0])
+            renderer.release()
+    environment.prefilter_steps = stepped
+    print("| prefilter at 128 px, 512 samples | median s | rounds |")
+    print("|---|---|---|")
+    for name, seconds in times.items():
+        print(f"| {name} | {statistics.median(seconds):.3f} | {len(seconds)} |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=12, help="steps drawn of each roughness level")
     parser.add_argument("--signals", type=int, default=5, help="renders stopped by SIGTERM")
     parser.add_argument("--after", type=float, default=2.0, help="seconds into the prefilter the signal comes")
+    parser.add_argument("--defaults", type=int, default=0, help="rounds of the default prefilter, steps against one draw")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         scene = write_scene(Path(folder))
@@ -129,6 +183,8 @@ def main() -> None:
             step_times(scene, args.steps)
         if args.signals:
             signal_latency(scene, args.signals, args.after)
+        if args.defaults:
+            default_cost(Path(folder), args.defaults)
 
 
 if __name__ == "__main__":

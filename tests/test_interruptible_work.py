@@ -112,7 +112,8 @@ def test_the_prefilter_in_steps_draws_the_bytes_of_one_draw(gl, tmp_path, monkey
     whole, drawn, waits = specular_image(gl, scene_path, monkeypatch, one_draw=True)
     assert (drawn, waits) == (1, 0)
     stepped, drawn, waits = specular_image(gl, scene_path, monkeypatch, one_draw=False, budget=4096)
-    assert drawn == waits == 2 + 5 * 2 * 16  # every step over the budget alone: a wait after each
+    assert drawn == 2 + 5 * 2 * 16
+    assert waits == drawn - 1  # each step reaches the budget alone: a wait between any two
     assert stepped == whole
     # the comparison sees a change of one sample in 64
     fewer = write_scene(tmp_path, 128, 63)
@@ -193,7 +194,7 @@ def test_sigterm_2_s_into_long_work_exits_143_within_3_seconds(tmp_path, make_sc
 
 @pytest.mark.gl
 def test_the_visibility_maps_and_lookups_in_steps_draw_the_same_frame(gl, tmp_path, monkeypatch):
-    # The environment's visibility: maps drawn with a wait after each (CHECKPOINT_TEXELS
+    # The environment's visibility: maps drawn with a wait between any two (CHECKPOINT_TEXELS
     # 1), the lookups of each place in 64x4 pieces (STEP_LOOKUPS 1): the same bytes as
     # the default render, where a frame this small waits for nothing before its readback.
     scene_path = write_scene(tmp_path, 32, 16)
@@ -207,7 +208,7 @@ def test_the_visibility_maps_and_lookups_in_steps_draw_the_same_frame(gl, tmp_pa
     monkeypatch.setattr(steps_module, "STEP_LOOKUPS", 1)
     monkeypatch.setattr(shadow, "CHECKPOINT_TEXELS", 1)
     stepped = render_linear(gl, scene_path, overrides)
-    assert waited.count("shadow:environment0 visibility") == 8
+    assert waited.count("shadow:environment0 visibility") == 7  # between any two maps
     assert waited.count("environment_visibility") >= 4
     assert np.array_equal(stepped, default)
 

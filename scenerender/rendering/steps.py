@@ -63,31 +63,32 @@ def steps_over(rect: tuple, lookups_per_pixel: int, budget: int | None = None) -
 
 
 class Waits:
-    """Waits for the GPU (PassContext.checkpoint) whenever ``every`` units of work
-    (STEP_LOOKUPS where None) were sent since the last wait: long work becomes steps a signal stops between, while work
-    that is short all along (every default render) waits no more than it did."""
+    """Waits for the GPU (PassContext.checkpoint) before sending work that would take what
+    was sent since the last wait past ``every`` units (STEP_LOOKUPS where None): long work
+    becomes steps a signal stops between, while work that is short all along (every
+    default render) waits no more than it did."""
 
     def __init__(self, ctx, every: int | None = None):
         self.ctx = ctx
         self.every = STEP_LOOKUPS if every is None else every
         self.sent = 0
 
-    def after(self, work: int) -> bool:
-        """``work`` more was sent: wait if the total since the last wait reaches ``every``;
-        whether it waited."""
+    def before(self, work: int) -> bool:
+        """``work`` is about to be sent: first wait if it would take the total since the
+        last wait past ``every``; whether it waited."""
+        waited = 0 < self.sent and self.every < self.sent + work
+        if waited:
+            self.ctx.checkpoint()
+            self.sent = 0
         self.sent += work
-        if self.sent < self.every:
-            return False
-        self.ctx.checkpoint()
-        self.sent = 0
-        return True
+        return waited
 
 
 def draw_in_steps(ctx, steps: list[Step], draw, what: str | None = None, waits: Waits | None = None) -> None:
-    """Call ``draw()`` under the scissor of each of ``steps``, waiting for the GPU whenever
-    STEP_LOOKUPS were sent since the last wait (counted by ``waits``, where several calls
-    share them); ``what``: the work's name, its share done told at each wait
-    (PassContext.report_work)."""
+    """Call ``draw()`` under the scissor of each of ``steps``, waiting for the GPU before a
+    step that would take the work sent since the last wait past STEP_LOOKUPS (counted by
+    ``waits``, where several calls share them); ``what``: the work's name, its share done
+    told at each wait (PassContext.report_work)."""
     total = sum(step.work for step in steps)
     waits = waits or Waits(ctx)
     done = 0
@@ -95,11 +96,11 @@ def draw_in_steps(ctx, steps: list[Step], draw, what: str | None = None, waits: 
         ctx.report_work(what, 0.0)
     try:
         for step in steps:
+            if waits.before(step.work) and what is not None:
+                ctx.report_work(what, done / total)
             ctx.gl.scissor = step.rect
             draw()
             done += step.work
-            if waits.after(step.work) and what is not None:
-                ctx.report_work(what, done / total)
     finally:
         ctx.gl.scissor = None
     if what is not None:

@@ -99,10 +99,12 @@ class ShadowMapPass(RenderPass):
         from_eye[:3, 3] = eye
         masked = self._masked_programs(ctx, defines, objects, casters)
         # many large maps (the environment's visibility: up to 64, 16 of 4096 px) take
-        # seconds on a software renderer: a signal stops them between maps
+        # seconds on a software renderer: a signal stops them between maps (the clear
+        # before them, one memory fill, is left out)
         waits = Waits(ctx, CHECKPOINT_TEXELS)
         for view in views:
             tile = view.tile
+            waits.before(tile.size * tile.size)
             fbo.viewport = (tile.x, tile.y, tile.size, tile.size)
             for used in [program, *masked.values()]:
                 set_uniforms(used, u_light_view=view.view @ from_eye,
@@ -120,7 +122,6 @@ class ShadowMapPass(RenderPass):
                         ctx.draw_placed(masked.get(id(material), program), objects, index, group)
                 else:
                     ctx.draw_placed(program, objects, index)
-            waits.after(tile.size * tile.size)
         stop_culling(gl)
 
     def _masked_programs(self, ctx, defines: dict, objects, casters) -> dict:
