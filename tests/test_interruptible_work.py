@@ -1,7 +1,8 @@
-"""Long GPU work in steps (rendering.steps): the environment's prefilter at the scene format's
-largest size stops on SIGTERM within a second or so and leaves nothing, the steps draw the
-same bytes as one draw, the work tells its progress, and ``--limit prefilter_lookups``
-refuses it before any work."""
+"""Long GPU work in steps (rendering.steps): a render of the environment's prefilter at the
+scene format's largest size, or of sub-frames, stops on SIGTERM within a second or so and
+leaves nothing; the steps draw the same bytes as one draw (the prefilter, the visibility
+maps and lookups); a pass stopped between steps is drawn again whole by the next render;
+the work tells its progress; ``--limit prefilter_lookups`` refuses it before any work."""
 from __future__ import annotations
 
 import os
@@ -25,6 +26,7 @@ from scenerender.rendering.passes import environment, shadow
 from scenerender.rendering.renderer import GraphRenderer
 from scenerender.rendering.steps import BLOCK_ROWS, TILE_COLUMNS, Step, steps_over
 from scenerender.run import progress as progress_module
+from scenerender.run.interrupts import Interrupted
 from scenerender.run.progress import Progress
 from scenerender.scene.model.lights import prefilter_lookups
 from scenerender.world.environment_files import write_hdr
@@ -211,6 +213,43 @@ def test_the_visibility_maps_and_lookups_in_steps_draw_the_same_frame(gl, tmp_pa
     assert waited.count("shadow:environment0 visibility") == 7  # between any two maps
     assert waited.count("environment_visibility") >= 4
     assert np.array_equal(stepped, default)
+
+
+MOVING_LIGHT = ["lights[1]={type: point, position: {keys: [[0, [1, 3, 1]], [1, [-1, 3, 2]]]}, intensity: 5, "
+                "shadows: true}", "output.frames=3", "output.fps=2"]
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("stop_in, frame", [("environment_prefilter", 0), ("shadow:point1", 1)])
+def test_a_render_stopped_mid_pass_leaves_nothing_the_next_render_reuses(gl, tmp_path, monkeypatch, stop_in, frame):
+    # A signal stops a pass between two of its steps. Through the API the renderer can be
+    # asked for the frame again: the prefilter (static, drawn in the first frame) and a
+    # moving light's shadow maps (kept while the light stands still) are drawn again,
+    # whole, not taken as done: the frame is the bytes of a renderer never stopped.
+    scene_path = write_scene(tmp_path, 64, 64)
+    overrides = ["lights[0].visibility=false", *MOVING_LIGHT]
+    monkeypatch.setattr(steps_module, "STEP_LOOKUPS", 4096)
+    monkeypatch.setattr(shadow, "CHECKPOINT_TEXELS", 1)
+    with scenerender.Renderer(scenerender.load(scene_path, overrides), gl=gl) as renderer:
+        expected = [renderer.render(i).pixels for i in range(frame + 1)][-1]
+    waits = []
+    wait = PassContext.checkpoint
+
+    def stop_at_the_second(ctx):
+        if ctx.pass_name == stop_in:
+            waits.append(ctx.pass_name)
+            if len(waits) == 2:
+                raise Interrupted(signal.SIGTERM)
+        wait(ctx)
+
+    with scenerender.Renderer(scenerender.load(scene_path, overrides), gl=gl) as renderer:
+        for index in range(frame):
+            renderer.render(index)
+        monkeypatch.setattr(PassContext, "checkpoint", stop_at_the_second)
+        with pytest.raises(Interrupted):
+            renderer.render(frame)
+        monkeypatch.setattr(PassContext, "checkpoint", wait)
+        assert np.array_equal(renderer.render(frame).pixels, expected)
 
 
 def render_linear(gl, scene_path: Path, overrides: list) -> np.ndarray:
