@@ -190,6 +190,9 @@ def test_sigterm_2_s_into_long_work_exits_143_within_3_seconds(tmp_path, make_sc
     assert not any(".partial" in name for name in left)
     if scene_path.name == "scene.yaml":
         assert left == []
+        # and it said how long it would take (its pace known after a second)
+        assert any(line.startswith("prefiltering the environment (2048 px, 4096 samples): about ")
+                   and line.endswith(" s on this renderer") for line in lines), lines
     else:
         assert len(left) < 12 + 1  # the frames finished, and their cameras.json
 
