@@ -30,7 +30,7 @@ class Limits:
     instances:      instances of all objects together (``instances`` lists and ``random.count``).
     prefilter_lookups: texture lookups of the environment light's prefilter, prefilter_size x
                     prefilter_size / 2 x (1 + 5 x samples); the default lets the largest
-                    through (about 16 minutes on a 2-core CPU with Mesa llvmpipe): lower it
+                    through (10 to 20 minutes on a 2-core CPU with Mesa llvmpipe): lower it
                     for scenes you do not trust.
     """
 

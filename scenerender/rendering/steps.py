@@ -2,7 +2,7 @@
 
 Python runs a signal's handler (run/interrupts.py) only between bytecodes of the main
 thread, never inside a C call: one draw whose fragments take minutes on a software
-renderer (the environment's prefilter at 2048 px and 4096 samples: about 16 minutes on
+renderer (the environment's prefilter at 2048 px and 4096 samples: 10 to 20 minutes on
 Mesa llvmpipe, 2 cores) would hold SIGTERM back for all of them, since the draw returns at
 once and the wait falls on one later call. So such work is cut into rectangles of its
 target, each drawn under a scissor and waited for (``PassContext.checkpoint``) before the
@@ -16,12 +16,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-# Texture lookups (the unit of ``Step.work``) a step may do: the prefilter's run 34 to 73
-# million a second on Mesa llvmpipe on 2 cores of an AMD EPYC, so a step takes under 0.2 s
-# (benchmarks/interruptible_work.py; docs/performance.md#interruptible-gpu-work).
+# Texture lookups (the unit of ``Step.work``) sent between two waits at most: the
+# prefilter's run 34 to 124 million a second on Mesa llvmpipe on 2 cores of an AMD EPYC
+# (the slowest, rough levels at the equator), so a step takes under 0.2 s on such a machine
+# left to itself (benchmarks/interruptible_work.py; docs/performance.md#interruptible-gpu-work).
 STEP_LOOKUPS = 5_000_000
-# Texels of depth maps drawn between waits (ShadowMapPass): one map of 4096 px, the
-# largest, takes about 0.2 s on the same machine.
+# Texels of depth maps drawn between waits (ShadowMapPass): one of the environment's
+# visibility maps at its largest, 4096 px, took 0.18 s on the same machine under load.
 CHECKPOINT_TEXELS = 4096 * 4096
 # llvmpipe shades 4x4 pixel blocks and bins 64x64 tiles, one thread a tile: rows in fours
 # waste no lanes, and a power of two of 64-column tiles shares out evenly over its threads.
