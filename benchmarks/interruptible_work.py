@@ -2,7 +2,7 @@
 render stops on SIGTERM, at the scene format's largest prefilter: prefilter_size 2048,
 samples 4096, a 64x48 frame.
 
-    python benchmarks/interruptible_work.py [--steps 12] [--signals 5] [--after 2] [--defaults 0]
+    python benchmarks/interruptible_work.py [--steps 12] [--signals 5] [--after 2] [--rounds 0 --at 128:512]
 
 Steps: ``--steps`` steps of each roughness level, spread evenly over it (pole to pole),
 drawn as the pass draws them, in one process, with its waits between them: the time
@@ -11,8 +11,8 @@ texture lookups a second, and the whole prefilter's time estimated from those.
 Signals: ``--signals`` renders of the scene as the command line runs them, each sent
 SIGTERM ``--after`` seconds after its "GL renderer" line (the renderer made, the
 prefilter starting): the exit code and the seconds from the signal to the exit.
-Defaults: ``--defaults`` rounds of the prefilter at its defaults in steps and in one draw
-(as before the steps), alternated.
+Against one draw: ``--rounds`` rounds of the prefilter at ``--at SIZE:SAMPLES`` (its
+defaults: 128:512) in steps and in one draw (as before the steps), alternated.
 """
 from __future__ import annotations
 
@@ -143,11 +143,11 @@ def signal_latency(scene: Path, runs: int, after: float) -> None:
         print(f"| {run} | {code} | {took:.2f} | {lines[-1]} | files left: {left or 'none'}")
 
 
-def default_cost(folder: Path, rounds: int) -> None:
-    """The prefilter at its defaults (128 px, 512 samples) in steps against one draw, as
-    before the steps, alternated in one process: seconds of the pass, GPU-synchronised."""
-    scene = folder / "default.yaml"
-    scene.write_text(SCENE.replace("prefilter_size: 2048, samples: 4096", "prefilter_size: 128, samples: 512"),
+def against_one_draw(folder: Path, rounds: int, size: int, samples: int) -> None:
+    """The prefilter at ``size`` and ``samples`` in steps against one draw, as before the
+    steps, alternated in one process: seconds of the pass, GPU-synchronised."""
+    scene = folder / "against.yaml"
+    scene.write_text(SCENE.replace("prefilter_size: 2048, samples: 4096", f"prefilter_size: {size}, samples: {samples}"),
                      encoding="utf-8")
     gl = create_context()
     stepped = environment.prefilter_steps
@@ -164,10 +164,10 @@ def default_cost(folder: Path, rounds: int) -> None:
             times[name].append(renderer.timings["environment_prefilter"][0])
             renderer.release()
     environment.prefilter_steps = stepped
-    print("| prefilter at 128 px, 512 samples | median s | rounds |")
+    print(f"| prefilter at {size} px, {samples} samples | median s | each round's s |")
     print("|---|---|---|")
     for name, seconds in times.items():
-        print(f"| {name} | {statistics.median(seconds):.3f} | {len(seconds)} |")
+        print(f"| {name} | {statistics.median(seconds):.3f} | {' '.join(f'{s:.2f}' for s in seconds)} |")
 
 
 def main() -> None:
@@ -175,7 +175,8 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=12, help="steps drawn of each roughness level")
     parser.add_argument("--signals", type=int, default=5, help="renders stopped by SIGTERM")
     parser.add_argument("--after", type=float, default=2.0, help="seconds into the prefilter the signal comes")
-    parser.add_argument("--defaults", type=int, default=0, help="rounds of the default prefilter, steps against one draw")
+    parser.add_argument("--rounds", type=int, default=0, help="rounds of the prefilter, steps against one draw")
+    parser.add_argument("--at", default="128:512", help="SIZE:SAMPLES of the prefilter those rounds draw")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         scene = write_scene(Path(folder))
@@ -183,8 +184,9 @@ def main() -> None:
             step_times(scene, args.steps)
         if args.signals:
             signal_latency(scene, args.signals, args.after)
-        if args.defaults:
-            default_cost(Path(folder), args.defaults)
+        if args.rounds:
+            size, samples = map(int, args.at.split(":"))
+            against_one_draw(Path(folder), args.rounds, size, samples)
 
 
 if __name__ == "__main__":

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 # Texture lookups (the unit of ``Step.work``) sent between two waits at most: the
 # prefilter's run 34 to 124 million a second on Mesa llvmpipe on 2 cores of an AMD EPYC
 # (the slowest, rough levels at the equator), so a step takes under 0.2 s on such a machine
-# left to itself (benchmarks/interruptible_work.py; docs/performance.md#interruptible-gpu-work).
+# left to itself (benchmarks/interruptible_work.py; docs/performance.md, Interruptible GPU work).
 STEP_LOOKUPS = 5_000_000
 # Texels of depth maps drawn between waits (ShadowMapPass): one of the environment's
 # visibility maps at its largest, 4096 px, took 0.18 s on the same machine under load.
