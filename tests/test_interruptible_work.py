@@ -148,36 +148,58 @@ def write_film_scene(folder: Path) -> Path:
     return folder / "film.yaml"
 
 
+def kill_all(process: subprocess.Popen) -> None:
+    """Kill the render and any worker of it (its own session's processes)."""
+    try:
+        os.killpg(process.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    process.wait()
+
+
+def write_frames_scene(folder: Path) -> Path:
+    """The largest prefilter in a scene of 4 frames, for 2 workers to share."""
+    path = write_scene(folder, 2048, 4096)
+    path.write_text(path.read_text(encoding="utf-8").replace("shading: pbr}", "shading: pbr}\noutput: {frames: 4}"),
+                    encoding="utf-8")
+    return path
+
+
 @pytest.mark.gl
 @pytest.mark.slow
-@pytest.mark.parametrize("make_scene", [lambda folder: write_scene(folder, 2048, 4096), write_film_scene],
-                         ids=["largest_prefilter", "sub_frames"])
-def test_sigterm_2_s_into_long_work_exits_143_within_3_seconds(tmp_path, make_scene):
+@pytest.mark.parametrize("make_scene, options", [
+    (lambda folder: write_scene(folder, 2048, 4096), ()),
+    (write_film_scene, ()),
+    (write_frames_scene, ("--workers", "2")),
+], ids=["largest_prefilter", "sub_frames", "workers"])
+def test_sigterm_2_s_into_long_work_exits_143_within_3_seconds(tmp_path, make_scene, options):
     # The scene format's largest prefilter (2048 px, 4096 samples: 10 to 20 minutes on a
     # 2-core CPU) drawn in one go held SIGTERM back until it ended; sub-frames wait for
-    # each other's readback. SIGTERM 2 s after the renderer line (which comes as the first
-    # frame starts): exit 143 well within 3 s, one line, no temporary file, and only
-    # frames finished before it (none of the prefilter's).
+    # each other's readback; workers were waited for to the end of their chunk. SIGTERM
+    # 2 s after the renderer line (which comes as the first frame starts; with workers,
+    # only once a chunk is done: 8 s after the start), exit 143 well within 3 s, one line,
+    # no temporary file, and only frames finished before it (none of the prefilter's).
     scene_path = make_scene(tmp_path)
-    process = subprocess.Popen([sys.executable, "-m", "scenerender", "render", str(scene_path), "-o", str(tmp_path / "out")],
-                               cwd=ROOT, stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    process = subprocess.Popen([sys.executable, "-m", "scenerender", "render", str(scene_path), "-o", str(tmp_path / "out"),
+                                *options], cwd=ROOT, stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"},
+                               start_new_session=True)  # its workers killed with it where the test fails
     lines, renderer_made = [], threading.Event()
     reader = threading.Thread(target=read_stderr, args=(process, lines, renderer_made), daemon=True)
     reader.start()
-    if not renderer_made.wait(60):
-        process.kill()
-        process.wait()
+    if not options and not renderer_made.wait(60):
+        kill_all(process)
         skip_without_gl(process.returncode, "\n".join(lines))
         pytest.fail(f"no renderer line within 60 s: {lines}")
-    time.sleep(2.0)
-    assert process.poll() is None, lines
+    time.sleep(8.0 if options else 2.0)
+    if process.poll() is not None:
+        kill_all(process)
+        pytest.fail(f"the render ended before the signal: {lines}")
     sent = time.monotonic()
     process.send_signal(signal.SIGTERM)
     try:
         code = process.wait(timeout=3.0)
     except subprocess.TimeoutExpired:
-        process.kill()
-        process.wait()
+        kill_all(process)
         pytest.fail(f"still running 3 s after SIGTERM: {lines}")
     took = time.monotonic() - sent
     reader.join(5)
@@ -188,11 +210,13 @@ def test_sigterm_2_s_into_long_work_exits_143_within_3_seconds(tmp_path, make_sc
     out = tmp_path / "out"
     left = sorted(p.name for p in out.iterdir() if p.name != ".scenerender.json") if out.exists() else []
     assert not any(".partial" in name for name in left)
-    if scene_path.name == "scene.yaml":
+    if scene_path.name == "scene.yaml" and not options:
         assert left == []
         # and it said how long it would take (its pace known after a second)
         assert any(line.startswith("prefiltering the environment (2048 px, 4096 samples): about ")
                    and line.endswith(" s on this renderer") for line in lines), lines
+    elif options:
+        assert left == []
     else:
         assert len(left) < 12 + 1  # the frames finished, and their cameras.json
 
