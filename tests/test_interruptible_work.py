@@ -149,7 +149,7 @@ def write_film_scene(folder: Path) -> Path:
 
 
 def kill_all(process: subprocess.Popen) -> None:
-    """Kill the render and any worker of it (its own session's processes)."""
+    """Kill the render and any worker of it (its process group)."""
     try:
         os.killpg(process.pid, signal.SIGKILL)
     except ProcessLookupError:
@@ -182,7 +182,7 @@ def test_sigterm_2_s_into_long_work_exits_143_within_3_seconds(tmp_path, make_sc
     scene_path = make_scene(tmp_path)
     process = subprocess.Popen([sys.executable, "-m", "scenerender", "render", str(scene_path), "-o", str(tmp_path / "out"),
                                 *options], cwd=ROOT, stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"},
-                               start_new_session=True)  # its workers killed with it where the test fails
+                               start_new_session=True)  # a group of its own: its workers killed with it where the test fails
     lines, renderer_made = [], threading.Event()
     reader = threading.Thread(target=read_stderr, args=(process, lines, renderer_made), daemon=True)
     reader.start()
