@@ -180,9 +180,10 @@ def test_sigterm_2_s_into_long_work_exits_143_within_3_seconds(tmp_path, make_sc
     # only once a chunk is done: 8 s after the start), exit 143 well within 3 s, one line,
     # no temporary file, and only frames finished before it (none of the prefilter's).
     scene_path = make_scene(tmp_path)
-    process = subprocess.Popen([sys.executable, "-m", "scenerender", "render", str(scene_path), "-o", str(tmp_path / "out"),
-                                *options], cwd=ROOT, stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"},
-                               start_new_session=True)  # a group of its own: its workers killed with it where the test fails
+    command = [sys.executable, "-m", "scenerender", "render", str(scene_path), "-o", str(tmp_path / "out"), *options]
+    # a process group of its own: its workers are killed with it where the test fails
+    process = subprocess.Popen(command, cwd=ROOT, stderr=subprocess.PIPE, text=True,
+                               env={**os.environ, "PYTHONUNBUFFERED": "1"}, start_new_session=True)
     lines, renderer_made = [], threading.Event()
     reader = threading.Thread(target=read_stderr, args=(process, lines, renderer_made), daemon=True)
     reader.start()
