@@ -28,6 +28,10 @@ class Limits:
     yaml_alias_nodes: values copied by all alias uses together (what a "billion laughs"
                     document inflates).
     instances:      instances of all objects together (``instances`` lists and ``random.count``).
+    prefilter_lookups: texture lookups of the environment light's prefilter, prefilter_size x
+                    prefilter_size / 2 x (1 + 5 x samples); the default lets the largest
+                    through (10 to 20 minutes on a 2-core CPU with Mesa llvmpipe): lower it
+                    for scenes you do not trust.
     """
 
     objects: int = 100_000
@@ -40,6 +44,7 @@ class Limits:
     yaml_aliases: int = 1_000_000
     yaml_alias_nodes: int = 1_000_000
     instances: int = 1_000_000
+    prefilter_lookups: int = 2048 * 1024 * (1 + 5 * 4096)
 
     def check(self, name: str, value: int, what: str, location: SourceLocation | None = None,
               key: str | None = None) -> None:

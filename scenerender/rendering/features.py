@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from scenerender.scene.model.lights import PREFILTER_LEVELS
 from scenerender.world.environment_visibility import interleave_pattern
 from scenerender.world.shadows import first_shadow_views, view_count
 
@@ -244,14 +245,10 @@ def environment_shades(classic: bool, model: str) -> bool:
     return model == "pbr" or (classic and model in ("phong", "blinn_phong"))
 
 
-# roughness levels of the prefiltered environment: 0, 0.2 .. 1, linearly between them
-SPECULAR_LEVELS = 6
-
-
 def specular_layout(environment) -> tuple:
     """(levels, strip width, strip height) of the environment's prefiltered image."""
     width = environment.prefilter_size
-    return SPECULAR_LEVELS, width, max(width // 2, 1)
+    return PREFILTER_LEVELS, width, max(width // 2, 1)
 
 
 def specular_layout_defines(layout: tuple) -> dict:

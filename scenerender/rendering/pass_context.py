@@ -2,6 +2,7 @@
 ``setup`` declared, nothing else."""
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import moderngl
@@ -26,6 +27,8 @@ class RunState:
     depth: DepthConvention
     framebuffers: FramebufferCache
     gpu: GpuScene
+    # long work's progress (rendering.steps): (what, share done in [0, 1]); None: untold
+    report_work: Callable[[str, float], None] | None = None
 
 
 @dataclass(frozen=True)
@@ -88,6 +91,16 @@ class PassContext:
     def fullscreen(self, program) -> None:
         """Draw one viewport-covering triangle with ``program`` (no vertex buffers)."""
         self.run.gpu.fullscreen_array(program).render(vertices=3)
+
+    def checkpoint(self) -> None:
+        """Wait until the GPU has done what was sent: a signal that arrived meanwhile then
+        stops the run here, its handler running as this call returns (rendering.steps)."""
+        self.run.gl.finish()
+
+    def report_work(self, what: str, fraction: float) -> None:
+        """Tell the run's progress that ``fraction`` of the long work ``what`` is done."""
+        if self.run.report_work is not None:
+            self.run.report_work(what, fraction)
 
     def place_instances(self, objects: ObjectsInput, index: int, eye: np.ndarray) -> None:
         """Write object ``index``'s instance transforms (from the declared ``objects``

@@ -85,22 +85,23 @@ class GLBackend:
         return last is not None and same_value(self.inputs[handle.resource], last)
 
     def execute(self, node, frame, written=frozenset()) -> None:
-        if node.render_pass.keeps_unchanged:
-            for handle in node.reads:
-                if handle.resource in self.inputs:
-                    self._last_inputs[(node.index, handle.resource)] = self.inputs[handle.resource]
         ctx = PassContext(self.run, node.render_pass.name, node.declared, self.images, self.inputs, self.outputs,
                           frozenset(written))
         if self.timings is None:
             node.render_pass.execute(ctx, node.data)
-            return
-        # profiling: wait for the GPU around each pass so its time is its own
-        gl = self.run.gl
-        gl.finish()
-        started = perf_counter()
-        node.render_pass.execute(ctx, node.data)
-        gl.finish()
-        self.timings.setdefault(node.render_pass.name, []).append(perf_counter() - started)
+        else:
+            # profiling: wait for the GPU around each pass so its time is its own
+            gl = self.run.gl
+            gl.finish()
+            started = perf_counter()
+            node.render_pass.execute(ctx, node.data)
+            gl.finish()
+            self.timings.setdefault(node.render_pass.name, []).append(perf_counter() - started)
+        # recorded once the pass has run to its end: one a signal stopped runs again
+        if node.render_pass.keeps_unchanged:
+            for handle in node.reads:
+                if handle.resource in self.inputs:
+                    self._last_inputs[(node.index, handle.resource)] = self.inputs[handle.resource]
 
 
 @dataclass(frozen=True)
@@ -149,11 +150,12 @@ def lowered_samples_warning(wanted: int, used: int, max_samples: int) -> str:
 
 
 class GraphRenderer:
-    """Renders frames of one World at one size. Create once, call ``render`` per frame."""
+    """Renders frames of one World at one size. Create once, call ``render`` per frame.
+    ``report_work(what, fraction)``: told the progress of long GPU work (rendering.steps)."""
 
     def __init__(self, world, gl, size=None, samples=None, warn=None, want_linear: bool = False,
                  profile: bool = False, cache_static_passes: bool = True, tuning: dict | None = None,
-                 object_ids: bool = False):
+                 object_ids: bool = False, report_work=None):
         render = world.settings
         self.world = world
         self.gl = gl
@@ -180,7 +182,7 @@ class GraphRenderer:
         self.depth = depth_convention(gl)
         images = {index: allocate(gl, desc, self.depth) for index, _, desc in self.compiled.resources()}
         self.timings: dict | None = {} if profile else None
-        run = RunState(gl, self.programs, self.features, self.depth, FramebufferCache(gl), self.scene)
+        run = RunState(gl, self.programs, self.features, self.depth, FramebufferCache(gl), self.scene, report_work)
         self.backend = GLBackend(run, images, self.timings)
         self.evaluator = FrameEvaluator(world, self.size, self.atlas, max_depth_ratio=self.depth.max_depth_ratio)
         self.cache_static_passes = cache_static_passes  # off only to measure what caching saves

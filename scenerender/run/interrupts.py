@@ -22,6 +22,10 @@ class Interrupted(KeyboardInterrupt):
         self.exit_code = 128 + signum
         super().__init__(f"interrupted by {self.signal_name}")
 
+    def __reduce__(self):
+        # a worker's chunk stopped by a signal comes back to the parent pickled
+        return Interrupted, (self.signum,)
+
 
 def _ours_to_replace(signum: int) -> bool:
     """Only default dispositions are replaced: a signal the program running us ignores
@@ -56,3 +60,40 @@ def signals_as_exceptions(signals=HANDLED):
     finally:
         for signum, old in previous.items():
             signal.signal(signum, old)
+
+
+# A pool worker's signal state (``worker_signals``): whether a chunk is rendering, and the
+# signal that stopped one (then every later chunk of the run stops at once too).
+_worker = {"busy": False, "stopped_by": None}
+
+
+def worker_signals() -> None:
+    """A worker process's initializer (run/workers.py): for its whole life, a signal the
+    parent passes on raises Interrupted while a chunk renders (``interruptible_chunk``), so
+    the chunk stops within a step and leaves nothing partial, and is ignored while the
+    worker waits for a chunk: the pool's shutdown then ends it, where a worker killed while
+    idle would break the pool (the parent would then wait on the busy one for ever)."""
+    for signum in HANDLED:
+        if _ours_to_replace(signum):
+            signal.signal(signum, _worker_handler)
+
+
+def _worker_handler(signum, _frame):
+    if _worker["stopped_by"] is None:
+        _worker["stopped_by"] = signum
+        if _worker["busy"]:
+            raise Interrupted(signum)
+
+
+@contextlib.contextmanager
+def interruptible_chunk():
+    """A worker's chunk: stopped by the first signal (``worker_signals``), at once where
+    one came before it (a chunk the pool had queued before the parent stopped it)."""
+    if _worker["stopped_by"] is not None:
+        raise Interrupted(_worker["stopped_by"])
+    _worker["busy"] = True
+    try:
+        yield
+    finally:
+        _worker["busy"] = False
+

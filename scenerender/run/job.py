@@ -192,7 +192,8 @@ def _distributed(options: RenderOptions, plan: FramePlan) -> bool:
 def _render_here(scene: Scene, plan: FramePlan, options: RenderOptions, progress) -> str | None:
     """Render ``plan.todo`` in this process -> the per-pass table with ``options.profile``."""
     with Renderer(scene, want_linear=plan.sink.needs_linear, profile=options.profile,
-                  object_ids=options.object_ids, require_gpu=options.require_gpu) as renderer:
+                  object_ids=options.object_ids, require_gpu=options.require_gpu,
+                  report_work=progress.work) as renderer:
         progress.renderer(renderer.gl_renderer)
         plan.manifest.start(gl_info(renderer.gl))
         render_into(renderer, plan.recording, plan.todo, progress)

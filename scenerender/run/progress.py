@@ -7,6 +7,11 @@ import time
 
 from scenerender.gpu.gl_context import is_software
 
+# Long work (rendering.steps) whose first second's pace says it takes this long or more
+# says so, with its estimate, then how much is left every ``interval`` seconds.
+LONG_WORK_SECONDS = 5.0
+ESTIMATE_AFTER_SECONDS = 1.0  # its pace measured over this much work (the first draw compiles the shader)
+
 
 class Progress:
     """Counts frames; ``report`` prints at most every ``interval`` seconds when not a TTY."""
@@ -22,6 +27,7 @@ class Progress:
         self._last_report = self.started
         self._bar = None
         self._task = None
+        self._work = None  # the long work under way: [what, started, told, last line's time]
         if not self.quiet and getattr(self.stream, "isatty", lambda: False)():
             self._start_bar()
 
@@ -56,7 +62,32 @@ class Progress:
         if self.silent:
             return
         where = "software, on the CPU" if is_software(gl_renderer) else "on the GPU"
-        line = f"GL renderer: {gl_renderer} ({where})"
+        self._line(f"GL renderer: {gl_renderer} ({where})")
+
+    def work(self, what: str, fraction: float) -> None:
+        """Long work ``what`` has ``fraction`` (0 at its start, 1 at its end) done. Work
+        that its pace says takes LONG_WORK_SECONDS or more says so once with its estimate,
+        then its share done and time left every ``interval`` seconds; also in a one-frame
+        run (a prefilter can take minutes before the only frame)."""
+        if self.silent:
+            return
+        now = time.perf_counter()
+        if self._work is None or self._work[0] != what or fraction <= 0.0:
+            self._work = [what, now, False, now]
+            return
+        _, started, told, last = self._work
+        elapsed = now - started
+        if fraction >= 1.0 or elapsed < ESTIMATE_AFTER_SECONDS:
+            return
+        left = elapsed * (1.0 - fraction) / fraction
+        if not told and elapsed + left >= LONG_WORK_SECONDS:
+            self._line(f"{what}: about {elapsed + left:.0f} s on this renderer")
+            self._work[2:] = [True, now]
+        elif told and now - last >= self.interval:
+            self._line(f"{what}: {100 * fraction:.0f}% done, about {left:.0f} s left")
+            self._work[3] = now
+
+    def _line(self, line: str) -> None:
         if self._bar is not None:
             self._bar.console.print(line, markup=False, highlight=False)
         else:

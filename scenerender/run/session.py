@@ -167,11 +167,13 @@ class Renderer:
     cache_static_passes: False renders every pass every frame (to measure what caching saves)
     require_gpu: a software GL renderer (llvmpipe, softpipe, swrast) is an EnvironmentProblem
              (exit 3 on the command line); default: the SCENERENDER_REQUIRE_GPU variable
+    report_work: called (what, share done in [0, 1]) as long GPU work (the environment's
+             prefilter) goes on, e.g. ``Progress.work``
     """
 
     def __init__(self, scene: Scene, size: tuple[int, int] | None = None, samples: int | None = None,
                  *, gl=None, want_linear: bool = False, profile: bool = False, cache_static_passes: bool = True,
-                 object_ids: bool = False, require_gpu: bool | None = None):
+                 object_ids: bool = False, require_gpu: bool | None = None, report_work=None):
         if samples is not None:
             samples = MSAA_SAMPLES.check(samples)  # before a context is made for nothing
         self.scene = scene
@@ -183,7 +185,7 @@ class Renderer:
             self._renderer = GraphRenderer(scene.world, self.gl, size=size, samples=samples,
                                            warn=scene.world.warnings.warn, want_linear=want_linear,
                                            profile=profile, cache_static_passes=cache_static_passes,
-                                           object_ids=object_ids)
+                                           object_ids=object_ids, report_work=report_work)
         except BaseException:
             self._release_gl()
             raise

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import multiprocessing
+import os
 import shutil
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
@@ -25,6 +26,7 @@ from scenerender.compare.sources import read_image
 from scenerender.errors import EnvironmentProblem, SourceLocation, UserError
 from scenerender.gpu.gl_context import gl_info
 from scenerender.rendering.renderer import FrameResult
+from scenerender.run.interrupts import Interrupted, interruptible_chunk, worker_signals
 from scenerender.run.loop import render_into
 from scenerender.run.session import Renderer, load
 from scenerender.sinks import ImageSequenceSink
@@ -70,14 +72,16 @@ _worker_state: dict = {}  # one loaded scene + renderer per worker process, reus
 
 
 def render_chunk(task: ChunkTask) -> ChunkResult:
-    """Render ``task.indices`` into ``task.folder`` (runs in a worker process)."""
+    """Render ``task.indices`` into ``task.folder`` (runs in a worker process). A signal
+    the parent passes on (LocalWorkers.stop) stops it, nothing partial left."""
     try:
         renderer, gl = _renderer_for(task)
         names = dict(task.object_names) if task.object_names is not None else None
         sink = ImageSequenceSink(Path(task.folder), task.fmt, task.pattern, task.quality, names, task.scene_key)
         due = [i for i in task.indices if not _written(sink, i)]  # else an earlier try wrote it
         cameras = CameraCollector(sink)
-        render_into(renderer, cameras, due)
+        with interruptible_chunk():
+            render_into(renderer, cameras, due)
         for index in task.indices:
             if index not in cameras.records:  # written by an earlier try
                 cameras.records[index] = renderer.camera_record(index)
@@ -141,12 +145,23 @@ class LocalWorkers:
     def __init__(self, count: int):
         self.count = count
         # spawn, not fork: a forked child would share the parent's driver state
-        self._pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
+        self._pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"),
+                                         initializer=worker_signals)
+        self._not_ours = {child.pid for child in multiprocessing.active_children()}  # made before the pool
 
     def results(self, tasks: list[ChunkTask]):
         futures = [self._pool.submit(render_chunk, task) for task in tasks]
         for future in as_completed(futures):
             yield future.result()
+
+    def stop(self, signum: int) -> None:
+        """Pass the signal that stops this process on to the workers: a busy one stops its
+        chunk within a step of its GPU work (rendering.steps), where closing the pool would
+        wait for the chunk to end (a prefilter at its largest: minutes); an idle one ignores
+        it (run.interrupts.worker_signals)."""
+        for child in multiprocessing.active_children():
+            if child.pid not in self._not_ours:
+                os.kill(child.pid, signum)
 
     def close(self) -> None:
         self._pool.shutdown(wait=True, cancel_futures=True)
@@ -178,6 +193,10 @@ class DaskWorkers:
                          for task in tasks]
         for future in dask_completed(self._futures):  # completion events come from the scheduler
             yield future.result()
+
+    def stop(self, signum: int) -> None:
+        """Nothing to signal: the workers are the cluster's; ``close`` cancels the chunks
+        (one already running ends on its worker)."""
 
     def close(self) -> None:
         for future in self._futures:
@@ -229,6 +248,9 @@ def render_with_workers(scene, options, plan, progress) -> None:
                 elif camera:
                     plan.recording.cameras[index] = camera
                 progress.advance()
+    except Interrupted as stop:
+        workers.stop(stop.signum)
+        raise
     finally:
         workers.close()
     if sequence:

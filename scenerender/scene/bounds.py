@@ -1,5 +1,5 @@
 """Checks of a scene as a whole: that there is a scene at all, and that it stays within the
-run's ``Limits`` (objects, instances, frames, image size).
+run's ``Limits`` (objects, instances, frames, image size, the environment's prefilter).
 
 ``check_document`` runs on the raw data before validation, so that a document with a
 million objects is refused before a million objects are validated; ``check_scene`` runs on
@@ -10,6 +10,7 @@ from __future__ import annotations
 from scenerender.errors import UserError
 from scenerender.limits import Limits
 from scenerender.scene.describe import describe
+from scenerender.scene.model.lights import prefilter_lookups
 from scenerender.scene.messages import format_key
 from scenerender.scene.yaml_source import SourceMap
 
@@ -31,7 +32,8 @@ def check_document(data, source: SourceMap, limits: Limits) -> dict:
 
 
 def check_scene(spec, source: SourceMap, limits: Limits) -> None:
-    """Frames, image size and instances of the validated ``SceneSpec`` against ``limits``."""
+    """Frames, image size, instances and the environment light's prefilter work of the
+    validated ``SceneSpec`` against ``limits``."""
     output = spec.output
     frames_key = ("output", "frames") if output.frames is not None else ("output", "duration")
     _check(limits, "frames", output.frame_count, "the number of frames", frames_key, source)
@@ -41,6 +43,12 @@ def check_scene(spec, source: SourceMap, limits: Limits) -> None:
     for index, obj in enumerate(spec.objects):
         total += _instance_count(obj.instances)
         _check(limits, "instances", total, "the number of instances", ("objects", index, "instances"), source)
+    for index, light in enumerate(spec.lights or ()):
+        if light.type == "environment":
+            lookups = prefilter_lookups(light.prefilter_size, light.samples)
+            _check(limits, "prefilter_lookups", lookups,
+                   f"the prefilter's count of texture lookups at {light.prefilter_size} px and {light.samples} samples",
+                   ("lights", index, "samples"), source)
 
 
 def _instance_count(instances) -> int:

@@ -1,7 +1,7 @@
 """The environment light's prefiltered specular image: made once per run (it reads only the
 static ``environment_map`` input, so the graph caches it), read by the shading passes.
 
-Layout (rendering.features.specular_layout): SPECULAR_LEVELS equirectangular strips of
+Layout (rendering.features.specular_layout): PREFILTER_LEVELS equirectangular strips of
 prefilter_size x prefilter_size / 2 texels, roughness 0 at the bottom to 1 at the top; the
 shader is shaders/environment/prefilter.frag.
 """
@@ -21,6 +21,7 @@ from scenerender.rendering.draw import (
 from scenerender.rendering.features import TEXTURE_UNITS, specular_layout_defines
 from scenerender.rendering.light_buffers import environment_view_uniforms
 from scenerender.rendering.passes.data import ImageData, SurfacesData
+from scenerender.rendering.steps import Step, Waits, draw_in_steps, steps_over
 from scenerender.world.environment_visibility import place_lookups
 
 PREFILTER_FRAGMENT = "environment/prefilter.frag"
@@ -54,7 +55,21 @@ class EnvironmentPrefilterPass(RenderPass):
         source = ctx.input(self.environment_map).source
         source.use(TEXTURE_UNITS["u_env_source"])
         set_uniforms(program, u_source_size=source.size, u_samples=self.samples)
-        ctx.fullscreen(program)
+        # in steps a signal can stop between (at the largest size, one draw takes minutes
+        # on a software renderer); a stopped frame marks no static pass done
+        # (GraphRenderer), so no half-made image is kept
+        draw_in_steps(ctx, prefilter_steps(self.layout, self.samples), lambda: ctx.fullscreen(program),
+                      f"prefiltering the environment ({self.layout[1]} px, {self.samples} samples)")
+
+
+def prefilter_steps(layout: tuple, samples: int) -> list[Step]:
+    """The prefilter's draws (rendering.steps): the mirror level (one lookup a texel) and
+    each rough level (``samples`` a texel) cut into steps of their own."""
+    levels, width, height = layout
+    steps = steps_over((0, 0, width, height), 1)
+    for level in range(1, levels):
+        steps += steps_over((0, level * height, width, height), samples)
+    return steps
 
 
 @dataclass(frozen=True)
@@ -201,6 +216,7 @@ class EnvironmentVisibilityPass(RenderPass):
         uniforms = visibility_uniforms(ctx, self.views, self.visibility, ctx.input(self.camera).position)
         part, places = sub_image_layout(self.size, self.interleave)
         programs = {}
+        waits = Waits(ctx)  # over all places: each may be short, all of them long
         try:
             for place in places:
                 lookups = place_lookups(place, self.interleave, self.directions)
@@ -210,7 +226,8 @@ class EnvironmentVisibilityPass(RenderPass):
                 program = programs[lookups]
                 fbo.viewport = (place[0] * part[0], place[1] * part[1], *part)
                 program["u_env_vis_place"].value = place
-                ctx.fullscreen(program)
+                # at the largest images a place's draw takes seconds on a software renderer
+                draw_in_steps(ctx, steps_over(fbo.viewport, lookups), lambda: ctx.fullscreen(program), waits=waits)
         finally:
             fbo.viewport = (0, 0, *fbo.size)
 

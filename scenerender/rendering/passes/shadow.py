@@ -10,6 +10,7 @@ from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import bind_material, bind_texture_units, skip_faces, stop_culling
 from scenerender.rendering.features import mask_defines
+from scenerender.rendering.steps import CHECKPOINT_TEXELS, Waits
 from scenerender.world.shadows import CUBE_MAP_KINDS, atlas_page_name, hidden_from_light
 
 
@@ -97,8 +98,13 @@ class ShadowMapPass(RenderPass):
         from_eye = np.eye(4)
         from_eye[:3, 3] = eye
         masked = self._masked_programs(ctx, defines, objects, casters)
+        # many large maps (the environment's visibility: up to 64, 16 of 4096 px) take
+        # seconds on a software renderer: a signal stops them between maps (the clear
+        # before them, one memory fill, is left out)
+        waits = Waits(ctx, CHECKPOINT_TEXELS)
         for view in views:
             tile = view.tile
+            waits.before(tile.size * tile.size)
             fbo.viewport = (tile.x, tile.y, tile.size, tile.size)
             for used in [program, *masked.values()]:
                 set_uniforms(used, u_light_view=view.view @ from_eye,

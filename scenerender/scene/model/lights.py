@@ -115,6 +115,16 @@ class AmbientLight(_LightBase):
 
 # ``image: sky``: the environment is render.skybox
 SKY = "sky"
+# the environment's prefiltered specular image: roughness 0 (a mirror, one lookup a texel),
+# 0.2 .. 1 (``samples`` lookups a texel), each prefilter_size x prefilter_size / 2 texels
+# (rendering.features.specular_layout)
+PREFILTER_LEVELS = 6
+
+
+def prefilter_lookups(size: int, samples: int) -> int:
+    """Texture lookups the environment light's prefilter makes at ``prefilter_size`` ``size``
+    and ``samples``: what its time on a software renderer grows with (Limits.prefilter_lookups)."""
+    return size * max(size // 2, 1) * (1 + (PREFILTER_LEVELS - 1) * samples)
 EnvironmentImage = choice(SKY) | EnvironmentPath
 
 
