@@ -11,7 +11,7 @@
 
 uniform sampler2D u_env_visibility;  // the maps' depths, read plain (no comparison)
 uniform mat4 u_env_vis_to_map[ENV_VISIBILITY];  // camera-relative world -> (map u, v, linear depth)
-uniform vec4 u_env_vis_params[ENV_VISIBILITY];  // texel world size, 1 / depth range, bias and slope bias (texels)
+uniform vec4 u_env_vis_params[ENV_VISIBILITY];  // texel world size, 1 / depth range, bias (texels), w unused
 uniform vec4 u_env_vis_tile[ENV_VISIBILITY];    // the map's tile in map uv: min (xy), max (zw)
 uniform vec4 u_env_vis_light[ENV_VISIBILITY];   // xyz: world direction towards the light; w: its power share
 
