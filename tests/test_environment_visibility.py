@@ -234,7 +234,8 @@ def test_a_turning_sky_turns_its_shadows(gl):
 def test_visibility_off_renders_the_bytes_drawn_before_it_existed(gl):
     # tests/golden/gltf_pbr@visibility_off.png is gltf_pbr.png as it was before the
     # environment's visibility existed (byte for byte, on Mesa llvmpipe; drawn again when
-    # the opaque pass began writing the sRGB encoding itself, values a level apart at most)
+    # the opaque pass began writing the sRGB encoding itself, values a level apart at most,
+    # and when the split sum's lookup moved to the lobe's dominant direction)
     before = np.asarray(Image.open(reference_path("gltf_pbr@visibility_off")))[..., :3]
     assert np.array_equal(render_case(gl, "gltf_pbr@visibility_off"), before)
     assert not np.array_equal(render_case(gl, "gltf_pbr"), before)
