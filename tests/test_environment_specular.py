@@ -102,7 +102,8 @@ def test_the_copper_sphere_alone_within_2_percent_split_sum_and_sampled(gl, alon
 def test_the_key_unset_renders_the_bytes_drawn_before_it_existed(gl):
     # tests/golden/gltf_pbr@visibility_exact.png was drawn before the key existed (byte for
     # byte, on Mesa llvmpipe; drawn again when the opaque pass began writing the sRGB
-    # encoding itself, which moved values by a level at most): unset or split_sum it draws
+    # encoding itself, which moved values by a level at most, and when the split sum's
+    # lookup moved to the lobe's dominant direction): unset or split_sum it draws
     # it still, sampled does not
     name = "gltf_pbr@visibility_exact"
     before = np.asarray(Image.open(reference_path(name)))[..., :3]
