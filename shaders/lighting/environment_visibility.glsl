@@ -9,32 +9,54 @@
 // over the directions above the surface. Unblocked, both are exactly 1.
 #include "common/seen_texel.glsl"
 
-uniform sampler2DShadow u_env_visibility;
+uniform sampler2D u_env_visibility;  // the maps' depths, read plain (no comparison)
 uniform mat4 u_env_vis_to_map[ENV_VISIBILITY];  // camera-relative world -> (map u, v, linear depth)
-uniform vec4 u_env_vis_params[ENV_VISIBILITY];  // texel world size, 1 / depth range, bias and slope bias (texels)
+uniform vec4 u_env_vis_params[ENV_VISIBILITY];  // texel world size, 1 / depth range, bias (texels), w unused
 uniform vec4 u_env_vis_tile[ENV_VISIBILITY];    // the map's tile in map uv: min (xy), max (zw)
 uniform vec4 u_env_vis_light[ENV_VISIBILITY];   // xyz: world direction towards the light; w: its power share
 
-// 1 where direction k's light reaches p, 0 where a caster blocks it (one bilinear
-// comparison). Bias as for the lights' shadows (lighting/shadows.glsl), in texels at the
-// receiver: a constant plus a slope term capped at 84 degrees, and a normal offset growing
-// in from 79 degrees only (elsewhere it would lift a point beside a contact into the
-// object resting there: the ring around a sphere's contact came out 13 % too dark).
+// 1 where direction k's light reaches p, 0 where a caster blocks it: the 2 x 2 texels
+// around p's place on the map, each compared with the depth p's own plane has at that
+// texel's centre, blended bilinearly. Against the plane, a surface never shadows itself
+// however steeply the light grazes it, so the bias is a constant half texel; a bias that
+// grows with the slope (what a single filtered comparison needs) lifted a ground point
+// within bias x cos(elevation) of a box's foot out of the box's shadow: 10-30 cm for
+// directions 15-35 degrees up, at 512 texels over a 24 m ground. A normal offset grows in
+// from 79 degrees only (elsewhere it would lift a point beside a contact into the object
+// resting there: the ring around a sphere's contact came out 13 % too dark).
 float env_vis_lookup(int k, vec3 p, vec3 n, float n_dot_l) {
     vec4 params = u_env_vis_params[k];
     float grazing = sqrt(clamp(1.0 - n_dot_l * n_dot_l, 0.0, 1.0));
     float tan_angle = min(grazing / max(n_dot_l, 1e-4), 1e4);
     float offset_share = clamp(0.2 * tan_angle - 1.0, 0.0, 1.0);
-    tan_angle = min(tan_angle, 10.0);
-    vec4 q = u_env_vis_to_map[k] * vec4(p + n * (1.5 * offset_share * params.x * grazing), 1.0);
+    mat4 to_map = u_env_vis_to_map[k];
+    vec4 q = to_map * vec4(p + n * (1.5 * offset_share * params.x * grazing), 1.0);
     vec4 tile = u_env_vis_tile[k];
     if (any(lessThan(q.xy, tile.xy)) || any(greaterThan(q.xy, tile.zw))) {
         return 1.0;  // outside every caster's footprint
     }
-    float bias = params.x * (params.z + params.w * tan_angle) * params.y;
-    // level 0 named: the maps have no others, and llvmpipe otherwise works out a level of
-    // detail for every lookup (about a tenth of the visibility pass)
-    return textureLod(u_env_visibility, vec3(q.xy, q.z - bias), 0.0);
+    // the plane's depth change per texel along the map's u and v: a step a across the
+    // view (rows u, v, depth of to_map, orthogonal) moves along the depth row by t with
+    // a . n = 0; the slope capped at 84 degrees, as the bias was
+    vec3 along_u = vec3(to_map[0][0], to_map[1][0], to_map[2][0]);
+    vec3 along_v = vec3(to_map[0][1], to_map[1][1], to_map[2][1]);
+    vec3 along_depth = vec3(to_map[0][2], to_map[1][2], to_map[2][2]);
+    vec2 size = vec2(textureSize(u_env_visibility, 0));
+    float depth_n = dot(along_depth, n) / dot(along_depth, along_depth);
+    vec2 per_texel = -vec2(dot(along_u, n) / dot(along_u, along_u), dot(along_v, n) / dot(along_v, along_v))
+                     / (size * (abs(depth_n) > 1e-12 ? depth_n : 1e-12));
+    float steepest = params.x * 10.0 * params.y;
+    per_texel = clamp(per_texel, -steepest, steepest);
+    vec2 at = q.xy * size - 0.5;
+    vec2 low = floor(at);
+    vec2 f = at - low;
+    // texels (0, 1), (1, 1), (1, 0), (0, 0) of the square, in textureGather's order;
+    // level 0 alone: the maps have no others
+    vec4 stored = textureGather(u_env_visibility, (low + 1.0) / size, 0);
+    vec4 receiver = q.z - params.x * params.z * params.y
+                    + per_texel.x * (vec4(0.0, 1.0, 1.0, 0.0) - f.x) + per_texel.y * (vec4(1.0, 1.0, 0.0, 0.0) - f.y);
+    vec4 tent = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
+    return dot(step(receiver, stored), tent);
 }
 
 // The weights of direction k at a surface facing n, towards the viewer v, of GGX a2 = alpha^2:

@@ -120,10 +120,11 @@ class EnvironmentLighting:
 
 
 def bind_visibility_maps(ctx, visibility: Handle) -> None:
-    """The visibility maps' depth texture on its unit, for hardware-filtered comparison."""
+    """The visibility maps' depth texture on its unit, read as plain depth: the shader
+    gathers 2 x 2 texels and compares each with the receiver's plane."""
     maps = ctx.image(visibility)
-    maps.compare_func = "<="
-    maps.filter = (moderngl.LINEAR, moderngl.LINEAR)
+    maps.compare_func = ""
+    maps.filter = (moderngl.NEAREST, moderngl.NEAREST)
     maps.use(TEXTURE_UNITS["u_env_visibility"])
 
 
