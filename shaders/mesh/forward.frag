@@ -18,6 +18,9 @@
 #ifdef ENCODE_SRGB
 #include "common/srgb.glsl"
 #endif
+#ifdef HAS_INDIRECT
+#include "lighting/indirect.glsl"
+#endif
 
 #ifdef SHADOW_VISIBLE_SAMPLES
 // gl_SampleMaskIn after the depth test (the depth prepass has laid down the final depth)
@@ -40,6 +43,13 @@ uniform vec3 u_ambient;  // summed ambient light
 uniform sampler2D u_ao;  // screen-space ambient occlusion, 1 = open
 #endif
 
+#ifdef INDIRECT_CAPTURE
+// drawn into a probe's cube map (rendering/passes/indirect.py): seen from u_capture_eye,
+// the distance to it (at most u_capture_far) written with the radiance
+uniform vec3 u_capture_eye;
+uniform float u_capture_far;
+#endif
+
 out vec4 frag_color;
 
 void main() {
@@ -56,7 +66,11 @@ void main() {
 #ifdef HAS_NORMAL_MAP
     n = mapped_normal(n, gl_FrontFacing ? v_tangent : vec4(-v_tangent.xyz, v_tangent.w), v_uv);
 #endif
+#ifdef INDIRECT_CAPTURE
+    vec3 v = safe_normalize(u_capture_eye - v_position, n);
+#else
     vec3 v = safe_normalize(-v_position, n);
+#endif
     float screen_ao = 1.0;
 #ifdef HAS_AO
     screen_ao = texelFetch(u_ao, ivec2(gl_FragCoord.xy), 0).r;
@@ -94,6 +108,15 @@ void main() {
     color += u_ka * s.base * env_diffuse(n) * ambient_visibility;  // classic: its diffuse term, as an ambient
 #endif
 #endif
+#ifdef HAS_INDIRECT
+    // bounced light is diffuse: the probes' irradiance times the diffuse reflectance / pi
+#ifdef SHADING_PBR
+    vec3 diffuse_reflectance = pbr_ambient_weights(n, v, s).diffuse;
+#else
+    vec3 diffuse_reflectance = s.base;
+#endif
+    color += diffuse_reflectance * probe_irradiance(v_position, n, v) * (material_occlusion / 3.14159265);
+#endif
 #endif
 #ifdef HAS_FOG
     color = apply_fog(color, length(v_position));
@@ -110,6 +133,9 @@ void main() {
 #else
     frag_color = vec4(color, 1.0);
 #endif
+#endif
+#ifdef INDIRECT_CAPTURE
+    frag_color = vec4(color, min(length(v_position - u_capture_eye), u_capture_far));
 #endif
 #ifdef ALPHA_MASK
     // cut last: the derivatives the lighting takes need every pixel of the quad

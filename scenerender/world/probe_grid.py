@@ -1,0 +1,60 @@
+"""Where render.indirect's probes stand: a regular grid over the scene's bounds.
+
+Probes sit at the centres of the grid's cells, half a spacing inside the bounds, so none
+lies on the bounds' faces (the walls of a room, a ground plane). No GL here.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+# Probes along the scene's longest side where render.indirect.probe_spacing is not set.
+PROBES_ALONG_LONGEST_SIDE = 8
+# The most probes a grid holds: a smaller spacing is widened to fit (the bake's cost grows
+# with the count; the graph dump shows the spacing used).
+MAX_PROBES = 4096
+
+
+@dataclass(frozen=True)
+class ProbeGrid:
+    """origin: (3,) float64 world position of probe (0, 0, 0); spacing: (3,) float64
+    between neighbours along x, y, z; counts: probes along x, y, z. Probe (i, j, k) has
+    index i + nx (j + ny k)."""
+
+    origin: np.ndarray
+    spacing: np.ndarray
+    counts: tuple
+
+    @property
+    def count(self) -> int:
+        return int(np.prod(self.counts))
+
+    def positions(self) -> np.ndarray:
+        """(count, 3) float64 world positions, in index order."""
+        k, j, i = np.meshgrid(*(np.arange(n) for n in reversed(self.counts)), indexing="ij")
+        cells = np.stack([i.ravel(), j.ravel(), k.ravel()], axis=1).astype(np.float64)
+        return self.origin + cells * self.spacing
+
+    def describe(self) -> str:
+        counts = "x".join(str(n) for n in self.counts)
+        return f"{counts} probes, {', '.join(f'{s:.3g}' for s in self.spacing)} apart"
+
+
+def probe_grid(bounds: np.ndarray, spacing: float | None) -> ProbeGrid:
+    """The grid over ``bounds`` ((2, 3) float64 min, max) with about ``spacing`` between
+    probes (None: the longest side over PROBES_ALONG_LONGEST_SIDE). Each axis is cut into
+    whole cells of at most that size, so the cells fill the bounds exactly."""
+    lo, hi = np.asarray(bounds, dtype=np.float64)
+    size = hi - lo
+    longest = float(size.max())
+    step = spacing if spacing is not None else (longest / PROBES_ALONG_LONGEST_SIDE if longest > 0 else 1.0)
+    while True:
+        counts = tuple(max(1, math.ceil(side / step - 1e-9)) for side in size)
+        if math.prod(counts) <= MAX_PROBES:
+            break
+        step *= 1.1
+    cells = np.array(counts, dtype=np.float64)
+    cell = np.where(size > 0, size / cells, step)  # a flat axis: one layer half a step off it
+    return ProbeGrid(lo + 0.5 * cell, cell, counts)
