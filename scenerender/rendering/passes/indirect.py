@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from time import perf_counter
 
 import moderngl
 import numpy as np
@@ -175,6 +176,7 @@ class IndirectLightPass(RenderPass):
 
     def execute(self, ctx, data: IndirectData) -> None:
         gl = ctx.gl
+        started = perf_counter()
         anchor = self.grid.origin  # what everything is drawn relative to
         buffers = self._bind_lighting(ctx, anchor)
         try:
@@ -194,6 +196,9 @@ class IndirectLightPass(RenderPass):
                     if bounce == 0:
                         self._project(ctx, data.capture, data.depth, DEPTH_FRAGMENT, first)
                 last = target
+            gl.finish()  # the bake's own time, for the progress line (once a bake)
+            ctx.outputs.setdefault("notes", []).append(
+                f"indirect light baked in {perf_counter() - started:.2f} s ({self.describe()})")
         finally:
             stop_culling(gl)
             for buffer in buffers:
