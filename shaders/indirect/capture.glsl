@@ -1,6 +1,6 @@
-// Reading one probe's captured cube map out of the capture atlas (passes/indirect.py):
-// probe b of the batch has the tile at column b % CAPTURE_COLUMNS, row b / CAPTURE_COLUMNS,
-// its six CAPTURE_SIZE x CAPTURE_SIZE faces side by side; rgb radiance, a distance.
+// Reading the probes' captured cube maps (passes/indirect.py): probe b has the tile at
+// column b % CAPTURE_COLUMNS, row b / CAPTURE_COLUMNS, its six CAPTURE_SIZE x CAPTURE_SIZE
+// faces side by side; rgb radiance, a distance.
 uniform sampler2D u_capture;
 
 ivec2 capture_texel(int probe, int face, int x, int y) {

@@ -8,13 +8,17 @@
 
 #define DEPTH_SHARPNESS 50.0
 
-uniform int u_first_probe;  // the grid index of the batch's first probe
+uniform int u_probes;  // how many there are (the last row of tiles may have fewer)
 out vec4 frag_color;
 
 void main() {
     ivec2 texel = ivec2(gl_FragCoord.xy);
     ivec2 tile = texel / PROBE_DEPTH_SIZE;
-    int probe = tile.y * PROBE_DEPTH_TILES_X + tile.x - u_first_probe;
+    int probe = tile.y * PROBE_DEPTH_TILES_X + tile.x;
+    if (probe >= u_probes) {
+        frag_color = vec4(0.0);
+        return;
+    }
     vec2 inside = (vec2(texel - tile * PROBE_DEPTH_SIZE) + 0.5) * (2.0 / float(PROBE_DEPTH_SIZE)) - 1.0;
     vec3 towards = octahedral_decode(inside);
     vec2 moments = vec2(0.0);

@@ -2,16 +2,15 @@
 // projected onto Y_lm (a sum over the cube map's texels, each weighted by its solid
 // angle) and convolved with the clamped cosine (Ramamoorthi and Hanrahan 2001: pi,
 // 2 pi / 3, pi / 4 for bands 0, 1, 2), so a lookup sums coefficient x Y_lm(n).
-// Texel (i, u_first_probe + b) of the target: coefficient i of probe b of the batch.
+// Texel (i, b) of the target: coefficient i of probe b.
 #include "indirect/probes.glsl"
 #include "indirect/capture.glsl"
 
-uniform int u_first_row;  // the target row of the batch's first probe
 out vec4 frag_color;
 
 void main() {
     int coefficient = int(gl_FragCoord.x);
-    int probe = int(gl_FragCoord.y) - u_first_row;
+    int probe = int(gl_FragCoord.y);
     vec3 sum = vec3(0.0);
     float weights = 0.0;
     for (int face = 0; face < 6; ++face) {

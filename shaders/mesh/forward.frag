@@ -44,15 +44,24 @@ uniform sampler2D u_ao;  // screen-space ambient occlusion, 1 = open
 #endif
 
 #ifdef INDIRECT_CAPTURE
-// drawn into a probe's cube map (rendering/passes/indirect.py): seen from u_capture_eye,
-// the distance to it (at most u_capture_far) written with the radiance
+// drawn into a probe's cube map (rendering/passes/indirect.py), seen from u_capture_eye:
+// the light the surface gives and the distance to it (at most u_capture_far); what
+// multiplies the irradiance it gets / pi (its diffuse reflectance); the normal it is
+// shaded with and the distance itself. A later bounce adds the probes' light from these.
 uniform vec3 u_capture_eye;
 uniform float u_capture_far;
+layout(location = 0) out vec4 frag_color;
+layout(location = 1) out vec4 capture_reflectance;
+layout(location = 2) out vec4 capture_normal;
+#else
+out vec4 frag_color;
 #endif
 
-out vec4 frag_color;
-
 void main() {
+#ifdef INDIRECT_CAPTURE
+    vec3 bounce_reflectance = vec3(0.0);  // unlit surfaces give what they show, nothing more
+    vec3 bounce_normal = vec3(0.0, 0.0, 1.0);
+#endif
     Surface s = sample_surface(v_uv);
 #ifdef HAS_VERTEX_COLOR
     s.base *= v_color.rgb;
@@ -108,14 +117,20 @@ void main() {
     color += u_ka * s.base * env_diffuse(n) * ambient_visibility;  // classic: its diffuse term, as an ambient
 #endif
 #endif
-#ifdef HAS_INDIRECT
+#if defined(HAS_INDIRECT) || defined(INDIRECT_CAPTURE)
     // bounced light is diffuse: the probes' irradiance times the diffuse reflectance / pi
 #ifdef SHADING_PBR
-    vec3 diffuse_reflectance = pbr_ambient_weights(n, v, s).diffuse;
+    vec3 diffuse_reflectance = pbr_ambient_weights(n, v, s).diffuse * material_occlusion;
 #else
-    vec3 diffuse_reflectance = s.base;
+    vec3 diffuse_reflectance = s.base * material_occlusion;
 #endif
-    color += diffuse_reflectance * probe_irradiance(v_position, n, v) * (material_occlusion / 3.14159265);
+#endif
+#ifdef HAS_INDIRECT
+    color += diffuse_reflectance * probe_irradiance(v_position, n, v) / 3.14159265;
+#endif
+#ifdef INDIRECT_CAPTURE
+    bounce_reflectance = diffuse_reflectance;
+    bounce_normal = n;
 #endif
 #endif
 #ifdef HAS_FOG
@@ -135,7 +150,10 @@ void main() {
 #endif
 #endif
 #ifdef INDIRECT_CAPTURE
-    frag_color = vec4(color, min(length(v_position - u_capture_eye), u_capture_far));
+    float distance = length(v_position - u_capture_eye);
+    frag_color = vec4(color, min(distance, u_capture_far));
+    capture_reflectance = vec4(bounce_reflectance, 1.0);
+    capture_normal = vec4(bounce_normal, distance);
 #endif
 #ifdef ALPHA_MASK
     // cut last: the derivatives the lighting takes need every pixel of the quad

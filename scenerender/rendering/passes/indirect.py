@@ -1,21 +1,23 @@
 """render.indirect: light bounced between surfaces, baked into a grid of probes.
 
-Each probe (world.probe_grid) sees the scene through a small cube map, rasterised with the
-forward shader itself (every light with its shadows, the environment light, emission,
-the ambient light), plus, from the second bounce on, the light the last bake's probes
-give the surfaces it sees. Two full-screen passes then reduce each cube map to
+Each probe (world.probe_grid) sees the scene through a small cube map, rasterised once
+with the forward shader itself (every light with its shadows, the environment light,
+emission, the ambient light): the light each texel's surface gives, its diffuse
+reflectance, its normal and its distance. Full-screen passes then reduce the cube maps to
 
-- the irradiance at the probe, as nine spherical-harmonic coefficients convolved with the
-  clamped cosine (shaders/indirect/project_irradiance.frag), and
+- the irradiance at each probe, as nine spherical-harmonic coefficients convolved with
+  the clamped cosine (shaders/indirect/project_irradiance.frag), and
 - the mean and mean squared distance to what it sees, as a small octahedral tile
   (shaders/indirect/project_depth.frag), for the Chebyshev visibility test the lookup
   (shaders/lighting/indirect.glsl) makes so that light does not come through walls.
 
-N bounces bake N times, each reading the last one's irradiance. The bake reads the
-objects, materials, lights, their shadow maps and the environment, never the camera: in a
-scene where those stay still it is a static pass, baked once for the whole run.
-Everything a probe sees is drawn relative to the grid's first probe, and its lights are
-packed relative to it too (light_buffers.pack_lights_from).
+Each further bounce relights the captured texels with the last bounce's probes
+(shaders/indirect/relight.frag) and projects them again: no scene drawn again, so a bounce
+costs a small fraction of the first. The bake reads the objects, materials, lights, their
+shadow maps and the environment, never the camera: in a scene where those stay still it
+is a static pass, baked once for the whole run. Everything a probe sees is drawn relative
+to the grid's first probe, and its lights are packed relative to it too
+(light_buffers.pack_lights_from).
 """
 from __future__ import annotations
 
@@ -29,7 +31,7 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import matrix_bytes, set_uniforms
 from scenerender.rendering.draw import (
-    FULLSCREEN_VERTEX, MESH_VERTEX, bind_lights, bind_ltc, bind_material, bind_shadow_atlas, bind_shadow_depth,
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_fullscreen_pass, bind_lights, bind_ltc, bind_material, bind_shadow_atlas, bind_shadow_depth,
     bind_texture_units, stop_culling,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
@@ -42,16 +44,16 @@ from scenerender.world.shadows import AtlasLayout
 FORWARD_FRAGMENT = "mesh/forward.frag"
 IRRADIANCE_FRAGMENT = "indirect/project_irradiance.frag"
 DEPTH_FRAGMENT = "indirect/project_depth.frag"
+RELIGHT_FRAGMENT = "indirect/relight.frag"
 
 # Cube face f looks along CUBE_FACES[f][0] with CUBE_FACES[f][1] up (shaders/indirect/probes.glsl).
 CUBE_FACES = (((1, 0, 0), (0, 1, 0)), ((-1, 0, 0), (0, 1, 0)), ((0, 1, 0), (0, 0, 1)),
               ((0, -1, 0), (0, 0, -1)), ((0, 0, 1), (0, 1, 0)), ((0, 0, -1), (0, 1, 0)))
 SH_COEFFICIENTS = 9
-# Probes captured at a time: one row of depth tiles, so each batch's projection writes
-# whole tiles of its own probes only.
-PROBES_PER_BATCH = 64
-CAPTURE_COLUMNS = 8  # probes side by side in the capture image (each six faces wide)
-DEPTH_TILE = 16      # texels a side of a probe's octahedral depth tile
+CAPTURE_COLUMNS = 8     # probes side by side in the capture images (each six faces wide)
+DEPTH_TILE = 16         # texels a side of a probe's octahedral depth tile
+DEPTH_TILES_X = 64      # depth tiles to a row
+PI = 3.141592653589793
 
 
 @dataclass(frozen=True)
@@ -69,7 +71,7 @@ class IndirectLighting:
     def defines(self) -> dict:
         """The grid's layout (shaders/lighting/indirect.glsl)."""
         return {"HAS_INDIRECT": True, "PROBE_COUNTS": "ivec3({}, {}, {})".format(*self.grid.counts),
-                "PROBE_DEPTH_SIZE": DEPTH_TILE, "PROBE_DEPTH_TILES_X": PROBES_PER_BATCH}
+                "PROBE_DEPTH_SIZE": DEPTH_TILE, "PROBE_DEPTH_TILES_X": DEPTH_TILES_X}
 
     def bind(self, ctx, irradiance: Handle | None = None) -> None:
         """The probes' images on their units; ``irradiance``: another image of the same
@@ -87,15 +89,14 @@ class IndirectLighting:
 
 
 def depth_atlas_size(grid: ProbeGrid) -> tuple:
-    """(width, height) of the depth tiles' image: PROBES_PER_BATCH tiles a row."""
-    return PROBES_PER_BATCH * DEPTH_TILE, math.ceil(grid.count / PROBES_PER_BATCH) * DEPTH_TILE
+    """(width, height) of the depth tiles' image: DEPTH_TILES_X tiles a row."""
+    return DEPTH_TILES_X * DEPTH_TILE, math.ceil(grid.count / DEPTH_TILES_X) * DEPTH_TILE
 
 
 def capture_size(grid: ProbeGrid, face: int) -> tuple:
-    """(width, height) of the image one batch of probes is captured into."""
-    batch = min(PROBES_PER_BATCH, grid.count)
-    columns = min(CAPTURE_COLUMNS, batch)
-    return columns * 6 * face, math.ceil(batch / columns) * face
+    """(width, height) of the images every probe's six faces are captured into."""
+    columns = min(CAPTURE_COLUMNS, grid.count)
+    return columns * 6 * face, math.ceil(grid.count / columns) * face
 
 
 def capture_reach(grid: ProbeGrid) -> float:
@@ -128,11 +129,18 @@ def face_view_projections(eye: np.ndarray, near: float, far: float, depth) -> li
 
 @dataclass(frozen=True)
 class IndirectData:
+    """The probes' images (IndirectLighting's two and ``last_irradiance``, the bounce
+    before, where there are several) and the captures: the light each texel gives
+    (``capture``, in later bounces ``relit``), its reflectance and its normal."""
+
     irradiance: Handle
     depth: Handle
     last_irradiance: Handle | None
     capture: Handle
+    reflectance: Handle
+    normal: Handle
     capture_depth: Handle
+    relit: Handle | None
 
 
 @dataclass(frozen=True)
@@ -154,15 +162,18 @@ class IndirectLightPass(RenderPass):
         views = tuple(handle for _, handle in self.inputs.shadow_views) if self.atlas_pages else ()
         builder.read(self.inputs.objects, self.inputs.materials, self.inputs.ambient, *self.inputs.per_light,
                      *views, *self.atlas_pages, *(self._environment().handles() if self.environment else ()))
-        count, face = self.grid.count, self.settings.capture_size
-        layout = ResourceDesc("color", (SH_COEFFICIENTS, count), "rgba32f")
-        capture = capture_size(self.grid, face)
+        layout = ResourceDesc("color", (SH_COEFFICIENTS, self.grid.count), "rgba32f")
+        capture = capture_size(self.grid, self.settings.capture_size)
+        several = self.settings.bounces > 1
         return IndirectData(
             builder.create("probe_irradiance", layout),
             builder.create("probe_depth", ResourceDesc("color", depth_atlas_size(self.grid), "rgba32f")),
-            builder.create("probe_irradiance_last", layout) if self.settings.bounces > 1 else None,
+            builder.create("probe_irradiance_last", layout) if several else None,
             builder.create("probe_capture", ResourceDesc("color", capture, "rgba32f")),
-            builder.create("probe_capture_depth", ResourceDesc("depth", capture, "camera_depth")))
+            builder.create("probe_capture_reflectance", ResourceDesc("color", capture, "rgba16f")),
+            builder.create("probe_capture_normal", ResourceDesc("color", capture, "rgba32f")),
+            builder.create("probe_capture_depth", ResourceDesc("depth", capture, "camera_depth")),
+            builder.create("probe_capture_relit", ResourceDesc("color", capture, "rgba32f")) if several else None)
 
     def describe(self) -> str:
         bounces = self.settings.bounces
@@ -180,29 +191,23 @@ class IndirectLightPass(RenderPass):
         anchor = self.grid.origin  # what everything is drawn relative to
         buffers = self._bind_lighting(ctx, anchor)
         try:
-            objects = ctx.input(self.inputs.objects)
-            drawn = [i for i, frame in enumerate(objects.frames) if frame.visible and frame.count]
-            for index in drawn:
-                ctx.place_instances(objects, index, anchor)
-            items = [(index, group, material) for index in drawn
-                     for group, material in enumerate(objects.definitions[index].materials)
-                     if objects.definitions[index].mesh.groups[group].count > 0 and not material.transparent]
-            targets = self._targets(data)
-            last = None
-            for bounce, target in enumerate(targets):
-                for first in range(0, self.grid.count, PROBES_PER_BATCH):
-                    self._capture(ctx, data, objects, items, first, last)
-                    self._project(ctx, data.capture, target, IRRADIANCE_FRAGMENT, first)
-                    if bounce == 0:
-                        self._project(ctx, data.capture, data.depth, DEPTH_FRAGMENT, first)
-                last = target
-            gl.finish()  # the bake's own time, for the progress line (once a bake)
-            ctx.outputs.setdefault("notes", []).append(
-                f"indirect light baked in {perf_counter() - started:.2f} s ({self.describe()})")
+            self._capture(ctx, data)
         finally:
             stop_culling(gl)
             for buffer in buffers:
                 buffer.release()
+        self._project(ctx, data.capture, data.depth, DEPTH_FRAGMENT)
+        last = None
+        for target in self._targets(data):
+            seen = data.capture
+            if last is not None:
+                self._relight(ctx, data, last)
+                seen = data.relit
+            self._project(ctx, seen, target, IRRADIANCE_FRAGMENT)
+            last = target
+        gl.finish()  # the bake's own time, for the progress line (once a bake)
+        ctx.outputs.setdefault("notes", []).append(
+            f"indirect light baked in {perf_counter() - started:.2f} s ({self.describe()})")
 
     def _targets(self, data: IndirectData) -> list:
         """The image each bounce writes, alternating so that the last writes the final one."""
@@ -211,7 +216,7 @@ class IndirectLightPass(RenderPass):
 
     def _bind_lighting(self, ctx, anchor: np.ndarray) -> tuple:
         """Bind the lights packed relative to ``anchor``, their shadow maps and the
-        environment; returns the buffers made for the lights (released after the bake)."""
+        environment; returns the buffers made for the lights (released after the capture)."""
         lights = [ctx.input(handle) for handle in self.inputs.per_light]
         views = {index: ctx.input(handle).views for index, handle in self.inputs.shadow_views} if self.atlas_pages else {}
         packed = pack_lights_from(lights, views, anchor, self.atlas)
@@ -227,48 +232,49 @@ class IndirectLightPass(RenderPass):
             self._environment().bind(ctx)
         return buffers
 
-    def _program(self, ctx, material, indirect: bool):
-        """The forward shader's variant for ``material`` drawn into a capture; ``indirect``:
-        with the last bounce's light."""
+    def _program(self, ctx, material):
+        """The forward shader's variant for ``material`` drawn into a capture."""
         def make():
             defines = ctx.features.forward_defines(material, False)
             for key in [k for k in defines if k.startswith("FOG_") or k.startswith("ENV_VIS_INTER")
                         or k in ("HAS_FOG", "ENV_VIS_PER_PIXEL")]:
                 defines.pop(key)
             defines["INDIRECT_CAPTURE"] = True
-            if indirect and "UNLIT" not in defines:
-                defines.update(IndirectLighting(self.grid, None, None).defines())
             program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, defines)
             bind_texture_units(program)
             return program
 
-        return ctx.programs.memo(("indirect_capture", id(material), indirect), make)
+        return ctx.programs.memo(("indirect_capture", id(material)), make)
 
-    def _capture(self, ctx, data: IndirectData, objects, items: list, first: int, last: Handle | None) -> None:
-        """Draw the batch of probes from ``first`` into the capture image; ``last``: the
-        previous bounce's irradiance, which the surfaces they see then add."""
+    def _capture(self, ctx, data: IndirectData) -> None:
+        """Draw every probe's six faces into the capture images."""
         gl = ctx.gl
+        objects = ctx.input(self.inputs.objects)
+        drawn = [i for i, frame in enumerate(objects.frames) if frame.visible and frame.count]
+        for index in drawn:
+            ctx.place_instances(objects, index, self.grid.origin)
+        items = [(index, group, material) for index in drawn
+                 for group, material in enumerate(objects.definitions[index].materials)
+                 if objects.definitions[index].mesh.groups[group].count > 0 and not material.transparent]
         face = self.settings.capture_size
         reach = capture_reach(self.grid)
-        fbo = ctx.framebuffer([data.capture], data.capture_depth)
+        fbo = ctx.framebuffer([data.capture, data.reflectance, data.normal], data.capture_depth)
         fbo.use()
         fbo.viewport = (0, 0, *ctx.image(data.capture).size)
+        fbo.clear(0.0, 0.0, 0.0, reach, depth=ctx.depth.clear_value)  # all three: a miss has distance 0 in the normal's
         fbo.clear(0.0, 0.0, 0.0, reach, depth=ctx.depth.clear_value)
         gl.enable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.BLEND | moderngl.CULL_FACE)  # both sides of every surface, as the camera's two-sided shading
         gl.depth_func = ctx.depth.nearer
-        if last is not None:
-            IndirectLighting(self.grid, data.irradiance, data.depth).bind(ctx, last)
-        positions = self.grid.positions()[first:first + PROBES_PER_BATCH] - self.grid.origin
+        positions = self.grid.positions() - self.grid.origin
         near = 1e-3 * float(np.linalg.norm(self.grid.spacing))
         far = 2.0 * float(np.linalg.norm(self.grid.spacing * np.array(self.grid.counts))) + reach
         views = [face_view_projections(eye, near, far, ctx.depth) for eye in positions]
         materials = ctx.input(self.inputs.materials)
         frame_values = dict(u_ambient=ctx.input(self.inputs.ambient), u_capture_far=reach,
-                            **IndirectLighting(self.grid, None, None).uniforms(self.grid.origin),
                             **(self._environment().uniforms(ctx, self.grid.origin) if self.environment else {}))
         for index, group, material in items:
-            program = self._program(ctx, material, last is not None)
+            program = self._program(ctx, material)
             set_uniforms(program, **frame_values)
             bind_material(program, material, materials)
             view_proj = program["u_view_proj"]
@@ -282,24 +288,30 @@ class IndirectLightPass(RenderPass):
                     view_proj.write(matrix)
                     ctx.draw_placed(program, objects, index, group)
 
-    def _project(self, ctx, capture: Handle, target: Handle, fragment: str, first: int) -> None:
-        """Reduce the batch's captures to its probes' rows (irradiance) or tiles (depth)
-        of ``target``."""
-        gl = ctx.gl
-        batch = min(PROBES_PER_BATCH, self.grid.count - first)
-        fbo = ctx.framebuffer([target])
-        fbo.use()
-        gl.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        defines = {"CAPTURE_SIZE": self.settings.capture_size, "CAPTURE_COLUMNS": CAPTURE_COLUMNS,
-                   "PROBE_DEPTH_SIZE": DEPTH_TILE, "PROBE_DEPTH_TILES_X": PROBES_PER_BATCH}
-        program = ctx.programs.get(FULLSCREEN_VERTEX, fragment, defines)
+    def _relight(self, ctx, data: IndirectData, last: Handle) -> None:
+        """The captures' light after one bounce more, from the ``last`` bounce's probes,
+        into ``relit``."""
+        begin_fullscreen_pass(ctx, data.relit)
+        program = ctx.programs.get(FULLSCREEN_VERTEX, RELIGHT_FRAGMENT,
+                                   {**self._capture_defines(), **IndirectLighting(self.grid, None, None).defines()})
+        bind_texture_units(program)
+        IndirectLighting(self.grid, data.irradiance, data.depth).bind(ctx, last)
+        ctx.image(data.capture).use(TEXTURE_UNITS["u_capture"])
+        ctx.image(data.reflectance).use(TEXTURE_UNITS["u_capture_reflectance"])
+        ctx.image(data.normal).use(TEXTURE_UNITS["u_capture_normal"])
+        set_uniforms(program, **IndirectLighting(self.grid, None, None).uniforms(self.grid.origin))
+        ctx.fullscreen(program)
+
+    def _capture_defines(self) -> dict:
+        return {"CAPTURE_SIZE": self.settings.capture_size, "CAPTURE_COLUMNS": CAPTURE_COLUMNS,
+                "PROBE_DEPTH_SIZE": DEPTH_TILE, "PROBE_DEPTH_TILES_X": DEPTH_TILES_X}
+
+    def _project(self, ctx, capture: Handle, target: Handle, fragment: str) -> None:
+        """Reduce the captures (``capture``) to every probe's row (irradiance) or tile
+        (depth) of ``target``."""
+        begin_fullscreen_pass(ctx, target)
+        program = ctx.programs.get(FULLSCREEN_VERTEX, fragment, self._capture_defines())
         bind_texture_units(program)
         ctx.image(capture).use(TEXTURE_UNITS["u_capture"])
-        if fragment == IRRADIANCE_FRAGMENT:
-            fbo.viewport = (0, first, SH_COEFFICIENTS, batch)
-            set_uniforms(program, u_first_row=first)
-        else:
-            row = first // PROBES_PER_BATCH
-            fbo.viewport = (0, row * DEPTH_TILE, batch * DEPTH_TILE, DEPTH_TILE)
-            set_uniforms(program, u_first_probe=first)
+        set_uniforms(program, u_probes=self.grid.count)
         ctx.fullscreen(program)
