@@ -61,7 +61,7 @@ class AmbientOcclusion(StrictModel):
 
 
 class IndirectLight(StrictModel):
-    bounces: number(1, 8, integer=True) = 2
+    bounces: number(1, 32, integer=True) = 8
     probe_spacing: number(0, lo_open=True) | None = None
     capture_size: number(4, 64, integer=True) = 16
 
