@@ -494,10 +494,14 @@ def diff(reference, output, report, as_json, **limits):
               default=option_rules.DEFAULT_SHUTTER_SAMPLES, show_default=True,
               help="With camera.shutter: instants over the open shutter averaged (one drawn at random in each "
                    "slice, seeded). With camera.aperture every ray starts at its own random point of the lens.")
+@click.option("--bounces", type=RuleType(option_rules.BOUNCES), default=0, show_default=True,
+              help="0: direct light only. N: path tracing, light that bounced off up to N surfaces too "
+                   "(each light, the environment and ambient sampled at every bounce, emissive surfaces "
+                   "light what they face; Russian roulette after 3 bounces; seeded).")
 @_scene_overrides(with_samples=False)
 @_asset_root_option
-def reference(scene, output, frames, spp, ambient_samples, environment_samples, shutter_samples, overrides,
-              asset_roots):
+def reference(scene, output, frames, spp, ambient_samples, environment_samples, shutter_samples, bounces,
+              overrides, asset_roots):
     """Render SCENE (render.mode: shaded) with the CPU reference: ray-cast visibility, exact
     hard shadows, the GPU's shading equations, spp x spp samples a pixel. It is the truth
     error is measured against (`scenerender bench`), not a second renderer: normal and
@@ -517,7 +521,8 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
     for index in parse_frame_range(frames, loaded.frame_count):
         started = time.perf_counter()
         frame = render_reference(loaded, index, spp=spp, warn=warn, ambient_samples=ambient_samples,
-                                 environment_samples=environment_samples, shutter_samples=shutter_samples)
+                                 environment_samples=environment_samples, shutter_samples=shutter_samples,
+                                 bounces=bounces)
         paths = write_reference(frame, output)
         warn = None  # the left-out features are the same on every frame
         click.echo(f"frame {index}: {', '.join(str(p) for p in paths)} ({time.perf_counter() - started:.1f} s)")
@@ -544,10 +549,13 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
               default=option_rules.DEFAULT_ENVIRONMENT_SAMPLES, show_default=True,
               help="Directions a sample an environment light is gathered from (Monte Carlo, seeded, "
                    "importance-sampled between the cosine and the GGX lobe), each blocked by surfaces in its way.")
+@click.option("--bounces", type=RuleType(option_rules.BOUNCES), default=0, show_default=True,
+              help="The reference's bounces (see `scenerender reference --help`): 0 measures against direct "
+                   "light only, 16 against the path-traced whole.")
 @_scene_overrides(with_samples=False)
 @click.option("--json", "as_json", is_flag=True, help="Print the rows as JSON on stdout.")
 @_asset_root_option
-def bench(scene, output, knobs, frames, rounds, spp, environment_samples, overrides, as_json, asset_roots):
+def bench(scene, output, knobs, frames, rounds, spp, environment_samples, bounces, overrides, as_json, asset_roots):
     """Sweep SCENE's quality knobs (MSAA, shadow map size, PCF, bias, AO, image size, an
     environment light's prefilter size, SH order and prefilter samples, and the soft
     shadows' blocker and filter reads where a shadowed light has a size) on
@@ -562,9 +570,9 @@ def bench(scene, output, knobs, frames, rounds, spp, environment_samples, overri
     echo = (lambda text: click.echo(text, err=True))
     rows = sweep.run_bench(scene, overrides, knobs=knobs or sweep.KNOBS, frames=frames,
                            rounds=rounds, spp=spp, echo=echo, asset_roots=asset_roots,
-                           environment_samples=environment_samples)
+                           environment_samples=environment_samples, bounces=bounces)
     meta = {"frames": frames, "rounds": rounds, "spp": spp, "environment_samples": environment_samples,
-            "overrides": overrides}
+            "bounces": bounces, "overrides": overrides}
     paths = sweep.write_outputs(scene.stem, rows, output, meta)
     if as_json:
         click.echo(json.dumps([row.to_json() for row in rows], indent=2))

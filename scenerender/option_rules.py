@@ -83,3 +83,4 @@ ENVIRONMENT_SAMPLES = NumberRule("environment samples", lo=1, hi=65536, integer=
 DEFAULT_ENVIRONMENT_SAMPLES = 4  # directions a sample point draws from an environment light
 SHUTTER_SAMPLES = NumberRule("shutter samples", lo=1, hi=4096, integer=True)
 DEFAULT_SHUTTER_SAMPLES = 32  # instants over an open shutter (camera.shutter)
+BOUNCES = NumberRule("bounces", lo=0, hi=1024, integer=True)  # 0: direct light only

@@ -57,6 +57,10 @@ _CHUNK_SAMPLES = 400_000
 ENVIRONMENT_SAMPLES = option_rules.DEFAULT_ENVIRONMENT_SAMPLES
 # Instants over an open shutter (camera.shutter), by default.
 SHUTTER_SAMPLES = option_rules.DEFAULT_SHUTTER_SAMPLES
+# Bounces after which a path is ended at random (Russian roulette), and the most chance
+# it then has to go on: below 1, so a path in a closed white room still ends.
+ROULETTE_AFTER = 3
+MAX_SURVIVAL = 0.95
 
 
 @dataclass
@@ -119,7 +123,7 @@ def unsupported_features(world) -> list[str]:
 def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None = None,
                      warn=None, ambient_samples: int = 0,
                      environment_samples: int = ENVIRONMENT_SAMPLES,
-                     shutter_samples: int = SHUTTER_SAMPLES) -> ReferenceFrame:
+                     shutter_samples: int = SHUTTER_SAMPLES, bounces: int = 0) -> ReferenceFrame:
     """Frame ``index`` of ``world`` (a World or a scenerender.Scene), spp x spp rays a pixel.
 
     size: (width, height), default the scene's render.size. ``warn`` receives one line
@@ -129,15 +133,17 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
     directions per sample point over which an environment light is integrated.
     shutter_samples: with ``camera.shutter``, the instants over the open shutter averaged
     (shutter_offsets); with ``camera.aperture`` every ray starts at its own random point of
-    the lens (seeded by the frame). The four counts keep the rules of
-    scenerender.option_rules (SPP, AMBIENT_SAMPLES, ENVIRONMENT_SAMPLES, SHUTTER_SAMPLES)."""
+    the lens (seeded by the frame). bounces: 0 for direct light only, else the most
+    surfaces a path from a visible point bounces off (see _FrameScene._indirect). The five
+    counts keep the rules of scenerender.option_rules (SPP, AMBIENT_SAMPLES,
+    ENVIRONMENT_SAMPLES, SHUTTER_SAMPLES, BOUNCES)."""
     world = getattr(world, "world", world)
     if world.render.mode != "shaded":
         raise single_error(f"the reference renders mode 'shaded' only, not '{world.render.mode}'",
                            ("render", "mode"), world.scene.source)
     for rule, value in ((option_rules.SPP, spp), (option_rules.AMBIENT_SAMPLES, ambient_samples),
                         (option_rules.ENVIRONMENT_SAMPLES, environment_samples),
-                        (option_rules.SHUTTER_SAMPLES, shutter_samples)):
+                        (option_rules.SHUTTER_SAMPLES, shutter_samples), (option_rules.BOUNCES, bounces)):
         if rule.problem(value) is not None:
             raise UserError(rule.problem(value))
     missing = unsupported_features(world)
@@ -147,7 +153,7 @@ def render_reference(world, index: int = 0, *, spp: int = 4, size: tuple | None 
     time = index / float(world.output.fps)
     evaluator = FrameEvaluator(world, (width, height), atlas=None)
     parts = [_render_instant(world, evaluator, index, time + offset, (width, height), spp, warn, ambient_samples,
-                             environment_samples, sub_frame)
+                             environment_samples, sub_frame, bounces)
              for sub_frame, offset in enumerate(shutter_offsets(world, index, shutter_samples))]
     # the float outputs are means over the sub-frames; which object a pixel shows is the
     # first sub-frame's (the one nearest the frame's time)
@@ -197,7 +203,7 @@ def shutter_offsets(world, index: int, count: int) -> list[float]:
 
 
 def _render_instant(world, evaluator, index: int, time: float, size: tuple, spp: int, warn, ambient_samples: int,
-                    environment_samples: int, sub_frame: int) -> tuple:
+                    environment_samples: int, sub_frame: int, bounces: int = 0) -> tuple:
     """(linear, shadow, cone, objects, mixed, blocked) of the scene at ``time``, each
     sample's ray from its own point of the lens where the camera has an aperture."""
     width, height = size
@@ -207,7 +213,8 @@ def _render_instant(world, evaluator, index: int, time: float, size: tuple, spp:
     scene = _FrameScene(world, frame, warn, ambient_samples,
                         np.random.Generator(np.random.PCG64([index, 1, *later])), environment_samples,
                         np.random.Generator(np.random.PCG64([index, 2, *later])),
-                        np.random.Generator(np.random.PCG64([index, 3, *later])), lens)
+                        np.random.Generator(np.random.PCG64([index, 3, *later])), lens, bounces,
+                        np.random.Generator(np.random.PCG64([index, 4, *later])))
     rng = np.random.Generator(np.random.PCG64([index, *later]) if later else np.random.PCG64(index))
     rows_per_chunk = max(1, _CHUNK_SAMPLES // (width * spp * spp))
     chunks = [scene.render_rows(y0, min(height, y0 + rows_per_chunk), width, height, spp, rng)
@@ -229,9 +236,11 @@ class _FrameScene:
 
     def __init__(self, world, frame, warn, ambient_samples: int = 0, ambient_rng=None,
                  environment_samples: int = ENVIRONMENT_SAMPLES, environment_rng=None, light_rng=None,
-                 lens: tuple | None = None):
+                 lens: tuple | None = None, bounces: int = 0, bounce_rng=None):
         """light_rng: draws points of lights with a size; lens: (radius, focus distance) of a
-        thin lens, None for a pinhole."""
+        thin lens, None for a pinhole; bounces: see _indirect, whose paths draw every random
+        number from ``bounce_rng`` (so the direct light at visible points draws what it
+        draws without bounces)."""
         self.world = world
         self.light_rng = light_rng if light_rng is not None else np.random.Generator(np.random.PCG64(3))
         self.lens = lens
@@ -240,6 +249,10 @@ class _FrameScene:
         self.ambient_rng = ambient_rng
         self.environment_samples = environment_samples
         self.environment_rng = environment_rng
+        self.draws = _Draws(ambient_rng, environment_rng, self.light_rng)
+        self.bounces = bounces
+        self.bounce_rng = bounce_rng if bounce_rng is not None else np.random.Generator(np.random.PCG64(4))
+        self.bounce_draws = _Draws(self.bounce_rng, self.bounce_rng, self.bounce_rng)
         self.environment_image = _image_sampler(world, frame)
         self.soup: Soup = frame_soup(world, frame)
         self.primary = TriangleCaster(self.soup.corners, warn)
@@ -342,7 +355,27 @@ class _FrameScene:
         and the radiance each shadow takes away (P, S) at hit points ``p``
         (camera-relative (P, 3)) on triangles ``tri`` (P,),
         barycentric (u, v); ``strata``: the environment's directions' strata
-        (environment.pixel_strata)."""
+        (environment.pixel_strata). With ``bounces`` the colour holds the light that
+        reaches the point after bouncing off other surfaces too (``_indirect``)."""
+        hit = self._surface(tri, p, ray, u, v)
+        color, shadow, cone, taken = self._lit(hit, p, strata, self.draws)
+        if self.bounces:
+            color = color + self._indirect(hit, p)
+        fog = self.world.render.fog
+        if fog is not None:
+            distance = np.linalg.norm(p, axis=1)
+            color = shading.apply_fog(color, distance, self.frame.fog_color, fog.mode,
+                                      self.frame.fog_density, fog.start, fog.end)
+            taken = taken * shading.fog_visibility(distance, fog.mode, self.frame.fog_density, fog.start,
+                                                   fog.end)[:, None]
+        return color, shadow, cone, hit.n, taken
+
+    def _surface(self, tri: np.ndarray, p: np.ndarray, ray: np.ndarray, u: np.ndarray, v: np.ndarray,
+                 view: np.ndarray | None = None) -> "_Hit":
+        """The surface at hit points ``p`` (P, 3) of rays along ``ray`` (P, 3) on triangles
+        ``tri`` (P,), barycentric (u, v): normals turned towards the ray's side, the
+        material's values with vertex colours and maps applied. ``view`` (P, 3) unit towards
+        where the ray came from; default towards the eye (the origin)."""
         soup, table = self.soup, self.table
         corners = soup.corners[tri]
         geometric = shading.safe_normalize(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
@@ -353,7 +386,8 @@ class _FrameScene:
         back = np.sum(geometric * ray, axis=1) > 0.0
         n = np.where(back[:, None], -n, n)
         facing = np.where(back[:, None], -geometric, geometric)
-        view = shading.safe_normalize(-p, n)
+        if view is None:
+            view = shading.safe_normalize(-p, n)
         m = soup.material[tri]
         surface = {key: table[key][m] for key in ("diffuse", "ambient", "specular", "emissive", "shininess",
                                                    "metallic", "roughness")}
@@ -363,18 +397,25 @@ class _FrameScene:
                                                    + colors[:, 2] * v[:, None])[:, :3]
         if self.maps:
             self._apply_maps(m, soup.uvs[tri], u, v, surface)
+        return _Hit(n, facing, view, surface, table["model"][m])
+
+    def _lit(self, hit: "_Hit", p: np.ndarray, strata, draws: "_Draws"):
+        """(colour (P, 3), shadow flags (P, S), cone factors (P, C), radiance each shadow
+        takes away (P, S)) of the surface ``hit`` at points ``p`` (P, 3): its emission, the
+        ambient and environment terms and every light's direct term, before fog; unlit
+        points show base + emission. ``draws`` gives the random numbers."""
+        n, facing, view, surface, model = hit.n, hit.facing, hit.view, hit.surface, hit.model
         base, ke = surface["diffuse"], surface["emissive"]
-        model = table["model"][m]
         pbr = model == MODELS.index("pbr")
-        ambient = self._ambient(p, n, facing, view, surface, model) if self.ambient_samples else self._ambient_formula(
-            n, view, surface, pbr)
-        ambient = ambient + self._environment(p, n, facing, view, surface, model, strata)
+        ambient = (self._ambient(p, n, facing, view, surface, model, draws.ambient) if self.ambient_samples
+                   else self._ambient_formula(n, view, surface, pbr))
+        ambient = ambient + self._environment(p, n, facing, view, surface, model, strata, draws.environment)
         color = ambient * surface["occlusion"][:, None] + ke
         shadow = np.zeros((len(p), len(self.shadowed)))
         taken = np.zeros((len(p), len(self.shadowed)))
         cone = np.zeros((len(p), len(self.spots)))
         for light_index, light in enumerate(self.lights):
-            l, radiance, in_cone, reach = self._light_at(light, p, n)
+            l, radiance, in_cone, reach = self._light_at(light, p, n, draws.light)
             if light.kind == "spot":
                 cone[:, self.spots.index(light_index)] = in_cone
             term = self._direct(n, l, view, radiance, surface, model)
@@ -387,14 +428,81 @@ class _FrameScene:
         unlit = model == MODELS.index("unlit")
         color = np.where(unlit[:, None], base + ke, color)
         taken = np.where(unlit[:, None], 0.0, taken)
-        fog = self.world.render.fog
-        if fog is not None:
-            distance = np.linalg.norm(p, axis=1)
-            color = shading.apply_fog(color, distance, self.frame.fog_color, fog.mode,
-                                      self.frame.fog_density, fog.start, fog.end)
-            taken = taken * shading.fog_visibility(distance, fog.mode, self.frame.fog_density, fog.start,
-                                                   fog.end)[:, None]
-        return color, shadow, cone, n, taken
+        return color, shadow, cone, taken
+
+    def _indirect(self, hit: "_Hit", p: np.ndarray) -> np.ndarray:
+        """(P, 3) the light leaving points ``p`` (P, 3) of surface ``hit`` towards the eye
+        after one to ``bounces`` bounces: from each point a path continues in a direction
+        drawn from its BRDF (_continuation); at each surface the path meets, what _lit gives
+        there (its emission, and the ambient, environment and every light's term: next-event
+        estimation) is added, times the path's throughput. After ROULETTE_AFTER bounces a
+        path goes on with the chance of its throughput's largest channel (at most
+        MAX_SURVIVAL) and is divided by it (Russian roulette: no bias). Unlit surfaces
+        reflect nothing: a path ends there, taking only their emission. Paths that leave the
+        scene end; the environment and ambient light reach them by next-event estimation
+        only (the background is not a light)."""
+        total = np.zeros_like(p)
+        rows = np.flatnonzero(hit.model != MODELS.index("unlit"))
+        hit, p = hit.take(rows), p[rows]
+        throughput = np.ones((len(rows), 3))
+        rng = self.bounce_rng
+        for bounce in range(1, self.bounces + 1):
+            l, weight = self._continuation(hit, rng)
+            throughput = throughput * weight
+            going = np.any(throughput > 0.0, axis=1)
+            if bounce > ROULETTE_AFTER:
+                survival = np.minimum(throughput.max(axis=1), MAX_SURVIVAL)
+                going &= rng.random(len(rows)) < survival
+                throughput = throughput / np.maximum(survival, 1e-300)[:, None]
+            epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p, axis=1)
+            origins = p + hit.facing * epsilon[:, None]
+            triangles = np.full(len(rows), -1, dtype=np.int64)
+            if self.primary_count:
+                triangles[going] = self.primary.first_hit(origins[going], l[going])
+            met = np.flatnonzero(triangles >= 0)
+            if not len(met):
+                break
+            t, u, v = self.primary.hit_parameters(triangles[met], origins[met], l[met])
+            rows, throughput, l = rows[met], throughput[met], l[met]
+            p = origins[met] + l * t[:, None]
+            hit = self._surface(triangles[met], p, l, u, v, view=-l)
+            color = self._lit(hit, p, None, self.bounce_draws)[0]
+            unlit = hit.model == MODELS.index("unlit")
+            color = np.where(unlit[:, None], hit.surface["emissive"], color)
+            total[rows] += throughput * color
+            keep = np.flatnonzero(~unlit)
+            rows, throughput, hit, p = rows[keep], throughput[keep], hit.take(keep), p[keep]
+        return total
+
+    @staticmethod
+    def _continuation(hit: "_Hit", rng) -> tuple[np.ndarray, np.ndarray]:
+        """(l (P, 3) unit, weight (P, 3)): the direction each path goes on in from surface
+        ``hit``, and f (N.l) / pdf, the BRDF over the density it was drawn with. Phong and
+        Blinn-Phong surfaces reflect their diffuse part only (base / pi, drawn
+        cosine-weighted: the weight is the base colour); pbr ones their whole BRDF, drawn
+        from the mixture of the cosine and GGX's visible normals that the environment light
+        uses (environment_sampling.draw_directions, weighted by the mixture's density: the
+        balance heuristic). Zero weight for a direction below the surface's own plane."""
+        n, view, surface = hit.n, hit.view, hit.surface
+        frame = environment.TangentFrame(n)
+        local_view = environment.sampling_view(n, frame.tangent, frame.bitangent, view)
+        alpha = shading.pbr_alpha(surface["roughness"])
+        pbr = hit.model == MODELS.index("pbr")
+        choice = np.zeros(len(n))
+        if pbr.any():
+            choice[pbr] = environment.ggx_choice(np.sum(n[pbr] * view[pbr], axis=1), surface["diffuse"][pbr],
+                                                 surface["metallic"][pbr])
+        local = environment.draw_directions(rng, local_view, alpha, choice, rng.random(len(n)))
+        l = shading.safe_normalize(frame.to_world(local), n)
+        weight = surface["diffuse"].copy()  # (base / pi) cos / (cos / pi)
+        if pbr.any():
+            pdf = environment.mixture_pdf(local[pbr], local_view[pbr], alpha[pbr], choice[pbr])
+            reflected = shading.pbr_direct_term(n[pbr], l[pbr], view[pbr], np.ones((int(pbr.sum()), 3)),
+                                                surface["diffuse"][pbr], surface["metallic"][pbr],
+                                                surface["roughness"][pbr]) / np.pi
+            weight[pbr] = np.where((pdf > 0.0)[:, None], reflected / np.maximum(pdf, 1e-300)[:, None], 0.0)
+        above = (local[:, 2] > 0.0) & (np.sum(l * hit.facing, axis=1) > 0.0)
+        return l, np.where(above[:, None], weight, 0.0)
 
     @staticmethod
     def _direct(n, l, view, radiance, surface: dict, model: np.ndarray) -> np.ndarray:
@@ -423,7 +531,7 @@ class _FrameScene:
                                                  surface["roughness"][pbr])
         return shading.ambient_term(self.frame.ambient, surface["ambient"], reflected)
 
-    def _ambient(self, p, n, facing, view, surface: dict, model: np.ndarray) -> np.ndarray:
+    def _ambient(self, p, n, facing, view, surface: dict, model: np.ndarray, rng) -> np.ndarray:
         """(P, 3) La Ka times the BRDF integrated over the hemisphere by Monte Carlo:
         ``ambient_samples`` cosine-distributed directions a point (pdf cos / pi, so each
         weighs pi f = the light term over N.L), each blocked by any surface in its way."""
@@ -434,7 +542,7 @@ class _FrameScene:
         tangent, bitangent = environment.tangent_frame(n)
         epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p, axis=1)
         for _ in range(self.ambient_samples):
-            local = environment.cosine_directions(*self.ambient_rng.random((2, len(p))))
+            local = environment.cosine_directions(*rng.random((2, len(p))))
             cos = local[:, 2]
             l = tangent * local[:, :1] + bitangent * local[:, 1:2] + n * local[:, 2:]
             radiance = np.broadcast_to(ambient, n.shape)
@@ -445,7 +553,7 @@ class _FrameScene:
             total += term
         return total / self.ambient_samples * surface["ambient"]
 
-    def _environment(self, p, n, facing, view, surface: dict, model: np.ndarray, strata=None) -> np.ndarray:
+    def _environment(self, p, n, facing, view, surface: dict, model: np.ndarray, strata, rng) -> np.ndarray:
         """(P, 3) Ka times the environment light's radiance reflected towards the eye, by
         Monte Carlo (scenerender.raytrace.environment_sampling); zero without one."""
         state = self.frame.environment
@@ -461,7 +569,7 @@ class _FrameScene:
                           0.0)
         reflected = _environment_reflection(state, self.world.environment.image, n, view, part, pbr)
         gathered = environment.gather(n, view, shading.pbr_alpha(part["roughness"]), choice, self.environment_samples,
-                                      self.environment_rng, reflected, self._open_sky(p[rows], facing[rows]),
+                                      rng, reflected, self._open_sky(p[rows], facing[rows]),
                                       self.environment_image, strata[rows] if strata is not None else None)
         out[rows] = gathered * part["ambient"]
         return out
@@ -513,7 +621,7 @@ class _FrameScene:
             if "occlusion_map" in sample:
                 surface["occlusion"][rows] = 1.0 + strength * (sample["occlusion_map"][:, 0] - 1.0)
 
-    def _light_at(self, light, p: np.ndarray, n: np.ndarray):
+    def _light_at(self, light, p: np.ndarray, n: np.ndarray, rng):
         """(l (P, 3) unit towards the light, radiance (P, 3), cone factor (P,), reach (P,):
         how far along l the light is, inf for a directional light, None for a point one:
         its position). A light with a size
@@ -523,13 +631,13 @@ class _FrameScene:
         if light.definition.area:
             centre = light.position - self.frame.camera.position
             l, weight, reach = sized_lights.area_directions(centre, light.direction, light.kind,
-                                                            light.definition.extent, p, self.light_rng)
+                                                            light.definition.extent, p, rng)
             return l, light.color[None, :] * weight[:, None], np.ones(len(p)), reach
         if light.kind == "directional":
             l = np.broadcast_to(-light.direction, p.shape)
             radiance = np.broadcast_to(light.color, p.shape)
             if size > 0.0:
-                l, weight = sized_lights.disc_directions(light.direction, size, len(p), self.light_rng)
+                l, weight = sized_lights.disc_directions(light.direction, size, len(p), rng)
                 radiance = radiance * weight[:, None]
             return l, radiance, np.ones(len(p)), np.full(len(p), np.inf)
         to_light = (light.position - self.frame.camera.position)[None, :] - p
@@ -541,7 +649,7 @@ class _FrameScene:
             cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1))
             radiance = radiance * cone[:, None]
         if size > 0.0:
-            l, weight, reach = sized_lights.sphere_directions(to_light, size, self.light_rng)
+            l, weight, reach = sized_lights.sphere_directions(to_light, size, rng)
             return l, radiance * weight[:, None], cone, reach
         return l, radiance, cone, None
 
@@ -577,6 +685,34 @@ class _FrameScene:
 
 
 MODELS = ("phong", "blinn_phong", "pbr", "unlit")
+
+
+@dataclass
+class _Hit:
+    """Surface points ready to shade, one row each: n (P, 3) shading normal and facing
+    (P, 3) geometric normal, both on the side the ray came from; view (P, 3) unit towards
+    where it came from; surface: the material's values per point ({key: (P, ...)});
+    model (P,) index into MODELS."""
+
+    n: np.ndarray
+    facing: np.ndarray
+    view: np.ndarray
+    surface: dict
+    model: np.ndarray
+
+    def take(self, rows: np.ndarray) -> "_Hit":
+        return _Hit(self.n[rows], self.facing[rows], self.view[rows],
+                    {key: value[rows] for key, value in self.surface.items()}, self.model[rows])
+
+
+@dataclass(frozen=True)
+class _Draws:
+    """The generators one shading of points draws from: ambient and environment
+    directions, points of lights with a size."""
+
+    ambient: np.random.Generator | None
+    environment: np.random.Generator | None
+    light: np.random.Generator
 # maps the reference samples (only the pbr model reads the metallic and roughness ones)
 SAMPLED_MAPS = ("diffuse_map", "specular_map", "emissive_map", "occlusion_map", "metallic_roughness_map",
                 "roughness_map", "metallic_map")

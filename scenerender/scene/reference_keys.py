@@ -167,7 +167,7 @@ KEYS: dict[str, Key] = {
     "materials.<name>.diffuse": Key("Kd: the surface colour (alpha included). Not set: the MTL value, else `[0.8, 0.8, 0.8]`.", "[0.6, 0.4, 0.2]"),
     "materials.<name>.specular": Key("Ks: colour of the highlight. Not set: the MTL value, else `[0.25, 0.25, 0.25]`.", "[0.4, 0.4, 0.4]"),
     "materials.<name>.shininess": Key("Ns: highlight exponent; 0 gives a flat lobe. Not set: the MTL value, else 32.", "64"),
-    "materials.<name>.emissive": Key("Ke: light the surface gives off by itself (it lights other surfaces only through `render.indirect`). Not set: the MTL value, else black.", "[0.2, 0.05, 0]"),
+    "materials.<name>.emissive": Key("Ke: light the surface gives off by itself (it lights other surfaces only through `render.indirect`, and in `scenerender reference --bounces`). Not set: the MTL value, else black.", "[0.2, 0.05, 0]"),
     "materials.<name>.opacity": Key("d: below 1 the surface is drawn in the transparent pass, sorted far to near. Not set: the MTL value, else 1.", "0.4"),
     "materials.<name>.diffuse_map": Key("map_Kd: texture multiplying `diffuse`; decoded as sRGB.", "textures/ground.png"),
     "materials.<name>.specular_map": Key("map_Ks: texture multiplying `specular`; decoded as sRGB.", "textures/ground.png"),

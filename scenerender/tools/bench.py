@@ -183,10 +183,11 @@ def sweep_variants(scene, knobs=KNOBS) -> list[Variant]:
 
 def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int = 2, spp: int = 16,
               echo=lambda text: None, asset_roots=(),
-              environment_samples: int = ENVIRONMENT_SAMPLES) -> list[BenchRow]:
+              environment_samples: int = ENVIRONMENT_SAMPLES, bounces: int = 0) -> list[BenchRow]:
     """Sweep ``path`` (a scene file) and return one BenchRow per variant, Pareto flags set
     on (ms_per_frame, rmse_linear); the reference gathers an environment light from
-    ``environment_samples`` directions a sample."""
+    ``environment_samples`` directions a sample, and path-traces ``bounces`` bounces (0:
+    direct light only)."""
 
     base = load(path, list(overrides), asset_roots=asset_roots)
     rows = [BenchRow(v) for v in sweep_variants(base, knobs)]
@@ -198,8 +199,9 @@ def run_bench(path, overrides=(), *, knobs=KNOBS, frames: int = 3, rounds: int =
             if scene.size not in references:
                 started = time.perf_counter()
                 references[scene.size] = render_reference(scene, 0, spp=spp, warn=echo,
-                                                          environment_samples=environment_samples)
-                echo(f"reference {scene.size[0]}x{scene.size[1]}, {spp}x{spp} samples a pixel: "
+                                                          environment_samples=environment_samples,
+                                                          bounces=bounces)
+                echo(f"reference {scene.size[0]}x{scene.size[1]}, {spp}x{spp} samples a pixel, {bounces} bounces: "
                      f"{time.perf_counter() - started:.1f} s")
             with Renderer(scene, gl=gl, want_linear=True, profile=True) as renderer:
                 frame = renderer.render(0)
