@@ -1,6 +1,8 @@
-"""What render.indirect costs: scenes/interior.yaml still (the bake once, then every frame
-reads the probes) and with its ball rolling (the objects change every frame, so every
-frame bakes again), each against the same scene without the key, in one run, alternated.
+"""What render.indirect costs: scenes/interior.yaml still (the bake once; every frame is
+then the graph's cached result), with its camera moving (the bake once, every frame
+shades with the probes) and with its ball rolling (the objects change every frame, so
+every frame bakes again), each against the same scene without the key, in one run,
+alternated.
 
     python benchmarks/indirect_cost.py [FRAMES] [ROUNDS]    # default 6 frames, 3 rounds
 
@@ -23,9 +25,12 @@ from scenerender.gpu.gl_context import create_context  # noqa: E402
 SCENE = ROOT / "scenes" / "interior.yaml"
 SIZE = "render.size=[320, 200]"
 ROLLING = "objects[13].position={keys: [[0, [0.6, 0.3, 0.6]], [1, [-0.4, 0.3, 1.2]]]}"
+WALKING = "camera.position={keys: [[0, [2.2, 1.5, 2.2]], [1, [1.6, 1.5, 2.4]]]}"
 CASES = {
     "still, indirect off": [SIZE, "render.indirect=null"],
     "still, indirect on": [SIZE],
+    "camera moving, indirect off": [SIZE, "render.indirect=null", WALKING],
+    "camera moving, indirect on": [SIZE, WALKING],
     "rolling ball, indirect off": [SIZE, "render.indirect=null", ROLLING],
     "rolling ball, indirect on": [SIZE, ROLLING],
 }

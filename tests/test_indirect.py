@@ -5,16 +5,21 @@
   N bounces every wall shows e (1 + a + ... + a^N), exactly, wherever it is seen.
 - A thin wall: a lit room beside a dark one, a 5 cm wall between them. What reaches the
   dark room is the classic failure of probe grids (light interpolated through the wall).
-- Bounce off: the graph has no bake, the programs no probe lookup.
+- Bounce off: the graph has no bake, and it adds light where on.
+- The Cornell box against the path tracer, by region.
 
-Images are 96 x 72 (the furnace) and 160 x 80 (the rooms), linear light."""
+Images are 96 x 72 (the furnace), 160 x 80 (the rooms) and 128 x 128 (the Cornell box),
+linear light."""
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import scenerender
 from scenerender.rendering.renderer import plan
+from scenerender.tools.bounce_regions import bounce_regions, red_over_green, region_errors, relative_rmse
 
 pytestmark = pytest.mark.xdist_group("indirect")
 
@@ -102,7 +107,7 @@ def test_a_thin_wall_keeps_the_dark_room_dark(gl, wall, spacing):
     assert dark <= LEAK_LIMIT * lit, f"the dark room gets {dark / lit:.2%} of the lit room's light"
 
 
-def test_bounce_off_has_no_bake_and_no_lookup(gl):
+def test_bounce_off_has_no_bake(gl):
     text = ROOMS.format(wall=0.0, x=0.0)
     off = scenerender.Scene.from_yaml(text.replace(", indirect: {bounces: 2}", ""), ".")
     on = scenerender.Scene.from_yaml(text, ".")
@@ -115,3 +120,43 @@ def test_bounce_off_has_no_bake_and_no_lookup(gl):
 def _pass_names(scene) -> list:
     world = scene.world
     return plan(world, world.settings.size, world.settings.samples).compiled.pass_names
+
+
+# The Cornell box of benchmarks/quality/scenes/cornell_box.yaml at the setting's defaults,
+# against the path tracer's kept image (16 bounces, 1024 paths a pixel), by region
+# (scenerender/tools/bounce_regions.py). The goal is 5 % in every region; measured at the
+# defaults (benchmarks/quality/cornell_indirect.md): the ceiling +8.7 %, the floor in the
+# boxes' shadow and the corners +24 % (occlusion finer than the probe spacing), the short
+# box's front +5.2 %, every other region within 3 %. Each tolerance leaves about a point
+# over what is measured; the direct-only image is off by 40-100 % in every region.
+QUALITY = Path(__file__).resolve().parent.parent / "benchmarks" / "quality"
+CORNELL_TOLERANCES = {"ceiling": 0.10, "floor_under_light": 0.03, "floor_in_shadow": 0.27, "red_wall": 0.03,
+                      "green_wall": 0.03, "back_wall": 0.04, "box_sides": 0.04, "tall_box_front": 0.03,
+                      "short_box_front": 0.065}
+CORNELL_RMSE = 0.07     # measured 5.8 %; the issue's goal 10 %
+BLEEDING_TOLERANCE = 0.03  # red/green of each box's side face against the truth's: measured 1.5-2 % low
+
+
+def test_cornell_box_against_the_path_tracer(gl):
+    scene_file = QUALITY / "scenes" / "cornell_box.yaml"
+    kept = QUALITY / "references"
+    reference = np.load(kept / "cornell_box_bounces16.npy").astype(np.float64)
+    direct = np.load(kept / "cornell_box_direct.npy").astype(np.float64)
+    objects = np.load(kept / "cornell_box_objects.npy")
+
+    def render(overrides):
+        scene = scenerender.Scene.from_yaml(scene_file.read_text(), scene_file.parent, overrides)
+        return gpu_linear(scene, gl)
+
+    encoded = render(["render.mode=normals", "render.samples=1"])
+    normals = encoded * 2.0 - 1.0
+    normals /= np.maximum(np.linalg.norm(normals, axis=2, keepdims=True), 1e-9)
+    regions = bounce_regions(objects, normals, direct)
+    image = render(["render.indirect={}"])
+    errors = region_errors(image, reference, regions)
+    failed = {name: f"{100 * error:+.1f} %" for name, error in errors.items() if abs(error) > CORNELL_TOLERANCES[name]}
+    assert not failed, f"regions off the path tracer: {failed}"
+    assert relative_rmse(image, reference) < CORNELL_RMSE
+    for face in ("tall_box_front", "short_box_front"):
+        bleeding = red_over_green(image, regions[face]) / red_over_green(reference, regions[face])
+        assert abs(bleeding - 1.0) < BLEEDING_TOLERANCE, f"{face}: red/green {bleeding:.3f} of the truth's"
