@@ -7,19 +7,19 @@
 // PROBE_COUNTS: the grid's probes along x, y, z; positions relative to v_position's origin.
 #include "indirect/probes.glsl"
 
-uniform sampler2D u_probe_irradiance;  // texel (i, probe): SH coefficient i (cosine-convolved)
+uniform sampler2D u_probe_irradiance;  // octahedral tiles: irradiance towards each direction
 uniform sampler2D u_probe_depth;       // octahedral tiles: mean distance, mean squared distance
 uniform vec3 u_probe_origin;           // probe (0, 0, 0)
 uniform vec3 u_probe_spacing;          // between neighbours along x, y, z
 
-// the probe's (mean, mean squared) distance towards the unit direction d, filtered
-// within its tile (kept half a texel inside it, so no neighbour's texels mix in)
-vec2 probe_depth_moments(int probe, vec3 d) {
+// where the unit direction d lies in the probe's tile of the irradiance and the depth
+// images (one layout), to filter within it: kept half a texel inside the tile, so no
+// neighbour's texels mix in
+vec2 probe_tile_uv(int probe, vec3 d) {
     ivec2 tile = ivec2(probe % PROBE_DEPTH_TILES_X, probe / PROBE_DEPTH_TILES_X);
     vec2 inside = clamp((octahedral_encode(d) * 0.5 + 0.5) * float(PROBE_DEPTH_SIZE),
                         vec2(0.5), vec2(float(PROBE_DEPTH_SIZE) - 0.5));
-    vec2 texel = vec2(tile * PROBE_DEPTH_SIZE) + inside;
-    return textureLod(u_probe_depth, texel / vec2(textureSize(u_probe_depth, 0)), 0.0).rg;
+    return (vec2(tile * PROBE_DEPTH_SIZE) + inside) / vec2(textureSize(u_probe_depth, 0));
 }
 
 // Irradiance at p (normal n, v towards the viewer), from the probes.
@@ -32,10 +32,7 @@ vec3 probe_irradiance(vec3 p, vec3 n, vec3 v) {
     vec3 grid = (biased - u_probe_origin) / u_probe_spacing;
     ivec3 base = clamp(ivec3(floor(grid)), ivec3(0), max(counts - 2, ivec3(0)));
     vec3 alpha = clamp(grid - vec3(base), 0.0, 1.0);
-    vec3 sum[9];
-    for (int i = 0; i < 9; ++i) {
-        sum[i] = vec3(0.0);
-    }
+    vec3 sum = vec3(0.0);
     float total = 0.0;
     for (int corner = 0; corner < 8; ++corner) {
         ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
@@ -49,7 +46,7 @@ vec3 probe_irradiance(vec3 p, vec3 n, vec3 v) {
         // Chebyshev: the chance the point lies no farther than what the probe sees
         vec3 from_probe = biased - position;
         float distance = length(from_probe);
-        vec2 moments = probe_depth_moments(probe, safe_normalize(from_probe, n));
+        vec2 moments = textureLod(u_probe_depth, probe_tile_uv(probe, safe_normalize(from_probe, n)), 0.0).rg;
         if (distance > moments.x) {
             float variance = abs(moments.y - moments.x * moments.x);
             float gap = distance - moments.x;
@@ -63,16 +60,8 @@ vec3 probe_irradiance(vec3 p, vec3 n, vec3 v) {
         }
         vec3 trilinear = mix(1.0 - alpha, alpha, vec3(offset));
         weight *= trilinear.x * trilinear.y * trilinear.z;
-        for (int i = 0; i < 9; ++i) {
-            sum[i] += weight * texelFetch(u_probe_irradiance, ivec2(i, probe), 0).rgb;
-        }
+        sum += weight * textureLod(u_probe_irradiance, probe_tile_uv(probe, n), 0.0).rgb;
         total += weight;
     }
-    float basis[9];
-    sh_basis(n, basis);
-    vec3 irradiance = vec3(0.0);
-    for (int i = 0; i < 9; ++i) {
-        irradiance += sum[i] * basis[i];
-    }
-    return max(irradiance / max(total, 1e-20), 0.0);
+    return sum / max(total, 1e-20);
 }

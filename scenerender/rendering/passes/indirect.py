@@ -6,7 +6,8 @@ emission, the ambient light): the light each texel's surface gives, its diffuse
 reflectance, its normal and its distance. Full-screen passes then reduce the cube maps to
 
 - the irradiance at each probe, as nine spherical-harmonic coefficients convolved with
-  the clamped cosine (shaders/indirect/project_irradiance.frag), and
+  the clamped cosine (shaders/indirect/project_irradiance.frag), written out over a small
+  octahedral tile of directions (shaders/indirect/irradiance_tiles.frag), and
 - the mean and mean squared distance to what it sees, as a small octahedral tile
   (shaders/indirect/project_depth.frag), for the Chebyshev visibility test the lookup
   (shaders/lighting/indirect.glsl) makes so that light does not come through walls.
@@ -43,6 +44,7 @@ from scenerender.world.shadows import AtlasLayout
 
 FORWARD_FRAGMENT = "mesh/forward.frag"
 IRRADIANCE_FRAGMENT = "indirect/project_irradiance.frag"
+TILES_FRAGMENT = "indirect/irradiance_tiles.frag"
 DEPTH_FRAGMENT = "indirect/project_depth.frag"
 RELIGHT_FRAGMENT = "indirect/relight.frag"
 
@@ -58,8 +60,8 @@ PI = 3.141592653589793
 
 @dataclass(frozen=True)
 class IndirectLighting:
-    """What shading reads of render.indirect: the probes' ``irradiance`` (texel (i, probe):
-    SH coefficient i) and ``depth`` (octahedral tiles of distance moments), and their grid."""
+    """What shading reads of render.indirect: the probes' ``irradiance`` and ``depth``
+    (octahedral tiles of irradiance and of distance moments, one layout), and their grid."""
 
     grid: ProbeGrid
     irradiance: Handle
@@ -76,10 +78,10 @@ class IndirectLighting:
     def bind(self, ctx, irradiance: Handle | None = None) -> None:
         """The probes' images on their units; ``irradiance``: another image of the same
         layout in place of the final one (the bake's last bounce)."""
-        ctx.image(irradiance or self.irradiance).use(TEXTURE_UNITS["u_probe_irradiance"])
-        depth = ctx.image(self.depth)
-        depth.filter = (moderngl.LINEAR, moderngl.LINEAR)  # graph images are sampled texel by texel
-        depth.use(TEXTURE_UNITS["u_probe_depth"])
+        for handle, unit in ((irradiance or self.irradiance, "u_probe_irradiance"), (self.depth, "u_probe_depth")):
+            image = ctx.image(handle)
+            image.filter = (moderngl.LINEAR, moderngl.LINEAR)  # graph images are sampled texel by texel
+            image.use(TEXTURE_UNITS[unit])
 
     def uniforms(self, origin) -> dict:
         """Where the grid is, relative to ``origin`` (the world point positions are
@@ -89,7 +91,7 @@ class IndirectLighting:
 
 
 def depth_atlas_size(grid: ProbeGrid) -> tuple:
-    """(width, height) of the depth tiles' image: DEPTH_TILES_X tiles a row."""
+    """(width, height) of the depth and the irradiance tiles' images: DEPTH_TILES_X tiles a row."""
     return DEPTH_TILES_X * DEPTH_TILE, math.ceil(grid.count / DEPTH_TILES_X) * DEPTH_TILE
 
 
@@ -130,9 +132,11 @@ def face_view_projections(eye: np.ndarray, near: float, far: float, depth) -> li
 @dataclass(frozen=True)
 class IndirectData:
     """The probes' images (IndirectLighting's two and ``last_irradiance``, the bounce
-    before, where there are several) and the captures: the light each texel gives
-    (``capture``, in later bounces ``relit``), its reflectance and its normal."""
+    before, where there are several; ``harmonics``, a bounce's coefficients, texel (i,
+    probe): coefficient i) and the captures: the light each texel gives (``capture``, in
+    later bounces ``relit``), its reflectance and its normal."""
 
+    harmonics: Handle
     irradiance: Handle
     depth: Handle
     last_irradiance: Handle | None
@@ -162,10 +166,11 @@ class IndirectLightPass(RenderPass):
         views = tuple(handle for _, handle in self.inputs.shadow_views) if self.atlas_pages else ()
         builder.read(self.inputs.objects, self.inputs.materials, self.inputs.ambient, *self.inputs.per_light,
                      *views, *self.atlas_pages, *(self._environment().handles() if self.environment else ()))
-        layout = ResourceDesc("color", (SH_COEFFICIENTS, self.grid.count), "rgba32f")
+        layout = ResourceDesc("color", depth_atlas_size(self.grid), "rgba16f")
         capture = capture_size(self.grid, self.settings.capture_size)
         several = self.settings.bounces > 1
         return IndirectData(
+            builder.create("probe_harmonics", ResourceDesc("color", (SH_COEFFICIENTS, self.grid.count), "rgba32f")),
             builder.create("probe_irradiance", layout),
             builder.create("probe_depth", ResourceDesc("color", depth_atlas_size(self.grid), "rgba32f")),
             builder.create("probe_irradiance_last", layout) if several else None,
@@ -203,7 +208,8 @@ class IndirectLightPass(RenderPass):
             if last is not None:
                 self._relight(ctx, data, last)
                 seen = data.relit
-            self._project(ctx, seen, target, IRRADIANCE_FRAGMENT)
+            self._project(ctx, seen, data.harmonics, IRRADIANCE_FRAGMENT)
+            self._project(ctx, data.harmonics, target, TILES_FRAGMENT)
             last = target
         gl.finish()  # the bake's own time, for the progress line (once a bake)
         ctx.outputs.setdefault("notes", []).append(
@@ -307,8 +313,8 @@ class IndirectLightPass(RenderPass):
                 "PROBE_DEPTH_SIZE": DEPTH_TILE, "PROBE_DEPTH_TILES_X": DEPTH_TILES_X}
 
     def _project(self, ctx, capture: Handle, target: Handle, fragment: str) -> None:
-        """Reduce the captures (``capture``) to every probe's row (irradiance) or tile
-        (depth) of ``target``."""
+        """Reduce the captures (``capture``) to every probe's row (coefficients) or tile
+        (depth), or the coefficients to every probe's irradiance tile, in ``target``."""
         begin_fullscreen_pass(ctx, target)
         program = ctx.programs.get(FULLSCREEN_VERTEX, fragment, self._capture_defines())
         bind_texture_units(program)
