@@ -7,7 +7,7 @@
 #include "indirect/capture.glsl"
 
 uniform sampler2D u_capture_reflectance;
-uniform sampler2D u_capture_normal;  // the shading normal, the distance (0 where nothing was seen)
+uniform sampler2D u_capture_normal;  // the shading normal, the distance
 out vec4 frag_color;
 
 void main() {
@@ -16,7 +16,7 @@ void main() {
     vec4 normal = texelFetch(u_capture_normal, texel, 0);
     vec3 reflectance = texelFetch(u_capture_reflectance, texel, 0).rgb;
     vec3 color = first.rgb;
-    if (normal.w > 0.0) {
+    if (max_component(reflectance) > 0.0) {  // not a miss, nor an unlit surface
         ivec2 tile = texel / CAPTURE_SIZE;
         int probe = tile.y * CAPTURE_COLUMNS + tile.x / 6;
         ivec3 counts = ivec3(PROBE_COUNTS);

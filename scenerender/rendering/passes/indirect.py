@@ -55,7 +55,6 @@ SH_COEFFICIENTS = 9
 CAPTURE_COLUMNS = 8     # probes side by side in the capture images (each six faces wide)
 DEPTH_TILE = 16         # texels a side of a probe's octahedral depth tile
 DEPTH_TILES_X = 64      # depth tiles to a row
-PI = 3.141592653589793
 
 
 @dataclass(frozen=True)
@@ -71,9 +70,7 @@ class IndirectLighting:
         return self.irradiance, self.depth
 
     def defines(self) -> dict:
-        """The grid's layout (shaders/lighting/indirect.glsl)."""
-        return {"HAS_INDIRECT": True, "PROBE_COUNTS": "ivec3({}, {}, {})".format(*self.grid.counts),
-                "PROBE_DEPTH_SIZE": DEPTH_TILE, "PROBE_DEPTH_TILES_X": DEPTH_TILES_X}
+        return probe_defines(self.grid)
 
     def bind(self, ctx, irradiance: Handle | None = None) -> None:
         """The probes' images on their units; ``irradiance``: another image of the same
@@ -84,10 +81,19 @@ class IndirectLighting:
             image.use(TEXTURE_UNITS[unit])
 
     def uniforms(self, origin) -> dict:
-        """Where the grid is, relative to ``origin`` (the world point positions are
-        relative to in the shader: the camera's position)."""
-        return {"u_probe_origin": self.grid.origin - np.asarray(origin, dtype=np.float64),
-                "u_probe_spacing": self.grid.spacing}
+        return probe_uniforms(self.grid, origin)
+
+
+def probe_defines(grid: ProbeGrid) -> dict:
+    """The grid's layout (shaders/lighting/indirect.glsl)."""
+    return {"HAS_INDIRECT": True, "PROBE_COUNTS": "ivec3({}, {}, {})".format(*grid.counts),
+            "PROBE_DEPTH_SIZE": DEPTH_TILE, "PROBE_DEPTH_TILES_X": DEPTH_TILES_X}
+
+
+def probe_uniforms(grid: ProbeGrid, origin) -> dict:
+    """Where the grid is, relative to ``origin`` (the world point the shader's positions
+    are relative to: the camera's position, or the bake's anchor)."""
+    return {"u_probe_origin": grid.origin - np.asarray(origin, dtype=np.float64), "u_probe_spacing": grid.spacing}
 
 
 def depth_atlas_size(grid: ProbeGrid) -> tuple:
@@ -267,8 +273,7 @@ class IndirectLightPass(RenderPass):
         fbo = ctx.framebuffer([data.capture, data.reflectance, data.normal], data.capture_depth)
         fbo.use()
         fbo.viewport = (0, 0, *ctx.image(data.capture).size)
-        fbo.clear(0.0, 0.0, 0.0, reach, depth=ctx.depth.clear_value)  # all three: a miss has distance 0 in the normal's
-        fbo.clear(0.0, 0.0, 0.0, reach, depth=ctx.depth.clear_value)
+        fbo.clear(0.0, 0.0, 0.0, reach, depth=ctx.depth.clear_value)  # a miss: no light, no reflectance
         gl.enable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.BLEND | moderngl.CULL_FACE)  # both sides of every surface, as the camera's two-sided shading
         gl.depth_func = ctx.depth.nearer
@@ -299,13 +304,13 @@ class IndirectLightPass(RenderPass):
         into ``relit``."""
         begin_fullscreen_pass(ctx, data.relit)
         program = ctx.programs.get(FULLSCREEN_VERTEX, RELIGHT_FRAGMENT,
-                                   {**self._capture_defines(), **IndirectLighting(self.grid, None, None).defines()})
+                                   {**self._capture_defines(), **probe_defines(self.grid)})
         bind_texture_units(program)
         IndirectLighting(self.grid, data.irradiance, data.depth).bind(ctx, last)
         ctx.image(data.capture).use(TEXTURE_UNITS["u_capture"])
         ctx.image(data.reflectance).use(TEXTURE_UNITS["u_capture_reflectance"])
         ctx.image(data.normal).use(TEXTURE_UNITS["u_capture_normal"])
-        set_uniforms(program, **IndirectLighting(self.grid, None, None).uniforms(self.grid.origin))
+        set_uniforms(program, **probe_uniforms(self.grid, self.grid.origin))
         ctx.fullscreen(program)
 
     def _capture_defines(self) -> dict:
