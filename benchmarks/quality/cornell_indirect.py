@@ -4,6 +4,9 @@ of the setting's knobs (scenerender/tools/bounce_regions.py defines the regions)
 
     python benchmarks/quality/cornell_indirect.py     # writes cornell_indirect.md, .json, .png
 
+The PNG: direct light only (the truth's), the GPU at the defaults, the path tracer, side by
+side, sRGB.
+
 The truth is references/cornell_box_bounces16.npy (cornell_reference.py: 16 bounces, 1024
 paths a pixel); the regions use cornell_box_objects.npy and cornell_box_direct.npy, and the
 normals the GPU's `mode: normals` view gives. Each variant renders once on a fresh
@@ -17,11 +20,13 @@ import time
 from pathlib import Path
 
 import numpy as np
+from PIL import Image
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent.parent))
 
 import scenerender  # noqa: E402
+from scenerender.colorspace import encode_output  # noqa: E402
 from scenerender.gpu.gl_context import create_context  # noqa: E402
 from scenerender.tools.bounce_regions import (  # noqa: E402
     bounce_regions, red_over_green, region_errors, relative_rmse,
@@ -88,9 +93,14 @@ def main() -> None:
         rows[name] = {**measure(image, reference, regions), "seconds": seconds, "overrides": overrides}
         print(f"{name}: {seconds:.1f} s, RMSE {rows[name]['rmse']:.3f}", flush=True)
         if name == "default (bounces 8)":
-            np.save(Path("/tmp") / "cornell_indirect_default.npy", image.astype(np.float32))
+            side_by_side(direct, image, reference).save(HERE / "cornell_indirect.png")
     (HERE / "cornell_indirect.json").write_text(json.dumps(rows, indent=1) + "\n")
     (HERE / "cornell_indirect.md").write_text(table(rows, gl.info["GL_RENDERER"]) + "\n")
+
+
+def side_by_side(*images: np.ndarray) -> Image.Image:
+    """Linear (H, W, 3) images side by side, sRGB-encoded, 8-bit."""
+    return Image.fromarray(encode_output(np.concatenate(images, axis=1), "srgb", 2.2))
 
 
 def table(rows: dict, renderer: str) -> str:
