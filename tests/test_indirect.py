@@ -97,9 +97,9 @@ def room_floors(gl, wall: float, spacing: str = "") -> tuple[float, float]:
 
 
 @pytest.mark.parametrize("wall, spacing", [
-    (0.0, ""),        # the default grid: probes 0.27 m either side of the wall
-    (0.0, "0.35"),    # a layer of probes inside the wall
-    (0.13, "0.35"),   # probes 4 cm from the wall's lit face
+    (0.0, ""),        # the default grid: probes 0.28 m either side of the wall
+    (0.0, "0.4"),     # 11 probes across: a layer of them inside the wall
+    (0.065, "0.4"),   # probes 4 cm from the wall's lit face
 ])
 def test_a_thin_wall_keeps_the_dark_room_dark(gl, wall, spacing):
     lit, dark = room_floors(gl, wall, spacing)
