@@ -54,6 +54,8 @@ CASES = {
     # the studio environment not blocked by the scene: what gltf_pbr drew before visibility
     "gltf_pbr@visibility_off": ("gltf_pbr.yaml", 36, ["lights[2].visibility=false"]),
     "soft_light": ("soft_light.yaml", 0, SOFT_LIGHT_VIEW),
+    # the sun through a window and the light that bounces (render.indirect's probe grid)
+    "interior": ("interior.yaml", 0, []),
     # every pixel looking up every direction: the exact sum the default's blocks approximate
     "gltf_pbr@visibility_exact": ("gltf_pbr.yaml", 36, ["lights[2].visibility_interleave=1"]),
     # 3x3 blocks, what 'auto' takes from 240 pixels up (the golden size takes 2x2): five

@@ -347,6 +347,9 @@ def test_a_render_collects_nothing_until_its_first_frame_and_leaves_the_caller_a
             seen.setdefault("frames", []).append(gc.isenabled())
             return self.renderer.render(index)
 
+        def take_notes(self):
+            return self.renderer.take_notes()
+
     render_into = loop.render_into
     monkeypatch.setattr("scenerender.run.job.load", load_and_record)
     monkeypatch.setattr("scenerender.run.job.render_into",

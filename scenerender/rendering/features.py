@@ -31,6 +31,9 @@ TEXTURE_UNITS = {
     "u_env_visibility": 21,
     "u_shadow_depth": 22, "u_shadow_depth_2": 23, "u_velocity": 24, "u_velocity_tiles": 25,
     "u_env_vis_samples": 26, "u_env_vis_surfaces": 27, "u_ltc": 28, "u_lens_depth": 29,
+    "u_probe_irradiance": 30, "u_probe_depth": 31,
+    # past the 32 a shader stage may sample: only the bake's full-screen passes use these
+    "u_capture": 32, "u_capture_reflectance": 33, "u_capture_normal": 34,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")

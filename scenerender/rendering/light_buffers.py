@@ -38,34 +38,44 @@ class PackedLights:
 
 
 def pack_lights(frame: FrameState, atlas: AtlasLayout | None) -> PackedLights:
-    """The lights and shadow views of ``frame``; ``atlas`` is the run's atlas layout."""
-    views, first_view = _pack_shadow_views(frame, atlas)
-    return PackedLights(_pack_light_arrays(frame, first_view), views, first_view)
+    """The lights and shadow views of ``frame``, relative to its camera; ``atlas`` is the
+    run's atlas layout."""
+    return pack_lights_from(frame.lights, frame.shadow_views, frame.camera.position, atlas)
 
 
-def _pack_shadow_views(frame: FrameState, atlas: AtlasLayout | None) -> tuple[bytes, tuple]:
+def pack_lights_from(lights: list, shadow_views: dict, origin: np.ndarray, atlas: AtlasLayout | None) -> PackedLights:
+    """``lights`` (world.light_states, one per World.lights) and ``shadow_views`` (light
+    index -> its views, shadowed lights only) packed relative to the world point ``origin``
+    (float64 (3,)): the camera's position for the camera's passes, another fixed point for
+    passes drawn from elsewhere (passes/indirect.py)."""
+    views, first_view = _pack_shadow_views(lights, shadow_views, origin, atlas)
+    return PackedLights(_pack_light_arrays(lights, origin, first_view), views, first_view)
+
+
+def _pack_shadow_views(lights: list, shadow_views: dict, origin: np.ndarray,
+                       atlas: AtlasLayout | None) -> tuple[bytes, tuple]:
     """ShadowView structs (see shaders/lighting/shadows.glsl), shadowed lights in light
     order, and where each light's start (world.shadows.first_shadow_views, as the
     shaders' compile-time constants have them)."""
-    first_view = first_shadow_views([light.definition for light in frame.lights])
+    first_view = first_shadow_views([light.definition for light in lights])
     rows = []
     if atlas is not None:
         to_world = np.eye(4)
-        to_world[:3, 3] = frame.camera.position  # camera-relative -> absolute world
-        for light_index in frame.shadowed_lights():
-            settings = frame.lights[light_index].definition.shadow
-            for view in frame.shadow_views[light_index]:
+        to_world[:3, 3] = origin  # origin-relative -> absolute world
+        for light_index in sorted(shadow_views):
+            settings = lights[light_index].definition.shadow
+            for view in shadow_views[light_index]:
                 rows.append(_shadow_view_row(view, to_world, settings, atlas.pages[view.tile.page]))
     if not rows:
         return np.zeros(4, dtype=np.float32).tobytes(), first_view
     return np.asarray(rows, dtype=np.float32).tobytes(), first_view
 
 
-def _pack_light_arrays(frame: FrameState, first_view: tuple) -> bytes:
-    """std430 light arrays in type order (see shaders/lighting/lights.glsl)."""
-    cam = frame.camera.position
+def _pack_light_arrays(lights: list, cam: np.ndarray, first_view: tuple) -> bytes:
+    """std430 light arrays in type order (see shaders/lighting/lights.glsl), positions
+    relative to ``cam``."""
     dirs, points, spots, areas = [], [], [], []
-    for light, first in zip(frame.lights, first_view):
+    for light, first in zip(lights, first_view):
         shadow = [float(first), 0.0, 0.0, 0.0]
         color = [*light.color, 0.0]
         size = light.definition.size  # 0 for a point: the bytes lights always had

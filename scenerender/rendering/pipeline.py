@@ -21,7 +21,9 @@ from scenerender.rendering.passes.output import (
 )
 from scenerender.rendering.passes.sky import NO_SKY, EnvironmentSky, SkyboxPass, SkyUnder
 from scenerender.world.environment_visibility import interleave_pattern, visibility_tiles
+from scenerender.world.build import scene_bounds
 from scenerender.world.frame import FrameEvaluator
+from scenerender.world.probe_grid import probe_grid
 from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
 # The passes of features only some scenes have (ambient occlusion, the lens and motion
@@ -81,8 +83,11 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         ao = graph.add(SSAOBlurPass(raw, size)).image
     visible = fill == "solid" and (options.visible_samples if options.visible_samples is not None
                                    else visible_samples_pay(world, samples, options.post_depth_coverage))
+    environment = _environment_lighting(graph, world, inputs, size)
+    indirect = (_indirect_lighting(graph, world, inputs, atlas, atlas_pages, environment)
+                if fill == "solid" and settings.indirect is not None else None)
     shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None, visible,
-                      _environment_lighting(graph, world, inputs, size))
+                      environment, indirect)
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else visible or prepass_pays(world, atlas, size, samples))
     tone = _tone_curve(world, inputs)
@@ -216,6 +221,23 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
         lookups = graph.add(EnvironmentVisibilityBlurPass(across, lookup_size, interleave, 1, True)).image
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
                                visibility, lookups, scale)
+
+
+def _indirect_lighting(graph, world, inputs: InputHandles, atlas, atlas_pages: tuple, environment):
+    """render.indirect's probe grid over the scene's bounds at t = 0, with the pass that
+    bakes it; None where nothing is drawn lit or nothing is there to bounce off."""
+    if all(m.model(world.settings.shading) == "unlit" for m in world.materials()):
+        return None
+    bounds = scene_bounds(world.objects, [obj.matrices(0.0) for obj in world.objects],
+                          [bool(obj.visible(0.0)) for obj in world.objects])
+    if bounds is None:
+        return None
+    from scenerender.rendering.passes.indirect import IndirectLighting, IndirectLightPass  # deferred: see the imports
+
+    settings = world.settings.indirect
+    grid = probe_grid(bounds, settings.probe_spacing)
+    baked = graph.add(IndirectLightPass(grid, settings, inputs, atlas, atlas_pages, environment))
+    return IndirectLighting(grid, baked.irradiance, baked.depth)
 
 
 def visibility_lookup_size(size: tuple, half: bool) -> tuple:

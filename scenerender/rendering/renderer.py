@@ -187,6 +187,7 @@ class GraphRenderer:
         self.evaluator = FrameEvaluator(world, self.size, self.atlas, max_depth_ratio=self.depth.max_depth_ratio)
         self.cache_static_passes = cache_static_passes  # off only to measure what caching saves
         self._rendered_any = False
+        self.notes: list = []  # lines the passes left for the progress output (a bake's time), not yet taken
 
     @property
     def atlas(self):
@@ -249,6 +250,7 @@ class GraphRenderer:
             self.depth.end_frame()
         self._rendered_any = True
         outputs = self.backend.outputs
+        self.notes.extend(outputs.pop("notes", ()))
         return (outputs.pop("pixels"), outputs.pop("linear", None), outputs.pop("object_ids", None),
                 outputs.pop("object_ids_behind", None), frame.camera)
 

@@ -18,6 +18,8 @@ def render_into(renderer, sink, frames: Iterable[int], progress=None) -> None:
             writer.write(renderer.render(index))
             startup_done()  # collections resume once the first frame is out (run/collection.py)
             if progress is not None:
+                for line in renderer.take_notes():
+                    progress.note(line)
                 progress.advance()
         writer.close()
     except BaseException:

@@ -93,6 +93,15 @@ class Progress:
         else:
             print(line, file=self.stream, flush=True)
 
+    def note(self, line: str) -> None:
+        """A line about the run (a bake's time), also in a one-frame run."""
+        if self.silent:
+            return
+        if self._bar is not None:
+            self._bar.console.print(line, markup=False, highlight=False)
+        else:
+            print(line, file=self.stream, flush=True)
+
     def advance(self) -> None:
         self.done += 1
         if self.quiet:

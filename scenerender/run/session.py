@@ -208,6 +208,12 @@ class Renderer:
         """With ``profile=True``: pass name -> list of seconds, one per run of the pass."""
         return self._renderer.timings
 
+    def take_notes(self) -> list[str]:
+        """Lines about the frames rendered since the last call, for a progress output: how
+        long a bake took (render.indirect's probes), once per bake."""
+        notes, self._renderer.notes = self._renderer.notes, []
+        return notes
+
     def profile_report(self, frames: int) -> str:
         """With ``profile=True``: the table of ms per pass over ``frames`` rendered frames."""
         return profile_report(self._renderer, frames)

@@ -13,6 +13,12 @@ size.
 The showcase's sun: its camera-following view spans 22-29 m across the orbit, the whole
 footprint 42 m, so a 3904 px map drawn once replaces a 2048 px map redrawn every frame
 (6.5-9 ms of each 640x480 frame on llvmpipe).
+
+With render.indirect every directional light that does not move with the camera stays
+put over the whole footprint, whatever the sizes: the probes see all of the scene, also
+what the camera does not, and their direct light must be shadowed there too (and the bake
+reads the views: a view that followed the camera would bake again every frame). The map
+keeps the size the comparison gives it within MAX_GROWTH times the light's, or that.
 """
 from __future__ import annotations
 
@@ -41,14 +47,17 @@ MAX_FIXED_SIZE = 8192
 def fixed_view_sizes(world, aspect: float) -> dict:
     """{index in world.lights: map size} of the directional lights whose view stays put
     for the run (see the module's docstring); ``aspect`` is the image's width / height."""
-    if world.output.frame_count < 2:
+    whole_scene = world.settings.indirect is not None
+    if world.output.frame_count < 2 and not whole_scene:
         return {}  # one frame draws every map once: the camera-fitted view is the finer
     # directional views that change only because the camera moves: not the light, not the
-    # objects (a light attached to the camera turns with it)
+    # objects (a light attached to the camera turns with it); for the probes also those
+    # that stay where a still camera puts them
+    kept = (("follows camera",), ()) if whole_scene else (("follows camera",),)
     candidates = []
     for index, views in camera_fitted_inputs(world).shadow_views.items():
         light = world.lights[index]
-        if light.kind == "directional" and not light.attach_camera and views.because == ("follows camera",):
+        if light.kind == "directional" and not light.attach_camera and views.because in kept:
             candidates.append(index)
     if not candidates:
         return {}
@@ -67,10 +76,15 @@ def fixed_view_sizes(world, aspect: float) -> dict:
         halves = (directional_half_width(rotation, casters, region) for region in regions)
         followed = [half for half in halves if half is not None]
         if not followed:
+            if whole_scene:
+                sizes[index] = light.shadow.size
             continue
         size = SIZE_STEP * math.ceil(light.shadow.size * whole / min(followed) / SIZE_STEP)
-        if size <= min(MAX_GROWTH * light.shadow.size, MAX_FIXED_SIZE):
+        largest = min(MAX_GROWTH * light.shadow.size, MAX_FIXED_SIZE)
+        if size <= largest:
             sizes[index] = max(size, light.shadow.size)
+        elif whole_scene:
+            sizes[index] = max(int(largest), light.shadow.size)
     return sizes
 
 

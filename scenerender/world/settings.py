@@ -51,6 +51,23 @@ class ShadowMapSettings:
 
 
 @dataclass(frozen=True)
+class IndirectSettings:
+    """render.indirect: light bounced between surfaces (rendering/passes/indirect.py).
+
+    bounces: how many times light bounces; probe_spacing: the probe grid's spacing in
+    scene units, None to fit PROBES_ALONG_LONGEST_SIDE along the scene's longest side;
+    capture_size: the side in texels of each cube face a probe sees the scene through."""
+
+    bounces: int
+    probe_spacing: float | None
+    capture_size: int
+
+    @classmethod
+    def of(cls, spec) -> "IndirectSettings":
+        return cls(spec.bounces, spec.probe_spacing, spec.capture_size)
+
+
+@dataclass(frozen=True)
 class OutlineSettings:
     """An object's selection outline: colour (an RGBA Track) and width in world units."""
 
@@ -89,6 +106,7 @@ class RenderSettings:
     film_samples: int = 16
     depth_of_field: str = "sub_frames"
     motion_blur: str = "sub_frames"
+    indirect: IndirectSettings | None = None
 
     @classmethod
     def of(cls, render) -> "RenderSettings":
@@ -106,4 +124,5 @@ class RenderSettings:
             bloom=BloomSettings(render.bloom.strength, render.bloom.radius) if render.bloom is not None else None,
             film_samples=render.film_samples, depth_of_field=render.depth_of_field,
             motion_blur=render.motion_blur,
+            indirect=IndirectSettings.of(render.indirect) if render.indirect is not None else None,
         )

@@ -18,6 +18,9 @@
 #ifdef ENCODE_SRGB
 #include "common/srgb.glsl"
 #endif
+#ifdef HAS_INDIRECT
+#include "lighting/indirect.glsl"
+#endif
 
 #ifdef SHADOW_VISIBLE_SAMPLES
 // gl_SampleMaskIn after the depth test (the depth prepass has laid down the final depth)
@@ -40,9 +43,25 @@ uniform vec3 u_ambient;  // summed ambient light
 uniform sampler2D u_ao;  // screen-space ambient occlusion, 1 = open
 #endif
 
+#ifdef INDIRECT_CAPTURE
+// drawn into a probe's cube map (rendering/passes/indirect.py), seen from u_capture_eye:
+// the light the surface gives and the distance to it (at most u_capture_far); what
+// multiplies the irradiance it gets / pi (its diffuse reflectance); the normal it is
+// shaded with and the distance itself. A later bounce adds the probes' light from these.
+uniform vec3 u_capture_eye;
+uniform float u_capture_far;
+layout(location = 0) out vec4 frag_color;
+layout(location = 1) out vec4 capture_reflectance;
+layout(location = 2) out vec4 capture_normal;
+#else
 out vec4 frag_color;
+#endif
 
 void main() {
+#ifdef INDIRECT_CAPTURE
+    vec3 bounce_reflectance = vec3(0.0);  // unlit surfaces give what they show, nothing more
+    vec3 bounce_normal = vec3(0.0, 0.0, 1.0);
+#endif
     Surface s = sample_surface(v_uv);
 #ifdef HAS_VERTEX_COLOR
     s.base *= v_color.rgb;
@@ -56,7 +75,11 @@ void main() {
 #ifdef HAS_NORMAL_MAP
     n = mapped_normal(n, gl_FrontFacing ? v_tangent : vec4(-v_tangent.xyz, v_tangent.w), v_uv);
 #endif
+#ifdef INDIRECT_CAPTURE
+    vec3 v = safe_normalize(u_capture_eye - v_position, n);
+#else
     vec3 v = safe_normalize(-v_position, n);
+#endif
     float screen_ao = 1.0;
 #ifdef HAS_AO
     screen_ao = texelFetch(u_ao, ivec2(gl_FragCoord.xy), 0).r;
@@ -94,6 +117,21 @@ void main() {
     color += u_ka * s.base * env_diffuse(n) * ambient_visibility;  // classic: its diffuse term, as an ambient
 #endif
 #endif
+#if defined(HAS_INDIRECT) || defined(INDIRECT_CAPTURE)
+    // bounced light is diffuse: the probes' irradiance times the diffuse reflectance / pi
+#ifdef SHADING_PBR
+    vec3 diffuse_reflectance = pbr_ambient_weights(n, v, s).diffuse * material_occlusion;
+#else
+    vec3 diffuse_reflectance = s.base * material_occlusion;
+#endif
+#endif
+#ifdef HAS_INDIRECT
+    color += diffuse_reflectance * probe_irradiance(v_position, n, v) / 3.14159265;
+#endif
+#ifdef INDIRECT_CAPTURE
+    bounce_reflectance = diffuse_reflectance;
+    bounce_normal = n;
+#endif
 #endif
 #ifdef HAS_FOG
     color = apply_fog(color, length(v_position));
@@ -110,6 +148,12 @@ void main() {
 #else
     frag_color = vec4(color, 1.0);
 #endif
+#endif
+#ifdef INDIRECT_CAPTURE
+    float distance = length(v_position - u_capture_eye);
+    frag_color = vec4(color, min(distance, u_capture_far));
+    capture_reflectance = vec4(bounce_reflectance, 1.0);
+    capture_normal = vec4(bounce_normal, distance);
 #endif
 #ifdef ALPHA_MASK
     // cut last: the derivatives the lighting takes need every pixel of the quad

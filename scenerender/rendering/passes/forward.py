@@ -21,8 +21,9 @@ from scenerender.rendering.passes.data import ImageData, TargetData
 from scenerender.rendering.shadow_reach import around, shadowed_rectangle
 from scenerender.rendering.visible_samples import VisibleSamplesPlan, flat_non_occluders, plan_visible_samples
 
-if TYPE_CHECKING:  # only scenes with an environment light load its passes (rendering/pipeline.py)
+if TYPE_CHECKING:  # only scenes with these load their passes (rendering/pipeline.py)
     from scenerender.rendering.passes.environment import EnvironmentLighting
+    from scenerender.rendering.passes.indirect import IndirectLighting
 
 FORWARD_FRAGMENT = "mesh/forward.frag"
 DEPTH_ONLY_FRAGMENT = "mesh/depth_only.frag"
@@ -39,12 +40,14 @@ class Shading:
     ao: Handle | None = None
     visible_samples: bool = False  # shadows averaged over the samples that pass the depth test
     environment: EnvironmentLighting | None = None
+    indirect: IndirectLighting | None = None  # render.indirect's probes
 
     def declare(self, builder) -> None:
         # the shadow views too: where their casters' shadows can fall (shadow_reach.py)
         views = tuple(handle for _, handle in self.inputs.shadow_views) if self.atlas_pages else ()
         builder.read(*self.inputs.shading(), *self.atlas_pages, *((self.ao,) if self.ao is not None else ()),
-                     *(self.environment.handles() if self.environment is not None else ()), *views)
+                     *(self.environment.handles() if self.environment is not None else ()),
+                     *(self.indirect.handles() if self.indirect is not None else ()), *views)
 
     def bind(self, ctx) -> None:
         bind_lights(ctx.input(self.inputs.lights))
@@ -58,6 +61,8 @@ class Shading:
             ctx.image(self.ao).use(TEXTURE_UNITS["u_ao"])
         if self.environment is not None:
             self.environment.bind(ctx)
+        if self.indirect is not None:
+            self.indirect.bind(ctx)
 
     def draw(self, ctx, items, mode=None, cull_hidden: bool = False, before_item=None, shadowed: dict | None = None,
              size: tuple = (0, 0), encode_srgb: bool = False) -> None:
@@ -77,7 +82,8 @@ class Shading:
                             # the visibility pass shares them out (features.interleave_defines)
                             **(self.environment.uniforms(ctx, camera.position,
                                                          any(item.material.transparent for item in items))
-                               if self.environment is not None else {}))
+                               if self.environment is not None else {}),
+                            **(self.indirect.uniforms(camera.position) if self.indirect is not None else {}))
         if self.inputs.fog is not None:
             fog = ctx.input(self.inputs.fog)
             frame_values.update(u_fog_color=fog.color, u_fog_density=fog.density, u_fog_range=fog.range)
@@ -126,6 +132,8 @@ class Shading:
                 defines["SHADOW_VISIBLE_SAMPLES"] = True
             if encode_srgb:
                 defines["ENCODE_SRGB"] = True
+            if self.indirect is not None and "UNLIT" not in defines:
+                defines.update(self.indirect.defines())
             program = ctx.programs.get(MESH_VERTEX, FORWARD_FRAGMENT, defines)
             bind_texture_units(program)
             return program

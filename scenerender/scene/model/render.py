@@ -60,6 +60,12 @@ class AmbientOcclusion(StrictModel):
     strength: number(0, 4) = 1.0
 
 
+class IndirectLight(StrictModel):
+    bounces: number(1, 32, integer=True) = 8
+    probe_spacing: number(0, lo_open=True) | None = None
+    capture_size: number(4, 64, integer=True) = 16
+
+
 class Bloom(StrictModel):
     strength: number(0, 1) = 0.05
     radius: number(0, 0.25, lo_open=True) = 0.02
@@ -127,6 +133,7 @@ class RenderSpec(StrictModel):
     skybox: Skybox | None = None
     fog: Fog | None = None
     ambient_occlusion: AmbientOcclusion | None = None
+    indirect: IndirectLight | None = None
     shadows: ShadowSettings = mapping_default(ShadowSettings)
     exposure: animated_number(-20, 20) = 0.0
     tone_map: choice(*TONE_MAPS) = "none"
