@@ -202,17 +202,17 @@ def read_gltf(raw: bytes, label: str, read_file, variant: str | None = None) -> 
     materials = _list(header, "materials")
     for index, material in enumerate(materials):
         name = _unique(_text(material.get("name")) or f"material{index}", names)
-        result.materials.append(_material(name, _object(material, f"materials[{index}]"), header, result, label))
+        result.materials.append(_material(name, json_object(material, f"materials[{index}]"), header, result, label))
     for mesh_index, mesh in enumerate(_list(header, "meshes")):
-        for primitive in _list(_object(mesh, f"meshes[{mesh_index}]"), "primitives"):
-            primitive = _object(primitive, "a primitive")
+        for primitive in _list(json_object(mesh, f"meshes[{mesh_index}]"), "primitives"):
+            primitive = json_object(primitive, "a primitive")
             mode = primitive.get("mode", 4)
             if mode not in _GEOMETRY_MODES:
                 continue
-            attributes = _object(primitive.get("attributes", {}), "a primitive's attributes")
+            attributes = json_object(primitive.get("attributes", {}), "a primitive's attributes")
             count = _accessor_count(header, attributes.get("POSITION"))
             material = primitive_material(primitive, header, variant) if mode in _TRIANGLE_MODES else None
-            if material is not None and not (_is_index(material) and material < len(materials)):
+            if material is not None and not (is_index(material) and material < len(materials)):
                 raise GltfProblem(f"a primitive names material {material!r}, the file has {len(materials)}")
             color = attributes.get("COLOR_0")
             color_type = _accessor(header, color).get("componentType") if color is not None else None
@@ -223,12 +223,12 @@ def read_gltf(raw: bytes, label: str, read_file, variant: str | None = None) -> 
 
 def variant_names(header: dict) -> list[str]:
     """The names of the file's KHR_materials_variants, in its order (empty without any)."""
-    extension = _object(_object(header.get("extensions", {}), "extensions").get(VARIANTS_EXTENSION, {}),
+    extension = json_object(json_object(header.get("extensions", {}), "extensions").get(VARIANTS_EXTENSION, {}),
                         VARIANTS_EXTENSION)
     variants = extension.get("variants", [])
     if not isinstance(variants, list):
         raise GltfProblem(f"{VARIANTS_EXTENSION}.variants is not a list")
-    return [_text(_object(v, "a variant").get("name")) or f"variant{i}" for i, v in enumerate(variants)]
+    return [_text(json_object(v, "a variant").get("name")) or f"variant{i}" for i, v in enumerate(variants)]
 
 
 def primitive_material(primitive: dict, header: dict, variant: str | None):
@@ -239,10 +239,10 @@ def primitive_material(primitive: dict, header: dict, variant: str | None):
     if variant is None:
         return material
     index = variant_names(header).index(variant)
-    extension = _object(_object(primitive.get("extensions", {}), "a primitive's extensions").get(
+    extension = json_object(json_object(primitive.get("extensions", {}), "a primitive's extensions").get(
         VARIANTS_EXTENSION, {}), f"a primitive's {VARIANTS_EXTENSION}")
     for mapping in _list(extension, "mappings"):
-        mapping = _object(mapping, f"a {VARIANTS_EXTENSION} mapping")
+        mapping = json_object(mapping, f"a {VARIANTS_EXTENSION} mapping")
         if index in _list(mapping, "variants"):
             return mapping.get("material")
     return material
@@ -279,9 +279,9 @@ def rgba_colors(colors: np.ndarray, vertex_count: int):
 # -- materials ------------------------------------------------------------------------------
 
 def _material(name: str, material: dict, header: dict, result: GltfFile, label: str) -> GltfMaterial:
-    pbr = _object(material.get("pbrMetallicRoughness", {}), f"material {name!r}: pbrMetallicRoughness")
-    extensions = _object(material.get("extensions", {}), f"material {name!r}: extensions")
-    strength = _object(extensions.get("KHR_materials_emissive_strength", {}), "KHR_materials_emissive_strength")
+    pbr = json_object(material.get("pbrMetallicRoughness", {}), f"material {name!r}: pbrMetallicRoughness")
+    extensions = json_object(material.get("extensions", {}), f"material {name!r}: extensions")
+    strength = json_object(extensions.get("KHR_materials_emissive_strength", {}), "KHR_materials_emissive_strength")
     alpha_mode = material.get("alphaMode", "OPAQUE")
     if alpha_mode not in ("OPAQUE", "MASK", "BLEND"):
         raise GltfProblem(f"material {name!r}: alphaMode {alpha_mode!r} is not OPAQUE, MASK or BLEND")
@@ -320,10 +320,10 @@ def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
     """The GltfMaterial fields of KHR_materials_ior, _specular, _clearcoat and _sheen (glTF's
     defaults where absent). An ior of 0 is the specification's "infinitely high" index
     (a dielectric that reflects all), taken here as the largest the scene format takes."""
-    ior = _object(extensions.get("KHR_materials_ior", {}), f"material {name!r}: KHR_materials_ior")
-    specular = _object(extensions.get("KHR_materials_specular", {}), f"material {name!r}: KHR_materials_specular")
-    coat = _object(extensions.get("KHR_materials_clearcoat", {}), f"material {name!r}: KHR_materials_clearcoat")
-    sheen = _object(extensions.get("KHR_materials_sheen", {}), f"material {name!r}: KHR_materials_sheen")
+    ior = json_object(extensions.get("KHR_materials_ior", {}), f"material {name!r}: KHR_materials_ior")
+    specular = json_object(extensions.get("KHR_materials_specular", {}), f"material {name!r}: KHR_materials_specular")
+    coat = json_object(extensions.get("KHR_materials_clearcoat", {}), f"material {name!r}: KHR_materials_clearcoat")
+    sheen = json_object(extensions.get("KHR_materials_sheen", {}), f"material {name!r}: KHR_materials_sheen")
     for extension, keys in _LAYER_TEXTURES.items():
         values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat,
                   "KHR_materials_sheen": sheen}[extension]
@@ -348,29 +348,29 @@ def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
 def _texture(info, header: dict, result: GltfFile, label: str, what: str, scale_key: str | None = None):
     if info is None:
         return None
-    info = _object(info, what)
+    info = json_object(info, what)
     index = info.get("index")
     textures = _list(header, "textures")
-    if not (_is_index(index) and index < len(textures)):
+    if not (is_index(index) and index < len(textures)):
         raise GltfProblem(f"{what} names texture {index!r}, the file has {len(textures)}")
-    texture = _object(textures[index], f"textures[{index}]")
+    texture = json_object(textures[index], f"textures[{index}]")
     source = texture.get("source")
     image = None
     if source is not None:
-        if not (_is_index(source) and source < len(_list(header, "images"))):
+        if not (is_index(source) and source < len(_list(header, "images"))):
             raise GltfProblem(f"textures[{index}] names image {source!r}")
         image = f"{label}#image{source}"
     sampler = {}
     if texture.get("sampler") is not None:
         samplers = _list(header, "samplers")
-        if not (_is_index(texture["sampler"]) and texture["sampler"] < len(samplers)):
+        if not (is_index(texture["sampler"]) and texture["sampler"] < len(samplers)):
             raise GltfProblem(f"textures[{index}] names sampler {texture['sampler']!r}")
-        sampler = _object(samplers[texture["sampler"]], "a sampler")
+        sampler = json_object(samplers[texture["sampler"]], "a sampler")
     tex_coord = info.get("texCoord", 0)
-    transform = _object(_object(info.get("extensions", {}), f"{what}: extensions").get("KHR_texture_transform", {}),
+    transform = json_object(json_object(info.get("extensions", {}), f"{what}: extensions").get("KHR_texture_transform", {}),
                         "KHR_texture_transform")
     tex_coord = transform.get("texCoord", tex_coord)
-    if not _is_index(tex_coord):
+    if not is_index(tex_coord):
         raise GltfProblem(f"{what}: texCoord {tex_coord!r}")
     if tex_coord > 1:
         note = f"texture coordinate set {tex_coord} (sets 0 and 1 are read; it reads set 0)"
@@ -408,7 +408,7 @@ def _load_images(header: dict, binary: bytes | None, result: GltfFile, label: st
     buffers: dict = {}
     for key in sorted(used):
         index = int(key.rsplit("#image", 1)[1])
-        image = _object(images[index], f"images[{index}]")
+        image = json_object(images[index], f"images[{index}]")
         try:
             if image.get("bufferView") is not None:
                 data = bytes(buffer_view_bytes(header, image["bufferView"], binary, buffers, read_file)[0])
@@ -425,15 +425,15 @@ def buffer_view_bytes(header: dict, index, binary, buffers: dict, read_file) -> 
     """(the bytes of bufferView ``index``, its byteStride or None); ``buffers`` caches the
     buffers read, by index."""
     views = _list(header, "bufferViews")
-    if not (_is_index(index) and index < len(views)):
+    if not (is_index(index) and index < len(views)):
         raise GltfProblem(f"a reference to bufferView {index!r}, the file has {len(views)}")
-    view = _object(views[index], f"bufferViews[{index}]")
+    view = json_object(views[index], f"bufferViews[{index}]")
     buffer_index = view.get("buffer")
     all_buffers = _list(header, "buffers")
-    if not (_is_index(buffer_index) and buffer_index < len(all_buffers)):
+    if not (is_index(buffer_index) and buffer_index < len(all_buffers)):
         raise GltfProblem(f"bufferViews[{index}] names buffer {buffer_index!r}")
     if buffer_index not in buffers:
-        uri = _object(all_buffers[buffer_index], "a buffer").get("uri")
+        uri = json_object(all_buffers[buffer_index], "a buffer").get("uri")
         if uri is None:
             if binary is None:
                 raise GltfProblem(f"buffers[{buffer_index}] has no uri and the file no BIN chunk")
@@ -442,10 +442,10 @@ def buffer_view_bytes(header: dict, index, binary, buffers: dict, read_file) -> 
             buffers[buffer_index] = _uri_bytes(_text(uri) or "", read_file)
     start, length = view.get("byteOffset", 0), view.get("byteLength")
     data = buffers[buffer_index]
-    if not (_is_index(start) and _is_index(length) and start + length <= len(data)):
+    if not (is_index(start) and is_index(length) and start + length <= len(data)):
         raise GltfProblem(f"bufferViews[{index}] reaches past its buffer")
     stride = view.get("byteStride")
-    if stride is not None and not (_is_index(stride) and 4 <= stride <= 252):
+    if stride is not None and not (is_index(stride) and 4 <= stride <= 252):
         raise GltfProblem(f"bufferViews[{index}] has byteStride {stride!r}")
     return memoryview(data)[start: start + length], stride
 
@@ -464,14 +464,14 @@ def _uri_bytes(uri: str, read_file) -> bytes:
 
 def _accessor(header: dict, index) -> dict:
     accessors = _list(header, "accessors")
-    if not (_is_index(index) and index < len(accessors)):
+    if not (is_index(index) and index < len(accessors)):
         raise GltfProblem(f"a primitive names accessor {index!r}, the file has {len(accessors)}")
-    return _object(accessors[index], f"accessors[{index}]")
+    return json_object(accessors[index], f"accessors[{index}]")
 
 
 def _accessor_count(header: dict, index) -> int:
     count = _accessor(header, index).get("count")
-    if not _is_index(count):
+    if not is_index(count):
         raise GltfProblem(f"accessors[{index}] has count {count!r}")
     return count
 
@@ -483,13 +483,15 @@ def _list(container: dict, key: str) -> list:
     return value
 
 
-def _object(value, what: str) -> dict:
+def json_object(value, what: str) -> dict:
+    """``value`` where it is a JSON object (a dict); else a GltfProblem naming ``what``."""
     if not isinstance(value, dict):
         raise GltfProblem(f"{what} is not an object")
     return value
 
 
-def _is_index(value) -> bool:
+def is_index(value) -> bool:
+    """Whether ``value`` is a whole number that can index a glTF array (not a bool)."""
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from scenerender.mesh.gltf import GltfProblem
+from scenerender.mesh.gltf import GltfProblem, is_index, json_object
 from scenerender.mesh.gltf_geometry import placed_nodes
 
 LIGHTS_EXTENSION = "KHR_lights_punctual"
@@ -54,20 +54,20 @@ class GltfCamera:
 
 def file_lights(header: dict) -> list[GltfLight]:
     """The lights the default scene's nodes hold, in node order (depth first)."""
-    extension = _object(_object(header.get("extensions", {}), "extensions").get(LIGHTS_EXTENSION, {}),
+    extension = json_object(json_object(header.get("extensions", {}), "extensions").get(LIGHTS_EXTENSION, {}),
                         LIGHTS_EXTENSION)
     lights = extension.get("lights", [])
     if not isinstance(lights, list):
         raise GltfProblem(f"{LIGHTS_EXTENSION}.lights is not a list")
     found = []
     for index, node, _ in placed_nodes(header):
-        reference = _object(node.get("extensions", {}), f"nodes[{index}].extensions").get(LIGHTS_EXTENSION)
+        reference = json_object(node.get("extensions", {}), f"nodes[{index}].extensions").get(LIGHTS_EXTENSION)
         if reference is None:
             continue
-        light = _object(reference, f"nodes[{index}].extensions.{LIGHTS_EXTENSION}").get("light")
-        if not (_is_index(light) and light < len(lights)):
+        light = json_object(reference, f"nodes[{index}].extensions.{LIGHTS_EXTENSION}").get("light")
+        if not (is_index(light) and light < len(lights)):
             raise GltfProblem(f"nodes[{index}] names light {light!r}, the file has {len(lights)}")
-        found.append(_light(_object(lights[light], f"lights[{light}]"), light, index, node))
+        found.append(_light(json_object(lights[light], f"lights[{light}]"), light, index, node))
     return found
 
 
@@ -81,9 +81,9 @@ def file_cameras(header: dict) -> list[GltfCamera]:
         camera = node.get("camera")
         if camera is None:
             continue
-        if not (_is_index(camera) and camera < len(cameras)):
+        if not (is_index(camera) and camera < len(cameras)):
             raise GltfProblem(f"nodes[{index}] names camera {camera!r}, the file has {len(cameras)}")
-        found.append(_camera(_object(cameras[camera], f"cameras[{camera}]"), camera, index, node))
+        found.append(_camera(json_object(cameras[camera], f"cameras[{camera}]"), camera, index, node))
     return found
 
 
@@ -92,7 +92,7 @@ def _light(light: dict, index: int, node_index: int, node: dict) -> GltfLight:
     where = f"{LIGHTS_EXTENSION}.lights[{index}]"
     if kind not in LIGHT_TYPES:
         raise GltfProblem(f"{where} has type {kind!r}, not one of {', '.join(LIGHT_TYPES)}")
-    spot = _object(light.get("spot", {}), f"{where}.spot")
+    spot = json_object(light.get("spot", {}), f"{where}.spot")
     light_range = light.get("range")
     outer = _number(spot.get("outerConeAngle", math.pi / 4.0), f"{where}.spot.outerConeAngle", 0.0, math.pi / 2.0)
     inner = _number(spot.get("innerConeAngle", 0.0), f"{where}.spot.innerConeAngle", 0.0, outer)
@@ -109,13 +109,13 @@ def _camera(camera: dict, index: int, node_index: int, node: dict) -> GltfCamera
     where = f"cameras[{index}]"
     name = _name(camera.get("name"), node.get("name"), f"camera{index}")
     if kind == "perspective":
-        values = _object(camera.get("perspective", {}), f"{where}.perspective")
+        values = json_object(camera.get("perspective", {}), f"{where}.perspective")
         aspect = values.get("aspectRatio")
         return GltfCamera(name, node_index, yfov=_number(values.get("yfov"), f"{where}.perspective.yfov", 1e-6, math.pi),
                           aspect=None if aspect is None else _number(aspect, f"{where}.perspective.aspectRatio",
                                                                      1e-6, 1e6))
     if kind == "orthographic":
-        values = _object(camera.get("orthographic", {}), f"{where}.orthographic")
+        values = json_object(camera.get("orthographic", {}), f"{where}.orthographic")
         return GltfCamera(name, node_index, orthographic=True,
                           xmag=_magnification(values.get("xmag"), f"{where}.orthographic.xmag"),
                           ymag=_magnification(values.get("ymag"), f"{where}.orthographic.ymag"))
@@ -146,13 +146,3 @@ def _number(value, what: str, lo: float, hi: float) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise GltfProblem(f"{what} is {value!r}, not a finite number")
     return min(max(float(value), lo), hi)
-
-
-def _object(value, what: str) -> dict:
-    if not isinstance(value, dict):
-        raise GltfProblem(f"{what} is not an object")
-    return value
-
-
-def _is_index(value) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
