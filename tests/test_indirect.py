@@ -97,7 +97,8 @@ def room_floors(gl, wall: float, spacing: str = "") -> tuple[float, float]:
 
 
 @pytest.mark.parametrize("wall, spacing", [
-    (0.0, ""),        # the default grid: probes 0.28 m either side of the wall
+    (0.0, ""),        # the default grid (13 probes across): a layer of them in the wall's middle
+    (0.0, "0.525"),   # 8 across: probes 0.28 m either side of the wall
     (0.0, "0.4"),     # 11 probes across: a layer of them inside the wall
     (0.065, "0.4"),   # probes 4 cm from the wall's lit face
 ])

@@ -9,7 +9,8 @@ and three white boxes under a sky and a sun), by region:
 
     python benchmarks/quality/outdoor_indirect.py [SPP]   # prints the table; about 5 minutes
 
-Errors: a region's mean luminance over the truth's, less 1. The truth: `scenerender
+Errors: a region's mean luminance over the truth's, less 1. Seconds: the frame, the bake
+included. The truth: `scenerender
 reference --bounces 8` at SPP x SPP paths a pixel (default 8), rendered here, not kept.
 """
 from __future__ import annotations
@@ -33,7 +34,8 @@ SCENE = HERE / "scenes" / "outdoor_bounce.yaml"
 BOXES = (1, 2, 3)  # the scene's objects after the ground
 VARIANTS = {
     "direct only": [],
-    "render.indirect defaults (2 m apart: the ground's 16 m over 8)": ["render.indirect={}"],
+    "probe_spacing 2 (the first default: the ground's 16 m over 8)": ["render.indirect={probe_spacing: 2}"],
+    "render.indirect defaults (18x2x18 probes, 0.92 m apart)": ["render.indirect={}"],
     "probe_spacing 0.5": ["render.indirect={probe_spacing: 0.5}"],
 }
 
@@ -71,12 +73,14 @@ def main() -> None:
     normals = (encoded * 2.0 - 1.0) / np.maximum(np.linalg.norm(encoded * 2.0 - 1.0, axis=2, keepdims=True), 1e-9)
     found = regions(truth.object, normals, direct.linear)
     reference = truth.linear.astype(np.float64)
-    print("| variant | whole RMSE % | " + " | ".join(found) + " |")
-    print("|---" * (len(found) + 2) + "|")
+    print("| variant | s | whole RMSE % | " + " | ".join(found) + " |")
+    print("|---" * (len(found) + 3) + "|")
     for name, overrides in VARIANTS.items():
+        started = time.perf_counter()
         image = gpu(gl, overrides)
+        seconds = time.perf_counter() - started
         errors = region_errors(image, reference, found)
-        print(f"| {name} | {100 * relative_rmse(image, reference):.1f} | "
+        print(f"| {name} | {seconds:.1f} | {100 * relative_rmse(image, reference):.1f} | "
               + " | ".join(f"{100 * errors[r]:+.1f}" for r in found) + " |")
     print("pixels: " + ", ".join(f"{name} {int(mask.sum())}" for name, mask in found.items()))
 

@@ -72,7 +72,8 @@ def probe_grid(bounds: np.ndarray, spacing: float | None) -> ProbeGrid:
     size = hi - lo
     step = spacing if spacing is not None else default_spacing(size)
     while True:
-        counts = tuple(max(1, math.ceil(side / step - 1e-9)) for side in size)
+        # a side within a millionth of whole cells is that many (bounds carry float32 rounding)
+        counts = tuple(max(1, math.ceil(side / step - 1e-6)) for side in size)
         if math.prod(counts) <= MAX_PROBES:
             break
         step *= 1.1
