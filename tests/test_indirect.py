@@ -6,7 +6,8 @@
 - A thin wall: a lit room beside a dark one, a 5 cm wall between them. What reaches the
   dark room is the classic failure of probe grids (light interpolated through the wall).
 - Bounce off: the graph has no bake, and it adds light where on.
-- The Cornell box against the path tracer, by region.
+- The Cornell box against the path tracer, by region; outdoors, the same at the default
+  probe spacing.
 
 Images are 96 x 72 (the furnace), 160 x 80 (the rooms) and 128 x 128 (the Cornell box),
 linear light."""
@@ -19,7 +20,8 @@ import pytest
 
 import scenerender
 from scenerender.rendering.renderer import plan
-from scenerender.tools.bounce_regions import bounce_regions, red_over_green, region_errors, relative_rmse
+from scenerender.raytrace import render_reference
+from scenerender.tools.bounce_regions import bounce_regions, outdoor_regions, red_over_green, region_errors, relative_rmse
 
 pytestmark = pytest.mark.xdist_group("indirect")
 
@@ -97,7 +99,8 @@ def room_floors(gl, wall: float, spacing: str = "") -> tuple[float, float]:
 
 
 @pytest.mark.parametrize("wall, spacing", [
-    (0.0, ""),        # the default grid: probes 0.28 m either side of the wall
+    (0.0, ""),        # the default grid (13 probes across): a layer of them in the wall's middle
+    (0.0, "0.525"),   # 8 across: probes 0.28 m either side of the wall
     (0.0, "0.4"),     # 11 probes across: a layer of them inside the wall
     (0.065, "0.4"),   # probes 4 cm from the wall's lit face
 ])
@@ -161,3 +164,29 @@ def test_cornell_box_against_the_path_tracer(gl):
     for face in ("tall_box_front", "short_box_front"):
         bleeding = red_over_green(image, regions[face]) / red_over_green(reference, regions[face])
         assert abs(bleeding - 1.0) < BLEEDING_TOLERANCE, f"{face}: red/green {bleeding:.3f} of the truth's"
+
+
+# benchmarks/quality/scenes/outdoor_bounce.yaml (a 16 m ground, white boxes of 0.6-1.6 m, a
+# sky and a sun) at the setting's defaults against the path tracer rendered here (8
+# bounces, 4 x 4 paths a pixel; against 6 x 6 the regions read within 2.2 points). The goal:
+# every region within 10 %. Measured (benchmarks/quality/README.md, 12 x 12 paths): the
+# boxes' faces in the sun's shadow +8.9 %, the rest within 2.5 % (at 4 x 4: +6.4 %, within
+# 4.2 %); the first default (the longest side over 8, probes 2 m apart) fails here, the
+# ground in the boxes' shadow at -20 %.
+OUTDOOR_TOLERANCE = 0.10
+
+
+def test_outdoors_at_the_default_spacing_against_the_path_tracer(gl):
+    scene_file = QUALITY / "scenes" / "outdoor_bounce.yaml"
+
+    def load(overrides=()):
+        return scenerender.Scene.from_yaml(scene_file.read_text(), scene_file.parent, list(overrides))
+
+    truth = render_reference(load(), 0, spp=4, bounces=8)
+    direct = render_reference(load(), 0, spp=4).linear.astype(np.float64)
+    normals = gpu_linear(load(["render.mode=normals", "render.samples=1"]), gl) * 2.0 - 1.0
+    normals /= np.maximum(np.linalg.norm(normals, axis=2, keepdims=True), 1e-9)
+    regions = outdoor_regions(truth.object, normals, direct, (1, 2, 3))
+    errors = region_errors(gpu_linear(load(["render.indirect={}"]), gl), truth.linear.astype(np.float64), regions)
+    failed = {name: f"{100 * error:+.1f} %" for name, error in errors.items() if abs(error) > OUTDOOR_TOLERANCE}
+    assert not failed, f"regions off the path tracer: {failed}"

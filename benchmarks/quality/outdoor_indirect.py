@@ -1,16 +1,13 @@
 """render.indirect outdoors against the path tracer: scenes/outdoor_bounce.yaml (a ground
-and three white boxes under a sky and a sun), by region:
-
-- ``vertical_faces``: the boxes' faces (|normal y| < 0.5) the camera sees;
-- ``faces_in_shadow``: those of them the sun does not reach (direct light below 40 % of the
-  brightest vertical face's);
-- ``ground_in_shadow``: the ground where the direct light is below half its median;
-- ``ground_beside``: the ground within 6 pixels of a box, out of the shadows.
+and three white boxes under a sky and a sun), by region (outdoor_regions in
+scenerender/tools/bounce_regions.py: the boxes' vertical faces, those in the sun's shadow,
+the ground in the boxes' shadows and beside them).
 
     python benchmarks/quality/outdoor_indirect.py [SPP]   # prints the table; about 5 minutes
 
-Errors: a region's mean luminance over the truth's, less 1. The truth: `scenerender
-reference --bounces 8` at SPP x SPP paths a pixel (default 8), rendered here, not kept.
+Errors: a region's mean luminance over the truth's, less 1. Seconds: the frame, the bake
+included. The truth: `scenerender reference --bounces 8` at SPP x SPP paths a pixel
+(default 8), rendered here, not kept.
 """
 from __future__ import annotations
 
@@ -19,7 +16,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy import ndimage
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent.parent))
@@ -27,13 +23,14 @@ sys.path.insert(0, str(HERE.parent.parent))
 import scenerender  # noqa: E402
 from scenerender.gpu.gl_context import create_context  # noqa: E402
 from scenerender.raytrace import render_reference  # noqa: E402
-from scenerender.tools.bounce_regions import region_errors, relative_rmse  # noqa: E402
+from scenerender.tools.bounce_regions import outdoor_regions, region_errors, relative_rmse  # noqa: E402
 
 SCENE = HERE / "scenes" / "outdoor_bounce.yaml"
 BOXES = (1, 2, 3)  # the scene's objects after the ground
 VARIANTS = {
     "direct only": [],
-    "render.indirect defaults (2 m apart: the ground's 16 m over 8)": ["render.indirect={}"],
+    "probe_spacing 2 (the first default: the ground's 16 m over 8)": ["render.indirect={probe_spacing: 2}"],
+    "render.indirect defaults (18x2x18 probes, 0.92 m apart)": ["render.indirect={}"],
     "probe_spacing 0.5": ["render.indirect={probe_spacing: 0.5}"],
 }
 
@@ -47,18 +44,6 @@ def gpu(gl, overrides) -> np.ndarray:
         return renderer.render(0).linear[:, :, :3].astype(np.float64)
 
 
-def regions(objects: np.ndarray, normals: np.ndarray, direct: np.ndarray) -> dict:
-    light = direct.mean(axis=2)
-    ground = ndimage.binary_erosion(objects == 0)
-    boxes = np.isin(objects, BOXES)
-    vertical = ndimage.binary_erosion(boxes) & (np.abs(normals[..., 1]) < 0.5)
-    shadow = ground & (light < 0.5 * np.median(light[ground]))
-    return {"vertical_faces": vertical,
-            "faces_in_shadow": vertical & (light < 0.4 * np.percentile(light[vertical], 99)),
-            "ground_in_shadow": shadow,
-            "ground_beside": ground & ~shadow & ndimage.binary_dilation(boxes, iterations=6)}
-
-
 def main() -> None:
     spp = int(sys.argv[1]) if len(sys.argv) > 1 else 8
     scene = load()
@@ -69,14 +54,16 @@ def main() -> None:
     gl = create_context()
     encoded = gpu(gl, ["render.mode=normals", "render.samples=1"])
     normals = (encoded * 2.0 - 1.0) / np.maximum(np.linalg.norm(encoded * 2.0 - 1.0, axis=2, keepdims=True), 1e-9)
-    found = regions(truth.object, normals, direct.linear)
+    found = outdoor_regions(truth.object, normals, direct.linear, BOXES)
     reference = truth.linear.astype(np.float64)
-    print("| variant | whole RMSE % | " + " | ".join(found) + " |")
-    print("|---" * (len(found) + 2) + "|")
+    print("| variant | s | whole RMSE % | " + " | ".join(found) + " |")
+    print("|---" * (len(found) + 3) + "|")
     for name, overrides in VARIANTS.items():
+        started = time.perf_counter()
         image = gpu(gl, overrides)
+        seconds = time.perf_counter() - started
         errors = region_errors(image, reference, found)
-        print(f"| {name} | {100 * relative_rmse(image, reference):.1f} | "
+        print(f"| {name} | {seconds:.1f} | {100 * relative_rmse(image, reference):.1f} | "
               + " | ".join(f"{100 * errors[r]:+.1f}" for r in found) + " |")
     print("pixels: " + ", ".join(f"{name} {int(mask.sum())}" for name, mask in found.items()))
 

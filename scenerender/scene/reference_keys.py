@@ -67,7 +67,7 @@ KEYS: dict[str, Key] = {
     "render.fog.start": Key("Distance where linear fog begins (must be below `end`).", "10"),
     "render.fog.end": Key("Distance where linear fog is complete.", "60"),
     "render.indirect.bounces": Key("How many times light bounces. The scene is drawn into the probes once; each bounce after the first relights what they saw with the last bounce's light, a small part of the bake's time.", "4"),
-    "render.indirect.probe_spacing": Key("Distance between neighbouring probes in scene units. Not set: the scene's longest side over 8. Smaller follows light around small objects more closely; the bake's cost grows with the probe count.", "0.25"),
+    "render.indirect.probe_spacing": Key("Distance between neighbouring probes in scene units. Not set: as many probes as a cube of the scene's volume with 8 along each side (the geometric mean of its sides over 8; a wide, low scene gets its probes along the ground). Smaller follows light around small objects more closely; the bake's cost grows with the probe count.", "0.25"),
     "render.indirect.capture_size": Key("Side in texels of each of the six cube faces a probe sees the scene through. Larger sees small objects better and bakes slower.", "24"),
     "render.ambient_occlusion.radius": Key("World-space radius of the occlusion search around each point.", "1.0"),
     "render.ambient_occlusion.samples": Key("Samples per pixel; more is smoother and slower.", "32"),

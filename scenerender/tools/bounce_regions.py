@@ -51,6 +51,27 @@ def bounce_regions(objects: np.ndarray, normals: np.ndarray, direct: np.ndarray)
     }
 
 
+def outdoor_regions(objects: np.ndarray, normals: np.ndarray, direct: np.ndarray, boxes: tuple) -> dict:
+    """name -> (H, W) bool mask of a ground (object 0) and boxes (the indices ``boxes``)
+    under a sky and a sun (benchmarks/quality/scenes/outdoor_bounce.yaml); ``objects``,
+    ``normals`` and ``direct`` as for bounce_regions:
+
+    - ``vertical_faces``: the boxes' faces (|normal y| < 0.5) the camera sees;
+    - ``faces_in_shadow``: those the sun does not reach (direct light below 40 % of the
+      brightest vertical face's);
+    - ``ground_in_shadow``: the ground where the direct light is below half its median;
+    - ``ground_beside``: the ground within 6 pixels of a box, out of the shadows."""
+    light = direct.mean(axis=2)
+    ground = ndimage.binary_erosion(objects == 0)
+    solid = np.isin(objects, boxes)
+    vertical = ndimage.binary_erosion(solid) & (np.abs(normals[..., 1]) < 0.5)
+    shadow = ground & (light < 0.5 * np.median(light[ground]))
+    return {"vertical_faces": vertical,
+            "faces_in_shadow": vertical & (light < 0.4 * np.percentile(light[vertical], 99)),
+            "ground_in_shadow": shadow,
+            "ground_beside": ground & ~shadow & ndimage.binary_dilation(solid, iterations=6)}
+
+
 def _box_axes(yaw_degrees: float) -> np.ndarray:
     """(3, 3): a box's x, y, z axes (rows) turned ``yaw_degrees`` about y."""
     angle = np.radians(yaw_degrees)

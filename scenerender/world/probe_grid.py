@@ -14,8 +14,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-# Probes along the scene's longest side where render.indirect.probe_spacing is not set.
-PROBES_ALONG_LONGEST_SIDE = 8
+# Where render.indirect.probe_spacing is not set, the spacing gives the scene as many probes
+# as a cube of its volume with this many along each side: the geometric mean of the bounds'
+# sides over it. A cube (the Cornell box) gets 8x8x8; a wide, low scene gets its probes
+# along the ground rather than one layer of them. Its longest side over 8, the first rule,
+# put a 16 m ground's probes 2 m apart around boxes of 0.6-1.6 m and left the ground in
+# their shadow 21 % dark against the path tracer; this way they are 0.92 m apart and it is
+# within 2 % (benchmarks/quality/README.md, outdoors).
+PROBES_ALONG_A_SIDE = 8
 # The most probes a grid holds: a smaller spacing is widened to fit (the bake's cost grows
 # with the count; the graph dump shows the spacing used).
 MAX_PROBES = 4096
@@ -48,17 +54,26 @@ class ProbeGrid:
         return f"{counts} probes, {', '.join(f'{s:.3g}' for s in self.spacing)} apart"
 
 
+def default_spacing(size: np.ndarray) -> float:
+    """The spacing where none is asked for: the geometric mean of ``size``'s ((3,) float64)
+    sides that are not flat, over PROBES_ALONG_A_SIDE; 1.0 for a point."""
+    sides = size[size > 0]
+    if sides.size == 0:
+        return 1.0
+    return float(np.exp(np.log(sides).mean())) / PROBES_ALONG_A_SIDE
+
+
 def probe_grid(bounds: np.ndarray, spacing: float | None) -> ProbeGrid:
     """The grid over ``bounds`` ((2, 3) float64 min, max) with about ``spacing`` between
-    probes (None: the longest side over PROBES_ALONG_LONGEST_SIDE). Each axis is cut into
-    whole cells of at most that size, one probe a cell, the outermost MARGIN of a cell
-    inside the bounds; a flat axis holds one layer half a cell off it."""
+    probes (None: default_spacing). Each axis is cut into whole cells of at most that
+    size, one probe a cell, the outermost MARGIN of a cell inside the bounds; a flat axis
+    holds one layer half a cell off it."""
     lo, hi = np.asarray(bounds, dtype=np.float64)
     size = hi - lo
-    longest = float(size.max())
-    step = spacing if spacing is not None else (longest / PROBES_ALONG_LONGEST_SIDE if longest > 0 else 1.0)
+    step = spacing if spacing is not None else default_spacing(size)
     while True:
-        counts = tuple(max(1, math.ceil(side / step - 1e-9)) for side in size)
+        # a side within a millionth of whole cells is that many (bounds carry float32 rounding)
+        counts = tuple(max(1, math.ceil(side / step - 1e-6)) for side in size)
         if math.prod(counts) <= MAX_PROBES:
             break
         step *= 1.1

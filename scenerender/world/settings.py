@@ -55,7 +55,7 @@ class IndirectSettings:
     """render.indirect: light bounced between surfaces (rendering/passes/indirect.py).
 
     bounces: how many times light bounces; probe_spacing: the probe grid's spacing in
-    scene units, None to fit PROBES_ALONG_LONGEST_SIDE along the scene's longest side;
+    scene units, None for probe_grid.default_spacing;
     capture_size: the side in texels of each cube face a probe sees the scene through."""
 
     bounces: int
