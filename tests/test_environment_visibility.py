@@ -143,6 +143,10 @@ def test_the_ground_beside_boxes_under_a_sky_without_a_sun_against_the_reference
     assert abs(errors["contact"]) < 0.03, errors
     assert abs(errors["open ground"]) < 0.03, errors
     assert abs(errors["vertical faces"]) < 0.03, errors
+    # The blotches (the ground within 1 m of a box, 3x3 averaged, RMS about the reference,
+    # whose own noise at 3x3 samples is part of it): 4.6 % here; 16 directions 9.1 %, 64
+    # directions 3.7 % (at 256x192 against the finer reference: 4.5 and 2.3 %).
+    assert errors["blotches"] < 0.06, errors
 
 
 @pytest.mark.gl
