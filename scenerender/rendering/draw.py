@@ -189,6 +189,18 @@ def bind_shadow_depth(ctx, atlas, page: int = 0) -> None:
     ctx.shared("plain_depth_sampler", _plain_depth_sampler).use(unit)
 
 
+def bind_light_tables(ctx, atlas_pages) -> None:
+    """What the direct lights read besides their buffers: the LTC table where the scene has
+    area lights, and each shadow atlas page (``atlas_pages``: handles), with its plain depth
+    too where shadows are soft. The forward pass and the probes' captures share it."""
+    if ctx.features.n_area:
+        bind_ltc(ctx)
+    for page, handle in enumerate(atlas_pages):
+        bind_shadow_atlas(ctx, handle, page)
+        if ctx.features.soft_shadows:
+            bind_shadow_depth(ctx, handle, page)
+
+
 def _plain_depth_sampler(gl):
     return gl.sampler(filter=(moderngl.NEAREST, moderngl.NEAREST), compare_func="", repeat_x=False, repeat_y=False)
 

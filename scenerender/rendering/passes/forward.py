@@ -12,7 +12,7 @@ from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.resources import GL_FRAMEBUFFER_SRGB
 from scenerender.gpu.uniforms import matrix_bytes, set_uniforms
 from scenerender.rendering.draw import (
-    MESH_VERTEX, begin_camera_pass, bind_lights, bind_ltc, bind_material, bind_shadow_atlas, bind_shadow_depth,
+    MESH_VERTEX, begin_camera_pass, bind_light_tables, bind_lights, bind_material,
     bind_texture_units, cull_hidden_faces, draw_item, opaque_items, single_sided_faces, skip_faces, stop_culling, transparent_items,
 )
 from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
@@ -51,12 +51,7 @@ class Shading:
 
     def bind(self, ctx) -> None:
         bind_lights(ctx.input(self.inputs.lights))
-        if ctx.features.n_area:
-            bind_ltc(ctx)
-        for page, handle in enumerate(self.atlas_pages):
-            bind_shadow_atlas(ctx, handle, page)
-            if ctx.features.soft_shadows:
-                bind_shadow_depth(ctx, handle, page)
+        bind_light_tables(ctx, self.atlas_pages)
         if self.ao is not None:
             ctx.image(self.ao).use(TEXTURE_UNITS["u_ao"])
         if self.environment is not None:

@@ -32,7 +32,7 @@ import numpy as np
 from scenerender.graph import Handle, RenderPass, ResourceDesc
 from scenerender.gpu.uniforms import matrix_bytes, set_uniforms
 from scenerender.rendering.draw import (
-    FULLSCREEN_VERTEX, MESH_VERTEX, begin_fullscreen_pass, bind_lights, bind_ltc, bind_material, bind_shadow_atlas, bind_shadow_depth,
+    FULLSCREEN_VERTEX, MESH_VERTEX, begin_fullscreen_pass, bind_light_tables, bind_lights, bind_material,
     bind_texture_units, stop_culling,
 )
 from scenerender.rendering.features import TEXTURE_UNITS
@@ -234,12 +234,7 @@ class IndirectLightPass(RenderPass):
         packed = pack_lights_from(lights, views, anchor, self.atlas)
         buffers = (ctx.gl.buffer(packed.lights), ctx.gl.buffer(packed.views))
         bind_lights(LightsInput(*buffers, packed.first_view))
-        if ctx.features.n_area:
-            bind_ltc(ctx)
-        for page, handle in enumerate(self.atlas_pages):
-            bind_shadow_atlas(ctx, handle, page)
-            if ctx.features.soft_shadows:
-                bind_shadow_depth(ctx, handle, page)
+        bind_light_tables(ctx, self.atlas_pages)
         if self.environment is not None:
             self._environment().bind(ctx)
         return buffers
