@@ -40,19 +40,25 @@ def patch_direction() -> np.ndarray:
     return np.array([math.cos(PATCH_ELEVATION), math.sin(PATCH_ELEVATION), 0.0])
 
 
-def radiance(d: np.ndarray) -> np.ndarray:
-    """(..., 3) the sky's linear radiance towards unit directions d (..., 3)."""
+def open_sky_radiance(d: np.ndarray) -> np.ndarray:
+    """(..., 3) the gradient and the ground alone, no patch, towards unit directions d (..., 3)."""
     y = d[..., 1:2]
     sky = HORIZON + (ZENITH - HORIZON) * np.sqrt(np.maximum(y, 0.0))
     blend = np.clip(0.5 + np.arcsin(np.clip(y, -1.0, 1.0)) / HORIZON_BLEND, 0.0, 1.0)
+    return GROUND + (sky - GROUND) * blend
+
+
+def radiance(d: np.ndarray) -> np.ndarray:
+    """(..., 3) the sky's linear radiance towards unit directions d (..., 3)."""
     angle = np.arccos(np.clip(d @ patch_direction(), -1.0, 1.0))[..., None]
     inside = np.clip((PATCH_RADIUS - angle) / math.radians(0.5) + 0.5, 0.0, 1.0)
-    return GROUND + (sky - GROUND) * blend + PATCH_COLOR * PATCH_RADIANCE * inside
+    return open_sky_radiance(d) + PATCH_COLOR * PATCH_RADIANCE * inside
 
 
-def sky_image(width: int = WIDTH, height: int = HEIGHT) -> np.ndarray:
-    """(height, width, 3) float32: each texel the mean of SUPERSAMPLE^2 points over it."""
-    fine = radiance(equirect_directions(height * SUPERSAMPLE, width * SUPERSAMPLE))
+def sky_image(width: int = WIDTH, height: int = HEIGHT, radiance_towards=radiance) -> np.ndarray:
+    """(height, width, 3) float32: each texel the mean of SUPERSAMPLE^2 points over it of
+    ``radiance_towards`` (directions -> radiance)."""
+    fine = radiance_towards(equirect_directions(height * SUPERSAMPLE, width * SUPERSAMPLE))
     return fine.reshape(height, SUPERSAMPLE, width, SUPERSAMPLE, 3).mean(axis=(1, 3)).astype(np.float32)
 
 
