@@ -64,14 +64,19 @@ SMALL_FILTERING = {"this.textureSize = 256;": "this.textureSize = 64;",
 #   the layer under it; uploaded, the table (sheen_lut) scales the base as the extension says.
 # - coat_vdoth: the coat's Fresnel per light at V.H (scenerender's choice) where the
 #   extension and the viewer take it once at N.V.
+# - spot_smoothstep: the spot's cone as smoothstep of the linear ramp between the cones'
+#   cosines (scenerender's) where the viewer squares the ramp (KHR_lights_punctual's
+#   implementation note).
 VARIANTS = {
     "shipped": {},
     "sheen_table": {"sheenELut.initialized = true;": "sheenELut.initialized = false;"},
     "coat_vdoth": {"l_color=mix(l_color,l_clearcoat_brdf,clearcoatFactor*clearcoatFresnel);":
                    "l_color=mix(l_color,l_clearcoat_brdf,clearcoatFactor*"
                    "F_Schlick(materialInfo.clearcoatF0,materialInfo.clearcoatF90,VdotH));"},
+    "spot_smoothstep": {"return angularAttenuation*angularAttenuation;":
+                        "return smoothstep(0.0,1.0,angularAttenuation);"},
 }
-DIAGNOSTICS = (("sheen", "sheen_table"), ("clearcoat", "coat_vdoth"))
+DIAGNOSTICS = (("sheen", "sheen_table"), ("clearcoat", "coat_vdoth"), ("spot", "spot_smoothstep"))
 CHROMIUM_ARGUMENTS = ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--use-angle=swiftshader",
                       "--enable-unsafe-swiftshader", "--window-size=1200,800")
 
@@ -238,7 +243,8 @@ def write_page_table(table: str, about: dict, mode: str) -> None:
 
 
 VARIANT_NOTES = {"sheen_table": "the viewer with its sheen albedo table uploaded",
-                 "coat_vdoth": "the viewer with the coat's Fresnel per light at V.H"}
+                 "coat_vdoth": "the viewer with the coat's Fresnel per light at V.H",
+                 "spot_smoothstep": "the viewer with scenerender's smoothstep cone"}
 
 
 def chosen_models(names) -> list:

@@ -42,13 +42,15 @@ class Model:
 
     name: the file's stem; title: what the row shows; materials: up to four dicts as
     glTF writes a material (``pbrMetallicRoughness``, ``extensions``); backdrop: coloured
-    bars behind the row (what a transmissive sphere shows through itself)."""
+    bars behind the row (what a transmissive sphere shows through itself); rig: the lights,
+    "three" (``three_lights``) or "spot" (``spot_light``)."""
 
     name: str
     title: str
     materials: tuple
     backdrop: bool = False
     labels: tuple = field(default=())
+    rig: str = "three"
 
     def extensions(self) -> set[str]:
         return {name for material in self.materials for name in material.get("extensions", {})}
@@ -64,7 +66,8 @@ def pbr(base=GREY, metallic=0.0, roughness=0.5, **extensions) -> dict:
 
 
 MODELS = (
-    Model("metal_rough", "plain metallic-roughness: red dielectric at roughness 0.25 and 0.7, gold metal at 0.25 and 0.6",
+    Model("metal_rough", "plain metallic-roughness: red dielectric at roughness 0.25 and 0.7, "
+                         "gold metal at 0.25 and 0.6",
           (pbr(RED, 0.0, 0.25), pbr(RED, 0.0, 0.7), pbr(GOLD, 1.0, 0.25), pbr(GOLD, 1.0, 0.6)),
           labels=("rough 0.25", "rough 0.7", "metal 0.25", "metal 0.6")),
     Model("clearcoat", "KHR_materials_clearcoat over a rough red base (roughness 0.8)",
@@ -88,6 +91,10 @@ MODELS = (
            pbr(GREY, 0.0, 0.3, KHR_materials_specular={"specularColorFactor": [1.0, 0.5, 0.2]}),
            pbr(GREY, 0.0, 0.3, KHR_materials_specular={"specularColorFactor": [2.0, 2.0, 2.0]})),
           labels=("factor 0", "factor 0.5", "colour (1, 0.5, 0.2)", "colour 2")),
+    Model("spot", "KHR_lights_punctual's spot cone (inner 10, outer 25 degrees) across grey rough spheres",
+          tuple(pbr([0.5, 0.5, 0.5, 1.0], 0.0, 0.6) for _ in SPHERE_X),
+          labels=("in the penumbra", "inside the inner cone", "inside the inner cone", "in the penumbra"),
+          rig="spot"),
     Model("transmission", "KHR_materials_transmission: factor 0, 0.5, 1 at roughness 0, 1 at roughness 0.4",
           tuple(pbr([0.9, 0.9, 0.9, 1.0], 0.0, roughness, KHR_materials_transmission={"transmissionFactor": factor})
                 for factor, roughness in ((0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.0, 0.4))),
@@ -116,18 +123,34 @@ def look_rotation(direction) -> list[float]:
     return [float(axis[0]), float(axis[1]), float(axis[2]), float(np.cos(half))]
 
 
-def add_camera_and_lights(builder: GlbBuilder) -> None:
-    """The file's camera (looking down -Z from z = CAMERA_Z) and three lights: a key sun from
-    the upper left, a point light at the upper right front, a rim sun from behind (what
-    shows a sheen and a coat's Fresnel at the outline). Photometric units: lux and candela."""
+def add_camera(builder: GlbBuilder) -> None:
+    """The file's camera, looking down -Z from z = CAMERA_Z."""
     builder.node(camera=builder.camera(type="perspective", perspective={
         "yfov": YFOV, "aspectRatio": ASPECT, "znear": 0.1, "zfar": 50.0}), translation=[0.0, 0.0, CAMERA_Z])
+
+
+def three_lights(builder: GlbBuilder) -> None:
+    """A key sun from the upper left, a point light at the upper right front, a rim sun from
+    behind (what shows a sheen and a coat's Fresnel at the outline). Photometric units: lux
+    and candela."""
     key = builder.light(type="directional", intensity=2.5, color=[1.0, 0.97, 0.92], name="key")
     builder.node(extensions={"KHR_lights_punctual": {"light": key}}, rotation=look_rotation([0.5, -0.6, -0.62]))
     point = builder.light(type="point", intensity=12.0, color=[0.9, 0.95, 1.0], name="fill")
     builder.node(extensions={"KHR_lights_punctual": {"light": point}}, translation=[2.0, 1.5, 2.5])
     rim = builder.light(type="directional", intensity=2.0, name="rim")
     builder.node(extensions={"KHR_lights_punctual": {"light": rim}}, rotation=look_rotation([-0.3, -0.35, 0.89]))
+
+
+def spot_light(builder: GlbBuilder) -> None:
+    """One spot, 5 m from the middle of the row, aimed at it: the outer spheres in its
+    penumbra (between the 10 and 25 degree cones), the inner ones inside its inner cone."""
+    spot = builder.light(type="spot", intensity=60.0, name="spot",
+                         spot={"innerConeAngle": np.radians(10.0), "outerConeAngle": np.radians(25.0)})
+    builder.node(extensions={"KHR_lights_punctual": {"light": spot}}, translation=[0.0, 3.0, 4.0],
+                 rotation=look_rotation([0.0, -3.0, -4.0]))
+
+
+RIGS = {"three": three_lights, "spot": spot_light}
 
 
 def add_backdrop(builder: GlbBuilder) -> None:
@@ -150,7 +173,7 @@ def sphere_columns(width: int) -> list[tuple[int, int]]:
 
 def write_model(model: Model, path: Path) -> Path:
     """``model`` as a GLB at ``path``: its spheres (icospheres, 2,562 vertices each, smooth
-    normals), camera, lights and backdrop."""
+    normals), backdrop, camera and lights."""
     builder = GlbBuilder()
     sphere = trimesh.creation.icosphere(subdivisions=4, radius=RADIUS)
     for x, fields in zip(SPHERE_X, model.materials):
@@ -160,5 +183,6 @@ def write_model(model: Model, path: Path) -> Path:
         builder.node(builder.mesh(builder.primitive(sphere, material)), translation=[x, 0.0, 0.0])
     if model.backdrop:
         add_backdrop(builder)
-    add_camera_and_lights(builder)
+    add_camera(builder)
+    RIGS[model.rig](builder)
     return builder.write(path)
