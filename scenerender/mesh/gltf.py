@@ -18,6 +18,7 @@ import base64
 import math
 import struct
 from dataclasses import dataclass, field
+from typing import NamedTuple
 from urllib.parse import unquote
 
 import numpy as np
@@ -148,7 +149,14 @@ class GltfFile:
     unsupported: list = field(default_factory=list)
 
 
-def split_glb(raw: bytes) -> tuple[dict, bytes | None]:
+class GltfSource(NamedTuple):
+    """A glTF file split and checked once (split_glb), handed to every reader of it."""
+
+    header: dict  # the JSON, validated into mesh.gltf_document's model
+    binary: bytes | None  # the GLB's BIN chunk; None for a .gltf text file
+
+
+def split_glb(raw: bytes) -> GltfSource:
     """(JSON header, BIN chunk or None) of a GLB container, or of a .gltf file's text.
 
     The root guard of every glTF reader: the JSON is read with bounded size and depth
@@ -166,8 +174,8 @@ def split_glb(raw: bytes) -> tuple[dict, bytes | None]:
             offset += 8 + length + (-length % 4)
         if header is None:
             raise GltfStructureProblem("no JSON chunk")
-        return header, binary
-    return _json(raw), None
+        return GltfSource(header, binary)
+    return GltfSource(_json(raw), None)
 
 
 def _json(data: bytes) -> dict:
@@ -185,14 +193,14 @@ def _json(data: bytes) -> dict:
     return header
 
 
-def read_gltf(raw: bytes, label: str, read_file, variant: str | None = None) -> GltfFile:
-    """The materials, primitive slots and images of the glTF file ``raw`` (GLB or text).
+def read_gltf(source: GltfSource, label: str, read_file, variant: str | None = None) -> GltfFile:
+    """The materials, primitive slots and images of the glTF file ``source`` (split_glb).
 
     label: the file's name, prefixed to image keys. read_file(uri) -> bytes reads a file
     the glTF names (an external buffer or image), through the scene's asset policy.
     variant: a KHR_materials_variants name: the primitives use its materials.
     Raises GltfProblem for anything unusable."""
-    header, binary = split_glb(raw)
+    header, binary = source
     result = GltfFile()
     used = header.get("extensionsUsed", [])
     for extension in used if isinstance(used, list) else ():
