@@ -38,6 +38,10 @@ a path goes on in directions drawn from the BRDF, and every surface it meets is 
 visible point is (emission, ambient, environment, every light with its shadow ray: next-event
 estimation), times the path's throughput; Russian roulette ends paths after ROULETTE_AFTER
 bounces. docs/scene-notes.md ("Light that bounces, in the reference") has the details.
+
+Transmissive pbr materials (``transmission``) are not transparency: from each visible point
+of one a path goes through the rough glass and its volume (scenerender.raytrace.transmission)
+to the surface behind, shaded as a visible point is (_FrameScene._through).
 """
 from __future__ import annotations
 
