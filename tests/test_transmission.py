@@ -260,3 +260,14 @@ def test_a_bad_attenuation_distance_is_an_error_naming_the_key(tmp_path):
     result = CliRunner().invoke(main, ["validate", str(_write(tmp_path, text))])
     assert result.exit_code == 2
     assert "attenuation_distance" in result.output and "Traceback" not in result.output
+
+
+def test_a_transmissive_material_blends_only_where_its_alpha_mode_says(tmp_path):
+    # glass of glTF's OPAQUE mode covers what it shows (its alpha ignored); BLEND blends too
+    glass_glb(tmp_path / "model.glb")
+    for alpha_mode, blended in (("opaque", False), ("blend", True)):
+        text = _scene_text().replace("  - mesh: model.glb", "  - {mesh: model.glb, material_overrides: "
+                                     f"{{glass: {{opacity: 0.5, alpha_mode: {alpha_mode}}}}}}}")
+        glass = next(m for m in scene(text, base_dir=tmp_path).world.materials() if m.transmissive)
+        assert glass.transparent
+        assert ("TRANSPARENT" in material_defines(glass, "pbr")) is blended

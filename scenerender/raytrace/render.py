@@ -115,7 +115,7 @@ def unsupported_features(world) -> list[str]:
         found.append("opacity maps")
     if render.ambient_occlusion is not None:
         found.append("ambient occlusion")
-    if any(m.transparent and not m.transmissive for m in world.materials()):
+    if any(m.blended for m in world.materials()):
         found.append("transparency")
     if any(m.masked for m in world.materials()):
         found.append("alpha masks")

@@ -319,7 +319,7 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
         defines["HAS_TANGENTS"] = True
     if material.wrap == "mirror" and material.maps:
         defines["WRAP_MIRROR"] = True
-    if material.transparent:
+    if material.blended:  # a transmissive material that is not blended covers what it shows (alpha 1)
         defines["TRANSPARENT"] = True
     if material.masked:
         defines["ALPHA_MASK"] = True

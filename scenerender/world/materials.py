@@ -184,11 +184,14 @@ class Material:
 
     @property
     def transparent(self) -> bool:
-        """Drawn in the transparent pass: alpha mode "blend"; or, with "auto", opacity below
-        1 at any time, an opacity map, or a base colour alpha below 1; and any transmissive
-        material, which shows what the opaque pass drew behind it."""
-        if self.transmissive:
-            return True
+        """Drawn in the transparent pass: blended (``blended``), or transmissive, seeing
+        what the opaque pass drew behind it."""
+        return self.transmissive or self.blended
+
+    @property
+    def blended(self) -> bool:
+        """Blended over what lies behind by its alpha: alpha mode "blend"; or, with "auto",
+        opacity below 1 at any time, an opacity map, or a base colour alpha below 1."""
         if self.alpha_mode != "auto":
             return self.alpha_mode == "blend"
         if "opacity_map" in self.maps:
