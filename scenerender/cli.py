@@ -564,7 +564,9 @@ def reference(scene, output, frames, spp, ambient_samples, environment_samples, 
     left out (one warning names what the scene has of them); rays that miss the scene show
     the background colour, also where an environment light lights it. With --bounces N it
     path-traces: light that bounced off up to N surfaces too (docs/scene-notes.md, "Light
-    that bounces, in the reference"); 0 is direct light only."""
+    that bounces, in the reference"); 0 is direct light only. Transmissive materials
+    (`transmission`) are traced through: one path a sample through the rough glass and its
+    volume (docs/scene-notes.md, "Transmission and volume")."""
     import time
 
     from scenerender.api import load

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from gltf_files import GlbBuilder, sphere
-from scenerender.mesh.gltf import GltfProblem
+from scenerender.mesh.gltf import GltfProblem, split_glb
 from scenerender.mesh.gltf_animation import clip_time, read_clips, read_skins
 
 TIMES = np.array([0.0, 0.75, 2.0])  # float32 holds these exactly
@@ -68,7 +68,7 @@ def clips(tmp_path):
                                  (node, "translation", TIMES, translations, "LINEAR")])
     builder.animation(None, [(node, "rotation", TIMES, cubic, "CUBICSPLINE")])
     path = builder.write(tmp_path / "spin.glb")
-    return read_clips(path.read_bytes()), cubic
+    return read_clips(split_glb(path.read_bytes())), cubic
 
 
 @pytest.mark.parametrize("t", [0.3, 0.75, 1.37, 1.99])
@@ -102,7 +102,7 @@ def test_clips_have_names_indices_and_durations(clips):
 def test_a_file_without_animations_has_no_clips(tmp_path):
     builder = GlbBuilder()
     builder.node(builder.mesh(builder.primitive(sphere(0.2, 1))))
-    assert read_clips(builder.write(tmp_path / "still.glb").read_bytes()) == []
+    assert read_clips(split_glb(builder.write(tmp_path / "still.glb").read_bytes())) == []
 
 
 def test_bad_animations_are_named(tmp_path):
@@ -110,10 +110,10 @@ def test_bad_animations_are_named(tmp_path):
     node = builder.node(builder.mesh(builder.primitive(sphere(0.2, 1))))
     builder.animation("bad", [(node, "rotation", [0.0, 1.0, 0.5], ROTATIONS, "LINEAR")])
     with pytest.raises(GltfProblem, match="strictly increasing"):
-        read_clips(builder.write(tmp_path / "bad.glb").read_bytes())
+        read_clips(split_glb(builder.write(tmp_path / "bad.glb").read_bytes()))
     builder.json["animations"][0]["samplers"][0]["interpolation"] = "SMOOTH"
     with pytest.raises(GltfProblem, match="unknown interpolation 'SMOOTH'"):
-        read_clips(builder.write(tmp_path / "bad.glb").read_bytes())
+        read_clips(split_glb(builder.write(tmp_path / "bad.glb").read_bytes()))
 
 
 @pytest.mark.parametrize("t, speed, offset, loop, expected", [
@@ -134,11 +134,11 @@ def test_the_example_animated_glb_is_what_its_generator_writes_and_has_its_clips
     spec.loader.exec_module(module)
     stored = (SCENES / "assets" / "models" / "fan_and_arm.glb").read_bytes()
     assert module.build() == stored
-    found = read_clips(stored)
+    found = read_clips(split_glb(stored))
     assert [(c.name, c.duration) for c in found] == [("spin", 2.0), ("bend", 2.0), ("tick", 2.0), ("all", 2.0)]
     assert {ch.interpolation for ch in found[3].channels} == {"STEP", "LINEAR", "CUBICSPLINE"}
     assert {ch.path for ch in found[3].channels} == {"rotation", "weights"}
-    assert len(read_skins(stored)) == 1
+    assert len(read_skins(split_glb(stored))) == 1
 
 
 @pytest.mark.gl

@@ -13,8 +13,10 @@ from click.testing import CliRunner
 
 from gltf_files import GlbBuilder
 from scenerender.cli import main
-from scenerender.mesh.gltf import GltfProblem, GltfStructureProblem, split_glb
-from scenerender.mesh.gltf_animation import read_clips
+from scenerender.mesh.gltf import GltfStructureProblem, split_glb
+from scenerender.errors import UserError
+from scenerender.mesh.loader import read_gltf_clips
+from scenerender.scene.assets import policy_for
 
 TIMES = [0.0, 1.0, 2.0]
 SPIN = [[0, 0, 0, 1], [0, 0, 1, 0], [0, 0, 0, -1]]
@@ -211,10 +213,12 @@ def _nested(depth: int):
 
 
 def test_the_readers_meet_the_guard_too(tmp_path):
-    """The guard sits in split_glb, under every reader: read_clips refuses a wrong part too."""
-    raw = _fan(tmp_path / "model.glb", edit=_set(("animations", 0, "channels"), [3])).read_bytes()
-    with pytest.raises(GltfProblem, match=r"animations\[0\]\.channels\[0\]"):
-        read_clips(raw)
+    """The loader's way to the clips passes the guard first: a wrong part of the animations
+    is refused naming its key, before read_clips walks it."""
+    path = _fan(tmp_path / "model.glb", edit=_set(("animations", 0, "channels"), [3]))
+    with pytest.raises(UserError, match="not a usable glTF file") as caught:
+        read_gltf_clips(path, policy_for(path))
+    assert caught.value.key == "animations[0].channels[0]"
 
 
 # Keys each finite, whose products are not: a part placed beyond 32-bit floats at some time

@@ -16,6 +16,7 @@ from gltf_files import GlbBuilder, quad, sphere
 from scenerender.errors import Warnings
 from scenerender.mesh import load_mesh
 from scenerender.mesh import loader
+from scenerender.mesh.gltf import split_glb
 from scenerender.mesh.gltf_geometry import NotReadHere, read_parts
 from scenerender.scene.assets import policy_for
 
@@ -28,8 +29,9 @@ def both_ways(path: Path):
     own checks and joins."""
     raw = path.read_bytes()
     read_file = loader._policy_reader(path, policy_for(path))
-    gltf = loader._read_gltf(raw, path, read_file, Warnings())
-    here = read_parts(raw, read_file, [m.name for m in gltf.materials] if gltf else [])
+    source = split_glb(raw)
+    gltf = loader._read_gltf(source, path, read_file, Warnings())
+    here = read_parts(source, read_file, [m.name for m in gltf.materials] if gltf else [])
     theirs = loader._trimesh_parts(path, raw, policy_for(path), gltf, Warnings())
     return loader._joined(here, gltf, path.name), loader._joined(theirs, gltf, path.name)
 
@@ -113,7 +115,7 @@ def test_what_it_leaves_to_trimesh_still_loads(tmp_path):
     builder.node(0)
     path = builder.write(tmp_path / "strip.glb")
     with pytest.raises(NotReadHere):
-        read_parts(path.read_bytes(), lambda name: b"", [])
+        read_parts(split_glb(path.read_bytes()), lambda name: b"", [])
     assert load_mesh(path, warnings=Warnings()).triangle_count == 2
 
 

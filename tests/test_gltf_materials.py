@@ -13,7 +13,7 @@ import scenerender
 from gltf_files import GlbBuilder, quad, sphere
 from scenerender.errors import Warnings
 from scenerender.mesh import load_mesh
-from scenerender.mesh.gltf import GltfMaterial, read_gltf
+from scenerender.mesh.gltf import GltfMaterial, read_gltf, split_glb
 from scenerender.rendering.renderer import GraphRenderer
 
 SIZE = 64
@@ -394,7 +394,7 @@ def test_the_inputs_trimesh_drops_are_read_from_the_file(tmp_path):
         alphaMode="MASK", alphaCutoff=0.3, doubleSided=True)
     builder.node(builder.mesh(builder.primitive(mesh, material, uv=uv)))
     path = builder.write(tmp_path / "model.glb")
-    gltf = read_gltf(path.read_bytes(), str(path), lambda name: b"")
+    gltf = read_gltf(split_glb(path.read_bytes()), str(path), lambda name: b"")
     read = gltf.materials[0]
     assert isinstance(read, GltfMaterial) and read.name == "all"
     assert read.normal_map.scale == 0.4 and read.occlusion_map.scale == 0.7

@@ -210,7 +210,8 @@ def test_the_reference_layers_reduce_to_the_model_without_them():
     v = np.tile([0.3, 0.0, 0.954], (200, 1))
     base, metallic, roughness = rng.random((200, 3)), rng.random(200), rng.random(200)
     neutral = {"f0": np.full((200, 3), 0.04), "f90": np.ones(200), "clearcoat": np.zeros(200),
-               "clearcoat_roughness": np.zeros(200), "sheen_color": np.zeros((200, 3)), "sheen_roughness": np.zeros(200)}
+               "clearcoat_roughness": np.zeros(200), "sheen_color": np.zeros((200, 3)), "sheen_roughness": np.zeros(200),
+               "transmission": np.zeros(200)}
     plain = shading.pbr_direct_term(n, l, v, np.ones((200, 3)), base, metallic, roughness)
     layered = shading.pbr_direct_term(n, l, v, np.ones((200, 3)), base, metallic, roughness, neutral)
     assert np.allclose(plain, layered, rtol=1e-12, atol=1e-15)

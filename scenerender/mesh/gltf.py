@@ -18,6 +18,7 @@ import base64
 import math
 import struct
 from dataclasses import dataclass, field
+from typing import NamedTuple
 from urllib.parse import unquote
 
 import numpy as np
@@ -49,7 +50,7 @@ _NORMALIZED = {5121: 255.0, 5123: 65535.0}
 READ_EXTENSIONS = (
     "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
     "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
-    "KHR_materials_variants",
+    "KHR_materials_variants", "KHR_materials_transmission", "KHR_materials_volume",
     "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
 )
 
@@ -124,6 +125,11 @@ class GltfMaterial:
     clearcoat_roughness: float = 0.0
     sheen_color: tuple = (0.0, 0.0, 0.0)  # KHR_materials_sheen
     sheen_roughness: float = 0.0
+    # KHR_materials_transmission, KHR_materials_volume (their factors)
+    transmission: float = 0.0
+    thickness: float = 0.0
+    attenuation_color: tuple = (1.0, 1.0, 1.0)
+    attenuation_distance: float = float("inf")
 
     def textures(self) -> dict:
         """{map name: GltfTexture} of the maps it has."""
@@ -148,7 +154,14 @@ class GltfFile:
     unsupported: list = field(default_factory=list)
 
 
-def split_glb(raw: bytes) -> tuple[dict, bytes | None]:
+class GltfSource(NamedTuple):
+    """A glTF file split and checked once (split_glb), handed to every reader of it."""
+
+    header: dict  # the JSON, validated into mesh.gltf_document's model
+    binary: bytes | None  # the GLB's BIN chunk; None for a .gltf text file
+
+
+def split_glb(raw: bytes) -> GltfSource:
     """(JSON header, BIN chunk or None) of a GLB container, or of a .gltf file's text.
 
     The root guard of every glTF reader: the JSON is read with bounded size and depth
@@ -166,8 +179,8 @@ def split_glb(raw: bytes) -> tuple[dict, bytes | None]:
             offset += 8 + length + (-length % 4)
         if header is None:
             raise GltfStructureProblem("no JSON chunk")
-        return header, binary
-    return _json(raw), None
+        return GltfSource(header, binary)
+    return GltfSource(_json(raw), None)
 
 
 def _json(data: bytes) -> dict:
@@ -185,14 +198,14 @@ def _json(data: bytes) -> dict:
     return header
 
 
-def read_gltf(raw: bytes, label: str, read_file, variant: str | None = None) -> GltfFile:
-    """The materials, primitive slots and images of the glTF file ``raw`` (GLB or text).
+def read_gltf(source: GltfSource, label: str, read_file, variant: str | None = None) -> GltfFile:
+    """The materials, primitive slots and images of the glTF file ``source`` (split_glb).
 
     label: the file's name, prefixed to image keys. read_file(uri) -> bytes reads a file
     the glTF names (an external buffer or image), through the scene's asset policy.
     variant: a KHR_materials_variants name: the primitives use its materials.
     Raises GltfProblem for anything unusable."""
-    header, binary = split_glb(raw)
+    header, binary = source
     result = GltfFile()
     used = header.get("extensionsUsed", [])
     for extension in used if isinstance(used, list) else ():
@@ -306,6 +319,7 @@ def _material(name: str, material: dict, header: dict, result: GltfFile, label: 
         double_sided=_bool(material.get("doubleSided", False), "doubleSided"),
         unlit="KHR_materials_unlit" in extensions,
         **_layers(name, extensions, result),
+        **_transmission(name, extensions, result),
         **textures,
     )
 
@@ -342,6 +356,33 @@ def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
                                         0.0, 1.0)[0],
         "sheen_color": _numbers(sheen.get("sheenColorFactor", (0.0, 0.0, 0.0)), 3, "sheenColorFactor", 0.0, 1.0),
         "sheen_roughness": _numbers([sheen.get("sheenRoughnessFactor", 0.0)], 1, "sheenRoughnessFactor", 0.0, 1.0)[0],
+    }
+
+
+# the textures of KHR_materials_transmission and _volume, which are not read either
+_TRANSMISSION_TEXTURES = {"KHR_materials_transmission": ("transmissionTexture",),
+                          "KHR_materials_volume": ("thicknessTexture",)}
+
+
+def _transmission(name: str, extensions: dict, result: GltfFile) -> dict:
+    """The GltfMaterial fields of KHR_materials_transmission and KHR_materials_volume
+    (glTF's defaults where absent: no transmission, thin-walled, no attenuation). The
+    volume's thickness is the factor alone, read in the scene's units."""
+    values = {extension: json_object(extensions.get(extension, {}), f"material {name!r}: {extension}")
+              for extension in _TRANSMISSION_TEXTURES}
+    for extension, keys in _TRANSMISSION_TEXTURES.items():
+        for key in keys:
+            note = f"{extension} {key} is not read (its factor alone applies)"
+            if key in values[extension] and note not in result.unsupported:
+                result.unsupported.append(note)
+    transmission, volume = values["KHR_materials_transmission"], values["KHR_materials_volume"]
+    distance = volume.get("attenuationDistance")
+    return {
+        "transmission": _numbers([transmission.get("transmissionFactor", 0.0)], 1, "transmissionFactor", 0.0, 1.0)[0],
+        "thickness": _numbers([volume.get("thicknessFactor", 0.0)], 1, "thicknessFactor", 0.0, 1e6)[0],
+        "attenuation_color": _numbers(volume.get("attenuationColor", (1.0, 1.0, 1.0)), 3, "attenuationColor", 0.0, 1.0),
+        "attenuation_distance": float("inf") if distance is None else _numbers([distance], 1, "attenuationDistance",
+                                                                               1e-9, 1e30)[0],
     }
 
 

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from scenerender.mesh.gltf import GltfProblem, split_glb
+from scenerender.mesh.gltf import GltfProblem, GltfSource
 from scenerender.mesh.gltf_geometry import accessor_reader
 
 INTERPOLATIONS = ("STEP", "LINEAR", "CUBICSPLINE")
@@ -135,10 +135,10 @@ class Clip:
         return values
 
 
-def read_clips(raw: bytes, read_file=None) -> list[Clip]:
-    """The clips of the glTF file ``raw`` (GLB or text). ``read_file(uri)`` reads an
+def read_clips(source: GltfSource, read_file=None) -> list[Clip]:
+    """The clips of the glTF file ``source`` (mesh.gltf.split_glb). ``read_file(uri)`` reads an
     external buffer. Raises GltfProblem where the animations are malformed."""
-    header, binary = split_glb(raw)
+    header, binary = source
     animations = header.get("animations", []) or []
     if not animations:
         return []
@@ -236,9 +236,9 @@ class Skin:
     inverse_binds: np.ndarray
 
 
-def read_skins(raw: bytes, read_file=None) -> list[Skin]:
-    """The skins of the glTF file ``raw``. Raises GltfProblem where one is malformed."""
-    header, binary = split_glb(raw)
+def read_skins(source: GltfSource, read_file=None) -> list[Skin]:
+    """The skins of the glTF file ``source`` (mesh.gltf.split_glb). Raises GltfProblem where one is malformed."""
+    header, binary = source
     skins = header.get("skins", []) or []
     if not skins:
         return []

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from scenerender.mesh.gltf import VARIANTS_EXTENSION, GltfProblem, buffer_view_bytes, primitive_material, rgba_colors, split_glb
+from scenerender.mesh.gltf import VARIANTS_EXTENSION, GltfProblem, buffer_view_bytes, primitive_material, rgba_colors, GltfSource
 
 _DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 _WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
@@ -35,16 +35,16 @@ class NotReadHere(Exception):
     """The file uses something this reader leaves to trimesh."""
 
 
-def read_parts(raw: bytes, read_file, material_names: list, deformations: bool = False,
+def read_parts(source: GltfSource, read_file, material_names: list, deformations: bool = False,
                variant: str | None = None) -> list[dict]:
-    """The triangle parts of the glTF file ``raw`` (GLB or text) in world space order of its
+    """The triangle parts of the glTF file ``source`` (mesh.gltf.split_glb) in world space order of its
     default scene's nodes, depth first. ``read_file(uri)`` reads an external buffer;
     ``material_names``: the names mesh.gltf gave the file's materials, by index.
     ``deformations``: also read each primitive's JOINTS_0, WEIGHTS_0 and morph targets.
     ``variant``: a KHR_materials_variants name whose materials the primitives use.
 
     Raises NotReadHere where trimesh must read the file, GltfProblem where it is malformed."""
-    header, binary = split_glb(raw)
+    header, binary = source
     used = set(header.get("extensionsUsed", []) or []) | set(header.get("extensionsRequired", []) or [])
     if used & set(_GEOMETRY_EXTENSIONS):
         raise NotReadHere("compressed or quantized geometry")

@@ -19,7 +19,8 @@ from scenerender.mesh.cache import load_obj_cached
 from scenerender.mesh.data import MeshData
 from scenerender.mesh.data import MeshGroup
 from scenerender.mesh.geometry import NORMAL_MODES, apply_normals_mode, normalize_unit
-from scenerender.mesh.gltf import GltfFile, GltfProblem, GltfStructureProblem, read_gltf, split_glb, variant_names, vertex_colors
+from scenerender.mesh.gltf import (GltfFile, GltfProblem, GltfSource, GltfStructureProblem, read_gltf, split_glb,
+                                   variant_names, vertex_colors)
 from scenerender.mesh.gltf_animation import read_clips, read_skins
 from scenerender.mesh.gltf_geometry import read_parts
 from scenerender.mesh.numbers import BEYOND_FLOAT32, fits_float32
@@ -89,9 +90,9 @@ def load_gltf_nodes(path: Path, *, normals: str = "auto", warnings: Warnings, as
     _check_mesh_file(path, assets, SourceLocation(shown))
     raw = read_regular_file(path, "mesh file")
     read_file = _policy_reader(path, assets)
-    _gltf_json(raw, path)
-    gltf = _read_gltf(raw, path, read_file, warnings, variant)
-    parts = _gltf_parts_here(raw, read_file, gltf, deformations=True, variant=variant)
+    source = _gltf_json(raw, path)
+    gltf = _read_gltf(source, path, read_file, warnings, variant)
+    parts = _gltf_parts_here(source, read_file, gltf, deformations=True, variant=variant)
     if parts is None:
         raise UserError("cannot play its animations: its geometry is stored in a way only trimesh reads "
                         "(sparse, compressed or non-triangle primitives), and trimesh keeps no nodes",
@@ -143,10 +144,10 @@ def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list, list]:
     shown = display_path(path)
     _check_mesh_file(path, assets, SourceLocation(shown))
     raw = read_regular_file(path, "mesh file")
-    header, _ = _gltf_json(raw, path)
+    source = _gltf_json(raw, path)
     try:
         read_file = _policy_reader(path, assets)
-        return header, read_clips(raw, read_file), read_skins(raw, read_file)
+        return source.header, read_clips(source, read_file), read_skins(source, read_file)
     except UserError:
         raise  # a buffer outside the allowed folders
     except GltfProblem as exc:
@@ -161,16 +162,16 @@ def gltf_variants(path: Path, assets: AssetPolicy) -> list[str]:
     path = Path(path)
     shown = display_path(path)
     _check_mesh_file(path, assets, SourceLocation(shown))
-    gltf_json, _ = _gltf_json(read_regular_file(path, "mesh file"), path)
+    source = _gltf_json(read_regular_file(path, "mesh file"), path)
     try:
-        return variant_names(gltf_json)
+        return variant_names(source.header)
     except GltfProblem as exc:
         raise UserError(f"cannot read its variants: {exc}", SourceLocation(shown)) from None
 
 
-def _gltf_json(raw: bytes, path: Path) -> tuple[dict, bytes | None]:
-    """(JSON, BIN chunk or None) of the glTF file ``raw`` read from ``path``, through the
-    root guard (mesh.gltf.split_glb): a file whose JSON is no glTF document is a UserError
+def _gltf_json(raw: bytes, path: Path) -> GltfSource:
+    """The glTF file ``raw`` read from ``path``, split and checked once for all its readers
+    by the root guard (mesh.gltf.split_glb): a file whose JSON is no glTF document is a UserError
     naming the file and the key, whatever would read it next."""
     try:
         return split_glb(raw)
@@ -223,15 +224,15 @@ def _load_other_format(path: Path, assets: AssetPolicy, budget: TriangleBudget, 
     read_file = _policy_reader(path, assets)
     gltf = None
     if path.suffix.lower() in (".glb", ".gltf"):
-        _gltf_json(raw, path)
-        gltf = _read_gltf(raw, path, read_file, warnings, variant)
-        parts = _gltf_parts_here(raw, read_file, gltf, variant=variant)
+        source = _gltf_json(raw, path)
+        gltf = _read_gltf(source, path, read_file, warnings, variant)
+        parts = _gltf_parts_here(source, read_file, gltf, variant=variant)
         if parts is not None:
             return _joined(parts, gltf, shown)
     return _joined(_trimesh_parts(path, raw, assets, gltf, warnings), gltf, shown)
 
 
-def _gltf_parts_here(raw: bytes, read_file, gltf: GltfFile | None, deformations: bool = False,
+def _gltf_parts_here(source: GltfSource, read_file, gltf: GltfFile | None, deformations: bool = False,
                      variant: str | None = None) -> list[dict] | None:
     """The glTF file's parts read without trimesh, or None where trimesh must read it
     (what mesh.gltf_geometry leaves to it, or a file it finds malformed: trimesh then
@@ -239,7 +240,7 @@ def _gltf_parts_here(raw: bytes, read_file, gltf: GltfFile | None, deformations:
     names = [material.name for material in gltf.materials] if gltf is not None else []
     try:
         with np.errstate(all="ignore"):
-            return read_parts(raw, read_file, names, deformations, variant)
+            return read_parts(source, read_file, names, deformations, variant)
     except UserError:
         raise  # a file it names outside the allowed folders
     except Exception:  # noqa: BLE001 - NotReadHere, GltfProblem, or malformed JSON values
@@ -290,12 +291,12 @@ def _trimesh_parts(path: Path, raw: bytes, assets: AssetPolicy, gltf: GltfFile |
         raise UserError(f"cannot read mesh: {_short(exc)}", SourceLocation(shown)) from None
 
 
-def _read_gltf(raw: bytes, path: Path, read_file, warnings: Warnings, variant: str | None = None) -> GltfFile | None:
+def _read_gltf(source: GltfSource, path: Path, read_file, warnings: Warnings, variant: str | None = None) -> GltfFile | None:
     """The file's own glTF materials (mesh.gltf), or None with a warning where they cannot
     be read (the geometry may still be fine: trimesh judges it)."""
     shown = display_path(path)
     try:
-        gltf = read_gltf(raw, str(path), read_file, variant)
+        gltf = read_gltf(source, str(path), read_file, variant)
     except GltfProblem as exc:
         warnings.warn(f"materials not read ({exc}); drawn with the scene's material", SourceLocation(shown))
         return None

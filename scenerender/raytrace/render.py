@@ -38,6 +38,10 @@ a path goes on in directions drawn from the BRDF, and every surface it meets is 
 visible point is (emission, ambient, environment, every light with its shadow ray: next-event
 estimation), times the path's throughput; Russian roulette ends paths after ROULETTE_AFTER
 bounces. docs/scene-notes.md ("Light that bounces, in the reference") has the details.
+
+Transmissive pbr materials (``transmission``) are not transparency: from each visible point
+of one a path goes through the rough glass and its volume (scenerender.raytrace.transmission)
+to the surface behind, shaded as a visible point is (_FrameScene._through).
 """
 from __future__ import annotations
 
@@ -48,7 +52,7 @@ import numpy as np
 from scenerender import option_rules
 from scenerender.colorspace import encode_output, tone_map
 from scenerender.errors import UserError
-from scenerender.raytrace import environment_sampling as environment, shading, sized_lights
+from scenerender.raytrace import environment_sampling as environment, shading, sized_lights, transmission
 from scenerender.raytrace.geometry import Soup, frame_soup
 from scenerender.raytrace.rays import TriangleCaster
 from scenerender.raytrace.textures import MapSampler
@@ -111,7 +115,7 @@ def unsupported_features(world) -> list[str]:
         found.append("opacity maps")
     if render.ambient_occlusion is not None:
         found.append("ambient occlusion")
-    if any(m.transparent for m in world.materials()):
+    if any(m.blended for m in world.materials()):
         found.append("transparency")
     if any(m.masked for m in world.materials()):
         found.append("alpha masks")
@@ -259,6 +263,9 @@ class _FrameScene:
         self.bounces = bounces
         self.bounce_rng = bounce_rng if bounce_rng is not None else np.random.Generator(np.random.PCG64(4))
         self.bounce_draws = _Draws(self.bounce_rng, self.bounce_rng, self.bounce_rng)
+        # paths through transmissive surfaces (_through): a generator of their own, so
+        # a scene without them draws what it drew
+        self.transmission_rng = np.random.Generator(np.random.PCG64([5, frame.index]))
         self.environment_image = _image_sampler(world, frame)
         self.soup: Soup = frame_soup(world, frame)
         self.primary = TriangleCaster(self.soup.corners, warn)
@@ -365,6 +372,7 @@ class _FrameScene:
         reaches the point after bouncing off other surfaces too (``_indirect``)."""
         hit = self._surface(tri, p, ray, u, v)
         color, shadow, cone, taken = self._lit(hit, p, strata, self.draws)
+        color = color + self._through(hit, p)
         if self.bounces:
             color = color + self._indirect(hit, p)
         fog = self.world.render.fog
@@ -396,7 +404,8 @@ class _FrameScene:
             view = shading.safe_normalize(-p, n)
         m = soup.material[tri]
         surface = {key: table[key][m] for key in ("diffuse", "ambient", "specular", "emissive", "shininess",
-                                                   "metallic", "roughness", "layered", *shading.LAYER_KEYS)}
+                                                   "metallic", "roughness", "layered", *shading.LAYER_KEYS,
+                                                   *transmission.SURFACE_KEYS)}
         surface["occlusion"] = np.ones(len(m))
         colors = soup.colors[tri]
         surface["diffuse"] = surface["diffuse"] * (colors[:, 0] * (1.0 - u - v)[:, None] + colors[:, 1] * u[:, None]
@@ -479,6 +488,68 @@ class _FrameScene:
             keep = np.flatnonzero(~unlit)
             rows, throughput, hit, p = rows[keep], throughput[keep], hit.take(keep), p[keep]
         return total
+
+    def _through(self, hit: "_Hit", p: np.ndarray) -> np.ndarray:
+        """(P, 3) the light that reaches the eye through the transmissive pbr surfaces among
+        ``hit`` at points ``p`` (P, 3) (raytrace/transmission.py): one path a point, from
+        its surface through every transmissive surface it meets (thin walls and volumes,
+        Beer-Lambert inside), to the first other surface, shaded as a visible point is
+        (``_lit``: emission, ambient, environment, lights; no bounces), or the background
+        where it leaves the scene. A transmissive surface on the way adds its own
+        reflection too. Each surface the path enters through (from outside) tints it by
+        (1 - metallic) transmission base."""
+        out = np.zeros_like(p)
+        pbr = hit.model == MODELS.index("pbr")
+        rows = np.flatnonzero(pbr & (hit.surface["transmission"] > 0.0))
+        if not len(rows) or not self.primary_count:
+            return out
+        hit, p = hit.take(rows), p[rows]
+        inside = np.zeros(len(rows), bool)
+        extinction = np.zeros((len(rows), 3))
+        throughput = np.ones((len(rows), 3))
+        rng = self.transmission_rng
+        for _ in range(transmission.MAX_INTERFACES):
+            surface = hit.surface
+            entering = ~inside
+            metallic = surface["metallic"][:, None]
+            throughput = throughput * np.where(entering[:, None],
+                                               (1.0 - metallic) * surface["transmission"][:, None] * surface["diffuse"],
+                                               1.0)
+            f90 = surface["f90"] * (1.0 - surface["metallic"]) + surface["metallic"]
+            f0 = surface["f0"] * (1.0 - metallic) + surface["diffuse"] * metallic
+            went = transmission.scatter(transmission.Interface(
+                hit.n, hit.view, shading.pbr_alpha(surface["roughness"]), f0, f90, surface["ior"],
+                surface["thickness"] <= 0.0, inside), rng)
+            extinction = np.where((entering & went.inside)[:, None], surface["extinction"], extinction)
+            throughput = throughput * went.weight
+            inside = went.inside
+            epsilon = 1e-6 * self.extent + 2e-6 * np.linalg.norm(p, axis=1)
+            side = np.sign(np.sum(hit.facing * went.l, axis=1))[:, None]
+            origins = p + hit.facing * side * epsilon[:, None]
+            going = np.flatnonzero(np.any(throughput > 0.0, axis=1))
+            triangles = np.full(len(rows), -1, dtype=np.int64)
+            triangles[going] = self.primary.first_hit(origins[going], went.l[going])
+            left = np.flatnonzero((triangles < 0) & ~inside)
+            out[rows[left]] += throughput[left] * self.frame.background[:3]
+            met = np.flatnonzero(triangles >= 0)
+            if not len(met):
+                break
+            t, u, v = self.primary.hit_parameters(triangles[met], origins[met], went.l[met])
+            rows, inside, extinction, l = rows[met], inside[met], extinction[met], went.l[met]
+            throughput = throughput[met] * np.exp(-extinction * np.where(inside, t, 0.0)[:, None])
+            p = origins[met] + l * t[:, None]
+            hit = self._surface(triangles[met], p, l, u, v, view=-l)
+            # outside a volume, a surface adds what it reflects; an opaque one ends the path
+            lit = np.flatnonzero(~inside)
+            if len(lit):
+                out[rows[lit]] += throughput[lit] * self._lit(hit.take(lit), p[lit], None, self.bounce_draws)[0]
+            passes = (hit.model == MODELS.index("pbr")) & (hit.surface["transmission"] > 0.0)
+            keep = np.flatnonzero(passes)
+            rows, inside, extinction, throughput, hit, p = (rows[keep], inside[keep], extinction[keep],
+                                                            throughput[keep], hit.take(keep), p[keep])
+            if not len(rows):
+                break
+        return out
 
     @staticmethod
     def _continuation(hit: "_Hit", rng) -> tuple[np.ndarray, np.ndarray]:
@@ -746,6 +817,7 @@ def _material_table(materials: list, scene_shading: str = "blinn_phong") -> dict
         "model": np.array([MODELS.index(m.model(scene_shading) if m is not None else scene_shading)
                            for m, _ in materials]),
         **_layer_table([m for m, _ in materials]),
+        **transmission.transmission_table([m for m, _ in materials]),
     }
 
 
@@ -766,6 +838,7 @@ def _layer_table(materials: list) -> dict:
                                 dtype=np.float64).reshape(-1, 3),
         "sheen_roughness": np.array([m.sheen_roughness if m is not None else 0.0 for m in materials],
                                     dtype=np.float64),
+        "transmission": np.array([m.transmission if m is not None else 0.0 for m in materials], dtype=np.float64),
     }
 
 

@@ -148,7 +148,8 @@ def pbr_direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.nd
         f90 = layers["f90"][:, None] * (1.0 - metallic) + metallic
         fresnel = f0 + (f90 - f0) * ((1.0 - v_dot_h) ** 5)[:, None]
     specular = np.pi * ggx_distribution(n_dot_h, alpha) * smith_visibility(n_dot_v, np.clip(n_dot_l, 0.0, 1.0), alpha)
-    term = ((1.0 - fresnel) * (1.0 - metallic) * base + fresnel * specular[:, None]) * n_dot_l[:, None]
+    diffuse_weight = (1.0 - metallic) if layers is None else (1.0 - metallic) * _kept(layers)
+    term = ((1.0 - fresnel) * diffuse_weight * base + fresnel * specular[:, None]) * n_dot_l[:, None]
     if layers is not None:
         term = _sheen_over(term, layers, n_dot_v, np.clip(n_dot_l, 0.0, 1.0), n_dot_h)
         coat = layers["clearcoat"] * coat_fresnel(v_dot_h)
@@ -173,17 +174,23 @@ def _sheen_over(term: np.ndarray, layers: dict, n_dot_v: np.ndarray, n_dot_l: np
     return term * scaling[:, None] + color * (lobe * n_dot_l)[:, None]
 
 
+def _kept(layers: dict) -> np.ndarray:
+    """(P, 1) the share of the diffuse part that stays diffuse: 1 - transmission
+    (KHR_materials_transmission; what passes through is raytrace/transmission.py's)."""
+    return 1.0 - layers["transmission"][:, None]
+
+
 def coat_fresnel(cosine: np.ndarray) -> np.ndarray:
     """(P,) the clear coat's Fresnel, F0 0.04 (ior 1.5): 0.04 + 0.96 (1 - cos)^5."""
     return 0.04 + 0.96 * (1.0 - cosine) ** 5
 
 
-LAYER_KEYS = ("f0", "f90", "clearcoat", "clearcoat_roughness", "sheen_color", "sheen_roughness")
+LAYER_KEYS = ("f0", "f90", "clearcoat", "clearcoat_roughness", "sheen_color", "sheen_roughness", "transmission")
 
 
 def pbr_layers(points: dict) -> dict | None:
     """The layer values of ``points`` (arrays per point: "layered" (P,) bool, f0 (P, 3),
-    f90, clearcoat, clearcoat_roughness (P,), sheen_color (P, 3), sheen_roughness (P,)), or None where no point has a layer (then the
+    f90, clearcoat, clearcoat_roughness (P,), sheen_color (P, 3), sheen_roughness, transmission (P,)), or None where no point has a layer (then the
     model's own formulas apply, to the bit)."""
     if not np.any(points["layered"]):
         return None
@@ -208,7 +215,7 @@ def pbr_ambient(n: np.ndarray, v: np.ndarray, base: np.ndarray, metallic: np.nda
         return diffuse + f0 * scale[:, None] + bias[:, None]
     f0 = layers["f0"] * (1.0 - metallic) + base * metallic
     f90 = layers["f90"][:, None] * (1.0 - metallic) + metallic
-    diffuse = base * (1.0 - metallic) * ((1.0 - f0) - (f90 - f0) * diffuse_fresnel[:, None])
+    diffuse = base * (1.0 - metallic) * _kept(layers) * ((1.0 - f0) - (f90 - f0) * diffuse_fresnel[:, None])
     sheen = sheen_fit.evaluate(n_dot_v, layers["sheen_roughness"])
     sheen_through = np.maximum(1.0 - layers["sheen_color"].max(axis=1) * sheen, 0.0)
     sheened = (diffuse + f0 * scale[:, None] + f90 * bias[:, None]) * sheen_through[:, None] \

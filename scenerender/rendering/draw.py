@@ -260,6 +260,11 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
         set_uniforms(program, u_clearcoat=material.clearcoat, u_clearcoat_roughness=material.clearcoat_roughness)
     if material.sheen:
         set_uniforms(program, u_sheen_color=tuple(material.sheen_color), u_sheen_roughness=material.sheen_roughness)
+    if material.transmissive:
+        distance = material.attenuation_distance
+        set_uniforms(program, u_transmission=material.transmission, u_transmission_ior=material.ior,
+                     u_thickness=material.thickness, u_attenuation_color=tuple(material.attenuation_color),
+                     u_attenuation_distance=0.0 if distance == float("inf") else distance)
     for key, source in material.maps.items():
         if program.get(f"u_{key}", None) is None:
             continue

@@ -32,6 +32,9 @@ TEXTURE_UNITS = {
     "u_shadow_depth": 22, "u_shadow_depth_2": 23, "u_velocity": 24, "u_velocity_tiles": 25,
     "u_env_vis_samples": 26, "u_env_vis_surfaces": 27, "u_ltc": 28, "u_lens_depth": 29,
     "u_probe_irradiance": 30, "u_probe_depth": 31,
+    # the opaque scene behind transmissive surfaces (passes/transmission.py): a unit of
+    # its own past 31, as the forward shaders of the transparent pass sample few maps
+    "u_transmission_source": 35,
     # past the 32 a shader stage may sample: only the bake's full-screen passes use these
     "u_capture": 32, "u_capture_reflectance": 33, "u_capture_normal": 34,
 }
@@ -316,7 +319,7 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
         defines["HAS_TANGENTS"] = True
     if material.wrap == "mirror" and material.maps:
         defines["WRAP_MIRROR"] = True
-    if material.transparent:
+    if material.blended:  # a transmissive material that is not blended covers what it shows (alpha 1)
         defines["TRANSPARENT"] = True
     if material.masked:
         defines["ALPHA_MASK"] = True
@@ -334,4 +337,8 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
         defines["PBR_CLEARCOAT"] = True
     if model == "pbr" and material.sheen:
         defines["PBR_SHEEN"] = True
+    if model == "pbr" and material.transmissive:
+        defines["PBR_TRANSMISSION"] = True
+        if material.thickness > 0.0:
+            defines["TRANSMISSION_VOLUME"] = True
     return defines

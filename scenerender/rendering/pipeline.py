@@ -111,7 +111,8 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
         color = graph.add(OutlinePass(color, depth, inputs.camera, inputs.objects, inputs.outlines,
                                       *lines_and_points)).image
     if any(m.transparent for m in world.materials()):
-        color = graph.add(TransparentPass(color, depth, shading, *lines_and_points)).image
+        transmission = _transmission_source(graph, world, color, size, samples, sky)
+        color = graph.add(TransparentPass(color, depth, shading, *lines_and_points, transmission)).image
     if settings.wireframe_overlay:
         color = graph.add(WireframeOverlayPass(color, depth, inputs.camera, inputs.objects, settings.line_width)).image
     if bloom is not None or lens_blur or velocity_blur:
@@ -221,6 +222,16 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
         lookups = graph.add(EnvironmentVisibilityBlurPass(across, lookup_size, interleave, 1, True)).image
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
                                visibility, lookups, scale)
+
+
+def _transmission_source(graph, world, color, size: tuple, samples: int, sky: SkyUnder):
+    """The mip-mapped copy of the opaque scene (and the sky) that transmissive pbr
+    materials see through (passes/transmission.py), or None where no material transmits."""
+    if not any(m.transmissive and m.model(world.settings.shading) == "pbr" for m in world.materials()):
+        return None
+    from scenerender.rendering.passes.transmission import TransmissionSourcePass  # deferred: see the imports
+
+    return graph.add(TransmissionSourcePass(color, size, samples, sky)).image
 
 
 def _indirect_lighting(graph, world, inputs: InputHandles, atlas, atlas_pages: tuple, environment):

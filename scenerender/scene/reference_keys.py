@@ -199,6 +199,10 @@ KEYS: dict[str, Key] = {
     "materials.<name>.clearcoat_roughness": Key("pbr: the clear coat's roughness. Not set: 0.", "0.1"),
     "materials.<name>.sheen_color": Key("pbr: the colour of a sheen at grazing angles, a fabric's (glTF KHR_materials_sheen, the Charlie lobe), taking its share of the light from the material beneath. Not set: black, none.", "[0.9, 0.8, 1.0]"),
     "materials.<name>.sheen_roughness": Key("pbr: the sheen's roughness: low keeps it at the outline, high spreads it. Not set: 0 (taken as 0.07).", "0.5"),
+    "materials.<name>.transmission": Key("pbr: the share of the diffuse part (times 1 - metallic) that lets light through, a glass's or a film's (glTF KHR_materials_transmission): what lies behind shows through, blurred by `roughness`; the GPU refracts the opaque scene only. Not set: 0, none.", "1"),
+    "materials.<name>.thickness": Key("pbr, with `transmission`: the volume's thickness in scene units (glTF KHR_materials_volume `thicknessFactor`): light refracts by `ior` through it and is attenuated over it; 0 is a thin wall (no bending). Not set: 0.", "0.05"),
+    "materials.<name>.attenuation_color": Key("pbr, with `thickness`: the colour white light becomes after `attenuation_distance` inside the volume (Beer-Lambert). Not set: white, none.", "[0.9, 0.5, 0.2]"),
+    "materials.<name>.attenuation_distance": Key("pbr, with `thickness`: the distance inside the volume after which light has `attenuation_color`, above 0. Not set: infinite, none.", "0.1"),
     # -- objects --------------------------------------------------------------------------
     "objects[].name": Key("A label, used in messages.", "crate"),
     "objects[].mesh": Key("A mesh file (OBJ with its MTL; PLY, STL, GLB/GLTF, OFF through trimesh), or an inline primitive chosen by `primitive`.",

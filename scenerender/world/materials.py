@@ -49,6 +49,8 @@ SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 # the pbr model's layer values, alike in glTF materials, scene materials and Material
 LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness", "sheen_color",
               "sheen_roughness")
+# light through the surface and its volume (KHR_materials_transmission, KHR_materials_volume)
+TRANSMISSION_KEYS = ("transmission", "thickness", "attenuation_color", "attenuation_distance")
 
 
 @dataclass(frozen=True)
@@ -135,6 +137,19 @@ class Material:
     clearcoat_roughness: float = 0.0
     sheen_color: tuple = (0.0, 0.0, 0.0)
     sheen_roughness: float = 0.0
+    # light through it (docs/scene-notes.md, "Transmission and volume"): the share of the
+    # diffuse part that passes through; a volume's thickness (0: thin-walled) and its
+    # Beer-Lambert colour reached after attenuation_distance (inf: clear)
+    transmission: float = 0.0
+    thickness: float = 0.0
+    attenuation_color: tuple = (1.0, 1.0, 1.0)
+    attenuation_distance: float = float("inf")
+
+    @property
+    def transmissive(self) -> bool:
+        """Light passes through it (``transmission`` above 0): drawn in the transparent pass
+        over a copy of the opaque scene (rendering/passes/transmission.py)."""
+        return self.transmission > 0.0
 
     @property
     def sheen(self) -> bool:
@@ -144,7 +159,7 @@ class Material:
     @property
     def layered(self) -> bool:
         """It has any of the pbr model's layers."""
-        return self.dielectric_specular or self.clearcoat > 0.0 or self.sheen
+        return self.dielectric_specular or self.clearcoat > 0.0 or self.sheen or self.transmissive
 
     @property
     def dielectric_specular(self) -> bool:
@@ -169,8 +184,14 @@ class Material:
 
     @property
     def transparent(self) -> bool:
-        """Drawn in the transparent pass: alpha mode "blend"; or, with "auto", opacity below
-        1 at any time, an opacity map, or a base colour alpha below 1."""
+        """Drawn in the transparent pass: blended (``blended``), or transmissive, seeing
+        what the opaque pass drew behind it."""
+        return self.transmissive or self.blended
+
+    @property
+    def blended(self) -> bool:
+        """Blended over what lies behind by its alpha: alpha mode "blend"; or, with "auto",
+        opacity below 1 at any time, an opacity map, or a base colour alpha below 1."""
         if self.alpha_mode != "auto":
             return self.alpha_mode == "blend"
         if "opacity_map" in self.maps:
@@ -250,7 +271,7 @@ def apply_gltf(material: Material, gltf, location: SourceLocation | None = None)
     material.alpha_cutoff = float(gltf.alpha_cutoff)
     material.double_sided = bool(gltf.double_sided)
     material.shading = "unlit" if gltf.unlit else "pbr"
-    for key in LAYER_KEYS:
+    for key in LAYER_KEYS + TRANSMISSION_KEYS:
         setattr(material, key, getattr(gltf, key))
     textures = gltf.textures()
     keys = {"base_color_map": "diffuse_map"}
@@ -287,7 +308,7 @@ def apply_spec(material: Material, spec, where: tuple | None = None) -> Material
             material.maps[map_key] = TextureSource(path=Path(path), srgb=SRGB_MAPS[map_key],
                                                    scene_key=None if where is None else where + (spec_key,))
     for key in ("wrap", "filter", "unlit", "shading", "emissive_strength", "normal_scale", "occlusion_strength",
-                "alpha_mode", "alpha_cutoff", "double_sided") + LAYER_KEYS:
+                "alpha_mode", "alpha_cutoff", "double_sided") + LAYER_KEYS + TRANSMISSION_KEYS:
         value = getattr(spec, key)
         if value is not None:
             setattr(material, key, value)

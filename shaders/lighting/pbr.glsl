@@ -18,6 +18,8 @@
 //   f = f_base min(1 - max(sheen) E(N.V), 1 - max(sheen) E(N.L)) + sheen D_s V_s.
 // - PBR_CLEARCOAT (KHR_materials_clearcoat): a GGX layer of F0 0.04 (ior 1.5) and its own
 //   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - V.H)^5.
+// - PBR_TRANSMISSION (KHR_materials_transmission): the diffuse part times 1 - transmission;
+//   what passes through instead is lighting/transmission.glsl's.
 
 #include "lighting/ambient_brdf.glsl"
 #ifdef PBR_SHEEN
@@ -35,6 +37,9 @@ uniform float u_dielectric_f90;  // specular
 #ifdef PBR_CLEARCOAT
 uniform float u_clearcoat;            // the layer's weight c
 uniform float u_clearcoat_roughness;
+#endif
+#ifdef PBR_TRANSMISSION
+uniform float u_transmission;  // the share of the diffuse part that lets light through
 #endif
 
 vec3 fresnel_schlick(vec3 f0, float v_dot_h) {
@@ -101,6 +106,9 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     p.f0 = mix(vec3(0.04), s.base, s.metallic);
 #endif
     p.diffuse = s.base * (1.0 - s.metallic);
+#ifdef PBR_TRANSMISSION
+    p.diffuse *= 1.0 - u_transmission;
+#endif
 #ifdef PBR_CLEARCOAT
     float coat_alpha = max(u_clearcoat_roughness * u_clearcoat_roughness, PBR_MIN_ALPHA);
     p.coat_alpha2 = coat_alpha * coat_alpha;
@@ -182,6 +190,9 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     vec3 f0 = mix(vec3(0.04), s.base, s.metallic);
     w.diffuse = s.base * (1.0 - s.metallic) * (1.0 - f0) * (1.0 - ambient_diffuse_fresnel(n_dot_v));
     w.specular = f0 * scale_bias.x + scale_bias.y;
+#endif
+#ifdef PBR_TRANSMISSION
+    w.diffuse *= 1.0 - u_transmission;
 #endif
 #if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
     w.base_scale = 1.0;

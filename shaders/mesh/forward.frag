@@ -9,6 +9,9 @@
 #ifndef UNLIT
 #include "lighting/direct.glsl"
 #endif
+#ifdef PBR_TRANSMISSION
+#include "lighting/transmission.glsl"
+#endif
 #ifdef HAS_FOG
 #include "lighting/fog.glsl"
 #endif
@@ -116,6 +119,9 @@ void main() {
 #elif defined(HAS_ENVIRONMENT)
     color += u_ka * s.base * env_diffuse(n) * ambient_visibility;  // classic: its diffuse term, as an ambient
 #endif
+#endif
+#ifdef PBR_TRANSMISSION
+    color += pbr_transmission(v_position, n, v, s);  // the opaque scene seen through it
 #endif
 #if defined(HAS_INDIRECT) || defined(INDIRECT_CAPTURE)
     // bounced light is diffuse: the probes' irradiance times the diffuse reflectance / pi

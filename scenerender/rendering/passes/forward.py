@@ -367,7 +367,9 @@ class TransparentPass(RenderPass):
     """Transparent surfaces after everything opaque, sorted far to near, blended, with depth
     test but no depth writes. Each object draws its back faces first, then its front faces,
     which orders a convex object's own surfaces correctly. In the wireframe and points modes
-    (``fill``) each object draws every face once as edges or points, as opaque ones do."""
+    (``fill``) each object draws every face once as edges or points, as opaque ones do.
+    ``transmission``: the copy of the opaque scene transmissive surfaces see through
+    (passes/transmission.py), where the scene has any."""
 
     color: Handle
     depth: Handle
@@ -375,14 +377,20 @@ class TransparentPass(RenderPass):
     fill: str = "solid"
     line_width: float = 1.0
     point_size: float = 3.0
+    transmission: Handle | None = None
 
     name = "transparent"
 
     def describe(self) -> str:
-        return "" if self.fill == "solid" else self.fill
+        extras = [] if self.fill == "solid" else [self.fill]
+        if self.transmission is not None:
+            extras.append("transmission")
+        return ", ".join(extras)
 
     def setup(self, builder) -> ImageData:
         builder.read(self.depth)
+        if self.transmission is not None:
+            builder.read(self.transmission)
         self.shading.declare(builder)
         return ImageData(builder.write(self.color))
 
@@ -397,6 +405,8 @@ class TransparentPass(RenderPass):
         # sky-behind needs (passes/sky.py): a + (1 - a) * a_dst
         gl.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA
         self.shading.bind(ctx)
+        if self.transmission is not None:
+            ctx.image(self.transmission).use(TEXTURE_UNITS["u_transmission_source"])
         items = transparent_items(ctx.input(self.shading.inputs.objects), ctx.input(self.shading.inputs.camera))
         objects = ctx.input(self.shading.inputs.objects)
         mode = begin_fill(gl, self.fill, self.line_width, self.point_size)

@@ -58,6 +58,12 @@ class MaterialSpec(StrictModel):
     clearcoat_roughness: number(0, 1) | None = None
     sheen_color: vector(3, 0, 1) | None = None  # KHR_materials_sheen
     sheen_roughness: number(0, 1) | None = None
+    # light through the surface (KHR_materials_transmission) and through its volume
+    # (KHR_materials_volume): docs/scene-notes.md, "Transmission and volume"
+    transmission: number(0, 1) | None = None
+    thickness: number(0, 1e6) | None = None
+    attenuation_color: vector(3, 0, 1) | None = None
+    attenuation_distance: number(0, None, lo_open=True) | None = None
 
     @model_validator(mode="after")
     def _one_name_each(self):
