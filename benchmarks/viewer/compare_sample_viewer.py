@@ -67,6 +67,9 @@ SMALL_FILTERING = {"this.textureSize = 256;": "this.textureSize = 64;",
 # - spot_smoothstep: the spot's cone as smoothstep of the linear ramp between the cones'
 #   cosines (scenerender's) where the viewer squares the ramp (KHR_lights_punctual's
 #   implementation note).
+# - no_light_through: without the viewer's punctual light through a transmissive surface
+#   (its BTDF lobe for each light, mirrored through the surface), which scenerender does
+#   not draw: only the refracted copy of the opaque scene passes.
 VARIANTS = {
     "shipped": {},
     "sheen_table": {"sheenELut.initialized = true;": "sheenELut.initialized = false;"},
@@ -75,8 +78,11 @@ VARIANTS = {
                    "F_Schlick(materialInfo.clearcoatF0,materialInfo.clearcoatF90,VdotH));"},
     "spot_smoothstep": {"return angularAttenuation*angularAttenuation;":
                         "return smoothstep(0.0,1.0,angularAttenuation);"},
+    "no_light_through": {"l_diffuse=mix(l_diffuse,transmittedLight,materialInfo.transmissionFactor);":
+                         "l_diffuse=mix(l_diffuse,vec3(0.0),materialInfo.transmissionFactor);"},
 }
-DIAGNOSTICS = (("sheen", "sheen_table"), ("clearcoat", "coat_vdoth"), ("spot", "spot_smoothstep"))
+DIAGNOSTICS = (("sheen", "sheen_table"), ("clearcoat", "coat_vdoth"), ("spot", "spot_smoothstep"),
+               ("transmission", "no_light_through"), ("volume", "no_light_through"))
 CHROMIUM_ARGUMENTS = ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--use-angle=swiftshader",
                       "--enable-unsafe-swiftshader", "--window-size=1200,800")
 
@@ -244,7 +250,8 @@ def write_page_table(table: str, about: dict, mode: str) -> None:
 
 VARIANT_NOTES = {"sheen_table": "the viewer with its sheen albedo table uploaded",
                  "coat_vdoth": "the viewer with the coat's Fresnel per light at V.H",
-                 "spot_smoothstep": "the viewer with scenerender's smoothstep cone"}
+                 "spot_smoothstep": "the viewer with scenerender's smoothstep cone",
+                 "no_light_through": "the viewer without lights shining through a transmissive surface"}
 
 
 def chosen_models(names) -> list:
