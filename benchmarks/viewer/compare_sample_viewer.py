@@ -2,7 +2,9 @@
 extensions (models.py): each file drawn by the Sample Viewer's renderer in headless
 Chromium and by scenerender, both through the file's camera and lit by its
 KHR_lights_punctual lights alone; per model the mean difference (image_diff.py), a
-side-by-side picture (viewer | scenerender | difference x4) and a table.
+side-by-side picture (viewer | scenerender | difference x4) and a table. Diagnostic rows
+(``DIAGNOSTICS``) draw a model again with the viewer changed in one line (``VARIANTS``),
+to show where a difference comes from. docs/gltf-viewer-comparison.md has the results.
 
     python benchmarks/viewer/compare_sample_viewer.py                 # into /tmp/scenerender-sample-viewer
     python benchmarks/viewer/compare_sample_viewer.py --docs          # docs/gltf-viewer/ and the page's table
@@ -112,7 +114,8 @@ def sheen_lut(size: int = SHEEN_LUT_SIZE) -> np.ndarray:
     lut_sheen_E.png (texture(u_SheenELUT, vec2(NdotV, roughness)).r, no flip). The npm
     package does not ship that file; this is the same integral, int D V N.L over the
     hemisphere, by scenerender.raytrace.sheen_fit.albedo (which keeps the roughness at
-    0.07 or above; the models here use 0.3 and more)."""
+    0.07 or above; the models here use 0.3 and more). Only the ``sheen_table`` variant
+    reads it: as shipped, 1.1.0 never uploads the table (see VARIANTS)."""
     centres = (np.arange(size) + 0.5) / size
     table = np.array([[albedo(c, r, steps=128) for c in centres] for r in centres])
     return np.round(255.0 * np.clip(table, 0.0, 1.0)).astype(np.uint8)
