@@ -651,7 +651,8 @@ class _FrameScene:
         to_light = (light.position - self.frame.camera.position)[None, :] - p
         distance = np.linalg.norm(to_light, axis=1)
         l = shading.safe_normalize(to_light, n)
-        radiance = light.color[None, :] * shading.attenuation(light.definition.attenuation, distance)[:, None]
+        falloff = shading.attenuation(light.definition.attenuation, distance)
+        radiance = light.color[None, :] * (falloff * shading.range_window(light.definition.range, distance))[:, None]
         cone = np.ones(len(p))
         if light.kind == "spot":
             cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1))

@@ -33,6 +33,14 @@ def attenuation(coefficients, distance: np.ndarray) -> np.ndarray:
     return 1.0 / np.maximum(c + linear * distance + quadratic * distance * distance, 1e-6)
 
 
+def range_window(light_range: float | None, distance: np.ndarray) -> np.ndarray:
+    """(P,) KHR_lights_punctual's recommended window clamp(1 - (d / range)^4, 0, 1) for (P,)
+    distances (it multiplies the falloff); 1 where the light has no range (None)."""
+    if light_range is None:
+        return np.ones_like(distance)
+    return np.clip(1.0 - (distance / light_range) ** 4, 0.0, 1.0)
+
+
 def spot_cone(cos_inner: float, cos_outer: float, cos_angle: np.ndarray) -> np.ndarray:
     """(P,) cone factor: 1 inside the inner cone, 0 outside the outer, smoothstep between;
     ``cos_inner == cos_outer`` is a hard edge (a point exactly on it is lit)."""

@@ -90,6 +90,7 @@ class SceneFeatures:
     # (N, lookups a pixel) of the blocks the directions are shared out over; N 1: every
     # pixel looks up all of them as it shades (environment_visibility.interleave_pattern)
     environment_interleave: tuple = (1, 0)
+    light_range: bool = False  # a point or spot light has a range (lighting/lights.glsl, range_window)
 
     @classmethod
     def of(cls, world, samples: int = 1, atlas=None) -> "SceneFeatures":
@@ -109,6 +110,7 @@ class SceneFeatures:
             **first_views,
             **_sized_lights(world.lights),
             **_environment_features(world.environment),
+            light_range=any(light.range is not None for light in world.lights),
         )
 
     @property
@@ -138,6 +140,8 @@ class SceneFeatures:
             if self.soft_shadows:
                 defines.update(self._soft_shadow_defines())
         defines.update(self._sized_defines())
+        if self.light_range:
+            defines["LIGHT_RANGE"] = True
         if self.light_bytes <= UNIFORM_BLOCK_BYTES:
             defines["LIGHTS_IN_UNIFORM_BLOCK"] = True
         return defines

@@ -132,6 +132,7 @@ KEYS: dict[str, Key] = {
     "lights[].enabled": Key("Switches the light on and off over time (a disabled light gives no light).", "{keys: [[0, false], [3, true]]}"),
     "lights[].shadows": Key("Cast shadows (`true`), or a mapping overriding `render.shadows` for this light.", "{size: 1024}"),
     "lights[].attenuation": Key("Falloff with distance d: light x 1 / (c + l d + q d^2), as [c, l, q]; `[1, 0, 0]` is no falloff.", "[1.0, 0.09, 0.032]"),
+    "lights[].range": Key("Point and spot lights: the distance where the light ends, as glTF's `KHR_lights_punctual` `range`: the falloff times clamp(1 - (d / range)^4, 0, 1), the window its specification recommends. Not set: no end (a glTF light without `range` likewise).", "10"),
     "lights[directional].direction": Key("The way the light travels (from the light towards the scene); need not be unit length.", "[-1, -1, -0.5]"),
     "lights[directional].angular_diameter": Key("Degrees the light's disc spans seen from the scene (the sun: 0.53): soft shadows and wider highlights, the same power. 0: a point.", "0.53"),
     "lights[point].radius": Key("A sphere light of this radius (scene units) with the same power: soft shadows, sphere-shaped highlights. 0: a point.", "0.3"),
