@@ -49,12 +49,15 @@ _NORMALIZED = {5121: 255.0, 5123: 65535.0}
 READ_EXTENSIONS = (
     "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
     "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
-    "KHR_materials_variants",
+    "KHR_materials_variants", "KHR_materials_pbrSpecularGlossiness",
     "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
 )
 
 
 VARIANTS_EXTENSION = "KHR_materials_variants"
+SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
+# the dielectric F0 of ior 1.5, which KHR_materials_specular's specular colour scales
+_DIELECTRIC_F0 = 0.04
 
 
 class GltfProblem(Exception):
@@ -294,20 +297,51 @@ def _material(name: str, material: dict, header: dict, result: GltfFile, label: 
                                   "strength"),
         "emissive_map": _texture(material.get("emissiveTexture"), header, result, label, "emissiveTexture"),
     }
-    return GltfMaterial(
-        name=name,
+    fields = dict(
         base_color=_numbers(pbr.get("baseColorFactor", (1.0, 1.0, 1.0, 1.0)), 4, "baseColorFactor", 0.0, 1.0),
         metallic=_numbers([pbr.get("metallicFactor", 1.0)], 1, "metallicFactor", 0.0, 1.0)[0],
         roughness=_numbers([pbr.get("roughnessFactor", 1.0)], 1, "roughnessFactor", 0.0, 1.0)[0],
+        **_layers(name, extensions, result),
+        **textures,
+    )
+    if SPECULAR_GLOSSINESS in extensions:  # the specification: it takes the place of pbrMetallicRoughness
+        fields.update(_specular_glossiness(
+            json_object(extensions[SPECULAR_GLOSSINESS], f"material {name!r}: {SPECULAR_GLOSSINESS}"),
+            header, result, label))
+    return GltfMaterial(
+        name=name,
         emissive=_numbers(material.get("emissiveFactor", (0.0, 0.0, 0.0)), 3, "emissiveFactor", 0.0, 1.0),
         emissive_strength=_numbers([strength.get("emissiveStrength", 1.0)], 1, "emissiveStrength", 0.0, 1e6)[0],
         alpha_mode=alpha_mode.lower(),
         alpha_cutoff=_numbers([material.get("alphaCutoff", 0.5)], 1, "alphaCutoff", 0.0, 1e6)[0],
         double_sided=_bool(material.get("doubleSided", False), "doubleSided"),
         unlit="KHR_materials_unlit" in extensions,
-        **_layers(name, extensions, result),
-        **textures,
+        **fields,
     )
+
+
+def _specular_glossiness(values: dict, header: dict, result: GltfFile, label: str) -> dict:
+    """The GltfMaterial fields of KHR_materials_pbrSpecularGlossiness, as the metallic-roughness
+    model with KHR_materials_specular, exactly: its BRDF inputs c_diff = diffuse (1 -
+    max(specular)), F0 = specular, alpha = (1 - glossiness)^2 (F90 1) are those of metallic 0,
+    base colour c_diff, roughness 1 - glossiness, ior 1.5 and specular colour specular / 0.04
+    (F0 = min(0.04 specular colour, 1) specular factor = specular, F90 = specular factor = 1).
+    diffuseTexture is the base colour texture."""
+    diffuse = _numbers(values.get("diffuseFactor", (1.0, 1.0, 1.0, 1.0)), 4, "diffuseFactor", 0.0, 1.0)
+    specular = _numbers(values.get("specularFactor", (1.0, 1.0, 1.0)), 3, "specularFactor", 0.0, 1.0)
+    glossiness = _numbers([values.get("glossinessFactor", 1.0)], 1, "glossinessFactor", 0.0, 1.0)[0]
+    if "specularGlossinessTexture" in values:
+        note = f"{SPECULAR_GLOSSINESS} specularGlossinessTexture is not read (its factors alone apply)"
+        if note not in result.unsupported:
+            result.unsupported.append(note)
+    through = 1.0 - max(specular)
+    return {
+        "base_color": (*(c * through for c in diffuse[:3]), diffuse[3]),
+        "metallic": 0.0, "roughness": 1.0 - glossiness,
+        "ior": 1.5, "specular_factor": 1.0, "specular_color": tuple(c / _DIELECTRIC_F0 for c in specular),
+        "base_color_map": _texture(values.get("diffuseTexture"), header, result, label, "diffuseTexture"),
+        "metallic_roughness_map": None,
+    }
 
 
 # the textures of the layer extensions, which are not read: their factors alone apply
