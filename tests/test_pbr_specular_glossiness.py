@@ -9,7 +9,7 @@ import pytest
 
 import scenerender
 from conftest import scene
-from gltf_files import GlbBuilder, sphere
+from gltf_files import GlbBuilder, sphere, sphere_uv
 from scenerender.raytrace import render_reference, shading
 from scenerender.tools.quality import frame_errors
 
@@ -42,11 +42,7 @@ def specular_glossiness_glb(path, values: dict | None, base: dict | None = None,
         builder.uses(SPECULAR_GLOSSINESS)
     material = builder.material(name="old", pbrMetallicRoughness=pbr, extensions=extensions)
     mesh = sphere(1.0, 4)
-    # spherical texture coordinates, so a texture covers the sphere
-    direction = mesh.vertices / np.linalg.norm(mesh.vertices, axis=1, keepdims=True)
-    uv = np.stack([0.5 + np.arctan2(direction[:, 0], direction[:, 2]) / (2 * np.pi),
-                   0.5 - np.arcsin(np.clip(direction[:, 1], -1, 1)) / np.pi], axis=1)
-    builder.node(builder.mesh(builder.primitive(mesh, material, uv=uv)))
+    builder.node(builder.mesh(builder.primitive(mesh, material, uv=sphere_uv(mesh))))
     return builder.write(path)
 
 

@@ -127,10 +127,19 @@ class GltfMaterial:
     clearcoat_roughness: float = 0.0
     sheen_color: tuple = (0.0, 0.0, 0.0)  # KHR_materials_sheen
     sheen_roughness: float = 0.0
+    # the layers' textures (clearcoatTexture, clearcoatRoughnessTexture, sheenColorTexture,
+    # sheenRoughnessTexture, specularTexture, specularColorTexture)
+    clearcoat_map: GltfTexture | None = None
+    clearcoat_roughness_map: GltfTexture | None = None
+    sheen_color_map: GltfTexture | None = None
+    sheen_roughness_map: GltfTexture | None = None
+    specular_factor_map: GltfTexture | None = None
+    specular_color_map: GltfTexture | None = None
 
     def textures(self) -> dict:
         """{map name: GltfTexture} of the maps it has."""
-        names = ("base_color_map", "metallic_roughness_map", "normal_map", "occlusion_map", "emissive_map")
+        names = ("base_color_map", "metallic_roughness_map", "normal_map", "occlusion_map", "emissive_map",
+                 *LAYER_TEXTURES.values())
         return {name: getattr(self, name) for name in names if getattr(self, name) is not None}
 
 
@@ -301,7 +310,7 @@ def _material(name: str, material: dict, header: dict, result: GltfFile, label: 
         base_color=_numbers(pbr.get("baseColorFactor", (1.0, 1.0, 1.0, 1.0)), 4, "baseColorFactor", 0.0, 1.0),
         metallic=_numbers([pbr.get("metallicFactor", 1.0)], 1, "metallicFactor", 0.0, 1.0)[0],
         roughness=_numbers([pbr.get("roughnessFactor", 1.0)], 1, "roughnessFactor", 0.0, 1.0)[0],
-        **_layers(name, extensions, result),
+        **_layers(name, extensions, header, result, label),
         **textures,
     )
     if SPECULAR_GLOSSINESS in extensions:  # the specification: it takes the place of pbrMetallicRoughness
@@ -344,29 +353,36 @@ def _specular_glossiness(values: dict, header: dict, result: GltfFile, label: st
     }
 
 
-# the textures of the layer extensions, which are not read: their factors alone apply
-_LAYER_TEXTURES = {"KHR_materials_specular": ("specularTexture", "specularColorTexture"),
-                   "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"),
-                   "KHR_materials_sheen": ("sheenColorTexture", "sheenRoughnessTexture")}
+# the layer extensions' textures: (extension, its key) -> the GltfMaterial map
+LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_factor_map",
+                  ("KHR_materials_specular", "specularColorTexture"): "specular_color_map",
+                  ("KHR_materials_clearcoat", "clearcoatTexture"): "clearcoat_map",
+                  ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"): "clearcoat_roughness_map",
+                  ("KHR_materials_sheen", "sheenColorTexture"): "sheen_color_map",
+                  ("KHR_materials_sheen", "sheenRoughnessTexture"): "sheen_roughness_map"}
+# read by no one: the coat's normal is the surface's (a warning names it)
+_UNREAD_LAYER_TEXTURES = (("KHR_materials_clearcoat", "clearcoatNormalTexture"),)
 
 
-def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
+def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: str) -> dict:
     """The GltfMaterial fields of KHR_materials_ior, _specular, _clearcoat and _sheen (glTF's
-    defaults where absent). An ior of 0 is the specification's "infinitely high" index
-    (a dielectric that reflects all), taken here as the largest the scene format takes."""
+    defaults where absent), their textures included. An ior of 0 is the specification's
+    "infinitely high" index (a dielectric that reflects all), taken here as the largest the
+    scene format takes."""
     ior = json_object(extensions.get("KHR_materials_ior", {}), f"material {name!r}: KHR_materials_ior")
     specular = json_object(extensions.get("KHR_materials_specular", {}), f"material {name!r}: KHR_materials_specular")
     coat = json_object(extensions.get("KHR_materials_clearcoat", {}), f"material {name!r}: KHR_materials_clearcoat")
     sheen = json_object(extensions.get("KHR_materials_sheen", {}), f"material {name!r}: KHR_materials_sheen")
-    for extension, keys in _LAYER_TEXTURES.items():
-        values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat,
-                  "KHR_materials_sheen": sheen}[extension]
-        for key in keys:
-            note = f"{extension} {key} is not read (its factor alone applies)"
-            if key in values and note not in result.unsupported:
-                result.unsupported.append(note)
+    values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat, "KHR_materials_sheen": sheen}
+    for extension, key in _UNREAD_LAYER_TEXTURES:
+        note = f"{extension} {key} is not read (the coat's normal is the surface's)"
+        if key in values[extension] and note not in result.unsupported:
+            result.unsupported.append(note)
+    maps = {field: _texture(values[extension].get(key), header, result, label, key)
+            for (extension, key), field in LAYER_TEXTURES.items()}
     index = _numbers([ior.get("ior", 1.5)], 1, "ior", 0.0, MAX_IOR)[0]
     return {
+        **maps,
         "ior": MAX_IOR if index == 0.0 else max(index, 1.0),
         "specular_factor": _numbers([specular.get("specularFactor", 1.0)], 1, "specularFactor", 0.0, 1.0)[0],
         "specular_color": _numbers(specular.get("specularColorFactor", (1.0, 1.0, 1.0)), 3, "specularColorFactor",

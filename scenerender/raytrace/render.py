@@ -56,6 +56,7 @@ from scenerender.scene.messages import single_error
 from scenerender.world.frame import FrameEvaluator
 from scenerender.rendering.passes.bloom import bloom_weights
 from scenerender.world.lens import lens_radius
+from scenerender.world.materials import LAYER_MAP_KEYS
 
 # Samples shaded at once; bounds the memory of one chunk to a few hundred MB.
 _CHUNK_SAMPLES = 400_000
@@ -605,9 +606,9 @@ class _FrameScene:
         place): base and Ks times the diffuse and specular maps, metallic and roughness
         times theirs, emission times the emissive map, occlusion from its map."""
         uv = corner_uvs[:, 0] * (1.0 - u - v)[:, None] + corner_uvs[:, 1] * u[:, None] + corner_uvs[:, 2] * v[:, None]
-        for key in ("diffuse", "specular", "emissive", "metallic", "roughness"):
+        for key in ("diffuse", "specular", "emissive", "metallic", "roughness", *shading.LAYER_KEYS):
             surface[key] = surface[key].copy()
-        for material_index, (samplers, strength) in self.maps.items():
+        for material_index, (samplers, material) in self.maps.items():
             rows = np.flatnonzero(m == material_index)
             if not len(rows):
                 continue
@@ -627,7 +628,8 @@ class _FrameScene:
             if "metallic_map" in sample:
                 surface["metallic"][rows] *= sample["metallic_map"][:, 0]
             if "occlusion_map" in sample:
-                surface["occlusion"][rows] = 1.0 + strength * (sample["occlusion_map"][:, 0] - 1.0)
+                surface["occlusion"][rows] = 1.0 + material.occlusion_strength * (sample["occlusion_map"][:, 0] - 1.0)
+            _apply_layer_maps(rows, sample, material, surface)
 
     def _light_at(self, light, p: np.ndarray, n: np.ndarray, rng):
         """(l (P, 3) unit towards the light, radiance (P, 3), cone factor (P,), reach (P,):
@@ -724,7 +726,7 @@ class _Draws:
     light: np.random.Generator
 # maps the reference samples (only the pbr model reads the metallic and roughness ones)
 SAMPLED_MAPS = ("diffuse_map", "specular_map", "emissive_map", "occlusion_map", "metallic_roughness_map",
-                "roughness_map", "metallic_map")
+                "roughness_map", "metallic_map", *LAYER_MAP_KEYS)
 
 
 def _material_table(materials: list, scene_shading: str = "blinn_phong") -> dict:
@@ -770,15 +772,35 @@ def _layer_table(materials: list) -> dict:
     }
 
 
+def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -> None:
+    """The pbr layers' maps (world.materials.LAYER_MAP_KEYS) of ``material`` applied to
+    ``surface``'s layer arrays at ``rows``, as lighting/material.glsl's sample_layers: a
+    specular colour map multiplies F0 before its clamp, the specular map F0 and F90."""
+    if "specular_color_map" in sample:
+        f0 = np.minimum(material.dielectric_reflectance() * sample["specular_color_map"][:, :3], 1.0)
+        surface["f0"][rows] = f0 * material.specular_factor
+    if "specular_factor_map" in sample:
+        surface["f0"][rows] *= sample["specular_factor_map"][:, 3:4]
+        surface["f90"][rows] *= sample["specular_factor_map"][:, 3]
+    if "clearcoat_map" in sample:
+        surface["clearcoat"][rows] *= sample["clearcoat_map"][:, 0]
+    if "clearcoat_roughness_map" in sample:
+        surface["clearcoat_roughness"][rows] *= sample["clearcoat_roughness_map"][:, 1]
+    if "sheen_color_map" in sample:
+        surface["sheen_color"][rows] *= sample["sheen_color_map"][:, :3]
+    if "sheen_roughness_map" in sample:
+        surface["sheen_roughness"][rows] *= sample["sheen_roughness_map"][:, 3]
+
+
 def _material_maps(materials: list, images) -> dict:
-    """{material index: ({map key: MapSampler}, occlusion strength)} for the materials that
-    have maps the reference samples."""
+    """{material index: ({map key: MapSampler}, its Material)} for the materials that have
+    maps the reference samples."""
     maps = {}
     for index, (material, _) in enumerate(materials):
         samplers = {key: MapSampler.for_source(material.maps[key], material, images) for key in SAMPLED_MAPS
                     if key in material.maps}
         if samplers:
-            maps[index] = (samplers, material.occlusion_strength)
+            maps[index] = (samplers, material)
     return maps
 
 

@@ -200,6 +200,12 @@ KEYS: dict[str, Key] = {
     "materials.<name>.clearcoat_roughness": Key("pbr: the clear coat's roughness. Not set: 0.", "0.1"),
     "materials.<name>.sheen_color": Key("pbr: the colour of a sheen at grazing angles, a fabric's (glTF KHR_materials_sheen, the Charlie lobe), taking its share of the light from the material beneath. Not set: black, none.", "[0.9, 0.8, 1.0]"),
     "materials.<name>.sheen_roughness": Key("pbr: the sheen's roughness: low keeps it at the outline, high spreads it. Not set: 0 (taken as 0.07).", "0.5"),
+    "materials.<name>.clearcoat_map": Key("pbr: texture whose red channel multiplies `clearcoat` (glTF `clearcoatTexture`); data, not colour.", "textures/ground.png"),
+    "materials.<name>.clearcoat_roughness_map": Key("pbr: texture whose green channel multiplies `clearcoat_roughness` (glTF `clearcoatRoughnessTexture`); data.", "textures/ground.png"),
+    "materials.<name>.sheen_color_map": Key("pbr: colour texture (sRGB) multiplying `sheen_color` (glTF `sheenColorTexture`).", "textures/ground.png"),
+    "materials.<name>.sheen_roughness_map": Key("pbr: texture whose alpha channel multiplies `sheen_roughness` (glTF `sheenRoughnessTexture`); data.", "textures/ground.png"),
+    "materials.<name>.specular_factor_map": Key("pbr: texture whose alpha channel multiplies `specular_factor`, F0 and F90 both (glTF `specularTexture`); data.", "textures/ground.png"),
+    "materials.<name>.specular_color_map": Key("pbr: colour texture (sRGB) multiplying `specular_color`, before F0's clamp to 1 (glTF `specularColorTexture`).", "textures/ground.png"),
     # -- objects --------------------------------------------------------------------------
     "objects[].name": Key("A label, used in messages.", "crate"),
     "objects[].mesh": Key("A mesh file (OBJ with its MTL; PLY, STL, GLB/GLTF, OFF through trimesh), or an inline primitive chosen by `primitive`.",

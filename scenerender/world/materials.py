@@ -39,10 +39,18 @@ SCALAR_KEYS = ("shininess", "opacity", "metallic", "roughness")
 # metallic_roughness map is glTF's (blue = metallic, green = roughness).
 MAP_KEYS = ("diffuse_map", "specular_map", "normal_map", "opacity_map", "metallic_roughness_map", "occlusion_map",
             "emissive_map", "roughness_map", "metallic_map")
+# the pbr layers' maps (glTF's KHR_materials_clearcoat, _sheen and _specular textures): each
+# multiplies its layer's factor by one channel (clearcoat red, clearcoat_roughness green,
+# sheen_roughness and specular_factor alpha) or by its colour (sheen_color, specular_color)
+LAYER_MAP_KEYS = ("clearcoat_map", "clearcoat_roughness_map", "sheen_color_map", "sheen_roughness_map",
+                  "specular_factor_map", "specular_color_map")
+MAP_KEYS += LAYER_MAP_KEYS
 # Colour maps hold sRGB-encoded colours; the others hold plain data.
 SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "opacity_map": False,
              "metallic_roughness_map": False, "occlusion_map": False, "emissive_map": True, "roughness_map": False,
-             "metallic_map": False}
+             "metallic_map": False,
+             "clearcoat_map": False, "clearcoat_roughness_map": False, "sheen_color_map": True,
+             "sheen_roughness_map": False, "specular_factor_map": False, "specular_color_map": True}
 # a scene's key for a map, where it is not the map's own name
 SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
 SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
@@ -149,9 +157,15 @@ class Material:
     @property
     def dielectric_specular(self) -> bool:
         """Its dielectric reflection differs from the model's F0 0.04, F90 1 (an ior other
-        than 1.5, a specular factor or colour other than 1)."""
+        than 1.5, a specular factor or colour other than 1, or a map of either)."""
         return (self.ior != 1.5 or self.specular_factor != 1.0
-                or tuple(self.specular_color) != (1.0, 1.0, 1.0))
+                or tuple(self.specular_color) != (1.0, 1.0, 1.0)
+                or "specular_factor_map" in self.maps or "specular_color_map" in self.maps)
+
+    def dielectric_reflectance(self) -> np.ndarray:
+        """(3,) ((ior - 1) / (ior + 1))^2 specular_color: F0 before the clamp and the specular
+        factor, which a specular colour map multiplies first."""
+        return ((self.ior - 1.0) / (self.ior + 1.0)) ** 2 * np.asarray(self.specular_color, dtype=np.float64)
 
     def dielectric_f0_f90(self) -> tuple[np.ndarray, float]:
         """((3,) F0, F90) of the dielectric part: KHR_materials_specular's

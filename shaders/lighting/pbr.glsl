@@ -28,14 +28,7 @@
 // smoother surface's highlight from a point light would be narrower than a pixel anyway
 const float PBR_MIN_ALPHA = 0.002;
 
-#ifdef PBR_DIELECTRIC_SPECULAR
-uniform vec3 u_dielectric_f0;    // min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular
-uniform float u_dielectric_f90;  // specular
-#endif
-#ifdef PBR_CLEARCOAT
-uniform float u_clearcoat;            // the layer's weight c
-uniform float u_clearcoat_roughness;
-#endif
+// the layers' values are the Surface's (lighting/material.glsl, sample_layers)
 
 vec3 fresnel_schlick(vec3 f0, float v_dot_h) {
     float m = 1.0 - v_dot_h;
@@ -57,10 +50,13 @@ struct PbrView {
 #ifdef PBR_CLEARCOAT
     float coat_alpha2;
     float coat_view_term;
+    float clearcoat;
 #endif
 #ifdef PBR_SHEEN
     float sheen_alpha;
     float sheen_through_view;  // 1 - max(sheen) E(N.V)
+    vec3 sheen_color;
+    float sheen_roughness;
 #endif
 };
 
@@ -80,11 +76,11 @@ float coat_lobe(float n_dot_h, float n_dot_l, float n_dot_v, float alpha2, float
     return 0.5 * alpha2 / (k * k * (n_dot_l * view_term + light_term));
 }
 
-// c Fc: how much of the light the coat takes at an angle of cosine ``cosine``
-float coat_fresnel(float cosine) {
+// c Fc: how much of the light a coat of weight c takes at an angle of cosine ``cosine``
+float coat_fresnel(float c, float cosine) {
     float m = 1.0 - cosine;
     float m2 = m * m;
-    return u_clearcoat * (0.04 + 0.96 * (m2 * m2 * m));
+    return c * (0.04 + 0.96 * (m2 * m2 * m));
 }
 #endif
 
@@ -95,20 +91,23 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     p.alpha2 = alpha * alpha;
     p.view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.alpha2) + p.alpha2);
 #ifdef PBR_DIELECTRIC_SPECULAR
-    p.f0 = mix(u_dielectric_f0, s.base, s.metallic);
-    p.f90 = mix(vec3(u_dielectric_f90), vec3(1.0), s.metallic);
+    p.f0 = mix(s.dielectric_f0, s.base, s.metallic);
+    p.f90 = mix(vec3(s.dielectric_f90), vec3(1.0), s.metallic);
 #else
     p.f0 = mix(vec3(0.04), s.base, s.metallic);
 #endif
     p.diffuse = s.base * (1.0 - s.metallic);
 #ifdef PBR_CLEARCOAT
-    float coat_alpha = max(u_clearcoat_roughness * u_clearcoat_roughness, PBR_MIN_ALPHA);
+    float coat_alpha = max(s.clearcoat_roughness * s.clearcoat_roughness, PBR_MIN_ALPHA);
     p.coat_alpha2 = coat_alpha * coat_alpha;
     p.coat_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
+    p.clearcoat = s.clearcoat;
 #endif
 #ifdef PBR_SHEEN
-    p.sheen_alpha = sheen_alpha();
-    p.sheen_through_view = sheen_through(p.n_dot_v);
+    p.sheen_color = s.sheen_color;
+    p.sheen_roughness = s.sheen_roughness;
+    p.sheen_alpha = sheen_alpha(s.sheen_roughness);
+    p.sheen_through_view = sheen_through(s.sheen_color, s.sheen_roughness, p.n_dot_v);
 #endif
     return p;
 }
@@ -136,11 +135,11 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
 #if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
     vec3 layered = p.diffuse + fresnel * (specular - p.diffuse);
 #ifdef PBR_SHEEN
-    float through = min(p.sheen_through_view, sheen_through(n_dot_l));
-    layered = layered * through + u_sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
+    float through = min(p.sheen_through_view, sheen_through(p.sheen_color, p.sheen_roughness, n_dot_l));
+    layered = layered * through + p.sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
 #endif
 #ifdef PBR_CLEARCOAT
-    float coat = coat_fresnel(v_dot_h);
+    float coat = coat_fresnel(p.clearcoat, v_dot_h);
     float coat_specular = coat_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
     layered = layered * (1.0 - coat) + coat * coat_specular;
 #endif
@@ -174,8 +173,8 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     PbrAmbientWeights w;
 #ifdef PBR_DIELECTRIC_SPECULAR
     // with F90: the diffuse part keeps (1 - F0) - (F90 - F0) Cd, the specular F0 A + F90 B
-    vec3 f0 = mix(u_dielectric_f0, s.base, s.metallic);
-    vec3 f90 = mix(vec3(u_dielectric_f90), vec3(1.0), s.metallic);
+    vec3 f0 = mix(s.dielectric_f0, s.base, s.metallic);
+    vec3 f90 = mix(vec3(s.dielectric_f90), vec3(1.0), s.metallic);
     w.diffuse = s.base * (1.0 - s.metallic) * ((1.0 - f0) - (f90 - f0) * ambient_diffuse_fresnel(n_dot_v));
     w.specular = f0 * scale_bias.x + f90 * scale_bias.y;
 #else
@@ -187,17 +186,17 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     w.base_scale = 1.0;
 #endif
 #ifdef PBR_SHEEN
-    w.base_scale = sheen_through(n_dot_v);
-    w.sheen = u_sheen_color * sheen_albedo(n_dot_v, u_sheen_roughness);
+    w.base_scale = sheen_through(s.sheen_color, s.sheen_roughness, n_dot_v);
+    w.sheen = s.sheen_color * sheen_albedo(n_dot_v, s.sheen_roughness);
 #endif
 #ifdef PBR_CLEARCOAT
-    vec2 coat_scale_bias = ambient_specular(n_dot_v, u_clearcoat_roughness);
-    float coat_through = 1.0 - coat_fresnel(n_dot_v);
+    vec2 coat_scale_bias = ambient_specular(n_dot_v, s.clearcoat_roughness);
+    float coat_through = 1.0 - coat_fresnel(s.clearcoat, n_dot_v);
     w.base_scale *= coat_through;
 #ifdef PBR_SHEEN
     w.sheen *= coat_through;
 #endif
-    w.coat = u_clearcoat * (0.04 * coat_scale_bias.x + coat_scale_bias.y);
+    w.coat = s.clearcoat * (0.04 * coat_scale_bias.x + coat_scale_bias.y);
 #endif
 #if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
     w.diffuse *= w.base_scale;

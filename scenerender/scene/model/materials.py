@@ -58,6 +58,13 @@ class MaterialSpec(StrictModel):
     clearcoat_roughness: number(0, 1) | None = None
     sheen_color: vector(3, 0, 1) | None = None  # KHR_materials_sheen
     sheen_roughness: number(0, 1) | None = None
+    # the layers' maps (the extensions' textures): each multiplies its layer's value
+    clearcoat_map: ImagePath | None = None
+    clearcoat_roughness_map: ImagePath | None = None
+    sheen_color_map: ImagePath | None = None
+    sheen_roughness_map: ImagePath | None = None
+    specular_factor_map: ImagePath | None = None
+    specular_color_map: ImagePath | None = None
 
     @model_validator(mode="after")
     def _one_name_each(self):
