@@ -128,3 +128,40 @@ def test_gpu_matches_the_reference(gl, tmp_path):
     errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
     assert errors["rmse_linear"] < 1.5, errors
     assert errors["interior_rmse"] < 0.25, errors
+
+
+def _srgb_decode(value: float) -> float:
+    return value / 12.92 if value <= 0.04045 else ((value + 0.055) / 1.055) ** 2.4
+
+
+def test_the_specular_glossiness_texture_gives_what_its_texel_as_factors_gives(gl, tmp_path):
+    # one texel everywhere: specular (sRGB) 200, 150, 100 and glossiness 0.6 (alpha 153),
+    # times the factors, against those products given as factors (whose conversion is the
+    # extension's BRDF, above): within 1 of 255 (the GPU's sRGB decode and float32)
+    texel = np.array([200, 150, 100, 153], np.uint8)
+    values = {"diffuseFactor": [0.6, 0.5, 0.4, 1.0], "specularFactor": [0.9, 0.8, 0.7], "glossinessFactor": 0.9}
+    specular_glossiness_glb(tmp_path / "model.glb", values, textures={
+        "specularGlossinessTexture": np.tile(texel, (4, 4, 1))})
+    textured = _linear(gl, tmp_path)
+    products = {"diffuseFactor": values["diffuseFactor"],
+                "specularFactor": [f * _srgb_decode(t / 255.0) for f, t in zip(values["specularFactor"], texel[:3])],
+                "glossinessFactor": values["glossinessFactor"] * texel[3] / 255.0}
+    specular_glossiness_glb(tmp_path / "model.glb", products)
+    factors = _linear(gl, tmp_path)
+    assert np.abs(textured - factors).max() < 0.005 * factors.max()
+    assert factors.max() > 0.5
+
+
+def test_gpu_matches_the_reference_with_a_specular_glossiness_texture(gl, tmp_path):
+    ramp = np.round(255 * (np.arange(8) + 0.5) / 8).astype(np.uint8)
+    pixels = np.zeros((8, 8, 4), np.uint8)
+    pixels[..., 0], pixels[..., 1], pixels[..., 2] = ramp[None, :], 120, ramp[::-1][None, :]
+    pixels[..., 3] = ramp[:, None]  # glossiness down the rows
+    specular_glossiness_glb(tmp_path / "model.glb", GOLDISH, textures={"specularGlossinessTexture": pixels})
+    loaded = scenerender.Scene.from_yaml(SCENE, tmp_path)
+    assert "specular_glossiness_map" in loaded.world.materials()[0].maps
+    with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
+        frame = renderer.render(0)
+    errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
+    assert errors["rmse_linear"] < 1.5, errors
+    assert errors["interior_rmse"] < 0.25, errors

@@ -135,11 +135,12 @@ class GltfMaterial:
     sheen_roughness_map: GltfTexture | None = None
     specular_factor_map: GltfTexture | None = None
     specular_color_map: GltfTexture | None = None
+    specular_glossiness_map: GltfTexture | None = None  # KHR_materials_pbrSpecularGlossiness
 
     def textures(self) -> dict:
         """{map name: GltfTexture} of the maps it has."""
         names = ("base_color_map", "metallic_roughness_map", "normal_map", "occlusion_map", "emissive_map",
-                 *LAYER_TEXTURES.values())
+                 *LAYER_TEXTURES.values(), "specular_glossiness_map")
         return {name: getattr(self, name) for name in names if getattr(self, name) is not None}
 
 
@@ -335,21 +336,22 @@ def _specular_glossiness(values: dict, header: dict, result: GltfFile, label: st
     max(specular)), F0 = specular, alpha = (1 - glossiness)^2 (F90 1) are those of metallic 0,
     base colour c_diff, roughness 1 - glossiness, ior 1.5 and specular colour specular / 0.04
     (F0 = min(0.04 specular colour, 1) specular factor = specular, F90 = specular factor = 1).
-    diffuseTexture is the base colour texture."""
+    diffuseTexture is the base colour texture. specularGlossinessTexture is the
+    specular_glossiness_map, which the shading applies per texel (F0 = its rgb times the
+    specular colour's F0, roughness = 1 - (1 - roughness) times its alpha, the base times
+    1 - max(F0)): the base colour is then the diffuse factor alone."""
     diffuse = _numbers(values.get("diffuseFactor", (1.0, 1.0, 1.0, 1.0)), 4, "diffuseFactor", 0.0, 1.0)
     specular = _numbers(values.get("specularFactor", (1.0, 1.0, 1.0)), 3, "specularFactor", 0.0, 1.0)
     glossiness = _numbers([values.get("glossinessFactor", 1.0)], 1, "glossinessFactor", 0.0, 1.0)[0]
-    if "specularGlossinessTexture" in values:
-        note = f"{SPECULAR_GLOSSINESS} specularGlossinessTexture is not read (its factors alone apply)"
-        if note not in result.unsupported:
-            result.unsupported.append(note)
-    through = 1.0 - max(specular)
+    specular_glossiness = _texture(values.get("specularGlossinessTexture"), header, result, label,
+                                   "specularGlossinessTexture")
+    through = 1.0 if specular_glossiness is not None else 1.0 - max(specular)
     return {
         "base_color": (*(c * through for c in diffuse[:3]), diffuse[3]),
         "metallic": 0.0, "roughness": 1.0 - glossiness,
         "ior": 1.5, "specular_factor": 1.0, "specular_color": tuple(c / _DIELECTRIC_F0 for c in specular),
         "base_color_map": _texture(values.get("diffuseTexture"), header, result, label, "diffuseTexture"),
-        "metallic_roughness_map": None,
+        "metallic_roughness_map": None, "specular_glossiness_map": specular_glossiness,
     }
 
 

@@ -775,10 +775,17 @@ def _layer_table(materials: list) -> dict:
 def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -> None:
     """The pbr layers' maps (world.materials.LAYER_MAP_KEYS) of ``material`` applied to
     ``surface``'s layer arrays at ``rows``, as lighting/material.glsl's sample_layers: a
-    specular colour map multiplies F0 before its clamp, the specular map F0 and F90."""
+    specular colour map multiplies F0 before its clamp, the specular map F0 and F90; the
+    specular-glossiness map sets F0, roughness and the diffuse colour's share."""
     if "specular_color_map" in sample:
         f0 = np.minimum(material.dielectric_reflectance() * sample["specular_color_map"][:, :3], 1.0)
         surface["f0"][rows] = f0 * material.specular_factor
+    if "specular_glossiness_map" in sample:  # KHR_materials_pbrSpecularGlossiness's texture (mesh.gltf)
+        texels = sample["specular_glossiness_map"]
+        f0 = np.minimum(material.dielectric_reflectance() * texels[:, :3], 1.0) * material.specular_factor
+        surface["f0"][rows] = f0
+        surface["roughness"][rows] = 1.0 - (1.0 - surface["roughness"][rows]) * texels[:, 3]
+        surface["diffuse"][rows] *= 1.0 - f0.max(axis=1)[:, None]
     if "specular_factor_map" in sample:
         surface["f0"][rows] *= sample["specular_factor_map"][:, 3:4]
         surface["f90"][rows] *= sample["specular_factor_map"][:, 3]

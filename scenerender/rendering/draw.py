@@ -256,7 +256,7 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
     if material.dielectric_specular:
         f0, f90 = material.dielectric_f0_f90()
         set_uniforms(program, u_dielectric_f0=tuple(f0), u_dielectric_f90=f90)
-        if "specular_color_map" in material.maps:
+        if "specular_color_map" in material.maps or "specular_glossiness_map" in material.maps:
             set_uniforms(program, u_dielectric_reflectance=tuple(material.dielectric_reflectance()))
     if material.clearcoat > 0.0:
         set_uniforms(program, u_clearcoat=material.clearcoat, u_clearcoat_roughness=material.clearcoat_roughness)

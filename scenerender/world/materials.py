@@ -41,16 +41,20 @@ MAP_KEYS = ("diffuse_map", "specular_map", "normal_map", "opacity_map", "metalli
             "emissive_map", "roughness_map", "metallic_map")
 # the pbr layers' maps (glTF's KHR_materials_clearcoat, _sheen and _specular textures): each
 # multiplies its layer's factor by one channel (clearcoat red, clearcoat_roughness green,
-# sheen_roughness and specular_factor alpha) or by its colour (sheen_color, specular_color)
+# sheen_roughness and specular_factor alpha) or by its colour (sheen_color, specular_color);
+# specular_glossiness is KHR_materials_pbrSpecularGlossiness's texture (mesh.gltf)
 LAYER_MAP_KEYS = ("clearcoat_map", "clearcoat_roughness_map", "sheen_color_map", "sheen_roughness_map",
-                  "specular_factor_map", "specular_color_map")
+                  "specular_factor_map", "specular_color_map", "specular_glossiness_map")
 MAP_KEYS += LAYER_MAP_KEYS
+# the maps that change the dielectric's F0 (PBR_DIELECTRIC_SPECULAR)
+SPECULAR_MAPS = ("specular_factor_map", "specular_color_map", "specular_glossiness_map")
 # Colour maps hold sRGB-encoded colours; the others hold plain data.
 SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "opacity_map": False,
              "metallic_roughness_map": False, "occlusion_map": False, "emissive_map": True, "roughness_map": False,
              "metallic_map": False,
              "clearcoat_map": False, "clearcoat_roughness_map": False, "sheen_color_map": True,
-             "sheen_roughness_map": False, "specular_factor_map": False, "specular_color_map": True}
+             "sheen_roughness_map": False, "specular_factor_map": False, "specular_color_map": True,
+             "specular_glossiness_map": True}
 # a scene's key for a map, where it is not the map's own name
 SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
 SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
@@ -160,7 +164,7 @@ class Material:
         than 1.5, a specular factor or colour other than 1, or a map of either)."""
         return (self.ior != 1.5 or self.specular_factor != 1.0
                 or tuple(self.specular_color) != (1.0, 1.0, 1.0)
-                or "specular_factor_map" in self.maps or "specular_color_map" in self.maps)
+                or any(key in self.maps for key in SPECULAR_MAPS))
 
     def dielectric_reflectance(self) -> np.ndarray:
         """(3,) ((ior - 1) / (ior + 1))^2 specular_color: F0 before the clamp and the specular

@@ -75,6 +75,10 @@ uniform vec4 u_sheen_roughness_map_st;
 uniform sampler2D u_specular_factor_map;  // KHR_materials_specular specularTexture: alpha times specular_factor
 uniform vec4 u_specular_factor_map_st;
 #endif
+#ifdef HAS_SPECULAR_GLOSSINESS_MAP
+uniform sampler2D u_specular_glossiness_map;  // KHR_materials_pbrSpecularGlossiness: specular rgb (sRGB), glossiness alpha
+uniform vec4 u_specular_glossiness_map_st;
+#endif
 #ifdef HAS_SPECULAR_COLOR_MAP
 uniform sampler2D u_specular_color_map;  // specularColorTexture: rgb (sRGB) times specular_color
 uniform vec4 u_specular_color_map_st;
@@ -155,6 +159,11 @@ in vec2 v_uv1;
 #else
 #define UV_OF_u_specular_factor_map(uv) (uv)
 #endif
+#ifdef SPECULAR_GLOSSINESS_MAP_UV1
+#define UV_OF_u_specular_glossiness_map(uv) v_uv1
+#else
+#define UV_OF_u_specular_glossiness_map(uv) (uv)
+#endif
 #ifdef SPECULAR_COLOR_MAP_UV1
 #define UV_OF_u_specular_color_map(uv) v_uv1
 #else
@@ -219,6 +228,9 @@ uniform vec2 u_specular_factor_map_skew;
 #ifdef HAS_SPECULAR_COLOR_MAP
 uniform vec2 u_specular_color_map_skew;
 #endif
+#ifdef HAS_SPECULAR_GLOSSINESS_MAP
+uniform vec2 u_specular_glossiness_map_skew;
+#endif
 
 vec2 map_uv(vec2 uv, vec4 st, vec2 skew) {
     vec2 t = vec2(uv.x * st.x + uv.y * skew.x, uv.x * skew.y + uv.y * st.y) + st.zw;
@@ -259,7 +271,7 @@ struct Surface {
 #ifdef PBR_DIELECTRIC_SPECULAR
 uniform vec3 u_dielectric_f0;    // min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular
 uniform float u_dielectric_f90;  // specular
-#ifdef HAS_SPECULAR_COLOR_MAP
+#if defined(HAS_SPECULAR_COLOR_MAP) || defined(HAS_SPECULAR_GLOSSINESS_MAP)
 uniform vec3 u_dielectric_reflectance;  // ((ior - 1) / (ior + 1))^2 specular_color, before the clamp
 #endif
 #endif
@@ -281,6 +293,14 @@ void sample_layers(inout Surface s, vec2 uv) {
 #ifdef HAS_SPECULAR_COLOR_MAP
     s.dielectric_f0 = min(u_dielectric_reflectance * texture(u_specular_color_map, MAP_UV(u_specular_color_map, uv)).rgb,
                           vec3(1.0)) * u_dielectric_f90;
+#endif
+#ifdef HAS_SPECULAR_GLOSSINESS_MAP
+    // KHR_materials_pbrSpecularGlossiness's texture (mesh.gltf): F0 = specular factor x texel,
+    // roughness = 1 - glossiness factor x texel, c_diff = diffuse (1 - max(F0))
+    vec4 specular_glossiness = texture(u_specular_glossiness_map, MAP_UV(u_specular_glossiness_map, uv));
+    s.dielectric_f0 = min(u_dielectric_reflectance * specular_glossiness.rgb, vec3(1.0)) * u_dielectric_f90;
+    s.roughness = 1.0 - (1.0 - s.roughness) * specular_glossiness.a;
+    s.base *= 1.0 - max(s.dielectric_f0.r, max(s.dielectric_f0.g, s.dielectric_f0.b));
 #endif
 #ifdef HAS_SPECULAR_FACTOR_MAP
     float specular = texture(u_specular_factor_map, MAP_UV(u_specular_factor_map, uv)).a;
