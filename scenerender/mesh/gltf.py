@@ -49,7 +49,7 @@ _NORMALIZED = {5121: 255.0, 5123: 65535.0}
 READ_EXTENSIONS = (
     "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
     "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
-    "KHR_materials_variants", "KHR_materials_pbrSpecularGlossiness",
+    "KHR_materials_variants", "KHR_materials_pbrSpecularGlossiness", "KHR_materials_anisotropy",
     "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
 )
 
@@ -127,6 +127,8 @@ class GltfMaterial:
     clearcoat_roughness: float = 0.0
     sheen_color: tuple = (0.0, 0.0, 0.0)  # KHR_materials_sheen
     sheen_roughness: float = 0.0
+    anisotropy: float = 0.0  # KHR_materials_anisotropy: strength, and rotation in degrees
+    anisotropy_rotation: float = 0.0
     # the layers' textures (clearcoatTexture, clearcoatRoughnessTexture, sheenColorTexture,
     # sheenRoughnessTexture, specularTexture, specularColorTexture)
     clearcoat_map: GltfTexture | None = None
@@ -362,8 +364,10 @@ LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_facto
                   ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"): "clearcoat_roughness_map",
                   ("KHR_materials_sheen", "sheenColorTexture"): "sheen_color_map",
                   ("KHR_materials_sheen", "sheenRoughnessTexture"): "sheen_roughness_map"}
-# read by no one: the coat's normal is the surface's (a warning names it)
-_UNREAD_LAYER_TEXTURES = (("KHR_materials_clearcoat", "clearcoatNormalTexture"),)
+# read by no one, each named in a warning: the coat's normal is the surface's, the
+# anisotropy's direction and strength their factors'
+_UNREAD_LAYER_TEXTURES = {("KHR_materials_clearcoat", "clearcoatNormalTexture"): "the coat's normal is the surface's",
+                          ("KHR_materials_anisotropy", "anisotropyTexture"): "its strength and rotation alone apply"}
 
 
 def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: str) -> dict:
@@ -375,9 +379,12 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
     specular = json_object(extensions.get("KHR_materials_specular", {}), f"material {name!r}: KHR_materials_specular")
     coat = json_object(extensions.get("KHR_materials_clearcoat", {}), f"material {name!r}: KHR_materials_clearcoat")
     sheen = json_object(extensions.get("KHR_materials_sheen", {}), f"material {name!r}: KHR_materials_sheen")
-    values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat, "KHR_materials_sheen": sheen}
-    for extension, key in _UNREAD_LAYER_TEXTURES:
-        note = f"{extension} {key} is not read (the coat's normal is the surface's)"
+    anisotropy = json_object(extensions.get("KHR_materials_anisotropy", {}),
+                             f"material {name!r}: KHR_materials_anisotropy")
+    values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat, "KHR_materials_sheen": sheen,
+              "KHR_materials_anisotropy": anisotropy}
+    for (extension, key), instead in _UNREAD_LAYER_TEXTURES.items():
+        note = f"{extension} {key} is not read ({instead})"
         if key in values[extension] and note not in result.unsupported:
             result.unsupported.append(note)
     maps = {field: _texture(values[extension].get(key), header, result, label, key)
@@ -394,6 +401,9 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
                                         0.0, 1.0)[0],
         "sheen_color": _numbers(sheen.get("sheenColorFactor", (0.0, 0.0, 0.0)), 3, "sheenColorFactor", 0.0, 1.0),
         "sheen_roughness": _numbers([sheen.get("sheenRoughnessFactor", 0.0)], 1, "sheenRoughnessFactor", 0.0, 1.0)[0],
+        "anisotropy": _numbers([anisotropy.get("anisotropyStrength", 0.0)], 1, "anisotropyStrength", 0.0, 1.0)[0],
+        "anisotropy_rotation": math.degrees(_numbers([anisotropy.get("anisotropyRotation", 0.0)], 1,
+                                                     "anisotropyRotation", -1e6, 1e6)[0]) % 360.0,
     }
 
 

@@ -404,6 +404,10 @@ class _FrameScene:
                                                    + colors[:, 2] * v[:, None])[:, :3]
         if self.maps:
             self._apply_maps(m, soup.uvs[tri], u, v, surface)
+        if soup.tangents is not None:
+            surface["anisotropy"] = table["anisotropy"][m]
+            surface["anisotropy_t"] = _anisotropy_direction(soup.tangents[tri], u, v, n, back,
+                                                            table["anisotropy_direction"][m])
         return _Hit(n, facing, view, surface, table["model"][m])
 
     def _lit(self, hit: "_Hit", p: np.ndarray, strata, draws: "_Draws"):
@@ -769,7 +773,24 @@ def _layer_table(materials: list) -> dict:
                                 dtype=np.float64).reshape(-1, 3),
         "sheen_roughness": np.array([m.sheen_roughness if m is not None else 0.0 for m in materials],
                                     dtype=np.float64),
+        "anisotropy": np.array([m.anisotropy if m is not None else 0.0 for m in materials], dtype=np.float64),
+        "anisotropy_direction": np.array([m.anisotropy_direction() if m is not None else (1.0, 0.0)
+                                          for m in materials], dtype=np.float64).reshape(-1, 2),
     }
+
+
+def _anisotropy_direction(frames: np.ndarray, u: np.ndarray, v: np.ndarray, n: np.ndarray, back: np.ndarray,
+                          direction: np.ndarray) -> np.ndarray:
+    """(P, 3) unit world directions of the anisotropy at hit points, as lighting/material.glsl's
+    anisotropy_direction: the corners' tangents ``frames`` (P, 3, 4) interpolated by
+    barycentric (u, v), turned for a face seen from behind (``back``), made orthogonal to the
+    shading normal ``n``; then (cos, sin) ``direction`` (P, 2) in the frame of that tangent
+    and the bitangent cross(n, t) w."""
+    tangent = frames[:, 0] * (1.0 - u - v)[:, None] + frames[:, 1] * u[:, None] + frames[:, 2] * v[:, None]
+    xyz = np.where(back[:, None], -tangent[:, :3], tangent[:, :3])
+    t = shading.safe_normalize(xyz - n * np.sum(n * xyz, axis=1, keepdims=True), np.array([1.0, 0.0, 0.0]))
+    b = np.cross(n, t) * np.where(frames[:, 0, 3:] < 0.0, -1.0, 1.0)
+    return shading.safe_normalize(t * direction[:, :1] + b * direction[:, 1:], t)
 
 
 def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -> None:

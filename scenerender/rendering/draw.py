@@ -262,6 +262,8 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
         set_uniforms(program, u_clearcoat=material.clearcoat, u_clearcoat_roughness=material.clearcoat_roughness)
     if material.sheen:
         set_uniforms(program, u_sheen_color=tuple(material.sheen_color), u_sheen_roughness=material.sheen_roughness)
+    if material.anisotropy > 0.0:
+        set_uniforms(program, u_anisotropy=material.anisotropy, u_anisotropy_direction=material.anisotropy_direction())
     for key, source in material.maps.items():
         if program.get(f"u_{key}", None) is None:
             continue

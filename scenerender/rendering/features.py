@@ -321,7 +321,7 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
     maps = [key for key in material.maps if model == "pbr" or key not in PBR_MAPS]
     for key in maps:
         defines[f"HAS_{key.upper()}"] = True
-    if "normal_map" in material.maps and not material.unlit:
+    if material.needs_tangents and not material.unlit:
         defines["HAS_TANGENTS"] = True
     if material.wrap == "mirror" and material.maps:
         defines["WRAP_MIRROR"] = True
@@ -343,4 +343,6 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
         defines["PBR_CLEARCOAT"] = True
     if model == "pbr" and material.sheen:
         defines["PBR_SHEEN"] = True
+    if model == "pbr" and material.anisotropy > 0.0:
+        defines["PBR_ANISOTROPY"] = True
     return defines

@@ -200,6 +200,8 @@ KEYS: dict[str, Key] = {
     "materials.<name>.clearcoat_roughness": Key("pbr: the clear coat's roughness. Not set: 0.", "0.1"),
     "materials.<name>.sheen_color": Key("pbr: the colour of a sheen at grazing angles, a fabric's (glTF KHR_materials_sheen, the Charlie lobe), taking its share of the light from the material beneath. Not set: black, none.", "[0.9, 0.8, 1.0]"),
     "materials.<name>.sheen_roughness": Key("pbr: the sheen's roughness: low keeps it at the outline, high spreads it. Not set: 0 (taken as 0.07).", "0.5"),
+    "materials.<name>.anisotropy": Key("pbr: raises the roughness along one direction of the surface (glTF KHR_materials_anisotropy's strength): alpha_t = mix(alpha, 1, anisotropy^2) along it, the material's own across it, so highlights stretch along it (brushed metal). Needs the mesh's tangents (read or worked out from its texture coordinates). Not set: 0, none.", "0.8"),
+    "materials.<name>.anisotropy_rotation": Key("pbr: that direction, in degrees from the mesh's tangent (its u direction) towards its bitangent (glTF `anisotropyRotation`, radians there). Not set: 0.", "90"),
     "materials.<name>.clearcoat_map": Key("pbr: texture whose red channel multiplies `clearcoat` (glTF `clearcoatTexture`); data, not colour.", "textures/ground.png"),
     "materials.<name>.clearcoat_roughness_map": Key("pbr: texture whose green channel multiplies `clearcoat_roughness` (glTF `clearcoatRoughnessTexture`); data.", "textures/ground.png"),
     "materials.<name>.sheen_color_map": Key("pbr: colour texture (sRGB) multiplying `sheen_color` (glTF `sheenColorTexture`).", "textures/ground.png"),

@@ -61,6 +61,7 @@ SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 # the pbr model's layer values, alike in glTF materials, scene materials and Material
 LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness", "sheen_color",
               "sheen_roughness")
+LAYER_KEYS += ("anisotropy", "anisotropy_rotation")  # KHR_materials_anisotropy
 
 
 @dataclass(frozen=True)
@@ -147,6 +148,10 @@ class Material:
     clearcoat_roughness: float = 0.0
     sheen_color: tuple = (0.0, 0.0, 0.0)
     sheen_roughness: float = 0.0
+    # KHR_materials_anisotropy: its strength, and its direction in degrees from the tangent
+    # towards the bitangent
+    anisotropy: float = 0.0
+    anisotropy_rotation: float = 0.0
 
     @property
     def sheen(self) -> bool:
@@ -156,7 +161,17 @@ class Material:
     @property
     def layered(self) -> bool:
         """It has any of the pbr model's layers."""
-        return self.dielectric_specular or self.clearcoat > 0.0 or self.sheen
+        return self.dielectric_specular or self.clearcoat > 0.0 or self.sheen or self.anisotropy > 0.0
+
+    @property
+    def needs_tangents(self) -> bool:
+        """It reads the mesh's tangent frame: a normal map, or an anisotropy's direction."""
+        return "normal_map" in self.maps or self.anisotropy > 0.0
+
+    def anisotropy_direction(self) -> tuple[float, float]:
+        """(cos, sin) of ``anisotropy_rotation``: the direction in the tangent frame."""
+        angle = np.radians(self.anisotropy_rotation)
+        return float(np.cos(angle)), float(np.sin(angle))
 
     @property
     def dielectric_specular(self) -> bool:

@@ -263,6 +263,10 @@ struct Surface {
     vec3 sheen_color;
     float sheen_roughness;
 #endif
+#ifdef PBR_ANISOTROPY
+    float anisotropy;    // its strength
+    vec3 anisotropy_t;   // unit, in the world: the direction its roughness is raised along
+#endif
 #endif
 };
 
@@ -282,6 +286,10 @@ uniform float u_clearcoat_roughness;
 #ifdef PBR_SHEEN
 uniform vec3 u_sheen_color;
 uniform float u_sheen_roughness;
+#endif
+#ifdef PBR_ANISOTROPY
+uniform float u_anisotropy;            // KHR_materials_anisotropy's strength
+uniform vec2 u_anisotropy_direction;   // (cos, sin) of its rotation from the tangent
 #endif
 
 // The layers' factors times their maps (KHR_materials_specular, _clearcoat, _sheen
@@ -328,7 +336,20 @@ void sample_layers(inout Surface s, vec2 uv) {
     s.sheen_roughness *= texture(u_sheen_roughness_map, MAP_UV(u_sheen_roughness_map, uv)).a;
 #endif
 #endif
+#ifdef PBR_ANISOTROPY
+    s.anisotropy = u_anisotropy;
+#endif
 }
+
+#ifdef PBR_ANISOTROPY
+// The anisotropy's direction in the world: (cos, sin) of its rotation in the frame of the
+// tangent (made orthogonal to n) and the bitangent cross(n, t) w
+vec3 anisotropy_direction(vec3 n, vec4 tangent) {
+    vec3 t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3(1.0, 0.0, 0.0));
+    vec3 b = cross(n, t) * tangent.w;
+    return safe_normalize(t * u_anisotropy_direction.x + b * u_anisotropy_direction.y, t);
+}
+#endif
 #endif
 
 Surface sample_surface(vec2 uv) {

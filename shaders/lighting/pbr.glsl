@@ -16,6 +16,11 @@
 //   F90 = mix(dielectric F90, 1, metallic).
 // - PBR_SHEEN (KHR_materials_sheen): a Charlie lobe over the base (lighting/sheen.glsl):
 //   f = f_base min(1 - max(sheen) E(N.V), 1 - max(sheen) E(N.L)) + sheen D_s V_s.
+// - PBR_ANISOTROPY (KHR_materials_anisotropy): the base's GGX lobe with alpha_t =
+//   mix(alpha, 1, strength^2) along the anisotropy's direction and alpha_b = alpha across it,
+//   for point, spot and directional lights; sized and area lights take the lobe at alpha,
+//   ambient and environment light weigh it by anisotropic_ambient_roughness's albedo
+//   (docs/scene-notes.md).
 // - PBR_CLEARCOAT (KHR_materials_clearcoat): a GGX layer of F0 0.04 (ior 1.5) and its own
 //   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - V.H)^5.
 
@@ -57,6 +62,13 @@ struct PbrView {
     float sheen_through_view;  // 1 - max(sheen) E(N.V)
     vec3 sheen_color;
     float sheen_roughness;
+#endif
+#ifdef PBR_ANISOTROPY
+    vec3 anisotropy_t;  // the direction of alpha_t
+    vec3 anisotropy_b;  // across it, of alpha_b (the surface's own alpha)
+    float alpha_t;
+    float alpha_b;
+    float anisotropic_view_term;  // |(alpha_t T.V, alpha_b B.V, N.V)|: view_term's anisotropic form
 #endif
 };
 
@@ -109,6 +121,14 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     p.sheen_alpha = sheen_alpha(s.sheen_roughness);
     p.sheen_through_view = sheen_through(s.sheen_color, s.sheen_roughness, p.n_dot_v);
 #endif
+#ifdef PBR_ANISOTROPY
+    p.anisotropy_t = s.anisotropy_t;
+    p.anisotropy_b = cross(n, s.anisotropy_t);
+    p.alpha_t = mix(alpha, 1.0, s.anisotropy * s.anisotropy);
+    p.alpha_b = alpha;
+    p.anisotropic_view_term = length(vec3(p.alpha_t * dot(p.anisotropy_t, v), p.alpha_b * dot(p.anisotropy_b, v),
+                                          p.n_dot_v));
+#endif
     return p;
 }
 
@@ -124,9 +144,21 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
     float inverse_length = inversesqrt(max(length2, 1e-20));
     float n_dot_h = dot(n, l_plus_v) * inverse_length;
     float v_dot_h = min(0.5 * length2 * inverse_length, 1.0);
+#ifdef PBR_ANISOTROPY
+    // KHR_materials_anisotropy: Burley's GGX of alpha_t along t, alpha_b along b, pi D =
+    // 1 / (alpha_t alpha_b k^2), k = (T.H / alpha_t)^2 + (B.H / alpha_b)^2 + (N.H)^2, with its
+    // height-correlated Smith V (the isotropic forms at alpha_t = alpha_b)
+    float t_dot_h = dot(p.anisotropy_t, l_plus_v) * inverse_length / p.alpha_t;
+    float b_dot_h = dot(p.anisotropy_b, l_plus_v) * inverse_length / p.alpha_b;
+    float k = t_dot_h * t_dot_h + b_dot_h * b_dot_h + n_dot_h * n_dot_h;
+    float light_term = p.n_dot_v * length(vec3(p.alpha_t * dot(p.anisotropy_t, l), p.alpha_b * dot(p.anisotropy_b, l),
+                                               n_dot_l));
+    float specular = 0.5 / (p.alpha_t * p.alpha_b * k * k * (n_dot_l * p.anisotropic_view_term + light_term));
+#else
     float k = 1.0 - n_dot_h * n_dot_h * (1.0 - p.alpha2);
     float light_term = p.n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - p.alpha2) + p.alpha2);
     float specular = 0.5 * p.alpha2 / (k * k * (n_dot_l * p.view_term + light_term));  // pi D V
+#endif
 #ifdef PBR_DIELECTRIC_SPECULAR
     vec3 fresnel = fresnel_schlick_f90(p.f0, p.f90, v_dot_h);
 #else
@@ -167,9 +199,24 @@ struct PbrAmbientWeights {
 #endif
 };
 
+#ifdef PBR_ANISOTROPY
+// The roughness of the isotropic lobe that reflects about what the anisotropic one does of
+// a uniform light: alpha = sqrt((alpha_t^2 + alpha_b^2) / 2), within 0.016 of the
+// anisotropic lobe's directional albedo (docs/scene-notes.md)
+float anisotropic_ambient_roughness(float roughness, float anisotropy) {
+    float alpha = max(roughness * roughness, PBR_MIN_ALPHA);
+    float alpha_t = mix(alpha, 1.0, anisotropy * anisotropy);
+    return sqrt(sqrt(0.5 * (alpha_t * alpha_t + alpha * alpha)));
+}
+#endif
+
 PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     float n_dot_v = clamp(dot(n, v), 0.0, 1.0);
+#ifdef PBR_ANISOTROPY
+    vec2 scale_bias = ambient_specular(n_dot_v, anisotropic_ambient_roughness(s.roughness, s.anisotropy));
+#else
     vec2 scale_bias = ambient_specular(n_dot_v, s.roughness);
+#endif
     PbrAmbientWeights w;
 #ifdef PBR_DIELECTRIC_SPECULAR
     // with F90: the diffuse part keeps (1 - F0) - (F90 - F0) Cd, the specular F0 A + F90 B

@@ -58,6 +58,8 @@ class MaterialSpec(StrictModel):
     clearcoat_roughness: number(0, 1) | None = None
     sheen_color: vector(3, 0, 1) | None = None  # KHR_materials_sheen
     sheen_roughness: number(0, 1) | None = None
+    anisotropy: number(0, 1) | None = None  # KHR_materials_anisotropy
+    anisotropy_rotation: number(-360, 360) | None = None  # degrees from the tangent
     # the layers' maps (the extensions' textures): each multiplies its layer's value
     clearcoat_map: ImagePath | None = None
     clearcoat_roughness_map: ImagePath | None = None
