@@ -386,15 +386,15 @@ def test_a_broken_glb_given_as_the_scene_exits_2(tmp_path):
 def test_an_extension_not_read_is_named_in_one_warning(tmp_path):
     builder = GlbBuilder()
     builder.node(builder.mesh(builder.primitive(sphere(0.5), builder.material(
-        extensions={"KHR_materials_iridescence": {"iridescenceFactor": 1}}))))
-    builder.uses("KHR_materials_iridescence")
+        extensions={"KHR_materials_dispersion": {"dispersion": 1}}))))
+    builder.uses("KHR_materials_dispersion")
     builder.uses("KHR_texture_transform")
     builder.write(tmp_path / "shiny.glb")
     result = CliRunner().invoke(main, ["validate", str(tmp_path / "shiny.glb")])
     assert result.exit_code == 0, result.output
     lines = [line for line in result.output.splitlines() if line.startswith("warning")]
     assert len(lines) == 1
-    assert "shiny.glb" in lines[0] and "extension KHR_materials_iridescence is not supported" in lines[0]
+    assert "shiny.glb" in lines[0] and "extension KHR_materials_dispersion is not supported" in lines[0]
 
 
 # -- TANGENT ---------------------------------------------------------------------------------------

@@ -50,6 +50,7 @@ READ_EXTENSIONS = (
     "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
     "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
     "KHR_materials_variants", "KHR_materials_pbrSpecularGlossiness", "KHR_materials_anisotropy",
+    "KHR_materials_iridescence",
     "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
 )
 
@@ -129,6 +130,9 @@ class GltfMaterial:
     sheen_roughness: float = 0.0
     anisotropy: float = 0.0  # KHR_materials_anisotropy: strength, and rotation in degrees
     anisotropy_rotation: float = 0.0
+    iridescence: float = 0.0  # KHR_materials_iridescence: weight, film ior, thickness (nm)
+    iridescence_ior: float = 1.3
+    iridescence_thickness: float = 400.0
     # the layers' textures (clearcoatTexture, clearcoatRoughnessTexture, sheenColorTexture,
     # sheenRoughnessTexture, specularTexture, specularColorTexture)
     clearcoat_map: GltfTexture | None = None
@@ -367,7 +371,10 @@ LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_facto
 # read by no one, each named in a warning: the coat's normal is the surface's, the
 # anisotropy's direction and strength their factors'
 _UNREAD_LAYER_TEXTURES = {("KHR_materials_clearcoat", "clearcoatNormalTexture"): "the coat's normal is the surface's",
-                          ("KHR_materials_anisotropy", "anisotropyTexture"): "its strength and rotation alone apply"}
+                          ("KHR_materials_anisotropy", "anisotropyTexture"): "its strength and rotation alone apply",
+                          ("KHR_materials_iridescence", "iridescenceTexture"): "its factor alone applies",
+                          ("KHR_materials_iridescence", "iridescenceThicknessTexture"):
+                              "the film is iridescenceThicknessMaximum thick"}
 
 
 def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: str) -> dict:
@@ -381,8 +388,10 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
     sheen = json_object(extensions.get("KHR_materials_sheen", {}), f"material {name!r}: KHR_materials_sheen")
     anisotropy = json_object(extensions.get("KHR_materials_anisotropy", {}),
                              f"material {name!r}: KHR_materials_anisotropy")
+    iridescence = json_object(extensions.get("KHR_materials_iridescence", {}),
+                              f"material {name!r}: KHR_materials_iridescence")
     values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat, "KHR_materials_sheen": sheen,
-              "KHR_materials_anisotropy": anisotropy}
+              "KHR_materials_anisotropy": anisotropy, "KHR_materials_iridescence": iridescence}
     for (extension, key), instead in _UNREAD_LAYER_TEXTURES.items():
         note = f"{extension} {key} is not read ({instead})"
         if key in values[extension] and note not in result.unsupported:
@@ -404,6 +413,11 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
         "anisotropy": _numbers([anisotropy.get("anisotropyStrength", 0.0)], 1, "anisotropyStrength", 0.0, 1.0)[0],
         "anisotropy_rotation": math.degrees(_numbers([anisotropy.get("anisotropyRotation", 0.0)], 1,
                                                      "anisotropyRotation", -1e6, 1e6)[0]) % 360.0,
+        "iridescence": _numbers([iridescence.get("iridescenceFactor", 0.0)], 1, "iridescenceFactor", 0.0, 1.0)[0],
+        "iridescence_ior": _numbers([iridescence.get("iridescenceIor", 1.3)], 1, "iridescenceIor", 1.0, MAX_IOR)[0],
+        # the film's thickness without a thickness texture (the specification)
+        "iridescence_thickness": _numbers([iridescence.get("iridescenceThicknessMaximum", 400.0)], 1,
+                                          "iridescenceThicknessMaximum", 0.0, 10000.0)[0],
     }
 
 

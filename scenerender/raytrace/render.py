@@ -773,6 +773,11 @@ def _layer_table(materials: list) -> dict:
                                 dtype=np.float64).reshape(-1, 3),
         "sheen_roughness": np.array([m.sheen_roughness if m is not None else 0.0 for m in materials],
                                     dtype=np.float64),
+        "iridescence": np.array([m.iridescence if m is not None else 0.0 for m in materials], dtype=np.float64),
+        "iridescence_ior": np.array([m.iridescence_ior if m is not None else 1.3 for m in materials],
+                                    dtype=np.float64),
+        "iridescence_thickness": np.array([m.iridescence_thickness if m is not None else 400.0 for m in materials],
+                                          dtype=np.float64),
         "anisotropy": np.array([m.anisotropy if m is not None else 0.0 for m in materials], dtype=np.float64),
         "anisotropy_direction": np.array([m.anisotropy_direction() if m is not None else (1.0, 0.0)
                                           for m in materials], dtype=np.float64).reshape(-1, 2),

@@ -264,6 +264,9 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
         set_uniforms(program, u_sheen_color=tuple(material.sheen_color), u_sheen_roughness=material.sheen_roughness)
     if material.anisotropy > 0.0:
         set_uniforms(program, u_anisotropy=material.anisotropy, u_anisotropy_direction=material.anisotropy_direction())
+    if material.iridescence > 0.0:
+        set_uniforms(program, u_iridescence=material.iridescence, u_iridescence_ior=material.iridescence_ior,
+                     u_iridescence_thickness=material.iridescence_thickness)
     for key, source in material.maps.items():
         if program.get(f"u_{key}", None) is None:
             continue

@@ -345,4 +345,6 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
         defines["PBR_SHEEN"] = True
     if model == "pbr" and material.anisotropy > 0.0:
         defines["PBR_ANISOTROPY"] = True
+    if model == "pbr" and material.iridescence > 0.0:
+        defines["PBR_IRIDESCENCE"] = True
     return defines

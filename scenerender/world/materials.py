@@ -62,6 +62,7 @@ SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness", "sheen_color",
               "sheen_roughness")
 LAYER_KEYS += ("anisotropy", "anisotropy_rotation")  # KHR_materials_anisotropy
+LAYER_KEYS += ("iridescence", "iridescence_ior", "iridescence_thickness")  # KHR_materials_iridescence
 
 
 @dataclass(frozen=True)
@@ -152,6 +153,11 @@ class Material:
     # towards the bitangent
     anisotropy: float = 0.0
     anisotropy_rotation: float = 0.0
+    # KHR_materials_iridescence: its weight, the thin film's index of refraction and
+    # thickness in nanometres
+    iridescence: float = 0.0
+    iridescence_ior: float = 1.3
+    iridescence_thickness: float = 400.0
 
     @property
     def sheen(self) -> bool:
@@ -161,7 +167,8 @@ class Material:
     @property
     def layered(self) -> bool:
         """It has any of the pbr model's layers."""
-        return self.dielectric_specular or self.clearcoat > 0.0 or self.sheen or self.anisotropy > 0.0
+        return (self.dielectric_specular or self.clearcoat > 0.0 or self.sheen or self.anisotropy > 0.0
+                or self.iridescence > 0.0)
 
     @property
     def needs_tangents(self) -> bool:

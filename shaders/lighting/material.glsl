@@ -267,6 +267,11 @@ struct Surface {
     float anisotropy;    // its strength
     vec3 anisotropy_t;   // unit, in the world: the direction its roughness is raised along
 #endif
+#ifdef PBR_IRIDESCENCE
+    float iridescence;
+    float iridescence_ior;
+    float iridescence_thickness;  // nanometres
+#endif
 #endif
 };
 
@@ -286,6 +291,11 @@ uniform float u_clearcoat_roughness;
 #ifdef PBR_SHEEN
 uniform vec3 u_sheen_color;
 uniform float u_sheen_roughness;
+#endif
+#ifdef PBR_IRIDESCENCE
+uniform float u_iridescence;           // KHR_materials_iridescence: its weight,
+uniform float u_iridescence_ior;       // the film's index of refraction
+uniform float u_iridescence_thickness; // and thickness, nanometres
 #endif
 #ifdef PBR_ANISOTROPY
 uniform float u_anisotropy;            // KHR_materials_anisotropy's strength
@@ -338,6 +348,11 @@ void sample_layers(inout Surface s, vec2 uv) {
 #endif
 #ifdef PBR_ANISOTROPY
     s.anisotropy = u_anisotropy;
+#endif
+#ifdef PBR_IRIDESCENCE
+    s.iridescence = u_iridescence;
+    s.iridescence_ior = u_iridescence_ior;
+    s.iridescence_thickness = u_iridescence_thickness;
 #endif
 }
 

@@ -21,12 +21,18 @@
 //   for point, spot and directional lights; sized and area lights take the lobe at alpha,
 //   ambient and environment light weigh it by anisotropic_ambient_roughness's albedo
 //   (docs/scene-notes.md).
+// - PBR_IRIDESCENCE (KHR_materials_iridescence): the thin film's Fresnel F_i
+//   (lighting/iridescence.glsl), taken at N.V once a pixel: specular F mixed towards F_i,
+//   the diffuse part's towards max(F_i), by the iridescence.
 // - PBR_CLEARCOAT (KHR_materials_clearcoat): a GGX layer of F0 0.04 (ior 1.5) and its own
 //   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - V.H)^5.
 
 #include "lighting/ambient_brdf.glsl"
 #ifdef PBR_SHEEN
 #include "lighting/sheen.glsl"
+#endif
+#ifdef PBR_IRIDESCENCE
+#include "lighting/iridescence.glsl"
 #endif
 
 // alpha is kept above this (roughness about 0.045) so the distribution stays finite; a
@@ -69,6 +75,10 @@ struct PbrView {
     float alpha_t;
     float alpha_b;
     float anisotropic_view_term;  // |(alpha_t T.V, alpha_b B.V, N.V)|: view_term's anisotropic form
+#endif
+#ifdef PBR_IRIDESCENCE
+    vec3 film_fresnel;  // the thin film's Fresnel at N.V
+    float iridescence;
 #endif
 };
 
@@ -121,6 +131,10 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     p.sheen_alpha = sheen_alpha(s.sheen_roughness);
     p.sheen_through_view = sheen_through(s.sheen_color, s.sheen_roughness, p.n_dot_v);
 #endif
+#ifdef PBR_IRIDESCENCE
+    p.film_fresnel = thin_film_fresnel(p.n_dot_v, s.iridescence_ior, s.iridescence_thickness, p.f0);
+    p.iridescence = s.iridescence;
+#endif
 #ifdef PBR_ANISOTROPY
     p.anisotropy_t = s.anisotropy_t;
     p.anisotropy_b = cross(n, s.anisotropy_t);
@@ -164,8 +178,16 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
 #else
     vec3 fresnel = fresnel_schlick(p.f0, v_dot_h);
 #endif
-#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT) || defined(PBR_IRIDESCENCE)
+#ifdef PBR_IRIDESCENCE
+    // the film's Fresnel mixed into the specular one, its largest channel into what the
+    // diffuse part loses
+    vec3 diffuse_fresnel = mix(fresnel, vec3(max(p.film_fresnel.r, max(p.film_fresnel.g, p.film_fresnel.b))),
+                               p.iridescence);
+    vec3 layered = (1.0 - diffuse_fresnel) * p.diffuse + mix(fresnel, p.film_fresnel, p.iridescence) * specular;
+#else
     vec3 layered = p.diffuse + fresnel * (specular - p.diffuse);
+#endif
 #ifdef PBR_SHEEN
     float through = min(p.sheen_through_view, sheen_through(p.sheen_color, p.sheen_roughness, n_dot_l));
     layered = layered * through + p.sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
@@ -228,6 +250,11 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     vec3 f0 = mix(vec3(0.04), s.base, s.metallic);
     w.diffuse = s.base * (1.0 - s.metallic) * (1.0 - f0) * (1.0 - ambient_diffuse_fresnel(n_dot_v));
     w.specular = f0 * scale_bias.x + scale_bias.y;
+#endif
+#ifdef PBR_IRIDESCENCE
+    vec3 film = thin_film_fresnel(n_dot_v, s.iridescence_ior, s.iridescence_thickness, f0);
+    w.specular = mix(w.specular, film * scale_bias.x + scale_bias.y, s.iridescence);
+    w.diffuse = mix(w.diffuse, s.base * (1.0 - s.metallic) * (1.0 - max(film.r, max(film.g, film.b))), s.iridescence);
 #endif
 #if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
     w.base_scale = 1.0;

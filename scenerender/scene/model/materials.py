@@ -60,6 +60,9 @@ class MaterialSpec(StrictModel):
     sheen_roughness: number(0, 1) | None = None
     anisotropy: number(0, 1) | None = None  # KHR_materials_anisotropy
     anisotropy_rotation: number(-360, 360) | None = None  # degrees from the tangent
+    iridescence: number(0, 1) | None = None  # KHR_materials_iridescence
+    iridescence_ior: number(1, MAX_IOR) | None = None
+    iridescence_thickness: number(0, 10000) | None = None  # nanometres
     # the layers' maps (the extensions' textures): each multiplies its layer's value
     clearcoat_map: ImagePath | None = None
     clearcoat_roughness_map: ImagePath | None = None
