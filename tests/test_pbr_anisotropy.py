@@ -26,13 +26,16 @@ objects:
 """
 
 
-def brushed_glb(path, anisotropy: dict | None, roughness: float = 0.45):
+def brushed_glb(path, anisotropy: dict | None, roughness: float = 0.45, texture: np.ndarray | None = None):
     """A sphere of white metal whose tangents run round it (u, sphere_uv) and, unless
-    ``anisotropy`` is None, KHR_materials_anisotropy with those values."""
+    ``anisotropy`` is None, KHR_materials_anisotropy with those values and ``texture``
+    ((H, W, 4) uint8) as its anisotropyTexture."""
     builder = GlbBuilder()
     extensions = {}
     if anisotropy is not None:
-        extensions["KHR_materials_anisotropy"] = anisotropy
+        extensions["KHR_materials_anisotropy"] = dict(anisotropy)
+        if texture is not None:
+            extensions["KHR_materials_anisotropy"]["anisotropyTexture"] = {"index": builder.texture(texture)}
         builder.uses("KHR_materials_anisotropy")
     material = builder.material(name="brushed", extensions=extensions, pbrMetallicRoughness={
         "baseColorFactor": [0.9, 0.9, 0.9, 1], "metallicFactor": 1.0, "roughnessFactor": roughness})
@@ -137,3 +140,36 @@ def test_the_scene_keys_set_the_same_anisotropy_as_the_extension(gl, tmp_path):
     text = SCENE.replace("  - mesh: model.glb", "  - {mesh: model.glb, material_overrides: {brushed: {anisotropy: 0.7, "
                          f"anisotropy_rotation: {math.degrees(2.5)!r}" + "}}}")
     assert np.array_equal(render(gl, text, base_dir=tmp_path)[0], from_file)
+
+
+def _texels(red: int, green: int, blue: int) -> np.ndarray:
+    return np.tile(np.array([red, green, blue, 255], np.uint8), (4, 4, 1))
+
+
+def test_the_texture_turns_the_direction_and_scales_the_strength(gl, tmp_path):
+    # a texel pointing along the bitangent (0.5, 1 -> (0, 1)) at full strength gives the
+    # picture of a rotation of 90 degrees (within 2 of 255: 128 / 255 is not quite 0.5);
+    # its blue at 0 removes the anisotropy
+    brushed_glb(tmp_path / "model.glb", {"anisotropyStrength": 0.8, "anisotropyRotation": np.pi / 2})
+    turned = render(gl, SCENE, base_dir=tmp_path)[0]
+    brushed_glb(tmp_path / "model.glb", {"anisotropyStrength": 0.8}, texture=_texels(128, 255, 255))
+    assert np.abs(render(gl, SCENE, base_dir=tmp_path)[0].astype(int) - turned).max() <= 2
+    brushed_glb(tmp_path / "model.glb", None)
+    plain = render(gl, SCENE, base_dir=tmp_path)[0]
+    brushed_glb(tmp_path / "model.glb", {"anisotropyStrength": 0.8}, texture=_texels(255, 128, 0))
+    assert np.abs(render(gl, SCENE, base_dir=tmp_path)[0].astype(int) - plain).max() <= 1
+
+
+def test_gpu_matches_the_reference_with_a_texture(gl, tmp_path):
+    pixels = np.zeros((8, 8, 4), np.uint8)
+    angle = np.linspace(0.0, np.pi, 8)
+    pixels[..., 0] = np.round(127.5 + 127.5 * np.cos(angle))[None, :]  # the direction turns across the texture
+    pixels[..., 1] = np.round(127.5 + 127.5 * np.sin(angle))[None, :]
+    pixels[..., 2] = np.round(np.linspace(128, 255, 8))[:, None]
+    pixels[..., 3] = 255
+    brushed_glb(tmp_path / "model.glb", {"anisotropyStrength": 0.8, "anisotropyRotation": 0.4}, texture=pixels)
+    loaded, frame = _linear(gl, tmp_path)
+    assert "anisotropy_map" in loaded.world.materials()[0].maps
+    errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
+    assert errors["rmse_linear"] < 1.5, errors
+    assert errors["interior_rmse"] < 0.25, errors

@@ -142,6 +142,7 @@ class GltfMaterial:
     specular_factor_map: GltfTexture | None = None
     specular_color_map: GltfTexture | None = None
     specular_glossiness_map: GltfTexture | None = None  # KHR_materials_pbrSpecularGlossiness
+    anisotropy_map: GltfTexture | None = None
 
     def textures(self) -> dict:
         """{map name: GltfTexture} of the maps it has."""
@@ -367,11 +368,10 @@ LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_facto
                   ("KHR_materials_clearcoat", "clearcoatTexture"): "clearcoat_map",
                   ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"): "clearcoat_roughness_map",
                   ("KHR_materials_sheen", "sheenColorTexture"): "sheen_color_map",
-                  ("KHR_materials_sheen", "sheenRoughnessTexture"): "sheen_roughness_map"}
-# read by no one, each named in a warning: the coat's normal is the surface's, the
-# anisotropy's direction and strength their factors'
+                  ("KHR_materials_sheen", "sheenRoughnessTexture"): "sheen_roughness_map",
+                  ("KHR_materials_anisotropy", "anisotropyTexture"): "anisotropy_map"}
+# read by no one, each named in a warning
 _UNREAD_LAYER_TEXTURES = {("KHR_materials_clearcoat", "clearcoatNormalTexture"): "the coat's normal is the surface's",
-                          ("KHR_materials_anisotropy", "anisotropyTexture"): "its strength and rotation alone apply",
                           ("KHR_materials_iridescence", "iridescenceTexture"): "its factor alone applies",
                           ("KHR_materials_iridescence", "iridescenceThicknessTexture"):
                               "the film is iridescenceThicknessMaximum thick"}

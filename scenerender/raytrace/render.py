@@ -402,12 +402,14 @@ class _FrameScene:
         colors = soup.colors[tri]
         surface["diffuse"] = surface["diffuse"] * (colors[:, 0] * (1.0 - u - v)[:, None] + colors[:, 1] * u[:, None]
                                                    + colors[:, 2] * v[:, None])[:, :3]
+        if soup.tangents is not None:
+            surface["anisotropy"] = table["anisotropy"][m]
+            surface["anisotropy_xy"] = table["anisotropy_direction"][m]
         if self.maps:
             self._apply_maps(m, soup.uvs[tri], u, v, surface)
         if soup.tangents is not None:
-            surface["anisotropy"] = table["anisotropy"][m]
             surface["anisotropy_t"] = _anisotropy_direction(soup.tangents[tri], u, v, n, back,
-                                                            table["anisotropy_direction"][m])
+                                                            surface.pop("anisotropy_xy"))
         return _Hit(n, facing, view, surface, table["model"][m])
 
     def _lit(self, hit: "_Hit", p: np.ndarray, strata, draws: "_Draws"):
@@ -815,6 +817,14 @@ def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -
     if "specular_factor_map" in sample:
         surface["f0"][rows] *= sample["specular_factor_map"][:, 3:4]
         surface["f90"][rows] *= sample["specular_factor_map"][:, 3]
+    if "anisotropy_map" in sample and "anisotropy_xy" in surface:  # (no anisotropy: nothing to turn)
+        # its direction turned by the rotation, its strength times the factor
+        texels = sample["anisotropy_map"]
+        xy = shading.safe_normalize(np.column_stack([texels[:, :2] * 2.0 - 1.0, np.zeros(len(rows))]),
+                                    np.array([1.0, 0.0, 0.0]))[:, :2]
+        c, s = material.anisotropy_direction()
+        surface["anisotropy_xy"][rows] = np.column_stack([c * xy[:, 0] - s * xy[:, 1], s * xy[:, 0] + c * xy[:, 1]])
+        surface["anisotropy"][rows] *= texels[:, 2]
     if "clearcoat_map" in sample:
         surface["clearcoat"][rows] *= sample["clearcoat_map"][:, 0]
     if "clearcoat_roughness_map" in sample:

@@ -37,11 +37,12 @@ TEXTURE_UNITS = {
     # the pbr layers' maps: units past 32, a forward program samples fewer than 32 textures
     "u_clearcoat_map": 35, "u_clearcoat_roughness_map": 36, "u_sheen_color_map": 37, "u_sheen_roughness_map": 38,
     "u_specular_factor_map": 39, "u_specular_color_map": 40, "u_specular_glossiness_map": 41,
+    "u_anisotropy_map": 42,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map", "clearcoat_map", "clearcoat_roughness_map",
             "sheen_color_map", "sheen_roughness_map", "specular_factor_map", "specular_color_map",
-            "specular_glossiness_map")
+            "specular_glossiness_map", "anisotropy_map")
 
 
 @dataclass(frozen=True)

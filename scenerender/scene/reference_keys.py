@@ -205,6 +205,7 @@ KEYS: dict[str, Key] = {
     "materials.<name>.iridescence": Key("pbr: the weight of a thin film over the material (glTF KHR_materials_iridescence): its interference colours the reflection by angle, as soap bubbles and oil films. Not set: 0, none.", "1"),
     "materials.<name>.iridescence_ior": Key("pbr: the thin film's index of refraction. Not set: 1.3.", "1.8"),
     "materials.<name>.iridescence_thickness": Key("pbr: the thin film's thickness in nanometres (glTF `iridescenceThicknessMaximum`). Not set: 400.", "600"),
+    "materials.<name>.anisotropy_map": Key("pbr: texture whose red and green give the anisotropy's direction in the tangent frame (0 to 1 for -1 to 1), turned further by `anisotropy_rotation`, and whose blue multiplies `anisotropy` (glTF `anisotropyTexture`); data.", "textures/ground.png"),
     "materials.<name>.clearcoat_map": Key("pbr: texture whose red channel multiplies `clearcoat` (glTF `clearcoatTexture`); data, not colour.", "textures/ground.png"),
     "materials.<name>.clearcoat_roughness_map": Key("pbr: texture whose green channel multiplies `clearcoat_roughness` (glTF `clearcoatRoughnessTexture`); data.", "textures/ground.png"),
     "materials.<name>.sheen_color_map": Key("pbr: colour texture (sRGB) multiplying `sheen_color` (glTF `sheenColorTexture`).", "textures/ground.png"),

@@ -75,6 +75,10 @@ uniform vec4 u_sheen_roughness_map_st;
 uniform sampler2D u_specular_factor_map;  // KHR_materials_specular specularTexture: alpha times specular_factor
 uniform vec4 u_specular_factor_map_st;
 #endif
+#ifdef HAS_ANISOTROPY_MAP
+uniform sampler2D u_anisotropy_map;  // KHR_materials_anisotropy: direction rg (0..1 for -1..1), strength b
+uniform vec4 u_anisotropy_map_st;
+#endif
 #ifdef HAS_SPECULAR_GLOSSINESS_MAP
 uniform sampler2D u_specular_glossiness_map;  // KHR_materials_pbrSpecularGlossiness: specular rgb (sRGB), glossiness alpha
 uniform vec4 u_specular_glossiness_map_st;
@@ -159,6 +163,11 @@ in vec2 v_uv1;
 #else
 #define UV_OF_u_specular_factor_map(uv) (uv)
 #endif
+#ifdef ANISOTROPY_MAP_UV1
+#define UV_OF_u_anisotropy_map(uv) v_uv1
+#else
+#define UV_OF_u_anisotropy_map(uv) (uv)
+#endif
 #ifdef SPECULAR_GLOSSINESS_MAP_UV1
 #define UV_OF_u_specular_glossiness_map(uv) v_uv1
 #else
@@ -231,6 +240,9 @@ uniform vec2 u_specular_color_map_skew;
 #ifdef HAS_SPECULAR_GLOSSINESS_MAP
 uniform vec2 u_specular_glossiness_map_skew;
 #endif
+#ifdef HAS_ANISOTROPY_MAP
+uniform vec2 u_anisotropy_map_skew;
+#endif
 
 vec2 map_uv(vec2 uv, vec4 st, vec2 skew) {
     vec2 t = vec2(uv.x * st.x + uv.y * skew.x, uv.x * skew.y + uv.y * st.y) + st.zw;
@@ -265,6 +277,7 @@ struct Surface {
 #endif
 #ifdef PBR_ANISOTROPY
     float anisotropy;    // its strength
+    vec2 anisotropy_xy;  // that direction in the tangent frame, (cos, sin)
     vec3 anisotropy_t;   // unit, in the world: the direction its roughness is raised along
 #endif
 #ifdef PBR_IRIDESCENCE
@@ -348,6 +361,15 @@ void sample_layers(inout Surface s, vec2 uv) {
 #endif
 #ifdef PBR_ANISOTROPY
     s.anisotropy = u_anisotropy;
+    s.anisotropy_xy = u_anisotropy_direction;
+#ifdef HAS_ANISOTROPY_MAP
+    // the texel's direction turned by the rotation, its strength times the factor
+    vec3 anisotropy_texel = texture(u_anisotropy_map, MAP_UV(u_anisotropy_map, uv)).rgb;
+    vec2 texel_direction = safe_normalize(vec3(anisotropy_texel.rg * 2.0 - 1.0, 0.0), vec3(1.0, 0.0, 0.0)).xy;
+    s.anisotropy_xy = mat2(u_anisotropy_direction.x, u_anisotropy_direction.y,
+                           -u_anisotropy_direction.y, u_anisotropy_direction.x) * texel_direction;
+    s.anisotropy *= anisotropy_texel.b;
+#endif
 #endif
 #ifdef PBR_IRIDESCENCE
     s.iridescence = u_iridescence;
@@ -357,12 +379,12 @@ void sample_layers(inout Surface s, vec2 uv) {
 }
 
 #ifdef PBR_ANISOTROPY
-// The anisotropy's direction in the world: (cos, sin) of its rotation in the frame of the
-// tangent (made orthogonal to n) and the bitangent cross(n, t) w
-vec3 anisotropy_direction(vec3 n, vec4 tangent) {
+// The anisotropy's direction in the world: ``xy`` in the frame of the tangent (made
+// orthogonal to n) and the bitangent cross(n, t) w
+vec3 anisotropy_direction(vec3 n, vec4 tangent, vec2 xy) {
     vec3 t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3(1.0, 0.0, 0.0));
     vec3 b = cross(n, t) * tangent.w;
-    return safe_normalize(t * u_anisotropy_direction.x + b * u_anisotropy_direction.y, t);
+    return safe_normalize(t * xy.x + b * xy.y, t);
 }
 #endif
 #endif

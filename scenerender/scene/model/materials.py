@@ -70,6 +70,7 @@ class MaterialSpec(StrictModel):
     sheen_roughness_map: ImagePath | None = None
     specular_factor_map: ImagePath | None = None
     specular_color_map: ImagePath | None = None
+    anisotropy_map: ImagePath | None = None
 
     @model_validator(mode="after")
     def _one_name_each(self):
