@@ -155,6 +155,14 @@ def sphere(radius: float = 1.0, subdivisions: int = 3) -> trimesh.Trimesh:
     return trimesh.creation.icosphere(subdivisions=subdivisions, radius=radius)
 
 
+def sphere_uv(mesh: trimesh.Trimesh) -> np.ndarray:
+    """(N, 2) glTF texture coordinates (v down) of a sphere about the origin: u round it from
+    the back (-Z, u 0) through the front (+Z, u 0.5), v from the top."""
+    direction = mesh.vertices / np.linalg.norm(mesh.vertices, axis=1, keepdims=True)
+    return np.stack([0.5 + np.arctan2(direction[:, 0], direction[:, 2]) / (2 * np.pi),
+                     0.5 - np.arcsin(np.clip(direction[:, 1], -1, 1)) / np.pi], axis=1)
+
+
 def quad(size: float = 2.0) -> tuple[trimesh.Trimesh, np.ndarray]:
     """A square in the XY plane facing +Z, and its glTF texture coordinates (v down)."""
     h = size / 2.0

@@ -17,7 +17,7 @@ from gltf_files import GlbBuilder, quad, sphere
 from scenerender.animation import Track
 from scenerender.cli import main
 from scenerender.mesh.gltf_scene import GltfLight
-from scenerender.raytrace import shading
+from scenerender.raytrace import render_reference, shading
 from scenerender.world.file_nodes import INTENSITY_PER_PHOTOMETRIC_UNIT, file_light, node_placement
 
 
@@ -107,16 +107,19 @@ YAML_LIGHTS = {
             "attenuation: [0, 0, 1], inner_angle: %r, outer_angle: %r}]" % (9 / math.pi, math.degrees(0.2),
                                                                            math.degrees(0.35)),
     "directional": "[{type: directional, direction: [0, -0.5, -0.866025], intensity: %r}]" % (2 / math.pi),
+    "point_range": "[{type: point, position: [0.5, 0.3, 1.2], intensity: %r, attenuation: [0, 0, 1], range: 1.8}]"
+                   % (5 / math.pi),
 }
 FILE_LIGHTS = {
     "point": ({"type": "point", "intensity": 5}, {"translation": [0.5, 0.3, 1.2]}),
     "spot": ({"type": "spot", "intensity": 9, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.35}},
              {"translation": [0.2, 0, 1.5], "rotation": about_x(-30)}),
     "directional": ({"type": "directional", "intensity": 2}, {"rotation": about_x(-30)}),
+    "point_range": ({"type": "point", "intensity": 5, "range": 1.8}, {"translation": [0.5, 0.3, 1.2]}),
 }
 
 
-@pytest.mark.parametrize("kind", ["point", "spot", "directional"])
+@pytest.mark.parametrize("kind", ["point", "spot", "directional", "point_range"])
 def test_a_files_light_lights_as_the_same_light_written_in_the_scene(gl, tmp_path, kind):
     light, node = FILE_LIGHTS[kind]
     _lit_quad(tmp_path / "model.glb", light, node, roughness=0.4)
@@ -127,6 +130,70 @@ def test_a_files_light_lights_as_the_same_light_written_in_the_scene(gl, tmp_pat
     # and without lights: true the file's lights are not the scene's (the default rig lights it)
     unlit = render(gl, FACING_QUAD.format(lights="[]", bring="false"), base_dir=tmp_path)[0]
     assert unlit.max() == 0
+
+
+def _viewer_point_light(points: np.ndarray, light: np.ndarray, intensity: float, roughness: float) -> np.ndarray:
+    """(P, 3) the Sample Viewer's radiance f I / d^2 N.L at ``points`` (P, 3) of the white
+    quad facing +Z, seen from (0, 0, 5), lit by a point light of ``intensity`` candela at
+    ``light`` (3,)."""
+    to_light = light - points
+    distance = np.linalg.norm(to_light, axis=1)
+    l = to_light / distance[:, None]
+    n = np.tile([0.0, 0.0, 1.0], (len(points), 1))
+    v = np.array([0.0, 0.0, 5.0]) - points
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    f = shading.pbr_brdf(n, l, v, np.ones((len(points), 3)), np.zeros(len(points)), np.full(len(points), roughness))
+    return f * (intensity / distance ** 2 * l[:, 2])[:, None]
+
+
+def _quad_points(rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """(P, 3) the points of the 2 x 2 quad at the centres of pixels (rows, cols) of the 32 x 32
+    orthographic view of FACING_QUAD."""
+    return np.stack([(cols + 0.5) / 16.0 - 1.0, 1.0 - (rows + 0.5) / 16.0, np.zeros_like(rows, float)],
+                    -1).reshape(-1, 3)
+
+
+def test_a_lights_range_ends_it_with_the_specifications_window(gl, tmp_path):
+    # KHR_lights_punctual's recommended attenuation clamp(1 - (d / range)^4, 0, 1) / d^2:
+    # the GPU's linear value within 1 % of it where the window is open, exactly black past
+    # the range (the quad's corners, d up to 1.73), and the same window in the reference
+    intensity, height, light_range = 6.0, 1.0, 1.5
+    _lit_quad(tmp_path / "model.glb", {"type": "point", "intensity": intensity, "range": light_range},
+              {"translation": [0, 0, height]})
+    loaded = scene(FACING_QUAD.format(lights="[]", bring="true"), base_dir=tmp_path)
+    with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
+        linear = renderer.render(0).linear[..., :3]
+    rows, cols = np.mgrid[0:32, 0:32]
+    points = _quad_points(rows, cols)
+    distance = np.linalg.norm(np.array([0.0, 0.0, height]) - points, axis=1)
+    window = np.clip(1.0 - (distance / light_range) ** 4, 0.0, 1.0)
+    viewer = _viewer_point_light(points, np.array([0.0, 0.0, height]), intensity, 1.0) * window[:, None]
+    got = linear.reshape(-1, 3)
+    open_window = window > 0.05
+    assert np.abs(got[open_window] / viewer[open_window] - 1.0).max() < 0.01
+    assert got[distance > light_range].max() == 0.0 and (distance > light_range).sum() > 50
+    # the reference takes the same window (its samples lie anywhere in their pixel: black
+    # a pixel's half diagonal past the range): its mean against the GPU's within 0.5 %
+    reference = render_reference(loaded, 0, spp=1).linear
+    assert reference[distance.reshape(32, 32) > light_range + 0.045].max() == 0.0
+    assert abs(reference.mean() / linear.mean() - 1.0) < 0.005
+
+
+def test_a_range_past_everything_lit_renders_the_bytes_of_no_range(gl, tmp_path):
+    # the window's code is in the program once any light has a range; there a window that
+    # never closes over the scene (1 - (d / range)^4 rounds to 1) changes no pixel
+    light = {"type": "point", "intensity": 6.0}
+    _lit_quad(tmp_path / "model.glb", light, {"translation": [0, 0, 1.2]}, roughness=0.5)
+    plain = render(gl, FACING_QUAD.format(lights="[]", bring="true"), base_dir=tmp_path)[0]
+    _lit_quad(tmp_path / "model.glb", {**light, "range": 1e6}, {"translation": [0, 0, 1.2]}, roughness=0.5)
+    loaded = scene(FACING_QUAD.format(lights="[]", bring="true"), base_dir=tmp_path)
+    assert loaded.world.lights[0].range == 1e6
+    far = render(gl, FACING_QUAD.format(lights="[]", bring="true"), base_dir=tmp_path)[0]
+    assert np.array_equal(plain, far)
+    # and a range that ends inside the picture does change it
+    _lit_quad(tmp_path / "model.glb", {**light, "range": 1.5}, {"translation": [0, 0, 1.2]}, roughness=0.5)
+    near = render(gl, FACING_QUAD.format(lights="[]", bring="true"), base_dir=tmp_path)[0]
+    assert near.astype(int).sum() < 0.9 * plain.astype(int).sum()
 
 
 def test_the_lights_move_with_the_object_and_its_clip(tmp_path):
@@ -319,15 +386,15 @@ def test_a_broken_glb_given_as_the_scene_exits_2(tmp_path):
 def test_an_extension_not_read_is_named_in_one_warning(tmp_path):
     builder = GlbBuilder()
     builder.node(builder.mesh(builder.primitive(sphere(0.5), builder.material(
-        extensions={"KHR_materials_iridescence": {"iridescenceFactor": 1}}))))
-    builder.uses("KHR_materials_iridescence")
+        extensions={"KHR_materials_dispersion": {"dispersion": 1}}))))
+    builder.uses("KHR_materials_dispersion")
     builder.uses("KHR_texture_transform")
     builder.write(tmp_path / "shiny.glb")
     result = CliRunner().invoke(main, ["validate", str(tmp_path / "shiny.glb")])
     assert result.exit_code == 0, result.output
     lines = [line for line in result.output.splitlines() if line.startswith("warning")]
     assert len(lines) == 1
-    assert "shiny.glb" in lines[0] and "extension KHR_materials_iridescence is not supported" in lines[0]
+    assert "shiny.glb" in lines[0] and "extension KHR_materials_dispersion is not supported" in lines[0]
 
 
 # -- TANGENT ---------------------------------------------------------------------------------------

@@ -193,12 +193,12 @@ def test_white_furnace_a_layer_over_a_white_base_neither_makes_nor_loses_much_li
     assert abs(float(formula.linear[(ref.object == 0) & ~ref.mixed].mean()) - float(values.mean())) < formula_tolerance
 
 
-def test_layer_textures_are_named_in_a_warning(tmp_path):
+def test_the_coats_normal_texture_is_named_in_a_warning(tmp_path):
     layered_glb(tmp_path / "model.glb", KHR_materials_clearcoat={"clearcoatFactor": 1,
-                                                                 "clearcoatTexture": {"index": 0}})
+                                                                 "clearcoatNormalTexture": {"index": 0}})
     result = CliRunner().invoke(main, ["validate", str(tmp_path / "model.glb")])
     assert result.exit_code == 0, result.output
-    assert "KHR_materials_clearcoat clearcoatTexture is not read" in result.output
+    assert "KHR_materials_clearcoat clearcoatNormalTexture is not read" in result.output
 
 
 def test_the_reference_layers_reduce_to_the_model_without_them():

@@ -51,11 +51,15 @@ READ_EXTENSIONS = (
     "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_lights_punctual",
     "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
     "KHR_materials_variants", "KHR_materials_transmission", "KHR_materials_volume",
+    "KHR_materials_pbrSpecularGlossiness", "KHR_materials_anisotropy", "KHR_materials_iridescence",
     "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
 )
 
 
 VARIANTS_EXTENSION = "KHR_materials_variants"
+SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
+# the dielectric F0 of ior 1.5, which KHR_materials_specular's specular colour scales
+_DIELECTRIC_F0 = 0.04
 
 
 class GltfProblem(Exception):
@@ -125,6 +129,21 @@ class GltfMaterial:
     clearcoat_roughness: float = 0.0
     sheen_color: tuple = (0.0, 0.0, 0.0)  # KHR_materials_sheen
     sheen_roughness: float = 0.0
+    anisotropy: float = 0.0  # KHR_materials_anisotropy: strength, and rotation in degrees
+    anisotropy_rotation: float = 0.0
+    iridescence: float = 0.0  # KHR_materials_iridescence: weight, film ior, thickness (nm)
+    iridescence_ior: float = 1.3
+    iridescence_thickness: float = 400.0
+    # the layers' textures (clearcoatTexture, clearcoatRoughnessTexture, sheenColorTexture,
+    # sheenRoughnessTexture, specularTexture, specularColorTexture)
+    clearcoat_map: GltfTexture | None = None
+    clearcoat_roughness_map: GltfTexture | None = None
+    sheen_color_map: GltfTexture | None = None
+    sheen_roughness_map: GltfTexture | None = None
+    specular_factor_map: GltfTexture | None = None
+    specular_color_map: GltfTexture | None = None
+    specular_glossiness_map: GltfTexture | None = None  # KHR_materials_pbrSpecularGlossiness
+    anisotropy_map: GltfTexture | None = None
     # KHR_materials_transmission, KHR_materials_volume (their factors)
     transmission: float = 0.0
     thickness: float = 0.0
@@ -133,7 +152,8 @@ class GltfMaterial:
 
     def textures(self) -> dict:
         """{map name: GltfTexture} of the maps it has."""
-        names = ("base_color_map", "metallic_roughness_map", "normal_map", "occlusion_map", "emissive_map")
+        names = ("base_color_map", "metallic_roughness_map", "normal_map", "occlusion_map", "emissive_map",
+                 *LAYER_TEXTURES.values(), "specular_glossiness_map")
         return {name: getattr(self, name) for name in names if getattr(self, name) is not None}
 
 
@@ -307,46 +327,94 @@ def _material(name: str, material: dict, header: dict, result: GltfFile, label: 
                                   "strength"),
         "emissive_map": _texture(material.get("emissiveTexture"), header, result, label, "emissiveTexture"),
     }
-    return GltfMaterial(
-        name=name,
+    fields = dict(
         base_color=_numbers(pbr.get("baseColorFactor", (1.0, 1.0, 1.0, 1.0)), 4, "baseColorFactor", 0.0, 1.0),
         metallic=_numbers([pbr.get("metallicFactor", 1.0)], 1, "metallicFactor", 0.0, 1.0)[0],
         roughness=_numbers([pbr.get("roughnessFactor", 1.0)], 1, "roughnessFactor", 0.0, 1.0)[0],
+        **_layers(name, extensions, header, result, label),
+        **textures,
+    )
+    if SPECULAR_GLOSSINESS in extensions:  # the specification: it takes the place of pbrMetallicRoughness
+        fields.update(_specular_glossiness(
+            json_object(extensions[SPECULAR_GLOSSINESS], f"material {name!r}: {SPECULAR_GLOSSINESS}"),
+            header, result, label))
+    return GltfMaterial(
+        name=name,
         emissive=_numbers(material.get("emissiveFactor", (0.0, 0.0, 0.0)), 3, "emissiveFactor", 0.0, 1.0),
         emissive_strength=_numbers([strength.get("emissiveStrength", 1.0)], 1, "emissiveStrength", 0.0, 1e6)[0],
         alpha_mode=alpha_mode.lower(),
         alpha_cutoff=_numbers([material.get("alphaCutoff", 0.5)], 1, "alphaCutoff", 0.0, 1e6)[0],
         double_sided=_bool(material.get("doubleSided", False), "doubleSided"),
         unlit="KHR_materials_unlit" in extensions,
-        **_layers(name, extensions, result),
         **_transmission(name, extensions, result),
-        **textures,
+        **fields,
     )
 
 
-# the textures of the layer extensions, which are not read: their factors alone apply
-_LAYER_TEXTURES = {"KHR_materials_specular": ("specularTexture", "specularColorTexture"),
-                   "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"),
-                   "KHR_materials_sheen": ("sheenColorTexture", "sheenRoughnessTexture")}
+def _specular_glossiness(values: dict, header: dict, result: GltfFile, label: str) -> dict:
+    """The GltfMaterial fields of KHR_materials_pbrSpecularGlossiness, as the metallic-roughness
+    model with KHR_materials_specular, exactly: its BRDF inputs c_diff = diffuse (1 -
+    max(specular)), F0 = specular, alpha = (1 - glossiness)^2 (F90 1) are those of metallic 0,
+    base colour c_diff, roughness 1 - glossiness, ior 1.5 and specular colour specular / 0.04
+    (F0 = min(0.04 specular colour, 1) specular factor = specular, F90 = specular factor = 1).
+    diffuseTexture is the base colour texture. specularGlossinessTexture is the
+    specular_glossiness_map, which the shading applies per texel (F0 = its rgb times the
+    specular colour's F0, roughness = 1 - (1 - roughness) times its alpha, the base times
+    1 - max(F0)): the base colour is then the diffuse factor alone."""
+    diffuse = _numbers(values.get("diffuseFactor", (1.0, 1.0, 1.0, 1.0)), 4, "diffuseFactor", 0.0, 1.0)
+    specular = _numbers(values.get("specularFactor", (1.0, 1.0, 1.0)), 3, "specularFactor", 0.0, 1.0)
+    glossiness = _numbers([values.get("glossinessFactor", 1.0)], 1, "glossinessFactor", 0.0, 1.0)[0]
+    specular_glossiness = _texture(values.get("specularGlossinessTexture"), header, result, label,
+                                   "specularGlossinessTexture")
+    through = 1.0 if specular_glossiness is not None else 1.0 - max(specular)
+    return {
+        "base_color": (*(c * through for c in diffuse[:3]), diffuse[3]),
+        "metallic": 0.0, "roughness": 1.0 - glossiness,
+        "ior": 1.5, "specular_factor": 1.0, "specular_color": tuple(c / _DIELECTRIC_F0 for c in specular),
+        "base_color_map": _texture(values.get("diffuseTexture"), header, result, label, "diffuseTexture"),
+        "metallic_roughness_map": None, "specular_glossiness_map": specular_glossiness,
+    }
 
 
-def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
+# the layer extensions' textures: (extension, its key) -> the GltfMaterial map
+LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_factor_map",
+                  ("KHR_materials_specular", "specularColorTexture"): "specular_color_map",
+                  ("KHR_materials_clearcoat", "clearcoatTexture"): "clearcoat_map",
+                  ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"): "clearcoat_roughness_map",
+                  ("KHR_materials_sheen", "sheenColorTexture"): "sheen_color_map",
+                  ("KHR_materials_sheen", "sheenRoughnessTexture"): "sheen_roughness_map",
+                  ("KHR_materials_anisotropy", "anisotropyTexture"): "anisotropy_map"}
+# read by no one, each named in a warning
+_UNREAD_LAYER_TEXTURES = {("KHR_materials_clearcoat", "clearcoatNormalTexture"): "the coat's normal is the surface's",
+                          ("KHR_materials_iridescence", "iridescenceTexture"): "its factor alone applies",
+                          ("KHR_materials_iridescence", "iridescenceThicknessTexture"):
+                              "the film is iridescenceThicknessMaximum thick"}
+
+
+def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: str) -> dict:
     """The GltfMaterial fields of KHR_materials_ior, _specular, _clearcoat and _sheen (glTF's
-    defaults where absent). An ior of 0 is the specification's "infinitely high" index
-    (a dielectric that reflects all), taken here as the largest the scene format takes."""
+    defaults where absent), their textures included. An ior of 0 is the specification's
+    "infinitely high" index (a dielectric that reflects all), taken here as the largest the
+    scene format takes."""
     ior = json_object(extensions.get("KHR_materials_ior", {}), f"material {name!r}: KHR_materials_ior")
     specular = json_object(extensions.get("KHR_materials_specular", {}), f"material {name!r}: KHR_materials_specular")
     coat = json_object(extensions.get("KHR_materials_clearcoat", {}), f"material {name!r}: KHR_materials_clearcoat")
     sheen = json_object(extensions.get("KHR_materials_sheen", {}), f"material {name!r}: KHR_materials_sheen")
-    for extension, keys in _LAYER_TEXTURES.items():
-        values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat,
-                  "KHR_materials_sheen": sheen}[extension]
-        for key in keys:
-            note = f"{extension} {key} is not read (its factor alone applies)"
-            if key in values and note not in result.unsupported:
-                result.unsupported.append(note)
+    anisotropy = json_object(extensions.get("KHR_materials_anisotropy", {}),
+                             f"material {name!r}: KHR_materials_anisotropy")
+    iridescence = json_object(extensions.get("KHR_materials_iridescence", {}),
+                              f"material {name!r}: KHR_materials_iridescence")
+    values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat, "KHR_materials_sheen": sheen,
+              "KHR_materials_anisotropy": anisotropy, "KHR_materials_iridescence": iridescence}
+    for (extension, key), instead in _UNREAD_LAYER_TEXTURES.items():
+        note = f"{extension} {key} is not read ({instead})"
+        if key in values[extension] and note not in result.unsupported:
+            result.unsupported.append(note)
+    maps = {field: _texture(values[extension].get(key), header, result, label, key)
+            for (extension, key), field in LAYER_TEXTURES.items()}
     index = _numbers([ior.get("ior", 1.5)], 1, "ior", 0.0, MAX_IOR)[0]
     return {
+        **maps,
         "ior": MAX_IOR if index == 0.0 else max(index, 1.0),
         "specular_factor": _numbers([specular.get("specularFactor", 1.0)], 1, "specularFactor", 0.0, 1.0)[0],
         "specular_color": _numbers(specular.get("specularColorFactor", (1.0, 1.0, 1.0)), 3, "specularColorFactor",
@@ -356,6 +424,14 @@ def _layers(name: str, extensions: dict, result: GltfFile) -> dict:
                                         0.0, 1.0)[0],
         "sheen_color": _numbers(sheen.get("sheenColorFactor", (0.0, 0.0, 0.0)), 3, "sheenColorFactor", 0.0, 1.0),
         "sheen_roughness": _numbers([sheen.get("sheenRoughnessFactor", 0.0)], 1, "sheenRoughnessFactor", 0.0, 1.0)[0],
+        "anisotropy": _numbers([anisotropy.get("anisotropyStrength", 0.0)], 1, "anisotropyStrength", 0.0, 1.0)[0],
+        "anisotropy_rotation": math.degrees(_numbers([anisotropy.get("anisotropyRotation", 0.0)], 1,
+                                                     "anisotropyRotation", -1e6, 1e6)[0]) % 360.0,
+        "iridescence": _numbers([iridescence.get("iridescenceFactor", 0.0)], 1, "iridescenceFactor", 0.0, 1.0)[0],
+        "iridescence_ior": _numbers([iridescence.get("iridescenceIor", 1.3)], 1, "iridescenceIor", 1.0, MAX_IOR)[0],
+        # the film's thickness without a thickness texture (the specification)
+        "iridescence_thickness": _numbers([iridescence.get("iridescenceThicknessMaximum", 400.0)], 1,
+                                          "iridescenceThicknessMaximum", 0.0, 10000.0)[0],
     }
 
 

@@ -100,7 +100,7 @@ def _light(light: dict, index: int, node_index: int, node: dict) -> GltfLight:
         name=_name(light.get("name"), node.get("name"), f"light{index}"), node=node_index, kind=kind,
         color=tuple(_number(c, f"{where}.color", 0.0, 1.0) for c in _triple(light.get("color", [1, 1, 1]), where)),
         intensity=_number(light.get("intensity", 1.0), f"{where}.intensity", 0.0, 1e12),
-        range=None if light_range is None else _number(light_range, f"{where}.range", 0.0, math.inf),
+        range=_range(light_range, f"{where}.range"),
         inner_cone=inner, outer_cone=outer)
 
 
@@ -120,6 +120,15 @@ def _camera(camera: dict, index: int, node_index: int, node: dict) -> GltfCamera
                           xmag=_magnification(values.get("xmag"), f"{where}.orthographic.xmag"),
                           ymag=_magnification(values.get("ymag"), f"{where}.orthographic.ymag"))
     raise GltfProblem(f"{where} has type {kind!r}, not perspective or orthographic")
+
+
+def _range(value, what: str) -> float | None:
+    """A light's range in metres, or None (unbounded) where the file gives none or 0 (the
+    specification asks for more than 0 and bounds a light by a non-zero range only)."""
+    if value is None:
+        return None
+    light_range = _number(value, what, 0.0, math.inf)
+    return light_range if light_range > 0.0 else None
 
 
 def _magnification(value, what: str) -> float:

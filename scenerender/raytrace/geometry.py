@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scenerender.mesh.geometry import tangents
 from scenerender.world.transforms import normal_matrices
 
 
@@ -37,6 +38,10 @@ class Soup:
     object: np.ndarray
     casts: np.ndarray
     materials: list
+    # (T, 3, 4) float64 world-space tangent frames (xyz, handedness w) of the objects with an
+    # anisotropic material (mesh.geometry.tangents; (1, 0, 0, 1) elsewhere), or None where
+    # no object has one
+    tangents: np.ndarray | None = None
 
     @property
     def count(self) -> int:
@@ -47,6 +52,7 @@ def frame_soup(world, frame) -> Soup:
     """The Soup of ``frame`` (a FrameState of ``world``)."""
     parts = []
     materials: list = []
+    frames: list = []
     index_of: dict = {}
     camera_position = frame.camera.position
     for object_index, (obj, state) in enumerate(zip(world.objects, frame.objects)):
@@ -61,11 +67,31 @@ def frame_soup(world, frame) -> Soup:
             group_material.append(index_of[id(material)])
         parts.append(_object_triangles(obj.mesh, matrices, camera_position, group_material, object_index,
                                        obj.cast_shadows))
+        frames.append(_object_tangents(obj, matrices))
     if not parts:
         empty = np.zeros((0, 3, 3))
         return Soup(empty, empty, np.zeros((0, 3, 4)), np.zeros((0, 3, 4)), np.zeros(0, np.int32),
                     np.zeros(0, np.int32), np.zeros(0, bool), materials)
-    return Soup(*(np.concatenate([p[k] for p in parts]) for k in range(7)), materials)
+    tangents = None
+    if any(frame is not None for frame in frames):
+        tangents = np.concatenate([frame if frame is not None else np.tile(_NO_TANGENT, (len(part[0]), 3, 1))
+                                   for frame, part in zip(frames, parts)])
+    return Soup(*(np.concatenate([p[k] for p in parts]) for k in range(7)), materials, tangents)
+
+
+_NO_TANGENT = np.array([1.0, 0.0, 0.0, 1.0])
+
+
+def _object_tangents(obj, matrices: np.ndarray) -> np.ndarray | None:
+    """(T, 3, 4) the object's tangent frames at its triangles' corners, every instance,
+    turned by each instance's matrix as the GPU's vertex stage turns them, where a material
+    of it is anisotropic (its geometry's tangents); None elsewhere."""
+    mesh = obj.mesh
+    if not any(material.anisotropy > 0.0 for material in obj.materials):
+        return None
+    frames = tangents(mesh).astype(np.float64)[mesh.indices]
+    return np.concatenate([np.concatenate([frames[..., :3] @ model[:3, :3].T, frames[..., 3:]], axis=-1)
+                           for model in matrices])
 
 
 def _object_triangles(mesh, matrices: np.ndarray, camera_position: np.ndarray, group_material: list,

@@ -60,6 +60,7 @@ from scenerender.scene.messages import single_error
 from scenerender.world.frame import FrameEvaluator
 from scenerender.rendering.passes.bloom import bloom_weights
 from scenerender.world.lens import lens_radius
+from scenerender.world.materials import LAYER_MAP_KEYS
 
 # Samples shaded at once; bounds the memory of one chunk to a few hundred MB.
 _CHUNK_SAMPLES = 400_000
@@ -410,8 +411,14 @@ class _FrameScene:
         colors = soup.colors[tri]
         surface["diffuse"] = surface["diffuse"] * (colors[:, 0] * (1.0 - u - v)[:, None] + colors[:, 1] * u[:, None]
                                                    + colors[:, 2] * v[:, None])[:, :3]
+        if soup.tangents is not None:
+            surface["anisotropy"] = table["anisotropy"][m]
+            surface["anisotropy_xy"] = table["anisotropy_direction"][m]
         if self.maps:
             self._apply_maps(m, soup.uvs[tri], u, v, surface)
+        if soup.tangents is not None:
+            surface["anisotropy_t"] = _anisotropy_direction(soup.tangents[tri], u, v, n, back,
+                                                            surface.pop("anisotropy_xy"))
         return _Hit(n, facing, view, surface, table["model"][m])
 
     def _lit(self, hit: "_Hit", p: np.ndarray, strata, draws: "_Draws"):
@@ -676,9 +683,9 @@ class _FrameScene:
         place): base and Ks times the diffuse and specular maps, metallic and roughness
         times theirs, emission times the emissive map, occlusion from its map."""
         uv = corner_uvs[:, 0] * (1.0 - u - v)[:, None] + corner_uvs[:, 1] * u[:, None] + corner_uvs[:, 2] * v[:, None]
-        for key in ("diffuse", "specular", "emissive", "metallic", "roughness"):
+        for key in ("diffuse", "specular", "emissive", "metallic", "roughness", *shading.LAYER_KEYS):
             surface[key] = surface[key].copy()
-        for material_index, (samplers, strength) in self.maps.items():
+        for material_index, (samplers, material) in self.maps.items():
             rows = np.flatnonzero(m == material_index)
             if not len(rows):
                 continue
@@ -698,7 +705,8 @@ class _FrameScene:
             if "metallic_map" in sample:
                 surface["metallic"][rows] *= sample["metallic_map"][:, 0]
             if "occlusion_map" in sample:
-                surface["occlusion"][rows] = 1.0 + strength * (sample["occlusion_map"][:, 0] - 1.0)
+                surface["occlusion"][rows] = 1.0 + material.occlusion_strength * (sample["occlusion_map"][:, 0] - 1.0)
+            _apply_layer_maps(rows, sample, material, surface)
 
     def _light_at(self, light, p: np.ndarray, n: np.ndarray, rng):
         """(l (P, 3) unit towards the light, radiance (P, 3), cone factor (P,), reach (P,):
@@ -722,7 +730,8 @@ class _FrameScene:
         to_light = (light.position - self.frame.camera.position)[None, :] - p
         distance = np.linalg.norm(to_light, axis=1)
         l = shading.safe_normalize(to_light, n)
-        radiance = light.color[None, :] * shading.attenuation(light.definition.attenuation, distance)[:, None]
+        falloff = shading.attenuation(light.definition.attenuation, distance)
+        radiance = light.color[None, :] * (falloff * shading.range_window(light.definition.range, distance))[:, None]
         cone = np.ones(len(p))
         if light.kind == "spot":
             cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1))
@@ -794,7 +803,7 @@ class _Draws:
     light: np.random.Generator
 # maps the reference samples (only the pbr model reads the metallic and roughness ones)
 SAMPLED_MAPS = ("diffuse_map", "specular_map", "emissive_map", "occlusion_map", "metallic_roughness_map",
-                "roughness_map", "metallic_map")
+                "roughness_map", "metallic_map", *LAYER_MAP_KEYS)
 
 
 def _material_table(materials: list, scene_shading: str = "blinn_phong") -> dict:
@@ -839,18 +848,75 @@ def _layer_table(materials: list) -> dict:
         "sheen_roughness": np.array([m.sheen_roughness if m is not None else 0.0 for m in materials],
                                     dtype=np.float64),
         "transmission": np.array([m.transmission if m is not None else 0.0 for m in materials], dtype=np.float64),
+        "iridescence": np.array([m.iridescence if m is not None else 0.0 for m in materials], dtype=np.float64),
+        "iridescence_ior": np.array([m.iridescence_ior if m is not None else 1.3 for m in materials],
+                                    dtype=np.float64),
+        "iridescence_thickness": np.array([m.iridescence_thickness if m is not None else 400.0 for m in materials],
+                                          dtype=np.float64),
+        "anisotropy": np.array([m.anisotropy if m is not None else 0.0 for m in materials], dtype=np.float64),
+        "anisotropy_direction": np.array([m.anisotropy_direction() if m is not None else (1.0, 0.0)
+                                          for m in materials], dtype=np.float64).reshape(-1, 2),
     }
 
 
+def _anisotropy_direction(frames: np.ndarray, u: np.ndarray, v: np.ndarray, n: np.ndarray, back: np.ndarray,
+                          direction: np.ndarray) -> np.ndarray:
+    """(P, 3) unit world directions of the anisotropy at hit points, as lighting/material.glsl's
+    anisotropy_direction: the corners' tangents ``frames`` (P, 3, 4) interpolated by
+    barycentric (u, v), turned for a face seen from behind (``back``), made orthogonal to the
+    shading normal ``n``; then (cos, sin) ``direction`` (P, 2) in the frame of that tangent
+    and the bitangent cross(n, t) w."""
+    tangent = frames[:, 0] * (1.0 - u - v)[:, None] + frames[:, 1] * u[:, None] + frames[:, 2] * v[:, None]
+    xyz = np.where(back[:, None], -tangent[:, :3], tangent[:, :3])
+    t = shading.safe_normalize(xyz - n * np.sum(n * xyz, axis=1, keepdims=True), np.array([1.0, 0.0, 0.0]))
+    b = np.cross(n, t) * np.where(frames[:, 0, 3:] < 0.0, -1.0, 1.0)
+    return shading.safe_normalize(t * direction[:, :1] + b * direction[:, 1:], t)
+
+
+def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -> None:
+    """The pbr layers' maps (world.materials.LAYER_MAP_KEYS) of ``material`` applied to
+    ``surface``'s layer arrays at ``rows``, as lighting/material.glsl's sample_layers: a
+    specular colour map multiplies F0 before its clamp, the specular map F0 and F90; the
+    specular-glossiness map sets F0, roughness and the diffuse colour's share."""
+    if "specular_color_map" in sample:
+        f0 = np.minimum(material.dielectric_reflectance() * sample["specular_color_map"][:, :3], 1.0)
+        surface["f0"][rows] = f0 * material.specular_factor
+    if "specular_glossiness_map" in sample:  # KHR_materials_pbrSpecularGlossiness's texture (mesh.gltf)
+        texels = sample["specular_glossiness_map"]
+        f0 = np.minimum(material.dielectric_reflectance() * texels[:, :3], 1.0) * material.specular_factor
+        surface["f0"][rows] = f0
+        surface["roughness"][rows] = 1.0 - (1.0 - surface["roughness"][rows]) * texels[:, 3]
+        surface["diffuse"][rows] *= 1.0 - f0.max(axis=1)[:, None]
+    if "specular_factor_map" in sample:
+        surface["f0"][rows] *= sample["specular_factor_map"][:, 3:4]
+        surface["f90"][rows] *= sample["specular_factor_map"][:, 3]
+    if "anisotropy_map" in sample and "anisotropy_xy" in surface:  # (no anisotropy: nothing to turn)
+        # its direction turned by the rotation, its strength times the factor
+        texels = sample["anisotropy_map"]
+        xy = shading.safe_normalize(np.column_stack([texels[:, :2] * 2.0 - 1.0, np.zeros(len(rows))]),
+                                    np.array([1.0, 0.0, 0.0]))[:, :2]
+        c, s = material.anisotropy_direction()
+        surface["anisotropy_xy"][rows] = np.column_stack([c * xy[:, 0] - s * xy[:, 1], s * xy[:, 0] + c * xy[:, 1]])
+        surface["anisotropy"][rows] *= texels[:, 2]
+    if "clearcoat_map" in sample:
+        surface["clearcoat"][rows] *= sample["clearcoat_map"][:, 0]
+    if "clearcoat_roughness_map" in sample:
+        surface["clearcoat_roughness"][rows] *= sample["clearcoat_roughness_map"][:, 1]
+    if "sheen_color_map" in sample:
+        surface["sheen_color"][rows] *= sample["sheen_color_map"][:, :3]
+    if "sheen_roughness_map" in sample:
+        surface["sheen_roughness"][rows] *= sample["sheen_roughness_map"][:, 3]
+
+
 def _material_maps(materials: list, images) -> dict:
-    """{material index: ({map key: MapSampler}, occlusion strength)} for the materials that
-    have maps the reference samples."""
+    """{material index: ({map key: MapSampler}, its Material)} for the materials that have
+    maps the reference samples."""
     maps = {}
     for index, (material, _) in enumerate(materials):
         samplers = {key: MapSampler.for_source(material.maps[key], material, images) for key in SAMPLED_MAPS
                     if key in material.maps}
         if samplers:
-            maps[index] = (samplers, material.occlusion_strength)
+            maps[index] = (samplers, material)
     return maps
 
 

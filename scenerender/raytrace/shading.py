@@ -33,6 +33,14 @@ def attenuation(coefficients, distance: np.ndarray) -> np.ndarray:
     return 1.0 / np.maximum(c + linear * distance + quadratic * distance * distance, 1e-6)
 
 
+def range_window(light_range: float | None, distance: np.ndarray) -> np.ndarray:
+    """(P,) KHR_lights_punctual's recommended window clamp(1 - (d / range)^4, 0, 1) for (P,)
+    distances (it multiplies the falloff); 1 where the light has no range (None)."""
+    if light_range is None:
+        return np.ones_like(distance)
+    return np.clip(1.0 - (distance / light_range) ** 4, 0.0, 1.0)
+
+
 def spot_cone(cos_inner: float, cos_outer: float, cos_angle: np.ndarray) -> np.ndarray:
     """(P,) cone factor: 1 inside the inner cone, 0 outside the outer, smoothstep between;
     ``cos_inner == cos_outer`` is a hard edge (a point exactly on it is lit)."""
@@ -148,8 +156,21 @@ def pbr_direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.nd
         f90 = layers["f90"][:, None] * (1.0 - metallic) + metallic
         fresnel = f0 + (f90 - f0) * ((1.0 - v_dot_h) ** 5)[:, None]
     specular = np.pi * ggx_distribution(n_dot_h, alpha) * smith_visibility(n_dot_v, np.clip(n_dot_l, 0.0, 1.0), alpha)
+    if layers is not None and layers.get("anisotropy") is not None:
+        turned = layers["anisotropy"] > 0.0
+        if turned.any():
+            specular = np.where(turned, np.pi * anisotropic_ggx(n, l, v, h, layers["anisotropy_t"], alpha,
+                                                                layers["anisotropy"]), specular)
+    diffuse_fresnel = fresnel
+    if layers is not None and layers.get("iridescence") is not None and np.any(layers["iridescence"] > 0.0):
+        # KHR_materials_iridescence: the thin film's Fresnel (at N.V, per point) mixed into
+        # the specular Fresnel, its largest channel into what the diffuse part loses
+        film = thin_film_fresnel(n_dot_v, layers["iridescence_ior"], layers["iridescence_thickness"], f0)
+        weight = layers["iridescence"][:, None]
+        diffuse_fresnel = fresnel + weight * (film.max(axis=1, keepdims=True) - fresnel)
+        fresnel = fresnel + weight * (film - fresnel)
     diffuse_weight = (1.0 - metallic) if layers is None else (1.0 - metallic) * _kept(layers)
-    term = ((1.0 - fresnel) * diffuse_weight * base + fresnel * specular[:, None]) * n_dot_l[:, None]
+    term = ((1.0 - diffuse_fresnel) * diffuse_weight * base + fresnel * specular[:, None]) * n_dot_l[:, None]
     if layers is not None:
         term = _sheen_over(term, layers, n_dot_v, np.clip(n_dot_l, 0.0, 1.0), n_dot_h)
         coat = layers["clearcoat"] * coat_fresnel(v_dot_h)
@@ -158,6 +179,90 @@ def pbr_direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.nd
             n_dot_v, np.clip(n_dot_l, 0.0, 1.0), coat_alpha)
         term = term * (1.0 - coat)[:, None] + (coat * coat_lobe * n_dot_l)[:, None]
     return np.where((n_dot_l > 0.0)[:, None], radiance * term, 0.0)
+
+
+# CIE XYZ to linear Rec. 709 RGB (KHR_materials_iridescence's matrix)
+_XYZ_TO_REC709 = np.array([[3.2404542, -1.5371385, -0.4985314],
+                           [-0.9692660, 1.8760108, 0.0415560],
+                           [0.0556434, -0.2040259, 1.0572252]])
+
+
+def _film_sensitivity(opd: np.ndarray, shift: np.ndarray) -> np.ndarray:
+    """(P, 3) linear RGB of the spectral integral of a phase shift (Belcour and Barla's
+    Gaussian fit of the XYZ sensitivities, as the extension writes it): opd (P,) nanometres,
+    shift (P, 3) radians."""
+    phase = 2.0 * np.pi * opd[:, None] * 1.0e-9
+    val = np.array([5.4856e-13, 4.4201e-13, 5.2481e-13])
+    pos = np.array([1.6810e+06, 1.7953e+06, 2.2084e+06])
+    var = np.array([4.3278e+09, 9.3046e+09, 6.6121e+09])
+    xyz = val * np.sqrt(2.0 * np.pi * var) * np.cos(pos * phase + shift) * np.exp(-phase ** 2 * var)
+    xyz[:, 0] += 9.7470e-14 * np.sqrt(2.0 * np.pi * 4.5282e+09) * np.cos(2.2399e+06 * phase[:, 0] + shift[:, 0]) \
+        * np.exp(-4.5282e+09 * phase[:, 0] ** 2)
+    return (xyz / 1.0685e-7) @ _XYZ_TO_REC709.T
+
+
+def thin_film_fresnel(cos_theta: np.ndarray, film_ior: np.ndarray, thickness: np.ndarray,
+                      base_f0: np.ndarray) -> np.ndarray:
+    """(P, 3) KHR_materials_iridescence's Fresnel of a thin film of index ``film_ior`` and
+    ``thickness`` nanometres (P,) over a base of F0 ``base_f0`` (P, 3), in air, seen at
+    cosine ``cos_theta`` (P,): Schlick at both interfaces, the first two orders of the
+    interference integrated over the spectrum (the extension's formulas; the optical path
+    difference at the refracted angle, 2 n d cos theta_2). Total internal reflection gives 1."""
+    cos1 = np.clip(cos_theta, 0.0, 1.0)
+    sin2_sq = (1.0 / film_ior) ** 2 * (1.0 - cos1 ** 2)
+    cos2_sq = 1.0 - sin2_sq
+    cos2 = np.sqrt(np.maximum(cos2_sq, 0.0))
+    r0 = ((film_ior - 1.0) / (film_ior + 1.0)) ** 2
+    r12 = r0 + (1.0 - r0) * (1.0 - cos1) ** 5
+    t121 = 1.0 - r12
+    phi12 = np.where(film_ior < 1.0, np.pi, 0.0)
+    phi21 = np.pi - phi12
+    root = np.sqrt(np.clip(base_f0, 0.0, 0.9999))
+    base_ior = (1.0 + root) / (1.0 - root)
+    r1 = ((base_ior - film_ior[:, None]) / (base_ior + film_ior[:, None])) ** 2
+    r23 = r1 + (1.0 - r1) * ((1.0 - cos2) ** 5)[:, None]
+    phi23 = np.where(base_ior < film_ior[:, None], np.pi, 0.0)
+    opd = 2.0 * film_ior * thickness * cos2
+    phi = phi21[:, None] + phi23
+    r123 = np.clip(r12[:, None] * r23, 1e-5, 0.9999)
+    amplitude = np.sqrt(r123)
+    rs = (t121 ** 2)[:, None] * r23 / (1.0 - r123)
+    result = r12[:, None] + rs
+    cm = rs - t121[:, None]
+    for order in (1, 2):
+        cm = cm * amplitude
+        result = result + cm * 2.0 * _film_sensitivity(order * opd, order * phi)
+    return np.where((cos2_sq < 0.0)[:, None], 1.0, np.maximum(result, 0.0))
+
+
+def anisotropic_ggx(n: np.ndarray, l: np.ndarray, v: np.ndarray, h: np.ndarray, t: np.ndarray, alpha: np.ndarray,
+                    strength: np.ndarray) -> np.ndarray:
+    """(P,) D V of KHR_materials_anisotropy's GGX: alpha_t = mix(alpha, 1, strength^2) along
+    the unit direction ``t`` (P, 3) (orthogonal to n), alpha_b = alpha along b = n x t:
+    D = 1 / (pi alpha_t alpha_b ((T.H / alpha_t)^2 + (B.H / alpha_b)^2 + (N.H)^2)^2),
+    V = 0.5 / (N.L |(alpha_t T.V, alpha_b B.V, N.V)| + N.V |(alpha_t T.L, alpha_b B.L, N.L)|),
+    N.V and N.L clamped to [0, 1] as in ``pbr_direct_term``."""
+    b = np.cross(n, t)
+    alpha_t = alpha + (1.0 - alpha) * strength * strength
+    alpha_b = alpha
+    n_dot_h = np.clip(_dot(n, h), 0.0, 1.0)
+    k = (_dot(t, h) / alpha_t) ** 2 + (_dot(b, h) / alpha_b) ** 2 + n_dot_h ** 2
+    distribution = 1.0 / (np.pi * alpha_t * alpha_b * k * k)
+    n_dot_v, n_dot_l = np.clip(_dot(n, v), 0.0, 1.0), np.clip(_dot(n, l), 0.0, 1.0)
+    from_view = n_dot_l * np.sqrt((alpha_t * _dot(t, v)) ** 2 + (alpha_b * _dot(b, v)) ** 2 + n_dot_v ** 2)
+    from_light = n_dot_v * np.sqrt((alpha_t * _dot(t, l)) ** 2 + (alpha_b * _dot(b, l)) ** 2 + n_dot_l ** 2)
+    total = from_view + from_light
+    return distribution * np.where(total > 0.0, 0.5 / np.where(total > 0.0, total, 1.0), 0.0)
+
+
+def anisotropic_ambient_roughness(roughness: np.ndarray, strength: np.ndarray) -> np.ndarray:
+    """(P,) the roughness whose isotropic lobe reflects about what KHR_materials_anisotropy's
+    lobe does of a uniform light: alpha = sqrt((alpha_t^2 + alpha_b^2) / 2) (its directional
+    albedo within 0.016 of the anisotropic one's for alpha 0.01 to 0.25, strength 0.3 to
+    0.9); ``roughness`` where the strength is 0."""
+    alpha = pbr_alpha(roughness)
+    alpha_t = alpha + (1.0 - alpha) * strength * strength
+    return np.where(strength > 0.0, np.sqrt(np.sqrt(0.5 * (alpha_t * alpha_t + alpha * alpha))), roughness)
 
 
 def _sheen_over(term: np.ndarray, layers: dict, n_dot_v: np.ndarray, n_dot_l: np.ndarray,
@@ -185,7 +290,8 @@ def coat_fresnel(cosine: np.ndarray) -> np.ndarray:
     return 0.04 + 0.96 * (1.0 - cosine) ** 5
 
 
-LAYER_KEYS = ("f0", "f90", "clearcoat", "clearcoat_roughness", "sheen_color", "sheen_roughness", "transmission")
+LAYER_KEYS = ("f0", "f90", "clearcoat", "clearcoat_roughness", "sheen_color", "sheen_roughness", "transmission",
+              "iridescence", "iridescence_ior", "iridescence_thickness")
 
 
 def pbr_layers(points: dict) -> dict | None:
@@ -194,7 +300,10 @@ def pbr_layers(points: dict) -> dict | None:
     model's own formulas apply, to the bit)."""
     if not np.any(points["layered"]):
         return None
-    return {key: points[key] for key in LAYER_KEYS}
+    layers = {key: points[key] for key in LAYER_KEYS}
+    if "anisotropy_t" in points:  # KHR_materials_anisotropy: its strength (P,), its direction (P, 3)
+        layers.update(anisotropy=points["anisotropy"], anisotropy_t=points["anisotropy_t"])
+    return layers
 
 
 def pbr_ambient(n: np.ndarray, v: np.ndarray, base: np.ndarray, metallic: np.ndarray,
@@ -207,6 +316,8 @@ def pbr_ambient(n: np.ndarray, v: np.ndarray, base: np.ndarray, metallic: np.nda
     1 - max(sheen) E(N.V) (kept at 0 or above) with the sheen's sheen_colour E(N.V) added
     (sheen_fit), then times 1 - c Fc(N.V), plus the coat's c (0.04 A_c + B_c)."""
     n_dot_v = np.clip(_dot(n, v), 0.0, 1.0)
+    if layers is not None and layers.get("anisotropy") is not None:
+        roughness = anisotropic_ambient_roughness(roughness, layers["anisotropy"])
     scale, bias, diffuse_fresnel = ambient_fit.evaluate(n_dot_v, roughness)
     metallic = np.asarray(metallic, dtype=np.float64)[:, None]
     if layers is None:
@@ -216,10 +327,17 @@ def pbr_ambient(n: np.ndarray, v: np.ndarray, base: np.ndarray, metallic: np.nda
     f0 = layers["f0"] * (1.0 - metallic) + base * metallic
     f90 = layers["f90"][:, None] * (1.0 - metallic) + metallic
     diffuse = base * (1.0 - metallic) * _kept(layers) * ((1.0 - f0) - (f90 - f0) * diffuse_fresnel[:, None])
+    specular = f0 * scale[:, None] + f90 * bias[:, None]
+    if layers.get("iridescence") is not None and np.any(layers["iridescence"] > 0.0):
+        # the thin film's Fresnel at N.V in the specular weight's F0 (F90 1), its largest
+        # channel in what the diffuse part keeps, mixed in by the iridescence
+        film = thin_film_fresnel(n_dot_v, layers["iridescence_ior"], layers["iridescence_thickness"], f0)
+        weight = layers["iridescence"][:, None]
+        specular = specular + weight * (film * scale[:, None] + bias[:, None] - specular)
+        diffuse = diffuse + weight * (base * (1.0 - metallic) * _kept(layers) * (1.0 - film.max(axis=1, keepdims=True)) - diffuse)
     sheen = sheen_fit.evaluate(n_dot_v, layers["sheen_roughness"])
     sheen_through = np.maximum(1.0 - layers["sheen_color"].max(axis=1) * sheen, 0.0)
-    sheened = (diffuse + f0 * scale[:, None] + f90 * bias[:, None]) * sheen_through[:, None] \
-        + layers["sheen_color"] * sheen[:, None]
+    sheened = (diffuse + specular) * sheen_through[:, None] + layers["sheen_color"] * sheen[:, None]
     coat_scale, coat_bias, _ = ambient_fit.evaluate(n_dot_v, layers["clearcoat_roughness"])
     through = 1.0 - layers["clearcoat"] * coat_fresnel(n_dot_v)
     coat = layers["clearcoat"] * (0.04 * coat_scale + coat_bias)

@@ -256,10 +256,17 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
     if material.dielectric_specular:
         f0, f90 = material.dielectric_f0_f90()
         set_uniforms(program, u_dielectric_f0=tuple(f0), u_dielectric_f90=f90)
+        if "specular_color_map" in material.maps or "specular_glossiness_map" in material.maps:
+            set_uniforms(program, u_dielectric_reflectance=tuple(material.dielectric_reflectance()))
     if material.clearcoat > 0.0:
         set_uniforms(program, u_clearcoat=material.clearcoat, u_clearcoat_roughness=material.clearcoat_roughness)
     if material.sheen:
         set_uniforms(program, u_sheen_color=tuple(material.sheen_color), u_sheen_roughness=material.sheen_roughness)
+    if material.anisotropy > 0.0:
+        set_uniforms(program, u_anisotropy=material.anisotropy, u_anisotropy_direction=material.anisotropy_direction())
+    if material.iridescence > 0.0:
+        set_uniforms(program, u_iridescence=material.iridescence, u_iridescence_ior=material.iridescence_ior,
+                     u_iridescence_thickness=material.iridescence_thickness)
     if material.transmissive:
         distance = material.attenuation_distance
         set_uniforms(program, u_transmission=material.transmission, u_transmission_ior=material.ior,

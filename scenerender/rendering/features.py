@@ -32,14 +32,19 @@ TEXTURE_UNITS = {
     "u_shadow_depth": 22, "u_shadow_depth_2": 23, "u_velocity": 24, "u_velocity_tiles": 25,
     "u_env_vis_samples": 26, "u_env_vis_surfaces": 27, "u_ltc": 28, "u_lens_depth": 29,
     "u_probe_irradiance": 30, "u_probe_depth": 31,
-    # the opaque scene behind transmissive surfaces (passes/transmission.py): a unit of
-    # its own past 31, as the forward shaders of the transparent pass sample few maps
-    "u_transmission_source": 35,
     # past the 32 a shader stage may sample: only the bake's full-screen passes use these
     "u_capture": 32, "u_capture_reflectance": 33, "u_capture_normal": 34,
+    # the pbr layers' maps: units past 32, a forward program samples fewer than 32 textures
+    "u_clearcoat_map": 35, "u_clearcoat_roughness_map": 36, "u_sheen_color_map": 37, "u_sheen_roughness_map": 38,
+    "u_specular_factor_map": 39, "u_specular_color_map": 40, "u_specular_glossiness_map": 41,
+    "u_anisotropy_map": 42,
+    # the opaque scene behind transmissive surfaces (passes/transmission.py)
+    "u_transmission_source": 43,
 }
 # maps only the pbr model reads
-PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map")
+PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map", "clearcoat_map", "clearcoat_roughness_map",
+            "sheen_color_map", "sheen_roughness_map", "specular_factor_map", "specular_color_map",
+            "specular_glossiness_map", "anisotropy_map")
 
 
 @dataclass(frozen=True)
@@ -93,6 +98,7 @@ class SceneFeatures:
     # (N, lookups a pixel) of the blocks the directions are shared out over; N 1: every
     # pixel looks up all of them as it shades (environment_visibility.interleave_pattern)
     environment_interleave: tuple = (1, 0)
+    light_range: bool = False  # a point or spot light has a range (lighting/lights.glsl, range_window)
 
     @classmethod
     def of(cls, world, samples: int = 1, atlas=None) -> "SceneFeatures":
@@ -112,6 +118,7 @@ class SceneFeatures:
             **first_views,
             **_sized_lights(world.lights),
             **_environment_features(world.environment),
+            light_range=any(light.range is not None for light in world.lights),
         )
 
     @property
@@ -141,6 +148,8 @@ class SceneFeatures:
             if self.soft_shadows:
                 defines.update(self._soft_shadow_defines())
         defines.update(self._sized_defines())
+        if self.light_range:
+            defines["LIGHT_RANGE"] = True
         if self.light_bytes <= UNIFORM_BLOCK_BYTES:
             defines["LIGHTS_IN_UNIFORM_BLOCK"] = True
         return defines
@@ -315,7 +324,7 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
     maps = [key for key in material.maps if model == "pbr" or key not in PBR_MAPS]
     for key in maps:
         defines[f"HAS_{key.upper()}"] = True
-    if "normal_map" in material.maps and not material.unlit:
+    if material.needs_tangents and not material.unlit:
         defines["HAS_TANGENTS"] = True
     if material.wrap == "mirror" and material.maps:
         defines["WRAP_MIRROR"] = True
@@ -341,4 +350,8 @@ def material_defines(material, model: str = "blinn_phong") -> dict:
         defines["PBR_TRANSMISSION"] = True
         if material.thickness > 0.0:
             defines["TRANSMISSION_VOLUME"] = True
+    if model == "pbr" and material.anisotropy > 0.0:
+        defines["PBR_ANISOTROPY"] = True
+    if model == "pbr" and material.iridescence > 0.0:
+        defines["PBR_IRIDESCENCE"] = True
     return defines

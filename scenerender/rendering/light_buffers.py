@@ -84,14 +84,21 @@ def _pack_light_arrays(lights: list, cam: np.ndarray, first_view: tuple) -> byte
         elif light.kind == "directional":
             dirs.append([*light.direction, size, *color, *shadow])
         elif light.kind == "point":
-            points.append([*(light.position - cam), 1.0, *color, *light.definition.attenuation, size, *shadow])
+            points.append([*(light.position - cam), inverse_range(light.definition), *color,
+                           *light.definition.attenuation, size, *shadow])
         else:
-            spots.append([*(light.position - cam), 1.0, *light.direction, 0.0, *color,
+            spots.append([*(light.position - cam), inverse_range(light.definition), *light.direction, 0.0, *color,
                           *light.definition.attenuation, size, light.cos_inner, light.cos_outer, 0.0, 0.0,
                           *shadow])
     parts = [np.asarray(group, dtype=np.float64).reshape(-1) for group in (dirs, points, spots, areas) if group]
     parts.append(np.zeros(4))  # lights_end
     return np.concatenate(parts).astype(np.float32).tobytes()
+
+
+def inverse_range(definition) -> float:
+    """1 / the light's range (KHR_lights_punctual), 0 where it has none: position.w of a
+    point or spot light (shaders/lighting/lights.glsl, range_window)."""
+    return 0.0 if definition.range is None else 1.0 / definition.range
 
 
 def _area_light_row(light, cam: np.ndarray, color: list, shadow: list) -> list:

@@ -60,7 +60,10 @@ class GpuScene:
     def _upload_meshes(self) -> dict:
         needs_tangents: dict = {}
         for obj in self.world.objects:
-            wants = any("normal_map" in m.maps for m in obj.materials) and obj.mesh.uvs is not None
+            # a normal map reads them along its texture coordinates; an anisotropy needs them
+            # (geometry.tangents gives a mesh without texture coordinates a frame of its own)
+            wants = any(("normal_map" in m.maps and obj.mesh.uvs is not None) or m.anisotropy > 0.0
+                        for m in obj.materials)
             needs_tangents[obj.mesh_key] = needs_tangents.get(obj.mesh_key, False) or wants
         meshes = {}
         for obj in self.world.objects:

@@ -251,10 +251,6 @@ class _Loader:
             path = ("objects", index, "lights")
             header = self._header(index, obj)
             lights = self._file_values(file_lights, header, path)
-            if any(light.range is not None for light in lights):
-                self.warnings.warn(f"{display_path(obj.mesh)}: KHR_lights_punctual range is not applied (its lights "
-                                   "fall off as 1 / d^2 without the window that ends them at range)",
-                                   self.scene.source.locate(path))
             name = obj.name or _default_name(obj, index)
             for light in lights:
                 placement = self._placement(index, obj, header, light.node)

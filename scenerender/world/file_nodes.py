@@ -10,7 +10,8 @@ lights a surface with radiance f * I * colour * attenuation * N.L (f the BRDF, w
 exposure. scenerender's pbr radiance is pi * f * intensity * colour * attenuation * N.L,
 so the same picture needs intensity = I / pi, with attenuation [0, 0, 1] (1 / d^2) for
 point and spot lights. The spot's cone is the same smoothstep between the cosines of its
-outer and inner angles.
+outer and inner angles. A light's ``range`` is the scene light's ``range``: the
+specification's recommended window clamp(1 - (d / range)^4, 0, 1) times 1 / d^2.
 """
 from __future__ import annotations
 
@@ -92,11 +93,12 @@ def file_light(light: GltfLight, placement: NodePlacement, name: str, path: tupl
     if light.kind == "directional":
         return LightDef(**common, direction=_PlacedAxis(placement))
     if light.kind == "point":
-        return LightDef(**common, position=_PlacedPoint(placement), attenuation=INVERSE_SQUARE)
+        return LightDef(**common, position=_PlacedPoint(placement), attenuation=INVERSE_SQUARE, range=light.range)
     outer = min(math.degrees(light.outer_cone), _WIDEST_CONE)
     inner = min(math.degrees(light.inner_cone), outer)
     return LightDef(**common, position=_PlacedPoint(placement), direction=_PlacedAxis(placement),
-                    attenuation=INVERSE_SQUARE, inner_angle=Track.constant(inner), outer_angle=Track.constant(outer))
+                    attenuation=INVERSE_SQUARE, inner_angle=Track.constant(inner), outer_angle=Track.constant(outer),
+                    range=light.range)
 
 
 @dataclass

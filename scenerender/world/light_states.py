@@ -44,6 +44,9 @@ class LightDef:
     # the half angle its disc spans (directional); 0 a point, as it always was
     size: float = 0.0
     extent: tuple = (0.0, 0.0)
+    # point, spot: the distance where KHR_lights_punctual's window ends its light
+    # (range_window); None: no window, as it always was
+    range: float | None = None
 
     @property
     def sized(self) -> bool:
@@ -168,7 +171,7 @@ def _from_spec(index: int, light, shadows_default) -> LightDef:
                         size=math.tan(math.radians(0.5 * light.angular_diameter)))
     if light.type == "point":
         return LightDef(**common, position=light.position, attenuation=light.attenuation, shadow=shadow,
-                        size=float(light.radius))
+                        size=float(light.radius), range=light.range)
     if light.type in AREA_KINDS:
         return _area_from_spec(light, common, shadow)
     attach = light.attach == "camera"
@@ -176,7 +179,7 @@ def _from_spec(index: int, light, shadows_default) -> LightDef:
     direction = light.direction or Track.constant((0.0, 0.0, -1.0), kind="vector")
     return LightDef(**common, position=position, direction=direction, attenuation=light.attenuation,
                     inner_angle=light.inner_angle, outer_angle=light.outer_angle, attach_camera=attach,
-                    shadow=shadow, size=float(light.radius))
+                    shadow=shadow, size=float(light.radius), range=light.range)
 
 
 def _area_from_spec(light, common: dict, shadow) -> LightDef:

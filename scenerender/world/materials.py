@@ -39,16 +39,31 @@ SCALAR_KEYS = ("shininess", "opacity", "metallic", "roughness")
 # metallic_roughness map is glTF's (blue = metallic, green = roughness).
 MAP_KEYS = ("diffuse_map", "specular_map", "normal_map", "opacity_map", "metallic_roughness_map", "occlusion_map",
             "emissive_map", "roughness_map", "metallic_map")
+# the pbr layers' maps (glTF's KHR_materials_clearcoat, _sheen and _specular textures): each
+# multiplies its layer's factor by one channel (clearcoat red, clearcoat_roughness green,
+# sheen_roughness and specular_factor alpha) or by its colour (sheen_color, specular_color);
+# specular_glossiness is KHR_materials_pbrSpecularGlossiness's texture (mesh.gltf); anisotropy's
+# red and green are a direction in the tangent frame (0..1 for -1..1), blue its strength
+LAYER_MAP_KEYS = ("clearcoat_map", "clearcoat_roughness_map", "sheen_color_map", "sheen_roughness_map",
+                  "specular_factor_map", "specular_color_map", "specular_glossiness_map", "anisotropy_map")
+MAP_KEYS += LAYER_MAP_KEYS
+# the maps that change the dielectric's F0 (PBR_DIELECTRIC_SPECULAR)
+SPECULAR_MAPS = ("specular_factor_map", "specular_color_map", "specular_glossiness_map")
 # Colour maps hold sRGB-encoded colours; the others hold plain data.
 SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "opacity_map": False,
              "metallic_roughness_map": False, "occlusion_map": False, "emissive_map": True, "roughness_map": False,
-             "metallic_map": False}
+             "metallic_map": False,
+             "clearcoat_map": False, "clearcoat_roughness_map": False, "sheen_color_map": True,
+             "sheen_roughness_map": False, "specular_factor_map": False, "specular_color_map": True,
+             "specular_glossiness_map": True, "anisotropy_map": False}
 # a scene's key for a map, where it is not the map's own name
 SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
 SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 # the pbr model's layer values, alike in glTF materials, scene materials and Material
 LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness", "sheen_color",
               "sheen_roughness")
+LAYER_KEYS += ("anisotropy", "anisotropy_rotation")  # KHR_materials_anisotropy
+LAYER_KEYS += ("iridescence", "iridescence_ior", "iridescence_thickness")  # KHR_materials_iridescence
 # light through the surface and its volume (KHR_materials_transmission, KHR_materials_volume)
 TRANSMISSION_KEYS = ("transmission", "thickness", "attenuation_color", "attenuation_distance")
 
@@ -137,6 +152,15 @@ class Material:
     clearcoat_roughness: float = 0.0
     sheen_color: tuple = (0.0, 0.0, 0.0)
     sheen_roughness: float = 0.0
+    # KHR_materials_anisotropy: its strength, and its direction in degrees from the tangent
+    # towards the bitangent
+    anisotropy: float = 0.0
+    anisotropy_rotation: float = 0.0
+    # KHR_materials_iridescence: its weight, the thin film's index of refraction and
+    # thickness in nanometres
+    iridescence: float = 0.0
+    iridescence_ior: float = 1.3
+    iridescence_thickness: float = 400.0
     # light through it (docs/scene-notes.md, "Transmission and volume"): the share of the
     # diffuse part that passes through; a volume's thickness (0: thin-walled) and its
     # Beer-Lambert colour reached after attenuation_distance (inf: clear)
@@ -159,14 +183,31 @@ class Material:
     @property
     def layered(self) -> bool:
         """It has any of the pbr model's layers."""
-        return self.dielectric_specular or self.clearcoat > 0.0 or self.sheen or self.transmissive
+        return (self.dielectric_specular or self.clearcoat > 0.0 or self.sheen or self.anisotropy > 0.0
+                or self.iridescence > 0.0 or self.transmissive)
+
+    @property
+    def needs_tangents(self) -> bool:
+        """It reads the mesh's tangent frame: a normal map, or an anisotropy's direction."""
+        return "normal_map" in self.maps or self.anisotropy > 0.0
+
+    def anisotropy_direction(self) -> tuple[float, float]:
+        """(cos, sin) of ``anisotropy_rotation``: the direction in the tangent frame."""
+        angle = np.radians(self.anisotropy_rotation)
+        return float(np.cos(angle)), float(np.sin(angle))
 
     @property
     def dielectric_specular(self) -> bool:
         """Its dielectric reflection differs from the model's F0 0.04, F90 1 (an ior other
-        than 1.5, a specular factor or colour other than 1)."""
+        than 1.5, a specular factor or colour other than 1, or a map of either)."""
         return (self.ior != 1.5 or self.specular_factor != 1.0
-                or tuple(self.specular_color) != (1.0, 1.0, 1.0))
+                or tuple(self.specular_color) != (1.0, 1.0, 1.0)
+                or any(key in self.maps for key in SPECULAR_MAPS))
+
+    def dielectric_reflectance(self) -> np.ndarray:
+        """(3,) ((ior - 1) / (ior + 1))^2 specular_color: F0 before the clamp and the specular
+        factor, which a specular colour map multiplies first."""
+        return ((self.ior - 1.0) / (self.ior + 1.0)) ** 2 * np.asarray(self.specular_color, dtype=np.float64)
 
     def dielectric_f0_f90(self) -> tuple[np.ndarray, float]:
         """((3,) F0, F90) of the dielectric part: KHR_materials_specular's

@@ -131,6 +131,9 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         float distance = length(to_light);
         vec3 l = safe_normalize(to_light, n);
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance);
+#ifdef LIGHT_RANGE
+        radiance *= range_window(light.position.w, distance);
+#endif
 #ifdef POINT_LIGHT_SIZED
         if (point_sized[i]) {
             float radius = light.attenuation.w;
@@ -161,6 +164,9 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         float cone = spot_cone(light.cone, cos_angle,
                                spot_pixel(to_light, cos_angle, light.direction.xyz, dpdx, dpdy));
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance) * cone;
+#ifdef LIGHT_RANGE
+        radiance *= range_window(light.position.w, distance);
+#endif
 #ifdef SPOT_LIGHT_SIZED
         if (spot_sized[i]) {
             float radius = light.attenuation.w;

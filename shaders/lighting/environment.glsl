@@ -94,8 +94,8 @@ vec3 env_specular_sampled(vec3 n, vec3 v, Surface s) {
     float view_term = sqrt(n_dot_v * n_dot_v * (1.0 - alpha2) + alpha2);
     float g1_view = 2.0 * n_dot_v / (n_dot_v + view_term);
 #ifdef PBR_DIELECTRIC_SPECULAR
-    vec3 f0 = mix(u_dielectric_f0, s.base, s.metallic);
-    vec3 f90 = mix(vec3(u_dielectric_f90), vec3(1.0), s.metallic);
+    vec3 f0 = mix(s.dielectric_f0, s.base, s.metallic);
+    vec3 f90 = mix(vec3(s.dielectric_f90), vec3(1.0), s.metallic);
 #else
     vec3 f0 = mix(vec3(0.04), s.base, s.metallic);
 #endif
@@ -155,7 +155,7 @@ vec3 pbr_environment_specular(vec3 n, vec3 v, Surface s, PbrAmbientWeights w) {
 #endif
 #ifdef PBR_CLEARCOAT
     // the coat's reflection by the split sum (also where the base's is sampled)
-    specular += w.coat * env_specular(env_dominant_direction(n, v, u_clearcoat_roughness), u_clearcoat_roughness);
+    specular += w.coat * env_specular(env_dominant_direction(n, v, s.clearcoat_roughness), s.clearcoat_roughness);
 #endif
     return specular;
 }

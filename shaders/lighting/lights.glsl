@@ -14,14 +14,14 @@ struct DirLight {
 };
 
 struct PointLight {
-    vec4 position;
+    vec4 position;     // w: 1 / its range (KHR_lights_punctual), 0 without one
     vec4 color;
     vec4 attenuation;  // constant, linear, quadratic
     vec4 shadow;       // x: first of its six shadow views, or -1
 };
 
 struct SpotLight {
-    vec4 position;
+    vec4 position;     // w: 1 / its range, 0 without one
     vec4 direction;
     vec4 color;
     vec4 attenuation;  // constant, linear, quadratic
@@ -65,6 +65,17 @@ float attenuation(vec4 coefficients, float distance) {
     float denominator = coefficients.x + coefficients.y * distance + coefficients.z * distance * distance;
     return 1.0 / max(denominator, 1e-6);
 }
+
+#ifdef LIGHT_RANGE
+// KHR_lights_punctual's range, the specification's recommended window over the falloff:
+// clamp(1 - (d / range)^4, 0, 1), no light at the range and beyond. Only in scenes where a
+// light has a range; inverse_range 0 (a light without one) gives 1.
+float range_window(float inverse_range, float distance) {
+    float x = distance * inverse_range;
+    x *= x;
+    return clamp(1.0 - x * x, 0.0, 1.0);
+}
+#endif
 
 // Fraction of a pixel square where f >= 0, for f linear across it: t its value at the
 // centre, g its change across the whole pixel along x and along y (absolute values). That

@@ -54,6 +54,39 @@ uniform float u_occlusion_strength;
 uniform sampler2D u_emissive_map;
 uniform vec4 u_emissive_map_st;
 #endif
+// the pbr layers' maps (glTF extension textures), each in the programs of materials with it
+#ifdef HAS_CLEARCOAT_MAP
+uniform sampler2D u_clearcoat_map;  // KHR_materials_clearcoat clearcoatTexture: red times clearcoat
+uniform vec4 u_clearcoat_map_st;
+#endif
+#ifdef HAS_CLEARCOAT_ROUGHNESS_MAP
+uniform sampler2D u_clearcoat_roughness_map;  // clearcoatRoughnessTexture: green times the coat's roughness
+uniform vec4 u_clearcoat_roughness_map_st;
+#endif
+#ifdef HAS_SHEEN_COLOR_MAP
+uniform sampler2D u_sheen_color_map;  // sheenColorTexture: rgb (sRGB) times the sheen colour
+uniform vec4 u_sheen_color_map_st;
+#endif
+#ifdef HAS_SHEEN_ROUGHNESS_MAP
+uniform sampler2D u_sheen_roughness_map;  // sheenRoughnessTexture: alpha times the sheen's roughness
+uniform vec4 u_sheen_roughness_map_st;
+#endif
+#ifdef HAS_SPECULAR_FACTOR_MAP
+uniform sampler2D u_specular_factor_map;  // KHR_materials_specular specularTexture: alpha times specular_factor
+uniform vec4 u_specular_factor_map_st;
+#endif
+#ifdef HAS_ANISOTROPY_MAP
+uniform sampler2D u_anisotropy_map;  // KHR_materials_anisotropy: direction rg (0..1 for -1..1), strength b
+uniform vec4 u_anisotropy_map_st;
+#endif
+#ifdef HAS_SPECULAR_GLOSSINESS_MAP
+uniform sampler2D u_specular_glossiness_map;  // KHR_materials_pbrSpecularGlossiness: specular rgb (sRGB), glossiness alpha
+uniform vec4 u_specular_glossiness_map_st;
+#endif
+#ifdef HAS_SPECULAR_COLOR_MAP
+uniform sampler2D u_specular_color_map;  // specularColorTexture: rgb (sRGB) times specular_color
+uniform vec4 u_specular_color_map_st;
+#endif
 
 // The texture coordinates each map reads: the mesh's set 0 (``uv``), or set 1 where the
 // map asks for it (glTF texCoord: 1; <MAP>_UV1).
@@ -105,6 +138,46 @@ in vec2 v_uv1;
 #else
 #define UV_OF_u_emissive_map(uv) (uv)
 #endif
+#ifdef CLEARCOAT_MAP_UV1
+#define UV_OF_u_clearcoat_map(uv) v_uv1
+#else
+#define UV_OF_u_clearcoat_map(uv) (uv)
+#endif
+#ifdef CLEARCOAT_ROUGHNESS_MAP_UV1
+#define UV_OF_u_clearcoat_roughness_map(uv) v_uv1
+#else
+#define UV_OF_u_clearcoat_roughness_map(uv) (uv)
+#endif
+#ifdef SHEEN_COLOR_MAP_UV1
+#define UV_OF_u_sheen_color_map(uv) v_uv1
+#else
+#define UV_OF_u_sheen_color_map(uv) (uv)
+#endif
+#ifdef SHEEN_ROUGHNESS_MAP_UV1
+#define UV_OF_u_sheen_roughness_map(uv) v_uv1
+#else
+#define UV_OF_u_sheen_roughness_map(uv) (uv)
+#endif
+#ifdef SPECULAR_FACTOR_MAP_UV1
+#define UV_OF_u_specular_factor_map(uv) v_uv1
+#else
+#define UV_OF_u_specular_factor_map(uv) (uv)
+#endif
+#ifdef ANISOTROPY_MAP_UV1
+#define UV_OF_u_anisotropy_map(uv) v_uv1
+#else
+#define UV_OF_u_anisotropy_map(uv) (uv)
+#endif
+#ifdef SPECULAR_GLOSSINESS_MAP_UV1
+#define UV_OF_u_specular_glossiness_map(uv) v_uv1
+#else
+#define UV_OF_u_specular_glossiness_map(uv) (uv)
+#endif
+#ifdef SPECULAR_COLOR_MAP_UV1
+#define UV_OF_u_specular_color_map(uv) v_uv1
+#else
+#define UV_OF_u_specular_color_map(uv) (uv)
+#endif
 
 // Texture coordinates for a map: MTL -s/-o scale and offset, then the wrap mode. Mirrored
 // wrap folds coordinates here (a triangle wave, so derivatives stay continuous).
@@ -146,6 +219,30 @@ uniform vec2 u_occlusion_map_skew;
 #ifdef HAS_EMISSIVE_MAP
 uniform vec2 u_emissive_map_skew;
 #endif
+#ifdef HAS_CLEARCOAT_MAP
+uniform vec2 u_clearcoat_map_skew;
+#endif
+#ifdef HAS_CLEARCOAT_ROUGHNESS_MAP
+uniform vec2 u_clearcoat_roughness_map_skew;
+#endif
+#ifdef HAS_SHEEN_COLOR_MAP
+uniform vec2 u_sheen_color_map_skew;
+#endif
+#ifdef HAS_SHEEN_ROUGHNESS_MAP
+uniform vec2 u_sheen_roughness_map_skew;
+#endif
+#ifdef HAS_SPECULAR_FACTOR_MAP
+uniform vec2 u_specular_factor_map_skew;
+#endif
+#ifdef HAS_SPECULAR_COLOR_MAP
+uniform vec2 u_specular_color_map_skew;
+#endif
+#ifdef HAS_SPECULAR_GLOSSINESS_MAP
+uniform vec2 u_specular_glossiness_map_skew;
+#endif
+#ifdef HAS_ANISOTROPY_MAP
+uniform vec2 u_anisotropy_map_skew;
+#endif
 
 vec2 map_uv(vec2 uv, vec4 st, vec2 skew) {
     vec2 t = vec2(uv.x * st.x + uv.y * skew.x, uv.x * skew.y + uv.y * st.y) + st.zw;
@@ -166,8 +263,131 @@ struct Surface {
 #ifdef SHADING_PBR
     float metallic;
     float roughness;
+#ifdef PBR_DIELECTRIC_SPECULAR
+    vec3 dielectric_f0;     // lighting/pbr.glsl's layers, per pixel: their factors times their maps
+    float dielectric_f90;
+#endif
+#ifdef PBR_CLEARCOAT
+    float clearcoat;
+    float clearcoat_roughness;
+#endif
+#ifdef PBR_SHEEN
+    vec3 sheen_color;
+    float sheen_roughness;
+#endif
+#ifdef PBR_ANISOTROPY
+    float anisotropy;    // its strength
+    vec2 anisotropy_xy;  // that direction in the tangent frame, (cos, sin)
+    vec3 anisotropy_t;   // unit, in the world: the direction its roughness is raised along
+#endif
+#ifdef PBR_IRIDESCENCE
+    float iridescence;
+    float iridescence_ior;
+    float iridescence_thickness;  // nanometres
+#endif
 #endif
 };
+
+#ifdef SHADING_PBR
+// The pbr model's layers (lighting/pbr.glsl), each only in the programs of materials with it
+#ifdef PBR_DIELECTRIC_SPECULAR
+uniform vec3 u_dielectric_f0;    // min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular
+uniform float u_dielectric_f90;  // specular
+#if defined(HAS_SPECULAR_COLOR_MAP) || defined(HAS_SPECULAR_GLOSSINESS_MAP)
+uniform vec3 u_dielectric_reflectance;  // ((ior - 1) / (ior + 1))^2 specular_color, before the clamp
+#endif
+#endif
+#ifdef PBR_CLEARCOAT
+uniform float u_clearcoat;            // the layer's weight c
+uniform float u_clearcoat_roughness;
+#endif
+#ifdef PBR_SHEEN
+uniform vec3 u_sheen_color;
+uniform float u_sheen_roughness;
+#endif
+#ifdef PBR_IRIDESCENCE
+uniform float u_iridescence;           // KHR_materials_iridescence: its weight,
+uniform float u_iridescence_ior;       // the film's index of refraction
+uniform float u_iridescence_thickness; // and thickness, nanometres
+#endif
+#ifdef PBR_ANISOTROPY
+uniform float u_anisotropy;            // KHR_materials_anisotropy's strength
+uniform vec2 u_anisotropy_direction;   // (cos, sin) of its rotation from the tangent
+#endif
+
+// The layers' factors times their maps (KHR_materials_specular, _clearcoat, _sheen
+// textures); a material without maps takes its factors as they are.
+void sample_layers(inout Surface s, vec2 uv) {
+#ifdef PBR_DIELECTRIC_SPECULAR
+    s.dielectric_f0 = u_dielectric_f0;
+    s.dielectric_f90 = u_dielectric_f90;
+#ifdef HAS_SPECULAR_COLOR_MAP
+    s.dielectric_f0 = min(u_dielectric_reflectance * texture(u_specular_color_map, MAP_UV(u_specular_color_map, uv)).rgb,
+                          vec3(1.0)) * u_dielectric_f90;
+#endif
+#ifdef HAS_SPECULAR_GLOSSINESS_MAP
+    // KHR_materials_pbrSpecularGlossiness's texture (mesh.gltf): F0 = specular factor x texel,
+    // roughness = 1 - glossiness factor x texel, c_diff = diffuse (1 - max(F0))
+    vec4 specular_glossiness = texture(u_specular_glossiness_map, MAP_UV(u_specular_glossiness_map, uv));
+    s.dielectric_f0 = min(u_dielectric_reflectance * specular_glossiness.rgb, vec3(1.0)) * u_dielectric_f90;
+    s.roughness = 1.0 - (1.0 - s.roughness) * specular_glossiness.a;
+    s.base *= 1.0 - max(s.dielectric_f0.r, max(s.dielectric_f0.g, s.dielectric_f0.b));
+#endif
+#ifdef HAS_SPECULAR_FACTOR_MAP
+    float specular = texture(u_specular_factor_map, MAP_UV(u_specular_factor_map, uv)).a;
+    s.dielectric_f0 *= specular;
+    s.dielectric_f90 *= specular;
+#endif
+#endif
+#ifdef PBR_CLEARCOAT
+    s.clearcoat = u_clearcoat;
+    s.clearcoat_roughness = u_clearcoat_roughness;
+#ifdef HAS_CLEARCOAT_MAP
+    s.clearcoat *= texture(u_clearcoat_map, MAP_UV(u_clearcoat_map, uv)).r;
+#endif
+#ifdef HAS_CLEARCOAT_ROUGHNESS_MAP
+    s.clearcoat_roughness *= texture(u_clearcoat_roughness_map, MAP_UV(u_clearcoat_roughness_map, uv)).g;
+#endif
+#endif
+#ifdef PBR_SHEEN
+    s.sheen_color = u_sheen_color;
+    s.sheen_roughness = u_sheen_roughness;
+#ifdef HAS_SHEEN_COLOR_MAP
+    s.sheen_color *= texture(u_sheen_color_map, MAP_UV(u_sheen_color_map, uv)).rgb;
+#endif
+#ifdef HAS_SHEEN_ROUGHNESS_MAP
+    s.sheen_roughness *= texture(u_sheen_roughness_map, MAP_UV(u_sheen_roughness_map, uv)).a;
+#endif
+#endif
+#ifdef PBR_ANISOTROPY
+    s.anisotropy = u_anisotropy;
+    s.anisotropy_xy = u_anisotropy_direction;
+#ifdef HAS_ANISOTROPY_MAP
+    // the texel's direction turned by the rotation, its strength times the factor
+    vec3 anisotropy_texel = texture(u_anisotropy_map, MAP_UV(u_anisotropy_map, uv)).rgb;
+    vec2 texel_direction = safe_normalize(vec3(anisotropy_texel.rg * 2.0 - 1.0, 0.0), vec3(1.0, 0.0, 0.0)).xy;
+    s.anisotropy_xy = mat2(u_anisotropy_direction.x, u_anisotropy_direction.y,
+                           -u_anisotropy_direction.y, u_anisotropy_direction.x) * texel_direction;
+    s.anisotropy *= anisotropy_texel.b;
+#endif
+#endif
+#ifdef PBR_IRIDESCENCE
+    s.iridescence = u_iridescence;
+    s.iridescence_ior = u_iridescence_ior;
+    s.iridescence_thickness = u_iridescence_thickness;
+#endif
+}
+
+#ifdef PBR_ANISOTROPY
+// The anisotropy's direction in the world: ``xy`` in the frame of the tangent (made
+// orthogonal to n) and the bitangent cross(n, t) w
+vec3 anisotropy_direction(vec3 n, vec4 tangent, vec2 xy) {
+    vec3 t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3(1.0, 0.0, 0.0));
+    vec3 b = cross(n, t) * tangent.w;
+    return safe_normalize(t * xy.x + b * xy.y, t);
+}
+#endif
+#endif
 
 Surface sample_surface(vec2 uv) {
     Surface s;
@@ -198,6 +418,7 @@ Surface sample_surface(vec2 uv) {
 #ifdef HAS_METALLIC_MAP
     s.metallic *= texture(u_metallic_map, MAP_UV(u_metallic_map, uv)).r;
 #endif
+    sample_layers(s, uv);
 #endif
     return s;
 }

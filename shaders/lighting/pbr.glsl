@@ -16,6 +16,14 @@
 //   F90 = mix(dielectric F90, 1, metallic).
 // - PBR_SHEEN (KHR_materials_sheen): a Charlie lobe over the base (lighting/sheen.glsl):
 //   f = f_base min(1 - max(sheen) E(N.V), 1 - max(sheen) E(N.L)) + sheen D_s V_s.
+// - PBR_ANISOTROPY (KHR_materials_anisotropy): the base's GGX lobe with alpha_t =
+//   mix(alpha, 1, strength^2) along the anisotropy's direction and alpha_b = alpha across it,
+//   for point, spot and directional lights; sized and area lights take the lobe at alpha,
+//   ambient and environment light weigh it by anisotropic_ambient_roughness's albedo
+//   (docs/scene-notes.md).
+// - PBR_IRIDESCENCE (KHR_materials_iridescence): the thin film's Fresnel F_i
+//   (lighting/iridescence.glsl), taken at N.V once a pixel: specular F mixed towards F_i,
+//   the diffuse part's towards max(F_i), by the iridescence.
 // - PBR_CLEARCOAT (KHR_materials_clearcoat): a GGX layer of F0 0.04 (ior 1.5) and its own
 //   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - V.H)^5.
 // - PBR_TRANSMISSION (KHR_materials_transmission): the diffuse part times 1 - transmission;
@@ -25,19 +33,15 @@
 #ifdef PBR_SHEEN
 #include "lighting/sheen.glsl"
 #endif
+#ifdef PBR_IRIDESCENCE
+#include "lighting/iridescence.glsl"
+#endif
 
 // alpha is kept above this (roughness about 0.045) so the distribution stays finite; a
 // smoother surface's highlight from a point light would be narrower than a pixel anyway
 const float PBR_MIN_ALPHA = 0.002;
 
-#ifdef PBR_DIELECTRIC_SPECULAR
-uniform vec3 u_dielectric_f0;    // min(((ior - 1) / (ior + 1))^2 specular_color, 1) specular
-uniform float u_dielectric_f90;  // specular
-#endif
-#ifdef PBR_CLEARCOAT
-uniform float u_clearcoat;            // the layer's weight c
-uniform float u_clearcoat_roughness;
-#endif
+// the layers' values are the Surface's (lighting/material.glsl, sample_layers)
 #ifdef PBR_TRANSMISSION
 uniform float u_transmission;  // the share of the diffuse part that lets light through
 #endif
@@ -62,10 +66,24 @@ struct PbrView {
 #ifdef PBR_CLEARCOAT
     float coat_alpha2;
     float coat_view_term;
+    float clearcoat;
 #endif
 #ifdef PBR_SHEEN
     float sheen_alpha;
     float sheen_through_view;  // 1 - max(sheen) E(N.V)
+    vec3 sheen_color;
+    float sheen_roughness;
+#endif
+#ifdef PBR_ANISOTROPY
+    vec3 anisotropy_t;  // the direction of alpha_t
+    vec3 anisotropy_b;  // across it, of alpha_b (the surface's own alpha)
+    float alpha_t;
+    float alpha_b;
+    float anisotropic_view_term;  // |(alpha_t T.V, alpha_b B.V, N.V)|: view_term's anisotropic form
+#endif
+#ifdef PBR_IRIDESCENCE
+    vec3 film_fresnel;  // the thin film's Fresnel at N.V
+    float iridescence;
 #endif
 };
 
@@ -85,11 +103,11 @@ float coat_lobe(float n_dot_h, float n_dot_l, float n_dot_v, float alpha2, float
     return 0.5 * alpha2 / (k * k * (n_dot_l * view_term + light_term));
 }
 
-// c Fc: how much of the light the coat takes at an angle of cosine ``cosine``
-float coat_fresnel(float cosine) {
+// c Fc: how much of the light a coat of weight c takes at an angle of cosine ``cosine``
+float coat_fresnel(float c, float cosine) {
     float m = 1.0 - cosine;
     float m2 = m * m;
-    return u_clearcoat * (0.04 + 0.96 * (m2 * m2 * m));
+    return c * (0.04 + 0.96 * (m2 * m2 * m));
 }
 #endif
 
@@ -100,8 +118,8 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     p.alpha2 = alpha * alpha;
     p.view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.alpha2) + p.alpha2);
 #ifdef PBR_DIELECTRIC_SPECULAR
-    p.f0 = mix(u_dielectric_f0, s.base, s.metallic);
-    p.f90 = mix(vec3(u_dielectric_f90), vec3(1.0), s.metallic);
+    p.f0 = mix(s.dielectric_f0, s.base, s.metallic);
+    p.f90 = mix(vec3(s.dielectric_f90), vec3(1.0), s.metallic);
 #else
     p.f0 = mix(vec3(0.04), s.base, s.metallic);
 #endif
@@ -110,13 +128,28 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     p.diffuse *= 1.0 - u_transmission;
 #endif
 #ifdef PBR_CLEARCOAT
-    float coat_alpha = max(u_clearcoat_roughness * u_clearcoat_roughness, PBR_MIN_ALPHA);
+    float coat_alpha = max(s.clearcoat_roughness * s.clearcoat_roughness, PBR_MIN_ALPHA);
     p.coat_alpha2 = coat_alpha * coat_alpha;
     p.coat_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
+    p.clearcoat = s.clearcoat;
 #endif
 #ifdef PBR_SHEEN
-    p.sheen_alpha = sheen_alpha();
-    p.sheen_through_view = sheen_through(p.n_dot_v);
+    p.sheen_color = s.sheen_color;
+    p.sheen_roughness = s.sheen_roughness;
+    p.sheen_alpha = sheen_alpha(s.sheen_roughness);
+    p.sheen_through_view = sheen_through(s.sheen_color, s.sheen_roughness, p.n_dot_v);
+#endif
+#ifdef PBR_IRIDESCENCE
+    p.film_fresnel = thin_film_fresnel(p.n_dot_v, s.iridescence_ior, s.iridescence_thickness, p.f0);
+    p.iridescence = s.iridescence;
+#endif
+#ifdef PBR_ANISOTROPY
+    p.anisotropy_t = s.anisotropy_t;
+    p.anisotropy_b = cross(n, s.anisotropy_t);
+    p.alpha_t = mix(alpha, 1.0, s.anisotropy * s.anisotropy);
+    p.alpha_b = alpha;
+    p.anisotropic_view_term = length(vec3(p.alpha_t * dot(p.anisotropy_t, v), p.alpha_b * dot(p.anisotropy_b, v),
+                                          p.n_dot_v));
 #endif
     return p;
 }
@@ -133,22 +166,42 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
     float inverse_length = inversesqrt(max(length2, 1e-20));
     float n_dot_h = dot(n, l_plus_v) * inverse_length;
     float v_dot_h = min(0.5 * length2 * inverse_length, 1.0);
+#ifdef PBR_ANISOTROPY
+    // KHR_materials_anisotropy: Burley's GGX of alpha_t along t, alpha_b along b, pi D =
+    // 1 / (alpha_t alpha_b k^2), k = (T.H / alpha_t)^2 + (B.H / alpha_b)^2 + (N.H)^2, with its
+    // height-correlated Smith V (the isotropic forms at alpha_t = alpha_b)
+    float t_dot_h = dot(p.anisotropy_t, l_plus_v) * inverse_length / p.alpha_t;
+    float b_dot_h = dot(p.anisotropy_b, l_plus_v) * inverse_length / p.alpha_b;
+    float k = t_dot_h * t_dot_h + b_dot_h * b_dot_h + n_dot_h * n_dot_h;
+    float light_term = p.n_dot_v * length(vec3(p.alpha_t * dot(p.anisotropy_t, l), p.alpha_b * dot(p.anisotropy_b, l),
+                                               n_dot_l));
+    float specular = 0.5 / (p.alpha_t * p.alpha_b * k * k * (n_dot_l * p.anisotropic_view_term + light_term));
+#else
     float k = 1.0 - n_dot_h * n_dot_h * (1.0 - p.alpha2);
     float light_term = p.n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - p.alpha2) + p.alpha2);
     float specular = 0.5 * p.alpha2 / (k * k * (n_dot_l * p.view_term + light_term));  // pi D V
+#endif
 #ifdef PBR_DIELECTRIC_SPECULAR
     vec3 fresnel = fresnel_schlick_f90(p.f0, p.f90, v_dot_h);
 #else
     vec3 fresnel = fresnel_schlick(p.f0, v_dot_h);
 #endif
-#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
+#if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT) || defined(PBR_IRIDESCENCE)
+#ifdef PBR_IRIDESCENCE
+    // the film's Fresnel mixed into the specular one, its largest channel into what the
+    // diffuse part loses
+    vec3 diffuse_fresnel = mix(fresnel, vec3(max(p.film_fresnel.r, max(p.film_fresnel.g, p.film_fresnel.b))),
+                               p.iridescence);
+    vec3 layered = (1.0 - diffuse_fresnel) * p.diffuse + mix(fresnel, p.film_fresnel, p.iridescence) * specular;
+#else
     vec3 layered = p.diffuse + fresnel * (specular - p.diffuse);
+#endif
 #ifdef PBR_SHEEN
-    float through = min(p.sheen_through_view, sheen_through(n_dot_l));
-    layered = layered * through + u_sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
+    float through = min(p.sheen_through_view, sheen_through(p.sheen_color, p.sheen_roughness, n_dot_l));
+    layered = layered * through + p.sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
 #endif
 #ifdef PBR_CLEARCOAT
-    float coat = coat_fresnel(v_dot_h);
+    float coat = coat_fresnel(p.clearcoat, v_dot_h);
     float coat_specular = coat_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
     layered = layered * (1.0 - coat) + coat * coat_specular;
 #endif
@@ -176,20 +229,40 @@ struct PbrAmbientWeights {
 #endif
 };
 
+#ifdef PBR_ANISOTROPY
+// The roughness of the isotropic lobe that reflects about what the anisotropic one does of
+// a uniform light: alpha = sqrt((alpha_t^2 + alpha_b^2) / 2), within 0.016 of the
+// anisotropic lobe's directional albedo (docs/scene-notes.md)
+float anisotropic_ambient_roughness(float roughness, float anisotropy) {
+    float alpha = max(roughness * roughness, PBR_MIN_ALPHA);
+    float alpha_t = mix(alpha, 1.0, anisotropy * anisotropy);
+    return sqrt(sqrt(0.5 * (alpha_t * alpha_t + alpha * alpha)));
+}
+#endif
+
 PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     float n_dot_v = clamp(dot(n, v), 0.0, 1.0);
+#ifdef PBR_ANISOTROPY
+    vec2 scale_bias = ambient_specular(n_dot_v, anisotropic_ambient_roughness(s.roughness, s.anisotropy));
+#else
     vec2 scale_bias = ambient_specular(n_dot_v, s.roughness);
+#endif
     PbrAmbientWeights w;
 #ifdef PBR_DIELECTRIC_SPECULAR
     // with F90: the diffuse part keeps (1 - F0) - (F90 - F0) Cd, the specular F0 A + F90 B
-    vec3 f0 = mix(u_dielectric_f0, s.base, s.metallic);
-    vec3 f90 = mix(vec3(u_dielectric_f90), vec3(1.0), s.metallic);
+    vec3 f0 = mix(s.dielectric_f0, s.base, s.metallic);
+    vec3 f90 = mix(vec3(s.dielectric_f90), vec3(1.0), s.metallic);
     w.diffuse = s.base * (1.0 - s.metallic) * ((1.0 - f0) - (f90 - f0) * ambient_diffuse_fresnel(n_dot_v));
     w.specular = f0 * scale_bias.x + f90 * scale_bias.y;
 #else
     vec3 f0 = mix(vec3(0.04), s.base, s.metallic);
     w.diffuse = s.base * (1.0 - s.metallic) * (1.0 - f0) * (1.0 - ambient_diffuse_fresnel(n_dot_v));
     w.specular = f0 * scale_bias.x + scale_bias.y;
+#endif
+#ifdef PBR_IRIDESCENCE
+    vec3 film = thin_film_fresnel(n_dot_v, s.iridescence_ior, s.iridescence_thickness, f0);
+    w.specular = mix(w.specular, film * scale_bias.x + scale_bias.y, s.iridescence);
+    w.diffuse = mix(w.diffuse, s.base * (1.0 - s.metallic) * (1.0 - max(film.r, max(film.g, film.b))), s.iridescence);
 #endif
 #ifdef PBR_TRANSMISSION
     w.diffuse *= 1.0 - u_transmission;
@@ -198,17 +271,17 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     w.base_scale = 1.0;
 #endif
 #ifdef PBR_SHEEN
-    w.base_scale = sheen_through(n_dot_v);
-    w.sheen = u_sheen_color * sheen_albedo(n_dot_v, u_sheen_roughness);
+    w.base_scale = sheen_through(s.sheen_color, s.sheen_roughness, n_dot_v);
+    w.sheen = s.sheen_color * sheen_albedo(n_dot_v, s.sheen_roughness);
 #endif
 #ifdef PBR_CLEARCOAT
-    vec2 coat_scale_bias = ambient_specular(n_dot_v, u_clearcoat_roughness);
-    float coat_through = 1.0 - coat_fresnel(n_dot_v);
+    vec2 coat_scale_bias = ambient_specular(n_dot_v, s.clearcoat_roughness);
+    float coat_through = 1.0 - coat_fresnel(s.clearcoat, n_dot_v);
     w.base_scale *= coat_through;
 #ifdef PBR_SHEEN
     w.sheen *= coat_through;
 #endif
-    w.coat = u_clearcoat * (0.04 * coat_scale_bias.x + coat_scale_bias.y);
+    w.coat = s.clearcoat * (0.04 * coat_scale_bias.x + coat_scale_bias.y);
 #endif
 #if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
     w.diffuse *= w.base_scale;

@@ -6,13 +6,10 @@
 
 #include "lighting/sheen_albedo.glsl"
 
-uniform vec3 u_sheen_color;
-uniform float u_sheen_roughness;
-
 const float MIN_SHEEN_ROUGHNESS = 0.07;
 
-float sheen_alpha() {
-    float r = max(u_sheen_roughness, MIN_SHEEN_ROUGHNESS);
+float sheen_alpha(float roughness) {
+    float r = max(roughness, MIN_SHEEN_ROUGHNESS);
     return r * r;
 }
 
@@ -47,6 +44,6 @@ float sheen_lobe(float n_dot_h, float n_dot_l, float n_dot_v, float alpha) {
 }
 
 // 1 - max(sheen colour) E(cosine): what the sheen lets through to the layer beneath, kept at 0 or above
-float sheen_through(float cosine) {
-    return max(1.0 - max(u_sheen_color.r, max(u_sheen_color.g, u_sheen_color.b)) * sheen_albedo(cosine, u_sheen_roughness), 0.0);
+float sheen_through(vec3 color, float roughness, float cosine) {
+    return max(1.0 - max(color.r, max(color.g, color.b)) * sheen_albedo(cosine, roughness), 0.0);
 }

@@ -78,6 +78,10 @@ void main() {
 #ifdef HAS_NORMAL_MAP
     n = mapped_normal(n, gl_FrontFacing ? v_tangent : vec4(-v_tangent.xyz, v_tangent.w), v_uv);
 #endif
+#ifdef PBR_ANISOTROPY
+    s.anisotropy_t = anisotropy_direction(n, gl_FrontFacing ? v_tangent : vec4(-v_tangent.xyz, v_tangent.w),
+                                          s.anisotropy_xy);
+#endif
 #ifdef INDIRECT_CAPTURE
     vec3 v = safe_normalize(u_capture_eye - v_position, n);
 #else

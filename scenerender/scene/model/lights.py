@@ -60,6 +60,7 @@ class PointLight(_LightBase):
     position: AnimatedVec3 = (0.0, 3.0, 0.0)
     attenuation: Attenuation = (1.0, 0.0, 0.0)
     radius: number(0) = 0.0  # a sphere light of this radius; 0 a point
+    range: number(0, lo_open=True) | None = None  # KHR_lights_punctual's window: no light at range and beyond
     shadows: ShadowsOption = False
 
 
@@ -72,6 +73,7 @@ class SpotLight(_LightBase):
     outer_angle: animated_number(0, 89.9, lo_open=True) = 17.5
     attach: choice("camera") | None = None
     radius: number(0) = 0.0  # a sphere light of this radius; 0 a point
+    range: number(0, lo_open=True) | None = None  # KHR_lights_punctual's window: no light at range and beyond
     shadows: ShadowsOption = False
 
     @model_validator(mode="after")

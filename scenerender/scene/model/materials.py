@@ -58,6 +58,19 @@ class MaterialSpec(StrictModel):
     clearcoat_roughness: number(0, 1) | None = None
     sheen_color: vector(3, 0, 1) | None = None  # KHR_materials_sheen
     sheen_roughness: number(0, 1) | None = None
+    anisotropy: number(0, 1) | None = None  # KHR_materials_anisotropy
+    anisotropy_rotation: number(-360, 360) | None = None  # degrees from the tangent
+    iridescence: number(0, 1) | None = None  # KHR_materials_iridescence
+    iridescence_ior: number(1, MAX_IOR) | None = None
+    iridescence_thickness: number(0, 10000) | None = None  # nanometres
+    # the layers' maps (the extensions' textures): each multiplies its layer's value
+    clearcoat_map: ImagePath | None = None
+    clearcoat_roughness_map: ImagePath | None = None
+    sheen_color_map: ImagePath | None = None
+    sheen_roughness_map: ImagePath | None = None
+    specular_factor_map: ImagePath | None = None
+    specular_color_map: ImagePath | None = None
+    anisotropy_map: ImagePath | None = None
     # light through the surface (KHR_materials_transmission) and through its volume
     # (KHR_materials_volume): docs/scene-notes.md, "Transmission and volume"
     transmission: number(0, 1) | None = None

@@ -1,0 +1,163 @@
+"""The pbr layers' textures (docs/scene-notes.md, "Layers of the pbr model"): glTF's
+clearcoatTexture, clearcoatRoughnessTexture, sheenColorTexture, sheenRoughnessTexture,
+specularTexture and specularColorTexture multiply their factors per pixel, on the GPU
+(lighting/material.glsl, sample_layers) and in the reference, read through their texCoord
+and KHR_texture_transform like any texture."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import scenerender
+from conftest import scene
+from gltf_files import GlbBuilder, sphere, sphere_uv
+from scenerender.raytrace import render_reference
+from scenerender.rendering.features import material_defines
+from scenerender.tools.quality import frame_errors
+
+SCENE = """
+render: {size: [96, 72], samples: 4, shading: pbr, background: [0, 0, 0]}
+camera: {position: [0, 0, 4], target: [0, 0, 0], fov: 40}
+lights:
+  - {type: point, position: [0.6, 0.8, 4], intensity: 16, attenuation: [0, 0, 1]}
+  - {type: ambient, color: [0.15, 0.15, 0.15]}
+objects:
+  - mesh: model.glb
+"""
+
+# (extension, its factors, the texture's key): each layer strong enough to see
+TEXTURED = {
+    "clearcoat": ("KHR_materials_clearcoat", {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.3},
+                  "clearcoatTexture"),
+    "clearcoat_roughness": ("KHR_materials_clearcoat", {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.6},
+                            "clearcoatRoughnessTexture"),
+    "sheen_color": ("KHR_materials_sheen", {"sheenColorFactor": [1.0, 0.9, 0.8], "sheenRoughnessFactor": 0.4},
+                    "sheenColorTexture"),
+    "sheen_roughness": ("KHR_materials_sheen", {"sheenColorFactor": [1.0, 1.0, 1.0], "sheenRoughnessFactor": 0.8},
+                        "sheenRoughnessTexture"),
+    "specular": ("KHR_materials_specular", {}, "specularTexture"),
+    "specular_color": ("KHR_materials_specular", {"specularColorFactor": [1.5, 1.0, 0.5]}, "specularColorTexture"),
+}
+
+
+def gradient(channels_from: float = 0.0) -> np.ndarray:
+    """(8, 8, 4) uint8: every channel (alpha too) rising from ``channels_from`` on the left to
+    1 on the right, the same down each column."""
+    ramp = channels_from + (1.0 - channels_from) * (np.arange(8) + 0.5) / 8.0
+    return np.tile(np.round(ramp * 255).astype(np.uint8)[None, :, None], (8, 1, 4))
+
+
+def textured_glb(path, extension: str, factors: dict, key: str | None, pixels: np.ndarray | None = None,
+                 **texture_info):
+    """A sphere of a dark-red dielectric (roughness 0.5) with ``extension``'s ``factors``
+    and, where ``key`` is given, its texture of ``pixels`` (``texture_info`` added to the
+    textureInfo, e.g. a KHR_texture_transform); texture set 1 is set 0 mirrored in u."""
+    builder = GlbBuilder()
+    values = dict(factors)
+    if key is not None:
+        values[key] = {"index": builder.texture(pixels), **texture_info}
+    builder.uses(extension)
+    pbr = {"baseColorFactor": [0.3, 0.05, 0.04, 1], "metallicFactor": 0.0, "roughnessFactor": 0.5}
+    material = builder.material(name="layered", pbrMetallicRoughness=pbr, extensions={extension: values})
+    mesh = sphere(1.0, 4)
+    uv = sphere_uv(mesh)
+    primitive = builder.primitive(mesh, material, uv=uv)
+    primitive["attributes"]["TEXCOORD_1"] = builder.accessor(np.column_stack([1.0 - uv[:, 0], uv[:, 1]]), "VEC2")
+    builder.node(builder.mesh(primitive))
+    return builder.write(path)
+
+
+def _frame(gl, tmp_path):
+    loaded = scenerender.Scene.from_yaml(SCENE, tmp_path)
+    with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
+        return loaded, renderer.render(0)
+
+
+@pytest.mark.parametrize("name", list(TEXTURED))
+def test_gpu_matches_the_reference_with_each_layer_texture(gl, tmp_path, name):
+    # the layers' stated tolerances (tests/test_pbr_layers.py: linear RMSE of the image 1.5 %,
+    # 2.5 % with a sheen, 0.25 % inside surfaces), a texture that rises across the sphere
+    extension, factors, key = TEXTURED[name]
+    textured_glb(tmp_path / "model.glb", extension, factors, key, gradient())
+    loaded, frame = _frame(gl, tmp_path)
+    errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
+    assert errors["rmse_linear"] < (2.5 if "sheen" in name else 1.5), errors
+    assert errors["interior_rmse"] < 0.25, errors
+
+
+@pytest.mark.parametrize("name", list(TEXTURED))
+def test_each_texture_changes_the_picture_and_a_white_one_does_not(gl, tmp_path, name):
+    # the factors alone; the same with a white texture: the same bytes (it multiplies by 1),
+    # but for the specular colour, whose F0 is clamped after the texture (within 1 of 255);
+    # with the gradient texture: a different picture
+    extension, factors, key = TEXTURED[name]
+    textured_glb(tmp_path / "model.glb", extension, factors, None)
+    plain = _frame(gl, tmp_path)[1].pixels
+    textured_glb(tmp_path / "model.glb", extension, factors, key, np.full((4, 4, 4), 255, np.uint8))
+    loaded, white = _frame(gl, tmp_path)
+    map_key = {"specular": "specular_factor"}.get(name, name) + "_map"
+    assert f"HAS_{map_key.upper()}" in material_defines(loaded.world.materials()[0], "pbr")
+    if name == "specular_color":
+        assert np.abs(white.pixels.astype(int) - plain).max() <= 1
+    else:
+        assert np.array_equal(white.pixels, plain)
+    textured_glb(tmp_path / "model.glb", extension, factors, key, gradient())
+    varied = _frame(gl, tmp_path)[1].pixels
+    assert np.abs(varied.astype(int) - plain).max() > 10
+
+
+def _coat_highlight(gl, tmp_path, pixels: np.ndarray, **texture_info) -> float:
+    """The brightest linear value of a full coat (roughness 0.2) whose texture is ``pixels``,
+    lit from the upper right: the coat's highlight lies at u 0.56 (x 0.35), 15 against the
+    base's 0.66."""
+    extension, factors, key = TEXTURED["clearcoat"]
+    textured_glb(tmp_path / "model.glb", extension, {**factors, "clearcoatRoughnessFactor": 0.2}, key, pixels,
+                 **texture_info)
+    loaded = scenerender.Scene.from_yaml(SCENE.replace("[0.6, 0.8, 4]", "[2, 0.5, 3]"), tmp_path)
+    with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
+        return float(renderer.render(0).linear[..., :3].mean(axis=2).max())
+
+
+def test_the_coat_lies_where_its_texture_is_white_through_its_transform_and_texcoord(gl, tmp_path):
+    # a texture white on its right half (u > 0.5) keeps the coat's highlight; white on its
+    # left half removes it; KHR_texture_transform's offset 0.5 along u moves the left one
+    # back over it (the pattern repeats); texCoord 1, set 1 mirrored in u, swaps them again
+    right = np.zeros((4, 64, 4), np.uint8)
+    right[:, 32:] = 255
+    left = right[:, ::-1].copy()
+    coated = _coat_highlight(gl, tmp_path, right)
+    assert coated > 10.0
+    assert _coat_highlight(gl, tmp_path, left) < 0.1 * coated
+    assert _coat_highlight(gl, tmp_path, left, extensions={"KHR_texture_transform": {"offset": [0.5, 0]}}) \
+        == pytest.approx(coated, rel=0.02)
+    assert _coat_highlight(gl, tmp_path, left, texCoord=1) == pytest.approx(coated, rel=0.02)
+
+
+def test_gpu_matches_the_reference_through_texcoord_1_and_a_transform(gl, tmp_path):
+    extension, factors, key = TEXTURED["sheen_color"]
+    textured_glb(tmp_path / "model.glb", extension, factors, key, gradient(), texCoord=1,
+                 extensions={"KHR_texture_transform": {"offset": [0.2, 0], "rotation": 0.3, "scale": [1.5, 1]}})
+    material = scene(SCENE, base_dir=tmp_path).world.materials()[0]
+    assert material.maps["sheen_color_map"].uv_set == 1
+    assert {"SHEEN_COLOR_MAP_UV1", "UV_AFFINE"} <= set(material_defines(material, "pbr"))
+    loaded, frame = _frame(gl, tmp_path)
+    errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
+    assert errors["rmse_linear"] < 2.5 and errors["interior_rmse"] < 0.25, errors
+
+
+def test_the_scene_keys_set_the_same_maps_as_the_extensions(gl, tmp_path):
+    # a gradient along u alone, so the two coordinate conventions read the same texels
+    extension, factors, key = TEXTURED["clearcoat"]
+    textured_glb(tmp_path / "model.glb", extension, factors, key, gradient())
+    from_file = _frame(gl, tmp_path)[1].pixels
+    Image.fromarray(gradient()).save(tmp_path / "coat.png")
+    textured_glb(tmp_path / "model.glb", extension, factors, None)
+    text = SCENE.replace("  - mesh: model.glb", "  - {mesh: model.glb, material_overrides: {layered: "
+                         "{clearcoat_map: coat.png}}}")
+    loaded = scenerender.Scene.from_yaml(text, tmp_path)
+    with scenerender.Renderer(loaded, gl=gl) as renderer:
+        from_keys = renderer.render(0).pixels
+    # within 1 of 255: the file's texture coordinates are flipped in v by the texture's
+    # transform (glTF's v runs down), which rounds differently from the scene map's identity
+    assert np.abs(from_file.astype(int) - from_keys).max() <= 1
