@@ -84,7 +84,7 @@ float light_point_weight(vec3 point, vec3 p, vec3 n, vec3 facing) {
 // the light's centre sees it, and would darken the penumbra's inner half there
 // (benchmarks/quality/rect_umbra.md).
 const float MARCH_FULL = 0.1;
-const float MARCH_FADE = 0.3;
+const float MARCH_FADE = 0.2;
 
 // World point x in a view of the map: (atlas uv, depth as the map stores it).
 vec3 map_point(int index, vec3 x, bool radial) {
