@@ -2,9 +2,7 @@
 // finds the mean depth of what lies between the point and the light, the penumbra's width
 // follows from it by similar triangles, and a comparison filter that wide gives the
 // fraction of the light seen. The penumbra is sharp where a caster meets its receiver and
-// widens with the distance between them. Near the umbra a perspective view's open taps are
-// checked again along their rays through the map (marched_out), which keeps the umbra
-// beside a box's foot dark. Included only where a shadowed light has a size
+// widens with the distance between them. Included only where a shadowed light has a size
 // (SOFT_SHADOWS); the atlas is read twice over: through its comparison sampler
 // (u_shadow_atlas) and as plain depth (u_shadow_depth, the same texture with comparison
 // off), which the blocker search needs.
@@ -75,81 +73,20 @@ float light_point_weight(vec3 point, vec3 p, vec3 n, vec3 facing) {
     return max(dot(n, d), 0.0) * max(-dot(facing, d), 0.0) / (distance2 * distance2);
 }
 
-// The march (marched_out): one mean depth of the casters makes the penumbra as wide as the
-// nearest caster's top would cast it, so beside a box's foot, where the box's side (which
-// the map cannot see) is what blocks the light, the filter lets light into the umbra.
-// Where the filter finds less than MARCH_FADE of the light, its open taps are checked again
-// against the map as a heightfield, fully below MARCH_FULL and fading out up to
-// MARCH_FADE. Not further: the heightfield also fills the empty space behind a caster as
-// the light's centre sees it, and would darken the penumbra's inner half there
-// (benchmarks/quality/rect_umbra.md).
-const float MARCH_FULL = 0.1;
-const float MARCH_FADE = 0.2;
-
-// World point x in a view of the map: (atlas uv, depth as the map stores it).
-vec3 map_point(int index, vec3 x, bool radial) {
-    vec4 q = shadow_views[index].to_atlas * vec4(x, 1.0);
-    vec4 depth_params = shadow_views[index].depth;
-    float depth = radial ? (distance(x, shadow_views[index].light.xyz) - depth_params.x) * depth_params.y : q.z;
-    return vec3(q.xy / q.w, depth);
-}
-
-// 0 where the segment from p towards the light's ``point`` passes behind the map seen as
-// a heightfield from the light (what lies behind a stored depth is solid: a box standing
-// on the floor is solid to the floor), else 1. The segment is looked at once, halfway in
-// depth from p to the casters' mean depth: a ray that enters a box's hidden side near its
-// foot is inside the box there. receiver, gap: p's depth and its distance behind the
-// casters' mean depth, in the map's depth units.
-float segment_open(int index, int page, vec3 p, vec3 point, bool radial, float receiver, float gap, float bias) {
-    vec4 tile = shadow_views[index].tile;
-    // a depth d of the map lies at distance (d + near_share) / depth.y from the light
-    float near_share = shadow_views[index].depth.x * shadow_views[index].depth.y;
-    vec3 x = map_point(index, mix(p, point, 0.5 * gap / (receiver + near_share)), radial);
-    if (any(lessThan(x.xy, tile.xy)) || any(greaterThan(x.xy, tile.zw))) {
-        return 1.0;  // off this view of the map
-    }
-    return x.z > stored_depth(page, x.xy) + bias ? 0.0 : 1.0;
-}
-
-// The weighted light of the open taps (bits of ``open_taps``) whose segments towards their
-// points of the light are blocked (segment_open): what the filter counted that the
-// casters' solid shapes take away. The taps as shadow_lookup_shaped draws them; blocker:
-// the casters' mean depth.
-float marched_out(int index, int page, int filters, vec3 p, vec3 n, vec2 uv, float receiver, float bias,
-                  float slope, float blocker, bool radial, float size, vec2 along_u, vec2 along_v, float radius,
-                  vec3 extent_u, vec3 extent_v, vec3 facing, bool shaped, bool square, float turn, uvec4 open_taps) {
-    vec3 centre = shadow_views[index].light.xyz;
-    vec4 tile = shadow_views[index].tile;
-    vec2 texel = shadow_views[index].sampling.xy;
-    // a sphere's tap at map offset unit * radius stands for the point of its disc facing p
-    // that far along the map's axes (their directions in the world at p: the gradients of
-    // u and v, (row - uv * row 3) / w, the 1 / w dropped)
-    vec3 toward = normalize(centre - p);
-    mat4 m = shadow_views[index].to_atlas;
-    vec3 row_w = vec3(m[0][3], m[1][3], m[2][3]);
-    vec3 grad_u = vec3(m[0][0], m[1][0], m[2][0]) - uv.x * row_w;
-    vec3 grad_v = vec3(m[0][1], m[1][1], m[2][1]) - uv.y * row_w;
-    vec3 across_u = normalize(grad_u - dot(grad_u, toward) * toward);
-    vec3 across_v = cross(toward, across_u);
-    across_v *= dot(across_v, grad_v) < 0.0 ? -1.0 : 1.0;
-    float gap = receiver - blocker;
-    float taken = 0.0;
-    for (int k = 0; k < filters; ++k) {
-        if ((open_taps[k >> 5] & (1u << uint(k & 31))) == 0u) {
-            continue;
-        }
-        vec2 unit = square ? square_point(k, filters, turn * 0.159154943) : disc_point(k, filters, turn + 1.0);
-        vec3 point = shaped ? centre + unit.x * extent_u + unit.y * extent_v
-                            : centre + size * (unit.x * across_u + unit.y * across_v);
-        if (segment_open(index, page, p, point, radial, receiver, gap, bias) == 0.0) {
-            vec2 offset = shaped ? along_u * unit.x + along_v * unit.y : unit * radius;
-            vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
-            float weight = shaped ? light_point_weight(point, p, n, facing) : 1.0;
-            taken += weight * compared_depth(page, tap, receiver - bias - slope * length(offset));
-        }
-    }
-    return taken;
-}
+// Near the umbra, the filter's light fades out where the light's centre is hidden from p.
+// One mean depth of the casters makes the penumbra as wide as the nearest caster's top
+// would cast it, so beside a box's foot, where the box's side (which the map cannot see)
+// blocks the light, the filter lets light into the umbra. Seen from the light, the map is
+// a heightfield: what lies behind a stored depth is solid (a box standing on the floor is
+// solid down to it), and a segment from such a p towards the light passes through it. The
+// segment to the light's centre projects to p's own texel, so the test is the centre's
+// own depth comparison; segments to the light's other points, marched through the map,
+// gave the same image there (within 0.02 % of the lit floor, benchmarks/quality/
+// rect_umbra.md). Below CONTACT_FULL of the light seen the fade is whole, none from
+// CONTACT_FADE on: the heightfield also fills the empty space behind a caster as the
+// light's centre sees it, and would darken the penumbra's inner half.
+const float CONTACT_FULL = 0.1;
+const float CONTACT_FADE = 0.2;
 
 // Rectangle and disk lights pass their half axes (world vectors, ``extent_u``,
 // ``extent_v``; zero for a sphere) and whether they are a rectangle: the filter then takes
@@ -230,30 +167,22 @@ float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 
     vec2 along_v = axis_v * clamp(scale, narrowest / max(length(axis_v), 1e-20), widest / max(length(axis_v), 1e-20));
     float lit = 0.0;
     float total = 0.0;
-    uvec4 open_taps = uvec4(0u);  // bit k: tap k saw some light (filters <= 128)
     for (int k = 0; k < filters; ++k) {
         vec2 unit = square ? square_point(k, filters, turn * 0.159154943) : disc_point(k, filters, turn + 1.0);
         vec2 offset = shaped ? along_u * unit.x + along_v * unit.y : unit * radius;
         vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
         // a shaped light's tap stands for its point centre + unit.x extent_u + unit.y extent_v
         float weight = shaped ? light_point_weight(light.xyz + unit.x * extent_u + unit.y * extent_v, p, n, facing) : 1.0;
-        float seen = compared_depth(page, tap, receiver - bias - slope * length(offset));
-        lit += weight * seen;
+        lit += weight * compared_depth(page, tap, receiver - bias - slope * length(offset));
         total += weight;
-        open_taps[k >> 5] |= seen > 0.0 ? 1u << uint(k & 31) : 0u;
     }
-    if (total <= 0.0) {
-        return 1.0;
+    float fraction = total > 0.0 ? lit / total : 1.0;
+    // nearly in umbra (a perspective view's: a directional light's penumbra is left as filtered)
+    if (perspective && fraction > 0.0 && fraction < CONTACT_FADE) {
+        float share = clamp((CONTACT_FADE - fraction) / (CONTACT_FADE - CONTACT_FULL), 0.0, 1.0);
+        fraction *= 1.0 - share * (1.0 - compared_depth(page, uv, receiver - bias));
     }
-    // nearly in umbra: the taps checked against the casters' solid shapes (a perspective
-    // view's; a directional light's penumbra is left as filtered)
-    if (perspective && lit > 0.0 && lit < MARCH_FADE * total) {
-        float share = clamp((MARCH_FADE - lit / total) / (MARCH_FADE - MARCH_FULL), 0.0, 1.0);
-        lit -= share * marched_out(index, page, filters, p, n, uv, receiver, bias, slope, blocker_sum / blocker_count,
-                                   radial, size, along_u, along_v, radius, extent_u, extent_v, facing, shaped,
-                                   square, turn, open_taps);
-    }
-    return lit / total;
+    return fraction;
 }
 
 // A sphere light (or a sun): a disc of radius ``size``.
