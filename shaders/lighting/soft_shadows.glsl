@@ -2,7 +2,9 @@
 // finds the mean depth of what lies between the point and the light, the penumbra's width
 // follows from it by similar triangles, and a comparison filter that wide gives the
 // fraction of the light seen. The penumbra is sharp where a caster meets its receiver and
-// widens with the distance between them. Included only where a shadowed light has a size
+// widens with the distance between them. Near the umbra a perspective view's light fades
+// out where the light's centre is hidden (CONTACT_FULL, CONTACT_FADE), which keeps the umbra
+// beside a box's foot dark. Included only where a shadowed light has a size
 // (SOFT_SHADOWS); the atlas is read twice over: through its comparison sampler
 // (u_shadow_atlas) and as plain depth (u_shadow_depth, the same texture with comparison
 // off), which the blocker search needs.
