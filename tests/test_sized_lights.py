@@ -246,10 +246,12 @@ def test_a_sized_lights_map_is_1024_px_unless_the_scene_sets_it():
 def test_the_umbra_beside_two_boxes_under_a_rect_light_against_the_reference(gl):
     # benchmarks/quality/rect_umbra.py's room at 128x96: a 1 x 1 m rectangle light over a
     # Lambert floor with a short and a tall box. The floor's umbra (every one of the
-    # reference's 64 samples a pixel blocked) gets under 2 % of the lit floor's light
-    # (measured 1.2 %; 1.4 % at 256x192): a bound on what is left, not the goal of none
-    # (docs/limitations.md: the soft shadow's one blocker depth widens the penumbra beside a
-    # box's foot); the shadowed floor within 5 % and the open floor within 2 %.
+    # reference's 64 samples a pixel blocked) gets under 0.6 % of the lit floor's light
+    # (measured 0.42 %; 0.35 % at 256x192): a bound on what is left, not the goal of none
+    # (docs/limitations.md). Without the soft shadow's fade where the light's centre is
+    # hidden (shaders/lighting/soft_shadows.glsl), its one blocker depth widens the
+    # penumbra beside a box's foot and the umbra gets 1.24 %. The shadowed floor within 5 %
+    # and the open floor within 2 %.
     from quality_benchmarks import quality_module
 
     umbra = quality_module("rect_umbra")
@@ -257,6 +259,6 @@ def test_the_umbra_beside_two_boxes_under_a_rect_light_against_the_reference(gl)
     reference = render_reference(scene, 0, spp=SPP)
     found = umbra.floor_errors(reference, render_reference(scene, 0, spp=16), gpu_linear(scene, gl))
     assert found["umbra pixels"] > 100, found
-    assert found["umbra leak %"] < 2.0, found
+    assert found["umbra leak %"] < 0.6, found
     assert abs(found["shadowed floor ratio"] - 1.0) < 0.05, found
     assert abs(found["open floor %"]) < 2.0, found
