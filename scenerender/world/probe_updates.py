@@ -101,8 +101,8 @@ class UpdatePlan:
 class ProbeUpdates:
     """The run's record of what each probe holds (see the module's docstring): made with
     the bake's pass, one for a run; ``plan`` says a frame's work, ``done`` records it once
-    the work has been sent. ``recaptured``: probes drawn so far in the run, ``last``: in the
-    last frame's plan that was done."""
+    the work has been sent. ``recaptured``: how many probes were drawn so far in the run;
+    ``last``: (n,) int64, the probes the last frame that was done drew."""
 
     def __init__(self, grid: ProbeGrid, budget: int, bounces: int):
         self.grid = grid
@@ -111,7 +111,7 @@ class ProbeUpdates:
         self.positions = grid.positions()
         self.radius = TOUCH_CELLS * float(np.linalg.norm(grid.spacing))
         self.recaptured = 0
-        self.last = 0
+        self.last = np.zeros(0, dtype=np.int64)
         self._state: SceneState | None = None
         self._near = np.full(grid.count, NOT_WAITING, dtype=np.int64)  # frame a change near it was seen
         self._far = np.full(grid.count, NOT_WAITING, dtype=np.int64)   # frame a change further away was seen
@@ -147,8 +147,8 @@ class ProbeUpdates:
         self._state, self._near, self._far = record["state"], record["near"], record["far"]
         self._settled = record["settled"]
         self._frame += 1
-        self.last = int(probes.size)
-        self.recaptured += self.last
+        self.last = probes
+        self.recaptured += int(probes.size)
 
     def touched(self, before: SceneState, after: SceneState) -> np.ndarray | None:
         """(count,) bool: the probes a change from ``before`` to ``after`` touches; None where
