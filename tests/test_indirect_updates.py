@@ -65,8 +65,9 @@ def state(ball_at: float, everywhere: bytes = b"lights") -> SceneState:
     return SceneState((ObjectState(np.stack([centre - 0.1, centre + 0.1]), repr(ball_at).encode()),), everywhere)
 
 
-def step(updates: ProbeUpdates, scene: SceneState):
-    plan, record = updates.plan(scene)
+def step(updates: ProbeUpdates, scene: SceneState, index: int | None = None):
+    """Plan the frame after the last (or ``index``) and record it done."""
+    plan, record = updates.plan(scene, updates.frames_done if index is None else index)
     updates.done(record)
     return plan
 
@@ -183,3 +184,13 @@ def test_a_still_scene_renders_the_bytes_of_a_full_bake(gl):
     assert [partial.render(i).pixels.tobytes() for i in range(2)] == [full.render(i).pixels.tobytes() for i in range(2)]
     partial.release()
     full.release()
+
+
+def test_a_frame_out_of_order_bakes_every_probe():
+    """A worker's first frame of a later chunk, or a frame the preview jumps to, has no
+    history: it bakes in full; a sub-frame of the same frame (a shutter's) does not."""
+    updates = ProbeUpdates(GRID, budget=8, bounces=3)
+    step(updates, state(1.0), 0)
+    assert not step(updates, state(1.3), 1).full
+    assert not step(updates, state(1.4), 1).full
+    assert step(updates, state(1.4), 7).full and updates.last.size == GRID.count

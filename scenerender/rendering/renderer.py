@@ -76,6 +76,7 @@ class GLBackend:
         self.images = images
         self.timings = timings  # pass name -> list of seconds, when profiling
         self.inputs: dict = {}  # this frame's input values (rendering.inputs.input_values)
+        self.frame_index = 0     # this frame's index
         self.outputs: dict = {}
         self._last_inputs: dict = {}  # (pass index, input index) -> value it last ran with
 
@@ -240,6 +241,7 @@ class GraphRenderer:
         started = perf_counter()
         frame = self.evaluator.evaluate(index, time, lens_point)
         self.backend.inputs = self.import_frame(frame)
+        self.backend.frame_index = index
         if self.timings is not None:
             self.timings.setdefault(CPU_SETUP, []).append(perf_counter() - started)
         first = not self._rendered_any or not self.cache_static_passes

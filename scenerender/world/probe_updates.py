@@ -12,6 +12,11 @@ comes to rest ends as a full bake would leave it; then each bounce after the fir
 worked out again over every probe, one bounce a frame (a partial update relights only the
 probes it draws, with their neighbours' light as they last held it).
 
+The record is the renderer's: a frame that does not follow the one it rendered last (the
+first a worker renders of a chunk of frames, a frame the preview jumps to) bakes every
+probe, as does the first; so a frame's image depends on the frames since its renderer
+last started over, and with several workers on where the chunks begin.
+
 Lag: a probe waits in a queue served oldest first, where each probe stands at most once,
 so it is drawn at most ceil(count / budget) frames after a change first touched it; a
 scene at rest ends equal to a full bake at most ceil(count / budget) + bounces - 1 frames
@@ -115,29 +120,33 @@ class ProbeUpdates:
         self._state: SceneState | None = None
         self._near = np.full(grid.count, NOT_WAITING, dtype=np.int64)  # frame a change near it was seen
         self._far = np.full(grid.count, NOT_WAITING, dtype=np.int64)   # frame a change further away was seen
-        self._frame = 0
+        self.frames_done = 0  # plans done (the stamp of a change seen now)
+        self._last_index = -1  # the index of the frame last rendered
         self._settled = 0  # the highest bounce worked out over every probe since a probe was last drawn
 
-    def plan(self, state: SceneState) -> tuple[UpdatePlan, dict]:
-        """This frame's work for the scene ``state``, and the record ``done`` keeps."""
-        if self._state is None:
+    def plan(self, state: SceneState, index: int) -> tuple[UpdatePlan, dict]:
+        """The work for frame ``index`` (a sub-frame of the last one, the next one, or any
+        other: a bake from nothing) of the scene ``state``, and the record ``done`` keeps."""
+        if self._state is None or index not in (self._last_index, self._last_index + 1):
             every = np.arange(self.grid.count, dtype=np.int64)
-            return UpdatePlan(every, full=True), self._record(state, self._near, self._far, every, self.bounces)
+            waiting = np.full(self.grid.count, NOT_WAITING, dtype=np.int64)
+            return UpdatePlan(every, full=True), self._record(state, waiting, waiting.copy(), every, self.bounces,
+                                                              index)
         near, far = self._near.copy(), self._far.copy()
         touched = self.touched(self._state, state)
         changed = touched is not None
         if changed:
-            near[touched & (near == NOT_WAITING)] = self._frame
-            far[~touched & (far == NOT_WAITING)] = self._frame
+            near[touched & (near == NOT_WAITING)] = self.frames_done
+            far[~touched & (far == NOT_WAITING)] = self.frames_done
         near_waiting, far_waiting = (near != NOT_WAITING).any(), (far != NOT_WAITING).any()
         # the probes further away only in a frame where nothing changes
         probes = self._oldest(near if near_waiting or changed else far)
         if probes.size:
-            return UpdatePlan(probes), self._record(state, near, far, probes, 1)
+            return UpdatePlan(probes), self._record(state, near, far, probes, 1, index)
         if not (changed or near_waiting or far_waiting) and self._settled < self.bounces:
             bounce = self._settled + 1
-            return UpdatePlan(probes, settle=bounce), self._record(state, near, far, probes, bounce)
-        return UpdatePlan(probes), self._record(state, near, far, probes, self._settled)
+            return UpdatePlan(probes, settle=bounce), self._record(state, near, far, probes, bounce, index)
+        return UpdatePlan(probes), self._record(state, near, far, probes, self._settled, index)
 
     def done(self, record: dict) -> None:
         """Keep what ``plan`` found, its work sent (an interrupted frame plans it again)."""
@@ -145,8 +154,8 @@ class ProbeUpdates:
         record["near"][probes] = NOT_WAITING
         record["far"][probes] = NOT_WAITING
         self._state, self._near, self._far = record["state"], record["near"], record["far"]
-        self._settled = record["settled"]
-        self._frame += 1
+        self._settled, self._last_index = record["settled"], record["index"]
+        self.frames_done += 1
         self.last = probes
         self.recaptured += int(probes.size)
 
@@ -171,8 +180,8 @@ class ProbeUpdates:
         order = np.lexsort((candidates, waiting[candidates]))
         return np.sort(candidates[order[:self.budget]])
 
-    def _record(self, state, near, far, probes, settled) -> dict:
-        return {"state": state, "near": near, "far": far, "probes": probes, "settled": settled}
+    def _record(self, state, near, far, probes, settled, index) -> dict:
+        return {"state": state, "near": near, "far": far, "probes": probes, "settled": settled, "index": index}
 
     def catch_up_frames(self) -> int:
         """The most frames a probe waits after a change touched it: ceil(count / budget)."""

@@ -242,7 +242,7 @@ class IndirectLightPass(RenderPass):
         state = scene_state(objects.frames, objects.definitions, [ctx.input(h) for h in self.inputs.per_light],
                             ctx.input(self.inputs.materials).values, ctx.input(self.inputs.ambient),
                             ctx.input(self.inputs.environment) if self.environment is not None else None)
-        return self.updates.plan(state)
+        return self.updates.plan(state, ctx.frame)
 
     def _bounce(self, ctx, data: IndirectData, bounce: int, plan: UpdatePlan) -> None:
         """Bounce ``bounce``'s coefficients of ``plan``'s probes: from the captures (the
