@@ -218,9 +218,11 @@ class IndirectLightPass(RenderPass):
                 for buffer in buffers:
                     buffer.release()
             self._project(ctx, data.capture, data.depth, DEPTH_FRAGMENT, self._rects(plan, DEPTH_TILES_X, DEPTH_TILE))
-        bounces = [plan.settle] if plan.settle else range(1, self.settings.bounces + 1) if plan.probes.size else []
-        for bounce in bounces:
-            self._bounce(ctx, data, bounce, plan if not plan.settle else self._every_probe())
+        if plan.settle:
+            self._bounce(ctx, data, plan.settle, self._every_probe())
+        elif plan.probes.size:
+            for bounce in range(1, self.settings.bounces + 1):
+                self._bounce(ctx, data, bounce, plan)
         if not plan.idle:
             self._tiles(ctx, data, self.settings.bounces, data.irradiance)
         if record is not None:
