@@ -198,8 +198,11 @@ class IndirectLightPass(RenderPass):
 
     def describe(self) -> str:
         bounces = self.settings.bounces
-        return (f"{self.grid.describe()}, {bounces} bounce{'s' if bounces > 1 else ''}, "
+        text = (f"{self.grid.describe()}, {bounces} bounce{'s' if bounces > 1 else ''}, "
                 f"{self.settings.capture_size}px cube faces")
+        if self.updates is not None:
+            text += f"; at most {self.settings.probe_budget} probes drawn again a frame where the scene moves"
+        return text
 
     def _environment(self):
         """The environment's lookups without the camera's visibility image: a capture looks
