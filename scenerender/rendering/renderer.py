@@ -170,7 +170,9 @@ class GraphRenderer:
         self.check_finite = check_finite_enabled()
         self.want_linear = want_linear
         self.object_ids = object_ids
-        tuning = {"post_depth_coverage": "GL_ARB_post_depth_coverage" in gl.extensions, **(tuning or {})}
+        tuning = {"post_depth_coverage": "GL_ARB_post_depth_coverage" in gl.extensions,
+                  # uncached, every pass does all its work every frame: the probes' bake too
+                  **({} if cache_static_passes else {"indirect_updates": False}), **(tuning or {})}
         # a shutter or a lens: each frame the mean of sub-frames' linear images (world.lens)
         self.film = Film.of_world(world)
         self.plan = plan(world, self.size, self.samples, max_size,
