@@ -39,6 +39,8 @@ class PassContext:
     inputs:  resource index -> this frame's value of every world input.
     outputs: what side-effect passes leave for the renderer (e.g. "pixels").
     written: indices of the images passes drew into earlier this frame.
+    frame:   the index of the frame being rendered (a pass that keeps what earlier frames
+             made, render.indirect's probes, starts over where frames come out of order).
     Only the indices in ``declared`` resolve; anything else raises UndeclaredResource.
     """
 
@@ -49,6 +51,7 @@ class PassContext:
     inputs: dict
     outputs: dict
     written: frozenset = frozenset()
+    frame: int = 0
 
     @property
     def gl(self) -> moderngl.Context:

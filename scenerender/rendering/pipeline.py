@@ -24,6 +24,7 @@ from scenerender.world.environment_visibility import interleave_pattern, visibil
 from scenerender.world.build import scene_bounds
 from scenerender.world.frame import FrameEvaluator
 from scenerender.world.probe_grid import probe_grid
+from scenerender.world.probe_updates import ProbeUpdates
 from scenerender.world.settings import DATA_MODES, AmbientOcclusionSettings
 
 # The passes of features only some scenes have (ambient occlusion, the lens and motion
@@ -50,6 +51,9 @@ class GraphOptions:
     post_depth_coverage: bool = True
     visible_samples: bool | None = None
     shader_srgb_encoding: bool | None = None  # pipeline.shader_encoding_pays
+    # render.indirect where the scene moves: draw only the probes a change touches
+    # (world.probe_updates); False bakes every probe each frame
+    indirect_updates: bool = True
 
 
 def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputHandles]:
@@ -84,7 +88,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     visible = fill == "solid" and (options.visible_samples if options.visible_samples is not None
                                    else visible_samples_pay(world, samples, options.post_depth_coverage))
     environment = _environment_lighting(graph, world, inputs, size)
-    indirect = (_indirect_lighting(graph, world, inputs, atlas, atlas_pages, environment)
+    indirect = (_indirect_lighting(graph, world, inputs, atlas, atlas_pages, environment, options.indirect_updates)
                 if fill == "solid" and settings.indirect is not None else None)
     shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None, visible,
                       environment, indirect)
@@ -234,9 +238,12 @@ def _transmission_source(graph, world, color, size: tuple, samples: int, sky: Sk
     return graph.add(TransmissionSourcePass(color, size, samples, sky)).image
 
 
-def _indirect_lighting(graph, world, inputs: InputHandles, atlas, atlas_pages: tuple, environment):
+def _indirect_lighting(graph, world, inputs: InputHandles, atlas, atlas_pages: tuple, environment,
+                       partial_updates: bool):
     """render.indirect's probe grid over the scene's bounds at t = 0, with the pass that
-    bakes it; None where nothing is drawn lit or nothing is there to bounce off."""
+    bakes it (and, with ``partial_updates``, its record of what each probe holds, so that
+    a frame where the scene moved draws only the probes the change touches); None where
+    nothing is drawn lit or nothing is there to bounce off."""
     if all(m.model(world.settings.shading) == "unlit" for m in world.materials()):
         return None
     bounds = scene_bounds(world.objects, [obj.matrices(0.0) for obj in world.objects],
@@ -247,7 +254,8 @@ def _indirect_lighting(graph, world, inputs: InputHandles, atlas, atlas_pages: t
 
     settings = world.settings.indirect
     grid = probe_grid(bounds, settings.probe_spacing)
-    baked = graph.add(IndirectLightPass(grid, settings, inputs, atlas, atlas_pages, environment))
+    updates = ProbeUpdates(grid, settings.probe_budget, settings.bounces) if partial_updates else None
+    baked = graph.add(IndirectLightPass(grid, settings, inputs, atlas, atlas_pages, environment, updates))
     return IndirectLighting(grid, baked.irradiance, baked.depth)
 
 

@@ -76,6 +76,7 @@ class GLBackend:
         self.images = images
         self.timings = timings  # pass name -> list of seconds, when profiling
         self.inputs: dict = {}  # this frame's input values (rendering.inputs.input_values)
+        self.frame_index = 0     # this frame's index
         self.outputs: dict = {}
         self._last_inputs: dict = {}  # (pass index, input index) -> value it last ran with
 
@@ -169,7 +170,9 @@ class GraphRenderer:
         self.check_finite = check_finite_enabled()
         self.want_linear = want_linear
         self.object_ids = object_ids
-        tuning = {"post_depth_coverage": "GL_ARB_post_depth_coverage" in gl.extensions, **(tuning or {})}
+        tuning = {"post_depth_coverage": "GL_ARB_post_depth_coverage" in gl.extensions,
+                  # uncached, every pass does all its work every frame: the probes' bake too
+                  **({} if cache_static_passes else {"indirect_updates": False}), **(tuning or {})}
         # a shutter or a lens: each frame the mean of sub-frames' linear images (world.lens)
         self.film = Film.of_world(world)
         self.plan = plan(world, self.size, self.samples, max_size,
@@ -240,6 +243,7 @@ class GraphRenderer:
         started = perf_counter()
         frame = self.evaluator.evaluate(index, time, lens_point)
         self.backend.inputs = self.import_frame(frame)
+        self.backend.frame_index = index
         if self.timings is not None:
             self.timings.setdefault(CPU_SETUP, []).append(perf_counter() - started)
         first = not self._rendered_any or not self.cache_static_passes

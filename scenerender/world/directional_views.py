@@ -18,7 +18,11 @@ With render.indirect every directional light that does not move with the camera 
 put over the whole footprint, whatever the sizes: the probes see all of the scene, also
 what the camera does not, and their direct light must be shadowed there too (and the bake
 reads the views: a view that followed the camera would bake again every frame). The map
-keeps the size the comparison gives it within MAX_GROWTH times the light's, or that.
+keeps the size the comparison gives it within MAX_GROWTH times the light's, or that. A
+directional light that moves, or whose casters move, has its view fitted every frame to
+the casters' whole footprint too (whole_footprint), never to the camera's: fitted to the
+camera, the probes saw unshadowed sunlight wherever the camera did not look (the interior
+example with its sun turning: 57 % brighter than with it still, in its first frame).
 """
 from __future__ import annotations
 
@@ -27,7 +31,7 @@ import math
 import numpy as np
 
 from scenerender.world.camera import CameraRig
-from scenerender.world.frame_inputs import camera_fitted_inputs
+from scenerender.world.frame_inputs import camera_fitted_inputs, whole_footprint
 from scenerender.world.shadows import directional_half_width, directional_rotation, visible_region
 from scenerender.world.transforms import union_bounds
 
@@ -47,7 +51,7 @@ MAX_FIXED_SIZE = 8192
 def fixed_view_sizes(world, aspect: float) -> dict:
     """{index in world.lights: map size} of the directional lights whose view stays put
     for the run (see the module's docstring); ``aspect`` is the image's width / height."""
-    whole_scene = world.settings.indirect is not None
+    whole_scene = whole_footprint(world)
     if world.output.frame_count < 2 and not whole_scene:
         return {}  # one frame draws every map once: the camera-fitted view is the finer
     # directional views that change only because the camera moves: not the light, not the

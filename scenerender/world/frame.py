@@ -18,6 +18,7 @@ from scenerender.world.environment_light import EnvironmentState
 from scenerender.world.environment_visibility import EnvironmentViews, environment_views, median_cut, visibility_tiles
 from scenerender.world.light_states import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye, hidden_side
+from scenerender.world.frame_inputs import whole_footprint
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
 from scenerender.world.transforms import normal_matrices, union_bounds
 
@@ -269,7 +270,9 @@ class FrameEvaluator:
                                 if f.visible and obj.cast_shadows and i not in still.rows]
                                + still.visible_bounds(casters_only=True))
         fixed = world.fixed_shadow_sizes
-        follows_camera = any(light.kind == "directional" and i not in fixed for i, light in enumerate(world.lights))
+        whole = whole_footprint(world)
+        follows_camera = any(light.kind == "directional" and i not in fixed and not whole
+                             for i, light in enumerate(world.lights))
         visible = visible_region(camera, bounds) if follows_camera else None
         views = {}
         for index, tiles in sorted(self.atlas.tiles.items()):

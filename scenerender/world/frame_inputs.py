@@ -125,6 +125,13 @@ def camera_fitted_inputs(world) -> WorldInputs:
     return _world_inputs(world, frozenset())
 
 
+def whole_footprint(world) -> bool:
+    """Whether every directional light's view covers its casters' whole footprint in every
+    frame, never only what the camera sees: with render.indirect, whose probes see all of
+    the scene (world.directional_views)."""
+    return world.settings.indirect is not None
+
+
 def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
     """fixed_views: indices in ``world.lights`` of directional lights whose view stays put."""
     spec, render = world.spec, world.render
@@ -142,7 +149,8 @@ def _world_inputs(world, fixed_views: frozenset) -> WorldInputs:
     for index, (light, name) in enumerate(zip(world.lights, _unique_names(world.lights))):
         per_light.append(_input(f"light:{name}", animated_keys(light), (camera,) if light.attach_camera else ()))
         if light.shadow is not None:
-            follows_camera = (light.kind == "directional" and index not in fixed_views) or light.attach_camera
+            follows_camera = ((light.kind == "directional" and index not in fixed_views and not whole_footprint(world))
+                              or light.attach_camera)
             fitted_to = (objects, camera) if follows_camera else (objects,)
             views[index] = _input(f"shadow_views:{name}", animated_keys(light, skip=LIGHT_APPEARANCE_KEYS), fitted_to)
     ambient_keys = [f"{name}.{key}" for light, name in zip(world.ambient, _unique_names(world.ambient))

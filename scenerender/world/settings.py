@@ -56,15 +56,18 @@ class IndirectSettings:
 
     bounces: how many times light bounces; probe_spacing: the probe grid's spacing in
     scene units, None for probe_grid.default_spacing;
-    capture_size: the side in texels of each cube face a probe sees the scene through."""
+    capture_size: the side in texels of each cube face a probe sees the scene through;
+    probe_budget: the most probes drawn again in a frame where the scene moved
+    (world.probe_updates)."""
 
     bounces: int
     probe_spacing: float | None
     capture_size: int
+    probe_budget: int = 32
 
     @classmethod
     def of(cls, spec) -> "IndirectSettings":
-        return cls(spec.bounces, spec.probe_spacing, spec.capture_size)
+        return cls(spec.bounces, spec.probe_spacing, spec.capture_size, spec.probe_budget)
 
 
 @dataclass(frozen=True)

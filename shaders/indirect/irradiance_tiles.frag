@@ -4,7 +4,8 @@
 // as the depth tiles lie: PROBE_DEPTH_SIZE texels a side, PROBE_DEPTH_TILES_X to a row.
 #include "indirect/probes.glsl"
 
-uniform sampler2D u_capture;  // the coefficients: texel (i, probe)
+uniform sampler2D u_capture;  // the coefficients: texel (u_column + i, probe)
+uniform int u_column;
 uniform int u_probes;
 out vec4 frag_color;
 
@@ -21,7 +22,7 @@ void main() {
     sh_basis(octahedral_decode(inside), basis);
     vec3 irradiance = vec3(0.0);
     for (int i = 0; i < 9; ++i) {
-        irradiance += basis[i] * texelFetch(u_capture, ivec2(i, probe), 0).rgb;
+        irradiance += basis[i] * texelFetch(u_capture, ivec2(u_column + i, probe), 0).rgb;
     }
     frag_color = vec4(max(irradiance, 0.0), 1.0);
 }

@@ -2,14 +2,16 @@
 // projected onto Y_lm (a sum over the cube map's texels, each weighted by its solid
 // angle) and convolved with the clamped cosine (Ramamoorthi and Hanrahan 2001: pi,
 // 2 pi / 3, pi / 4 for bands 0, 1, 2), so a lookup sums coefficient x Y_lm(n).
-// Texel (i, b) of the target: coefficient i of probe b.
+// Texel (u_column + i, b) of the target: coefficient i of probe b (each bounce's nine
+// coefficients have their own columns).
 #include "indirect/probes.glsl"
 #include "indirect/capture.glsl"
 
+uniform int u_column;  // the first of this bounce's columns
 out vec4 frag_color;
 
 void main() {
-    int coefficient = int(gl_FragCoord.x);
+    int coefficient = int(gl_FragCoord.x) - u_column;
     int probe = int(gl_FragCoord.y);
     vec3 sum = vec3(0.0);
     float weights = 0.0;

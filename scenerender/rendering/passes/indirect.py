@@ -16,9 +16,13 @@ Each further bounce relights the captured texels with the last bounce's probes
 (shaders/indirect/relight.frag) and projects them again: no scene drawn again, so a bounce
 costs a small fraction of the first. The bake reads the objects, materials, lights, their
 shadow maps and the environment, never the camera: in a scene where those stay still it
-is a static pass, baked once for the whole run. Everything a probe sees is drawn relative
-to the grid's first probe, and its lights are packed relative to it too
-(light_buffers.pack_lights_from).
+is a static pass, baked once for the whole run. Where they move, the pass runs every frame
+and draws again only the probes the change touches, within a budget
+(world.probe_updates): each bounce keeps its own nine coefficients for every probe, so a
+probe drawn again is relit from its neighbours' light as they hold it, and the bounces
+after the first are worked out again over every probe once the scene is at rest.
+Everything a probe sees is drawn relative to the grid's first probe, and its lights are
+packed relative to it too (light_buffers.pack_lights_from).
 """
 from __future__ import annotations
 
@@ -39,6 +43,7 @@ from scenerender.rendering.features import TEXTURE_UNITS
 from scenerender.rendering.graph_inputs import InputHandles, LightsInput
 from scenerender.rendering.light_buffers import pack_lights_from
 from scenerender.world.probe_grid import ProbeGrid
+from scenerender.world.probe_updates import ProbeUpdates, UpdatePlan, scene_state
 from scenerender.world.settings import IndirectSettings
 from scenerender.world.shadows import AtlasLayout
 
@@ -138,9 +143,9 @@ def face_view_projections(eye: np.ndarray, near: float, far: float, depth) -> li
 @dataclass(frozen=True)
 class IndirectData:
     """The probes' images (IndirectLighting's two and ``last_irradiance``, the bounce
-    before, where there are several; ``harmonics``, a bounce's coefficients, texel (i,
-    probe): coefficient i) and the captures: the light each texel gives (``capture``, in
-    later bounces ``relit``), its reflectance and its normal."""
+    before, where there are several; ``harmonics``, every bounce's coefficients, texel
+    (9 (bounce - 1) + i, probe): coefficient i) and the captures: the light each texel
+    gives (``capture``, in later bounces ``relit``), its reflectance and its normal."""
 
     harmonics: Handle
     irradiance: Handle
@@ -157,7 +162,10 @@ class IndirectData:
 class IndirectLightPass(RenderPass):
     """Bakes the probe grid (see the module's docstring). atlas: the run's shadow atlas
     layout, atlas_pages its pages' handles; environment: the environment light's lookups
-    where it shades (rendering.pipeline), whose camera-only visibility image it leaves."""
+    where it shades (rendering.pipeline), whose camera-only visibility image it leaves.
+    updates: the run's record of what each probe holds, which lets a frame where the
+    scene moved draw only the probes it touches; None: every run of the pass bakes every
+    probe (what a full bake each frame costs, benchmarks/indirect_cost.py)."""
 
     grid: ProbeGrid
     settings: IndirectSettings
@@ -165,6 +173,7 @@ class IndirectLightPass(RenderPass):
     atlas: AtlasLayout | None = None
     atlas_pages: tuple = ()
     environment: object = None  # passes.environment.EnvironmentLighting
+    updates: ProbeUpdates | None = None
 
     name = "indirect_light"
 
@@ -176,7 +185,8 @@ class IndirectLightPass(RenderPass):
         capture = capture_size(self.grid, self.settings.capture_size)
         several = self.settings.bounces > 1
         return IndirectData(
-            builder.create("probe_harmonics", ResourceDesc("color", (SH_COEFFICIENTS, self.grid.count), "rgba32f")),
+            builder.create("probe_harmonics", ResourceDesc("color", (SH_COEFFICIENTS * self.settings.bounces,
+                                                                      self.grid.count), "rgba32f")),
             builder.create("probe_irradiance", layout),
             builder.create("probe_depth", ResourceDesc("color", depth_atlas_size(self.grid), "rgba32f")),
             builder.create("probe_irradiance_last", layout) if several else None,
@@ -188,8 +198,11 @@ class IndirectLightPass(RenderPass):
 
     def describe(self) -> str:
         bounces = self.settings.bounces
-        return (f"{self.grid.describe()}, {bounces} bounce{'s' if bounces > 1 else ''}, "
+        text = (f"{self.grid.describe()}, {bounces} bounce{'s' if bounces > 1 else ''}, "
                 f"{self.settings.capture_size}px cube faces")
+        if self.updates is not None:
+            text += f"; at most {self.settings.probe_budget} probes drawn again a frame where the scene moves"
+        return text
 
     def _environment(self):
         """The environment's lookups without the camera's visibility image: a capture looks
@@ -197,34 +210,72 @@ class IndirectLightPass(RenderPass):
         return replace(self.environment, lookups=None)
 
     def execute(self, ctx, data: IndirectData) -> None:
-        gl = ctx.gl
         started = perf_counter()
-        anchor = self.grid.origin  # what everything is drawn relative to
-        buffers = self._bind_lighting(ctx, anchor)
-        try:
-            self._capture(ctx, data)
-        finally:
-            stop_culling(gl)
-            for buffer in buffers:
-                buffer.release()
-        self._project(ctx, data.capture, data.depth, DEPTH_FRAGMENT)
-        last = None
-        for target in self._targets(data):
-            seen = data.capture
-            if last is not None:
-                self._relight(ctx, data, last)
-                seen = data.relit
-            self._project(ctx, seen, data.harmonics, IRRADIANCE_FRAGMENT)
-            self._project(ctx, data.harmonics, target, TILES_FRAGMENT)
-            last = target
-        gl.finish()  # the bake's own time, for the progress line (once a bake)
-        ctx.outputs.setdefault("notes", []).append(
-            f"indirect light baked in {perf_counter() - started:.2f} s ({self.describe()})")
+        plan, record = self._plan(ctx)
+        if plan.probes.size:
+            buffers = self._bind_lighting(ctx, self.grid.origin)  # everything is drawn relative to it
+            try:
+                self._capture(ctx, data, plan)
+            finally:
+                stop_culling(ctx.gl)
+                for buffer in buffers:
+                    buffer.release()
+            self._project(ctx, data.capture, data.depth, DEPTH_FRAGMENT, self._rects(plan, DEPTH_TILES_X, DEPTH_TILE))
+        if plan.settle:
+            self._bounce(ctx, data, plan.settle, self._every_probe())
+        elif plan.probes.size:
+            for bounce in range(1, self.settings.bounces + 1):
+                self._bounce(ctx, data, bounce, plan)
+        if not plan.idle:
+            self._tiles(ctx, data, self.settings.bounces, data.irradiance)
+        if record is not None:
+            self.updates.done(record)
+        if plan.full:
+            ctx.gl.finish()  # the bake's own time, for the progress line (once a bake)
+            ctx.outputs.setdefault("notes", []).append(
+                f"indirect light baked in {perf_counter() - started:.2f} s ({self.describe()})")
 
-    def _targets(self, data: IndirectData) -> list:
-        """The image each bounce writes, alternating so that the last writes the final one."""
-        return [data.irradiance if (self.settings.bounces - 1 - bounce) % 2 == 0 else data.last_irradiance
-                for bounce in range(self.settings.bounces)]
+    def _every_probe(self) -> UpdatePlan:
+        return UpdatePlan(np.arange(self.grid.count, dtype=np.int64), full=True)
+
+    def _plan(self, ctx) -> tuple:
+        """This frame's UpdatePlan and the record to keep once it is done (None without a
+        record of updates: a full bake)."""
+        if self.updates is None:
+            return self._every_probe(), None
+        objects = ctx.input(self.inputs.objects)
+        state = scene_state(objects.frames, objects.definitions, [ctx.input(h) for h in self.inputs.per_light],
+                            ctx.input(self.inputs.materials).values, ctx.input(self.inputs.ambient),
+                            ctx.input(self.inputs.environment) if self.environment is not None else None)
+        return self.updates.plan(state, ctx.frame)
+
+    def _bounce(self, ctx, data: IndirectData, bounce: int, plan: UpdatePlan) -> None:
+        """Bounce ``bounce``'s coefficients of ``plan``'s probes: from the captures (the
+        first) or from them relit with every probe's last bounce as it is held."""
+        seen = data.capture
+        if bounce > 1:
+            self._tiles(ctx, data, bounce - 1, data.last_irradiance)
+            self._relight(ctx, data, data.last_irradiance, self._rects(plan, CAPTURE_COLUMNS, 0))
+            seen = data.relit
+        column = SH_COEFFICIENTS * (bounce - 1)
+        rows = [(column, first, SH_COEFFICIENTS, count) for first, count in _runs(plan.probes, self.grid.count)]
+        self._project(ctx, seen, data.harmonics, IRRADIANCE_FRAGMENT, rows, column)
+
+    def _tiles(self, ctx, data: IndirectData, bounce: int, target: Handle) -> None:
+        """Every probe's irradiance tile of bounce ``bounce`` into ``target``."""
+        self._project(ctx, data.harmonics, target, TILES_FRAGMENT, None, SH_COEFFICIENTS * (bounce - 1))
+
+    def _rects(self, plan: UpdatePlan, per_row: int, tile: int) -> list | None:
+        """The rectangles of ``plan``'s probes in an image of ``per_row`` probes a row, each
+        a ``tile``-texel square (0: six capture faces side by side); None for every probe."""
+        if plan.full:
+            return None
+        width, height = (6 * self.settings.capture_size, self.settings.capture_size) if tile == 0 else (tile, tile)
+        rects = []
+        for first, count in _runs(plan.probes, per_row):
+            row, column = divmod(first, per_row)
+            rects.append((column * width, row * height, count * width, height))
+        return rects
 
     def _bind_lighting(self, ctx, anchor: np.ndarray) -> tuple:
         """Bind the lights packed relative to ``anchor``, their shadow maps and the
@@ -253,8 +304,8 @@ class IndirectLightPass(RenderPass):
 
         return ctx.programs.memo(("indirect_capture", id(material)), make)
 
-    def _capture(self, ctx, data: IndirectData) -> None:
-        """Draw every probe's six faces into the capture images."""
+    def _capture(self, ctx, data: IndirectData, plan: UpdatePlan) -> None:
+        """Draw ``plan``'s probes' six faces into the capture images."""
         gl = ctx.gl
         objects = ctx.input(self.inputs.objects)
         drawn = [i for i, frame in enumerate(objects.frames) if frame.visible and frame.count]
@@ -268,11 +319,13 @@ class IndirectLightPass(RenderPass):
         fbo = ctx.framebuffer([data.capture, data.reflectance, data.normal], data.capture_depth)
         fbo.use()
         fbo.viewport = (0, 0, *ctx.image(data.capture).size)
-        fbo.clear(0.0, 0.0, 0.0, reach, depth=ctx.depth.clear_value)  # a miss: no light, no reflectance
+        for rect in self._rects(plan, CAPTURE_COLUMNS, 0) or [None]:  # a miss: no light, no reflectance
+            fbo.clear(0.0, 0.0, 0.0, reach, depth=ctx.depth.clear_value, viewport=rect)
         gl.enable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.BLEND | moderngl.CULL_FACE)  # both sides of every surface, as the camera's two-sided shading
         gl.depth_func = ctx.depth.nearer
-        positions = self.grid.positions() - self.grid.origin
+        probes = [int(p) for p in plan.probes]
+        positions = self.grid.positions()[probes] - self.grid.origin
         near = 1e-3 * float(np.linalg.norm(self.grid.spacing))
         far = 2.0 * float(np.linalg.norm(self.grid.spacing * np.array(self.grid.counts))) + reach
         views = [face_view_projections(eye, near, far, ctx.depth) for eye in positions]
@@ -285,7 +338,7 @@ class IndirectLightPass(RenderPass):
             bind_material(program, material, materials)
             view_proj = program["u_view_proj"]
             eye = program.get("u_capture_eye", None)
-            for probe, (position, faces) in enumerate(zip(positions, views)):
+            for probe, position, faces in zip(probes, positions, views):
                 column, row = probe % CAPTURE_COLUMNS, probe // CAPTURE_COLUMNS
                 if eye is not None:
                     eye.value = tuple(float(v) for v in position)
@@ -294,9 +347,9 @@ class IndirectLightPass(RenderPass):
                     view_proj.write(matrix)
                     ctx.draw_placed(program, objects, index, group)
 
-    def _relight(self, ctx, data: IndirectData, last: Handle) -> None:
+    def _relight(self, ctx, data: IndirectData, last: Handle, rects: list | None) -> None:
         """The captures' light after one bounce more, from the ``last`` bounce's probes,
-        into ``relit``."""
+        into ``relit``: within ``rects`` (x, y, width, height), or all of it (None)."""
         begin_fullscreen_pass(ctx, data.relit)
         program = ctx.programs.get(FULLSCREEN_VERTEX, RELIGHT_FRAGMENT,
                                    {**self._capture_defines(), **probe_defines(self.grid)})
@@ -306,18 +359,48 @@ class IndirectLightPass(RenderPass):
         ctx.image(data.reflectance).use(TEXTURE_UNITS["u_capture_reflectance"])
         ctx.image(data.normal).use(TEXTURE_UNITS["u_capture_normal"])
         set_uniforms(program, **probe_uniforms(self.grid, self.grid.origin))
-        ctx.fullscreen(program)
+        _draw_within(ctx, program, rects)
 
     def _capture_defines(self) -> dict:
         return {"CAPTURE_SIZE": self.settings.capture_size, "CAPTURE_COLUMNS": CAPTURE_COLUMNS,
                 "PROBE_DEPTH_SIZE": DEPTH_TILE, "PROBE_DEPTH_TILES_X": DEPTH_TILES_X}
 
-    def _project(self, ctx, capture: Handle, target: Handle, fragment: str) -> None:
-        """Reduce the captures (``capture``) to every probe's row (coefficients) or tile
-        (depth), or the coefficients to every probe's irradiance tile, in ``target``."""
+    def _project(self, ctx, capture: Handle, target: Handle, fragment: str, rects: list | None,
+                 column: int = 0) -> None:
+        """Reduce the captures (``capture``) to the probes' rows of coefficients or tiles of
+        depth, or the coefficients to the irradiance tiles, in ``target``: within ``rects``
+        (x, y, width, height; None: all of it); ``column``: the first of a bounce's
+        coefficients."""
         begin_fullscreen_pass(ctx, target)
         program = ctx.programs.get(FULLSCREEN_VERTEX, fragment, self._capture_defines())
         bind_texture_units(program)
         ctx.image(capture).use(TEXTURE_UNITS["u_capture"])
-        set_uniforms(program, u_probes=self.grid.count)
+        set_uniforms(program, u_probes=self.grid.count, u_column=column)
+        _draw_within(ctx, program, rects)
+
+
+def _runs(probes: np.ndarray, per_row: int) -> list:
+    """(first, count) of each run of consecutive ``probes`` (ascending indices) that lie in
+    one row of ``per_row``."""
+    runs = []
+    for probe in (int(p) for p in probes):
+        if runs and runs[-1][0] + runs[-1][1] == probe and probe % per_row != 0:
+            runs[-1][1] += 1
+        else:
+            runs.append([probe, 1])
+    return [tuple(run) for run in runs]
+
+
+def _draw_within(ctx, program, rects: list | None) -> None:
+    """A full-screen draw of ``program`` under the scissor of each of ``rects``, or one
+    over the whole target (None). A scissor drops fragments only: those drawn come out the
+    bytes one full draw gives them."""
+    if rects is None:
         ctx.fullscreen(program)
+        return
+    try:
+        for rect in rects:
+            ctx.gl.scissor = rect
+            ctx.fullscreen(program)
+    finally:
+        ctx.gl.scissor = None

@@ -64,6 +64,7 @@ class IndirectLight(StrictModel):
     bounces: number(1, 32, integer=True) = 8
     probe_spacing: number(0, lo_open=True) | None = None
     capture_size: number(4, 64, integer=True) = 16
+    probe_budget: number(1, 4096, integer=True) = 32
 
 
 class Bloom(StrictModel):
