@@ -173,7 +173,8 @@ def pbr_direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.nd
     term = ((1.0 - diffuse_fresnel) * diffuse_weight * base + fresnel * specular[:, None]) * n_dot_l[:, None]
     if layers is not None:
         term = _sheen_over(term, layers, n_dot_v, np.clip(n_dot_l, 0.0, 1.0), n_dot_h)
-        coat = layers["clearcoat"] * coat_fresnel(v_dot_h)
+        # KHR_materials_clearcoat takes the coat's Fresnel at N.V, not V.H (its Layering section)
+        coat = layers["clearcoat"] * coat_fresnel(n_dot_v)
         coat_alpha = pbr_alpha(layers["clearcoat_roughness"])
         coat_lobe = np.pi * ggx_distribution(n_dot_h, coat_alpha) * smith_visibility(
             n_dot_v, np.clip(n_dot_l, 0.0, 1.0), coat_alpha)

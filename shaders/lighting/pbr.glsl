@@ -25,7 +25,8 @@
 //   (lighting/iridescence.glsl), taken at N.V once a pixel: specular F mixed towards F_i,
 //   the diffuse part's towards max(F_i), by the iridescence.
 // - PBR_CLEARCOAT (KHR_materials_clearcoat): a GGX layer of F0 0.04 (ior 1.5) and its own
-//   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - V.H)^5.
+//   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - N.V)^5,
+//   at N.V rather than V.H as the extension writes it (its Layering section), so once a pixel.
 // - PBR_TRANSMISSION (KHR_materials_transmission): the diffuse part times 1 - transmission;
 //   what passes through instead is lighting/transmission.glsl's.
 
@@ -66,7 +67,7 @@ struct PbrView {
 #ifdef PBR_CLEARCOAT
     float coat_alpha2;
     float coat_view_term;
-    float clearcoat;
+    float coat;  // c Fc(N.V): the share of every light the coat takes
 #endif
 #ifdef PBR_SHEEN
     float sheen_alpha;
@@ -131,7 +132,7 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     float coat_alpha = max(s.clearcoat_roughness * s.clearcoat_roughness, PBR_MIN_ALPHA);
     p.coat_alpha2 = coat_alpha * coat_alpha;
     p.coat_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
-    p.clearcoat = s.clearcoat;
+    p.coat = coat_fresnel(s.clearcoat, p.n_dot_v);
 #endif
 #ifdef PBR_SHEEN
     p.sheen_color = s.sheen_color;
@@ -201,9 +202,8 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
     layered = layered * through + p.sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
 #endif
 #ifdef PBR_CLEARCOAT
-    float coat = coat_fresnel(p.clearcoat, v_dot_h);
     float coat_specular = coat_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
-    layered = layered * (1.0 - coat) + coat * coat_specular;
+    layered = layered * (1.0 - p.coat) + p.coat * coat_specular;
 #endif
     return layered * n_dot_l;
 #else
