@@ -280,6 +280,31 @@ def _sheen_over(term: np.ndarray, layers: dict, n_dot_v: np.ndarray, n_dot_l: np
     return term * scaling[:, None] + color * (lobe * n_dot_l)[:, None]
 
 
+def pbr_through_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.ndarray, base: np.ndarray,
+                     metallic: np.ndarray, roughness: np.ndarray, transmission: np.ndarray, ior: np.ndarray,
+                     f0: np.ndarray, f90: np.ndarray) -> np.ndarray:
+    """(P, 3) what a light in direction ``l`` behind a transmissive surface (N.L < 0) gives
+    through it towards ``v``, radiance * pi f_t |N.L| (zero where N.L >= 0):
+    KHR_materials_transmission's BTDF, the specular lobe with l mirrored through the
+    surface's plane, l_m = l - 2 (N.L) N, tinted: (1 - metallic) transmission base
+    (1 - F(V.H_t)) pi D V N.L_m, h_t the half vector of l_m and v, at alpha_t = alpha
+    clamp(2 ior - 2, 0, 1) (shaders/lighting/pbr.glsl, pbr_through). The base layer's alone.
+
+    n, l, v: (P, 3) unit; radiance, base, f0 (the dielectric's F0): (P, 3); metallic,
+    roughness, transmission, ior, f90: (P,)."""
+    n_dot_l = -_dot(n, l)
+    mirrored = l + 2.0 * n_dot_l[:, None] * n
+    h = safe_normalize(mirrored + v, n)
+    alpha = np.maximum(pbr_alpha(roughness) * np.clip(2.0 * ior - 2.0, 0.0, 1.0), PBR_MIN_ALPHA)
+    n_dot_v = np.clip(_dot(n, v), 0.0, 1.0)
+    lit = np.clip(n_dot_l, 0.0, 1.0)
+    lobe = np.pi * ggx_distribution(np.clip(_dot(n, h), 0.0, 1.0), alpha) * smith_visibility(n_dot_v, lit, alpha)
+    fresnel = f0 + (f90[:, None] - f0) * ((1.0 - np.clip(_dot(v, h), 0.0, 1.0)) ** 5)[:, None]
+    tint = base * ((1.0 - metallic) * transmission)[:, None]
+    term = radiance * tint * (1.0 - fresnel) * (lobe * lit)[:, None]
+    return np.where((n_dot_l > 0.0)[:, None], term, 0.0)
+
+
 def _kept(layers: dict) -> np.ndarray:
     """(P, 1) the share of the diffuse part that stays diffuse: 1 - transmission
     (KHR_materials_transmission; what passes through is raytrace/transmission.py's)."""
