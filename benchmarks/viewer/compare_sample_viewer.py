@@ -59,14 +59,11 @@ SMALL_FILTERING = {"this.textureSize = 256;": "this.textureSize = 64;",
                    "this.lambertianSampleCount = 2048;": "this.lambertianSampleCount = 16;",
                    "this.sheenSamplCount = 64;": "this.sheenSamplCount = 16;",
                    "this.lutResolution = 1024;": "this.lutResolution = 64;"}
-# The renderer as the npm package ships it, and two diagnostic variants, each one change
+# The renderer as the npm package ships it, and two diagnostic variants, each a line or two
 # away from it, that show where a model's difference comes from (rows NAME:VARIANT):
 # - sheen_table: 1.1.0 marks its sheen albedo table "initialized" before anything is
 #   uploaded, so the shader samples an empty texture (0) and the sheen takes nothing from
 #   the layer under it; uploaded, the table (sheen_lut) scales the base as the extension says.
-# - spot_smoothstep: the spot's cone as smoothstep of the linear ramp between the cones'
-#   cosines (scenerender's) where the viewer squares the ramp (KHR_lights_punctual's
-#   implementation note).
 # - through_cosine: the viewer's punctual light through a transmissive surface (its BTDF
 #   lobe, the light mirrored through the surface) as scenerender takes it, in two changes:
 #   times the cosine N.L_m of the mirrored direction (the shipped lobe has none, so a light
@@ -77,15 +74,12 @@ SMALL_FILTERING = {"this.textureSize = 256;": "this.textureSize = 64;",
 VARIANTS = {
     "shipped": {},
     "sheen_table": {"sheenELut.initialized = true;": "sheenELut.initialized = false;"},
-    "spot_smoothstep": {"return angularAttenuation*angularAttenuation;":
-                        "return smoothstep(0.0,1.0,angularAttenuation);"},
     "through_cosine": {"return(1.0-F)*baseColor*D*Vis;}": "return(1.0-F)*baseColor*D*Vis*clampedDot(n,l_mirror);}",
                        "l_diffuse=mix(l_diffuse,transmittedLight,materialInfo.transmissionFactor);":
                        "l_diffuse=mix(l_diffuse,transmittedLight/max(vec3(1.0)-dielectric_fresnel,vec3(1e-4)),"
                        "materialInfo.transmissionFactor);"},
 }
-DIAGNOSTICS = (("sheen", "sheen_table"), ("spot", "spot_smoothstep"), ("transmission", "through_cosine"),
-               ("volume", "through_cosine"))
+DIAGNOSTICS = (("sheen", "sheen_table"), ("transmission", "through_cosine"), ("volume", "through_cosine"))
 CHROMIUM_ARGUMENTS = ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--use-angle=swiftshader",
                       "--enable-unsafe-swiftshader", "--window-size=1200,800")
 
@@ -253,7 +247,6 @@ def write_page_table(table: str, about: dict, mode: str) -> None:
 
 
 VARIANT_NOTES = {"sheen_table": "the viewer with its sheen albedo table uploaded",
-                 "spot_smoothstep": "the viewer with scenerender's smoothstep cone",
                  "through_cosine": "the viewer's light through a transmissive surface with N.L and one Fresnel, as scenerender's"}
 
 

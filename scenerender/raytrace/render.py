@@ -776,7 +776,8 @@ class _FrameScene:
         radiance = light.color[None, :] * (falloff * shading.range_window(light.definition.range, distance))[:, None]
         cone = np.ones(len(p))
         if light.kind == "spot":
-            cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1))
+            cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1),
+                                     light.definition.cone_falloff)
             radiance = radiance * cone[:, None]
         if size > 0.0:
             l, weight, reach = sized_lights.sphere_directions(to_light, size, rng)

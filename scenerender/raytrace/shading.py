@@ -41,13 +41,17 @@ def range_window(light_range: float | None, distance: np.ndarray) -> np.ndarray:
     return np.clip(1.0 - (distance / light_range) ** 4, 0.0, 1.0)
 
 
-def spot_cone(cos_inner: float, cos_outer: float, cos_angle: np.ndarray) -> np.ndarray:
-    """(P,) cone factor: 1 inside the inner cone, 0 outside the outer, smoothstep between;
-    ``cos_inner == cos_outer`` is a hard edge (a point exactly on it is lit)."""
+def spot_cone(cos_inner: float, cos_outer: float, cos_angle: np.ndarray, falloff: str = "smooth") -> np.ndarray:
+    """(P,) cone factor: 1 inside the inner cone, 0 outside the outer, between them of the
+    linear ramp t from cos_outer to cos_inner its smoothstep (``falloff`` "smooth") or its
+    square ("gltf", KHR_lights_punctual's implementation note); ``cos_inner == cos_outer``
+    is a hard edge (a point exactly on it is lit)."""
     width = cos_inner - cos_outer
     if width <= 0.0:
         return (cos_angle >= cos_outer).astype(np.float64)
     x = np.clip((cos_angle - cos_outer) / width, 0.0, 1.0)
+    if falloff == "gltf":
+        return x * x
     return x * x * (3.0 - 2.0 * x)
 
 
