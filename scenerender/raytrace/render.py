@@ -41,7 +41,8 @@ bounces. docs/scene-notes.md ("Light that bounces, in the reference") has the de
 
 Transmissive pbr materials (``transmission``) are not transparency: from each visible point
 of one a path goes through the rough glass and its volume (scenerender.raytrace.transmission)
-to the surface behind, shaded as a visible point is (_FrameScene._through).
+to the surface behind, shaded as a visible point is (_FrameScene._through); a light behind
+one shines through it by next-event estimation through its BTDF (_FrameScene._light_through).
 """
 from __future__ import annotations
 
