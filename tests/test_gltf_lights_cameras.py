@@ -104,7 +104,7 @@ def test_a_point_light_in_candela_lights_as_the_sample_viewer_does(gl, tmp_path,
 YAML_LIGHTS = {
     "point": "[{type: point, position: [0.5, 0.3, 1.2], intensity: %r, attenuation: [0, 0, 1]}]" % (5 / math.pi),
     "spot": "[{type: spot, position: [0.2, 0, 1.5], direction: [0, -0.5, -0.866025], intensity: %r, "
-            "attenuation: [0, 0, 1], inner_angle: %r, outer_angle: %r}]" % (9 / math.pi, math.degrees(0.2),
+            "attenuation: [0, 0, 1], inner_angle: %r, outer_angle: %r, cone_falloff: gltf}]" % (9 / math.pi, math.degrees(0.2),
                                                                            math.degrees(0.35)),
     "directional": "[{type: directional, direction: [0, -0.5, -0.866025], intensity: %r}]" % (2 / math.pi),
     "point_range": "[{type: point, position: [0.5, 0.3, 1.2], intensity: %r, attenuation: [0, 0, 1], range: 1.8}]"
@@ -177,6 +177,44 @@ def test_a_lights_range_ends_it_with_the_specifications_window(gl, tmp_path):
     reference = render_reference(loaded, 0, spp=1).linear
     assert reference[distance.reshape(32, 32) > light_range + 0.045].max() == 0.0
     assert abs(reference.mean() / linear.mean() - 1.0) < 0.005
+
+
+def test_a_files_spot_falls_off_as_the_square_of_the_ramp_between_its_cones(gl, tmp_path):
+    # KHR_lights_punctual's implementation note: between cos(outer) and cos(inner) the cone
+    # is t^2 of the linear ramp t (the Sample Viewer's); a scene's spot keeps smoothstep,
+    # 3 t^2 - 2 t^3, unless it sets cone_falloff: gltf. Straight above the quad, inner 0.3
+    # and outer 0.7 radians: the penumbra is the ring 0.31 to 0.84 from the centre
+    intensity, height, inner, outer = 4.0, 1.0, 0.3, 0.7
+    _lit_quad(tmp_path / "model.glb", {"type": "spot", "intensity": intensity,
+                                       "spot": {"innerConeAngle": inner, "outerConeAngle": outer}},
+              {"translation": [0, 0, height]})
+    loaded = scene(FACING_QUAD.format(lights="[]", bring="true"), base_dir=tmp_path)
+    assert loaded.world.lights[0].cone_falloff == "gltf"
+    with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
+        linear = renderer.render(0).linear[..., :3].reshape(-1, 3)
+    rows, cols = np.mgrid[0:32, 0:32]
+    points = _quad_points(rows, cols)
+    light = np.array([0.0, 0.0, height])
+    cos_angle = (light - points)[:, 2] / np.linalg.norm(light - points, axis=1)
+    t = np.clip((cos_angle - math.cos(outer)) / (math.cos(inner) - math.cos(outer)), 0.0, 1.0)
+    unconed = _viewer_point_light(points, light, intensity, 1.0)
+    penumbra = (t > 0.1) & (t < 0.9)
+    assert penumbra.sum() > 100
+    assert np.abs(linear[penumbra] / (unconed[penumbra] * (t * t)[penumbra, None]) - 1.0).max() < 0.01
+    # smoothstep would be 1.2 to 2.8 times as bright there: the check tells them apart
+    assert np.all(3.0 - 2.0 * t[penumbra] > 1.19)
+    # the reference takes the same cone: its mean within 0.5 % of the GPU's
+    reference = render_reference(loaded, 0, spp=1).linear
+    assert abs(reference.mean() / linear.mean() - 1.0) < 0.005
+    # the same spot in the scene format keeps smoothstep, and takes t^2 by the key
+    yaml_spot = ("[{type: spot, position: [0, 0, %r], direction: [0, 0, -1], intensity: %r, attenuation: [0, 0, 1], "
+                 "inner_angle: %r, outer_angle: %r%s}]")
+    for falloff, expected in (("", t * t * (3.0 - 2.0 * t)), (", cone_falloff: gltf", t * t)):
+        text = FACING_QUAD.format(lights=yaml_spot % (height, intensity / math.pi, math.degrees(inner),
+                                                      math.degrees(outer), falloff), bring="false")
+        with scenerender.Renderer(scene(text, base_dir=tmp_path), gl=gl, want_linear=True) as renderer:
+            got = renderer.render(0).linear[..., :3].reshape(-1, 3)
+        assert np.abs(got[penumbra] / (unconed[penumbra] * expected[penumbra, None]) - 1.0).max() < 0.01, falloff
 
 
 def test_a_range_past_everything_lit_renders_the_bytes_of_no_range(gl, tmp_path):

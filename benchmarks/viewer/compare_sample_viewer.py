@@ -59,32 +59,27 @@ SMALL_FILTERING = {"this.textureSize = 256;": "this.textureSize = 64;",
                    "this.lambertianSampleCount = 2048;": "this.lambertianSampleCount = 16;",
                    "this.sheenSamplCount = 64;": "this.sheenSamplCount = 16;",
                    "this.lutResolution = 1024;": "this.lutResolution = 64;"}
-# The renderer as the npm package ships it, and two diagnostic variants, each one change
+# The renderer as the npm package ships it, and two diagnostic variants, each a line or two
 # away from it, that show where a model's difference comes from (rows NAME:VARIANT):
 # - sheen_table: 1.1.0 marks its sheen albedo table "initialized" before anything is
 #   uploaded, so the shader samples an empty texture (0) and the sheen takes nothing from
 #   the layer under it; uploaded, the table (sheen_lut) scales the base as the extension says.
-# - coat_vdoth: the coat's Fresnel per light at V.H (scenerender's choice) where the
-#   extension and the viewer take it once at N.V.
-# - spot_smoothstep: the spot's cone as smoothstep of the linear ramp between the cones'
-#   cosines (scenerender's) where the viewer squares the ramp (KHR_lights_punctual's
-#   implementation note).
-# - no_light_through: without the viewer's punctual light through a transmissive surface
-#   (its BTDF lobe for each light, mirrored through the surface), which scenerender does
-#   not draw: only the refracted copy of the opaque scene passes.
+# - through_cosine: the viewer's punctual light through a transmissive surface (its BTDF
+#   lobe, the light mirrored through the surface) as scenerender takes it, in two changes:
+#   times the cosine N.L_m of the mirrored direction (the shipped lobe has none, so a light
+#   in front of the surface, mirrored below it, N.L_m clamped to 0 where its V stays
+#   0.5 / (N.V alpha), shines through too), and its Fresnel once (the shipped one weighs it
+#   by 1 - F at the mirrored half vector and again, in its Fresnel mix with the
+#   reflection, by 1 - F at the unmirrored one; divided out here).
 VARIANTS = {
     "shipped": {},
     "sheen_table": {"sheenELut.initialized = true;": "sheenELut.initialized = false;"},
-    "coat_vdoth": {"l_color=mix(l_color,l_clearcoat_brdf,clearcoatFactor*clearcoatFresnel);":
-                   "l_color=mix(l_color,l_clearcoat_brdf,clearcoatFactor*"
-                   "F_Schlick(materialInfo.clearcoatF0,materialInfo.clearcoatF90,VdotH));"},
-    "spot_smoothstep": {"return angularAttenuation*angularAttenuation;":
-                        "return smoothstep(0.0,1.0,angularAttenuation);"},
-    "no_light_through": {"l_diffuse=mix(l_diffuse,transmittedLight,materialInfo.transmissionFactor);":
-                         "l_diffuse=mix(l_diffuse,vec3(0.0),materialInfo.transmissionFactor);"},
+    "through_cosine": {"return(1.0-F)*baseColor*D*Vis;}": "return(1.0-F)*baseColor*D*Vis*clampedDot(n,l_mirror);}",
+                       "l_diffuse=mix(l_diffuse,transmittedLight,materialInfo.transmissionFactor);":
+                       "l_diffuse=mix(l_diffuse,transmittedLight/max(vec3(1.0)-dielectric_fresnel,vec3(1e-4)),"
+                       "materialInfo.transmissionFactor);"},
 }
-DIAGNOSTICS = (("sheen", "sheen_table"), ("clearcoat", "coat_vdoth"), ("spot", "spot_smoothstep"),
-               ("transmission", "no_light_through"), ("volume", "no_light_through"))
+DIAGNOSTICS = (("sheen", "sheen_table"), ("transmission", "through_cosine"), ("volume", "through_cosine"))
 CHROMIUM_ARGUMENTS = ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--use-angle=swiftshader",
                       "--enable-unsafe-swiftshader", "--window-size=1200,800")
 
@@ -252,9 +247,7 @@ def write_page_table(table: str, about: dict, mode: str) -> None:
 
 
 VARIANT_NOTES = {"sheen_table": "the viewer with its sheen albedo table uploaded",
-                 "coat_vdoth": "the viewer with the coat's Fresnel per light at V.H",
-                 "spot_smoothstep": "the viewer with scenerender's smoothstep cone",
-                 "no_light_through": "the viewer without lights shining through a transmissive surface"}
+                 "through_cosine": "the viewer's light through a transmissive surface with N.L and one Fresnel, as scenerender's"}
 
 
 def chosen_models(names) -> list:

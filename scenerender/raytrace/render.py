@@ -41,7 +41,8 @@ bounces. docs/scene-notes.md ("Light that bounces, in the reference") has the de
 
 Transmissive pbr materials (``transmission``) are not transparency: from each visible point
 of one a path goes through the rough glass and its volume (scenerender.raytrace.transmission)
-to the surface behind, shaded as a visible point is (_FrameScene._through).
+to the surface behind, shaded as a visible point is (_FrameScene._through); a light behind
+one shines through it by next-event estimation through its BTDF (_FrameScene._light_through).
 """
 from __future__ import annotations
 
@@ -441,6 +442,7 @@ class _FrameScene:
             if light.kind == "spot":
                 cone[:, self.spots.index(light_index)] = in_cone
             term = self._direct(n, l, view, radiance, surface, model)
+            color += self._light_through(hit, p, light, l, radiance, reach, light_index in self.shadowed)
             if light_index in self.shadowed:
                 blocked = self._blocked(light, p, l, facing, n, reach)
                 shadow[:, self.shadowed.index(light_index)] = blocked
@@ -451,6 +453,47 @@ class _FrameScene:
         color = np.where(unlit[:, None], base + ke, color)
         taken = np.where(unlit[:, None], 0.0, taken)
         return color, shadow, cone, taken
+
+    def _light_through(self, hit: "_Hit", p: np.ndarray, light, l: np.ndarray, radiance: np.ndarray,
+                       reach: np.ndarray | None, shadowed: bool) -> np.ndarray:
+        """(P, 3) what ``light`` (direction ``l`` (P, 3), ``radiance`` (P, 3) and ``reach``
+        from _light_at) gives through the transmissive pbr surfaces among ``hit`` that it lies
+        behind: next-event estimation through the BTDF (shading.pbr_through_term). Its shadow
+        ray leaves from the surface's far side, so the surface itself never blocks it and
+        every other caster does. A volume takes the GPU's approximation
+        (shaders/lighting/transmission.glsl, light_through), since no path through it can
+        meet a point light: the light's direction from where the view's refracted ray leaves
+        it, thickness away, attenuated over the thickness."""
+        out = np.zeros_like(p)
+        surface = hit.surface
+        rows = np.flatnonzero((hit.model == MODELS.index("pbr")) & (surface["transmission"] > 0.0)
+                              & (np.sum(hit.n * l, axis=1) < 0.0))
+        if not len(rows):
+            return out
+        n, view, at = hit.n[rows], hit.view[rows], {key: value[rows] for key, value in surface.items()}
+        direction = l[rows]
+        thickness = at["thickness"]
+        volume = thickness > 0.0
+        if volume.any() and light.kind != "directional":
+            if reach is None:
+                to_light = (light.position - self.frame.camera.position)[None, :] - p[rows]
+            else:
+                to_light = direction * reach[rows][:, None]
+            eta = 1.0 / at["ior"]
+            cos_i = np.sum(n * view, axis=1)
+            cos_t2 = 1.0 - eta * eta * (1.0 - cos_i * cos_i)
+            refracted = (-eta[:, None] * view + (eta * cos_i - np.sqrt(np.maximum(cos_t2, 0.0)))[:, None] * n)
+            refracted = np.where((cos_t2 < 0.0)[:, None], 0.0, refracted)  # GLSL's refract: 0 past the critical angle
+            ray = shading.safe_normalize(refracted, -view) * thickness[:, None]
+            direction = np.where(volume[:, None], shading.safe_normalize(to_light - ray, -n), direction)
+        term = shading.pbr_through_term(n, direction, view, radiance[rows], at["diffuse"], at["metallic"],
+                                        at["roughness"], at["transmission"], at["ior"], at["f0"], at["f90"])
+        term = term * np.exp(-at["extinction"] * np.where(volume, thickness, 0.0)[:, None])
+        if shadowed:
+            blocked = self._blocked(light, p[rows], l[rows], -hit.facing[rows], -n, None if reach is None else reach[rows])
+            term = term * (~blocked)[:, None]
+        out[rows] = term
+        return out
 
     def _indirect(self, hit: "_Hit", p: np.ndarray) -> np.ndarray:
         """(P, 3) the light leaving points ``p`` (P, 3) of surface ``hit`` towards the eye
@@ -734,7 +777,8 @@ class _FrameScene:
         radiance = light.color[None, :] * (falloff * shading.range_window(light.definition.range, distance))[:, None]
         cone = np.ones(len(p))
         if light.kind == "spot":
-            cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1))
+            cone = shading.spot_cone(light.cos_inner, light.cos_outer, np.sum(-l * light.direction, axis=1),
+                                     light.definition.cone_falloff)
             radiance = radiance * cone[:, None]
         if size > 0.0:
             l, weight, reach = sized_lights.sphere_directions(to_light, size, rng)

@@ -41,13 +41,17 @@ def range_window(light_range: float | None, distance: np.ndarray) -> np.ndarray:
     return np.clip(1.0 - (distance / light_range) ** 4, 0.0, 1.0)
 
 
-def spot_cone(cos_inner: float, cos_outer: float, cos_angle: np.ndarray) -> np.ndarray:
-    """(P,) cone factor: 1 inside the inner cone, 0 outside the outer, smoothstep between;
-    ``cos_inner == cos_outer`` is a hard edge (a point exactly on it is lit)."""
+def spot_cone(cos_inner: float, cos_outer: float, cos_angle: np.ndarray, falloff: str = "smooth") -> np.ndarray:
+    """(P,) cone factor: 1 inside the inner cone, 0 outside the outer, between them of the
+    linear ramp t from cos_outer to cos_inner its smoothstep (``falloff`` "smooth") or its
+    square ("gltf", KHR_lights_punctual's implementation note); ``cos_inner == cos_outer``
+    is a hard edge (a point exactly on it is lit)."""
     width = cos_inner - cos_outer
     if width <= 0.0:
         return (cos_angle >= cos_outer).astype(np.float64)
     x = np.clip((cos_angle - cos_outer) / width, 0.0, 1.0)
+    if falloff == "gltf":
+        return x * x
     return x * x * (3.0 - 2.0 * x)
 
 
@@ -173,7 +177,8 @@ def pbr_direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.nd
     term = ((1.0 - diffuse_fresnel) * diffuse_weight * base + fresnel * specular[:, None]) * n_dot_l[:, None]
     if layers is not None:
         term = _sheen_over(term, layers, n_dot_v, np.clip(n_dot_l, 0.0, 1.0), n_dot_h)
-        coat = layers["clearcoat"] * coat_fresnel(v_dot_h)
+        # KHR_materials_clearcoat takes the coat's Fresnel at N.V, not V.H (its Layering section)
+        coat = layers["clearcoat"] * coat_fresnel(n_dot_v)
         coat_alpha = pbr_alpha(layers["clearcoat_roughness"])
         coat_lobe = np.pi * ggx_distribution(n_dot_h, coat_alpha) * smith_visibility(
             n_dot_v, np.clip(n_dot_l, 0.0, 1.0), coat_alpha)
@@ -277,6 +282,31 @@ def _sheen_over(term: np.ndarray, layers: dict, n_dot_v: np.ndarray, n_dot_l: np
     alpha = sheen_fit.sheen_alpha(roughness)
     lobe = np.pi * sheen_fit.charlie_distribution(n_dot_h, alpha) * sheen_fit.sheen_visibility(n_dot_v, n_dot_l, alpha)
     return term * scaling[:, None] + color * (lobe * n_dot_l)[:, None]
+
+
+def pbr_through_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.ndarray, base: np.ndarray,
+                     metallic: np.ndarray, roughness: np.ndarray, transmission: np.ndarray, ior: np.ndarray,
+                     f0: np.ndarray, f90: np.ndarray) -> np.ndarray:
+    """(P, 3) what a light in direction ``l`` behind a transmissive surface (N.L < 0) gives
+    through it towards ``v``, radiance * pi f_t |N.L| (zero where N.L >= 0):
+    KHR_materials_transmission's BTDF, the specular lobe with l mirrored through the
+    surface's plane, l_m = l - 2 (N.L) N, tinted: (1 - metallic) transmission base
+    (1 - F(V.H_t)) pi D V N.L_m, h_t the half vector of l_m and v, at alpha_t = alpha
+    clamp(2 ior - 2, 0, 1) (shaders/lighting/pbr.glsl, pbr_through). The base layer's alone.
+
+    n, l, v: (P, 3) unit; radiance, base, f0 (the dielectric's F0): (P, 3); metallic,
+    roughness, transmission, ior, f90: (P,)."""
+    n_dot_l = -_dot(n, l)
+    mirrored = l + 2.0 * n_dot_l[:, None] * n
+    h = safe_normalize(mirrored + v, n)
+    alpha = np.maximum(pbr_alpha(roughness) * np.clip(2.0 * ior - 2.0, 0.0, 1.0), PBR_MIN_ALPHA)
+    n_dot_v = np.clip(_dot(n, v), 0.0, 1.0)
+    lit = np.clip(n_dot_l, 0.0, 1.0)
+    lobe = np.pi * ggx_distribution(np.clip(_dot(n, h), 0.0, 1.0), alpha) * smith_visibility(n_dot_v, lit, alpha)
+    fresnel = f0 + (f90[:, None] - f0) * ((1.0 - np.clip(_dot(v, h), 0.0, 1.0)) ** 5)[:, None]
+    tint = base * ((1.0 - metallic) * transmission)[:, None]
+    term = radiance * tint * (1.0 - fresnel) * (lobe * lit)[:, None]
+    return np.where((n_dot_l > 0.0)[:, None], term, 0.0)
 
 
 def _kept(layers: dict) -> np.ndarray:

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scenerender.world.frame import FrameState
-from scenerender.world.light_states import area_axes
+from scenerender.world.light_states import CONE_FALLOFFS, area_axes
 from scenerender.world.shadows import AtlasLayout, first_shadow_views
 
 # The binding points of the light arrays and the shadow views, as uniform blocks and as
@@ -88,7 +88,8 @@ def _pack_light_arrays(lights: list, cam: np.ndarray, first_view: tuple) -> byte
                            *light.definition.attenuation, size, *shadow])
         else:
             spots.append([*(light.position - cam), inverse_range(light.definition), *light.direction, 0.0, *color,
-                          *light.definition.attenuation, size, light.cos_inner, light.cos_outer, 0.0, 0.0,
+                          *light.definition.attenuation, size, light.cos_inner, light.cos_outer,
+                          CONE_FALLOFFS.index(light.definition.cone_falloff), 0.0,
                           *shadow])
     parts = [np.asarray(group, dtype=np.float64).reshape(-1) for group in (dirs, points, spots, areas) if group]
     parts.append(np.zeros(4))  # lights_end

@@ -143,6 +143,7 @@ KEYS: dict[str, Key] = {
     "lights[spot].direction": Key("The way the cone points. Not set: along -Z, which with `attach: camera` is where the camera looks.", "[0, -1, 0]"),
     "lights[spot].inner_angle": Key("Half-angle in degrees of the fully lit cone; not above `outer_angle`.", "10"),
     "lights[spot].outer_angle": Key("Half-angle in degrees beyond which there is no light; smooth between inner and outer; equal angles give a hard edge.", "25"),
+    "lights[spot].cone_falloff": Key("How the light falls off between the inner and outer cones, of the linear ramp t from cos(outer) to cos(inner): `smooth` its smoothstep, `gltf` its square t^2 (glTF `KHR_lights_punctual`'s implementation note, as the Khronos Sample Viewer draws it; a glTF file's spot lights take it).", "gltf"),
     "lights[spot].attach": Key("`camera`: position and direction follow the camera, like a torch.", "camera"),
     "lights[rect].position": Key("The rectangle's centre.", "[0, 2.5, 0]"),
     "lights[rect].direction": Key("The way its lit side faces (it gives no light behind it); need not be unit length.", "[0, -1, 0]"),

@@ -9,8 +9,9 @@ lights a surface with radiance f * I * colour * attenuation * N.L (f the BRDF, w
 1 / pi; I / d^2 for a point or spot light, I alone for a directional one) at its default
 exposure. scenerender's pbr radiance is pi * f * intensity * colour * attenuation * N.L,
 so the same picture needs intensity = I / pi, with attenuation [0, 0, 1] (1 / d^2) for
-point and spot lights. The spot's cone is the same smoothstep between the cosines of its
-outer and inner angles. A light's ``range`` is the scene light's ``range``: the
+point and spot lights. Between the cosines of its outer and inner angles the spot's cone
+is the square of the linear ramp, as the specification's implementation note and the
+Sample Viewer have it (``cone_falloff: gltf``; a scene's spots take smoothstep). A light's ``range`` is the scene light's ``range``: the
 specification's recommended window clamp(1 - (d / range)^4, 0, 1) times 1 / d^2.
 """
 from __future__ import annotations
@@ -98,7 +99,7 @@ def file_light(light: GltfLight, placement: NodePlacement, name: str, path: tupl
     inner = min(math.degrees(light.inner_cone), outer)
     return LightDef(**common, position=_PlacedPoint(placement), direction=_PlacedAxis(placement),
                     attenuation=INVERSE_SQUARE, inner_angle=Track.constant(inner), outer_angle=Track.constant(outer),
-                    range=light.range)
+                    range=light.range, cone_falloff="gltf")
 
 
 @dataclass

@@ -47,6 +47,9 @@ class LightDef:
     # point, spot: the distance where KHR_lights_punctual's window ends its light
     # (range_window); None: no window, as it always was
     range: float | None = None
+    # spot: between the cones "smooth" (smoothstep of the linear ramp t, as it always was)
+    # or "gltf" (t^2, KHR_lights_punctual's implementation note)
+    cone_falloff: str = "smooth"
 
     @property
     def sized(self) -> bool:
@@ -60,6 +63,8 @@ class LightDef:
 
 # one-sided lights with a surface: a rectangle (width x height) and a disk
 AREA_KINDS = ("rect", "disk")
+# a spot's falloff between its cones (LightDef.cone_falloff), in the order the GPU numbers them
+CONE_FALLOFFS = ("smooth", "gltf")
 
 
 def area_axes(direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -179,7 +184,7 @@ def _from_spec(index: int, light, shadows_default) -> LightDef:
     direction = light.direction or Track.constant((0.0, 0.0, -1.0), kind="vector")
     return LightDef(**common, position=position, direction=direction, attenuation=light.attenuation,
                     inner_angle=light.inner_angle, outer_angle=light.outer_angle, attach_camera=attach,
-                    shadow=shadow, size=float(light.radius), range=light.range)
+                    shadow=shadow, size=float(light.radius), range=light.range, cone_falloff=light.cone_falloff)
 
 
 def _area_from_spec(light, common: dict, shadow) -> LightDef:

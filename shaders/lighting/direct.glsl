@@ -2,6 +2,9 @@
 #include "lighting/lights.glsl"
 #ifdef SHADING_PBR
 #include "lighting/pbr.glsl"
+#ifdef PBR_TRANSMISSION
+#include "lighting/transmission.glsl"
+#endif
 #else
 #include "lighting/specular.glsl"
 #endif
@@ -61,6 +64,13 @@ vec3 shade_one(vec3 l, vec3 radiance, vec3 n, vec3 v, PbrView p) {
 }
 // each light's term from what the point's view gives once (pbr_view)
 #define SHADE_ONE(l, radiance) shade_one(l, radiance, n, v, pbr)
+#ifdef PBR_TRANSMISSION
+// A light behind a transmissive surface shines through it (lighting/transmission.glsl). Its
+// shadow is looked up from the surface's far side (the normal turned over), so the surface
+// itself does not block it and every other caster does; a light with a size shines
+// through as from its centre, an area light not at all.
+#define SHADE_THROUGH(to_light, directional, radiance) light_through(to_light, directional, radiance, n, v, pbr)
+#endif
 #else
 vec3 shade_one(vec3 l, vec3 radiance, vec3 n, vec3 v, Surface s) {
     float n_dot_l = dot(n, l);
@@ -103,6 +113,17 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         DirLight light = dir_lights[i];
         vec3 l = -light.direction.xyz;
         vec3 radiance = light.color.rgb;
+#ifdef PBR_TRANSMISSION
+        if (dot(n, l) < 0.0) {
+            vec3 through = radiance;
+#ifdef HAS_SHADOWS
+            if (dir_shadow_view[i] >= 0) {
+                through *= shadow_lookup(dir_shadow_view[i], dir_shadow_page[i], dir_shadow_taps[i], p, -n, -dot(n, l), false, false, dpdx, dpdy);
+            }
+#endif
+            total += SHADE_THROUGH(l, true, through);
+        }
+#endif
 #ifdef DIR_LIGHT_SIZED
         if (dir_sized[i]) {
             // a sphere at distance 1, radius tan(half angle)
@@ -133,6 +154,17 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance);
 #ifdef LIGHT_RANGE
         radiance *= range_window(light.position.w, distance);
+#endif
+#ifdef PBR_TRANSMISSION
+        if (dot(n, l) < 0.0) {
+            vec3 through = radiance;
+#ifdef HAS_SHADOWS
+            if (point_shadow_view[i] >= 0 && max_component(radiance) > 1e-4) {
+                through *= shadow_lookup(point_shadow_view[i] + cube_face(-to_light), point_shadow_page[i], point_shadow_taps[i], p, -n, -dot(n, l), true, true, dpdx, dpdy);
+            }
+#endif
+            total += SHADE_THROUGH(to_light, false, through);
+        }
 #endif
 #ifdef POINT_LIGHT_SIZED
         if (point_sized[i]) {
@@ -166,6 +198,17 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         vec3 radiance = light.color.rgb * attenuation(light.attenuation, distance) * cone;
 #ifdef LIGHT_RANGE
         radiance *= range_window(light.position.w, distance);
+#endif
+#ifdef PBR_TRANSMISSION
+        if (dot(n, l) < 0.0) {
+            vec3 through = radiance;
+#ifdef HAS_SHADOWS
+            if (spot_shadow_view[i] >= 0 && max_component(radiance) > 1e-4) {
+                through *= shadow_lookup(spot_shadow_view[i], spot_shadow_page[i], spot_shadow_taps[i], p, -n, -dot(n, l), true, false, dpdx, dpdy);
+            }
+#endif
+            total += SHADE_THROUGH(to_light, false, through);
+        }
 #endif
 #ifdef SPOT_LIGHT_SIZED
         if (spot_sized[i]) {

@@ -25,7 +25,7 @@ struct SpotLight {
     vec4 direction;
     vec4 color;
     vec4 attenuation;  // constant, linear, quadratic
-    vec4 cone;         // cos(inner), cos(outer)
+    vec4 cone;         // cos(inner), cos(outer), the falloff between them: 0 smoothstep, 1 squared
     vec4 shadow;
 };
 
@@ -95,7 +95,9 @@ float edge_coverage(float t, vec2 g) {
     return w < lo ? w * w / (2.0 * hi * lo) : (v < lo ? 1.0 - v * v / (2.0 * hi * lo) : middle);
 }
 
-// 1 inside the inner cone, 0 outside the outer, smooth between; inner == outer is a hard edge.
+// 1 inside the inner cone, 0 outside the outer, between them smoothstep of the linear ramp t
+// from cos(outer) to cos(inner) (cone.z 0, a scene's spots) or t^2 (cone.z 1: a glTF file's,
+// KHR_lights_punctual's implementation note); inner == outer is a hard edge.
 // An edge sharper than the pixel is anti-aliased: the factor is the fraction of the pixel
 // square inside the cone (edge_coverage), from cos_angle's change across the pixel along
 // x and y (spot_pixel), for an edge at the middle of inner and outer.
@@ -104,7 +106,8 @@ float spot_cone(vec4 cone, float cos_angle, vec2 pixel) {
     if (width <= pixel.x + pixel.y) {
         return edge_coverage(cos_angle - (cone.y + 0.5 * max(width, 0.0)), pixel);
     }
-    return smoothstep(0.0, 1.0, clamp((cos_angle - cone.y) / width, 0.0, 1.0));
+    float t = clamp((cos_angle - cone.y) / width, 0.0, 1.0);
+    return cone.z > 0.5 ? t * t : smoothstep(0.0, 1.0, t);
 }
 
 // How much cos_angle = dot(-l, direction) changes across one pixel along x and along y,

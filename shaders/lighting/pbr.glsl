@@ -25,9 +25,15 @@
 //   (lighting/iridescence.glsl), taken at N.V once a pixel: specular F mixed towards F_i,
 //   the diffuse part's towards max(F_i), by the iridescence.
 // - PBR_CLEARCOAT (KHR_materials_clearcoat): a GGX layer of F0 0.04 (ior 1.5) and its own
-//   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - V.H)^5.
+//   roughness over the rest: f = f_rest (1 - c Fc) + c Fc D_c V_c, Fc = 0.04 + 0.96 (1 - N.V)^5,
+//   at N.V rather than V.H as the extension writes it (its Layering section), so once a pixel.
 // - PBR_TRANSMISSION (KHR_materials_transmission): the diffuse part times 1 - transmission;
-//   what passes through instead is lighting/transmission.glsl's.
+//   what passes through instead is lighting/transmission.glsl's: the scene behind, and a
+//   light behind the surface through the BTDF (pbr_through): the specular lobe with the
+//   light's direction mirrored through the surface's plane, l_m = l - 2 (N.L) N, tinted:
+//   pi f_t |N.L| = (1 - metallic) transmission base (1 - F(V.H_t)) pi D_t V_t N.L_m, h_t
+//   the half vector of l_m and v, alpha_t = alpha clamp(2 ior - 2, 0, 1) (the Sample
+//   Viewer's scaling; the refracted copy's blur takes the same).
 
 #include "lighting/ambient_brdf.glsl"
 #ifdef PBR_SHEEN
@@ -44,6 +50,7 @@ const float PBR_MIN_ALPHA = 0.002;
 // the layers' values are the Surface's (lighting/material.glsl, sample_layers)
 #ifdef PBR_TRANSMISSION
 uniform float u_transmission;  // the share of the diffuse part that lets light through
+uniform float u_transmission_ior;
 #endif
 
 vec3 fresnel_schlick(vec3 f0, float v_dot_h) {
@@ -66,7 +73,7 @@ struct PbrView {
 #ifdef PBR_CLEARCOAT
     float coat_alpha2;
     float coat_view_term;
-    float clearcoat;
+    float coat;  // c Fc(N.V): the share of every light the coat takes
 #endif
 #ifdef PBR_SHEEN
     float sheen_alpha;
@@ -84,6 +91,13 @@ struct PbrView {
 #ifdef PBR_IRIDESCENCE
     vec3 film_fresnel;  // the thin film's Fresnel at N.V
     float iridescence;
+#endif
+#ifdef PBR_TRANSMISSION
+    vec3 through_tint;        // (1 - metallic) transmission base: the share of a light behind that passes
+    float through_alpha2;     // alpha_t^2 of the transmitted lobe
+    float through_view_term;  // view_term at alpha_t
+    vec3 through_f0;          // the dielectric's Fresnel
+    float through_f90;
 #endif
 };
 
@@ -131,7 +145,7 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     float coat_alpha = max(s.clearcoat_roughness * s.clearcoat_roughness, PBR_MIN_ALPHA);
     p.coat_alpha2 = coat_alpha * coat_alpha;
     p.coat_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
-    p.clearcoat = s.clearcoat;
+    p.coat = coat_fresnel(s.clearcoat, p.n_dot_v);
 #endif
 #ifdef PBR_SHEEN
     p.sheen_color = s.sheen_color;
@@ -142,6 +156,19 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
 #ifdef PBR_IRIDESCENCE
     p.film_fresnel = thin_film_fresnel(p.n_dot_v, s.iridescence_ior, s.iridescence_thickness, p.f0);
     p.iridescence = s.iridescence;
+#endif
+#ifdef PBR_TRANSMISSION
+    p.through_tint = s.base * (1.0 - s.metallic) * u_transmission;
+    float through_alpha = max(alpha * clamp(2.0 * u_transmission_ior - 2.0, 0.0, 1.0), PBR_MIN_ALPHA);
+    p.through_alpha2 = through_alpha * through_alpha;
+    p.through_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.through_alpha2) + p.through_alpha2);
+#ifdef PBR_DIELECTRIC_SPECULAR
+    p.through_f0 = s.dielectric_f0;
+    p.through_f90 = s.dielectric_f90;
+#else
+    p.through_f0 = vec3(0.04);
+    p.through_f90 = 1.0;
+#endif
 #endif
 #ifdef PBR_ANISOTROPY
     p.anisotropy_t = s.anisotropy_t;
@@ -201,15 +228,38 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
     layered = layered * through + p.sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
 #endif
 #ifdef PBR_CLEARCOAT
-    float coat = coat_fresnel(p.clearcoat, v_dot_h);
     float coat_specular = coat_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
-    layered = layered * (1.0 - coat) + coat * coat_specular;
+    layered = layered * (1.0 - p.coat) + p.coat * coat_specular;
 #endif
     return layered * n_dot_l;
 #else
     return (p.diffuse + fresnel * (specular - p.diffuse)) * n_dot_l;
 #endif
 }
+
+#ifdef PBR_TRANSMISSION
+// pi f_t(l, v) |N.L| for a light in direction l behind the surface (N.L < 0; zero in front):
+// KHR_materials_transmission's BTDF (see the header). The base layer's alone: a coat or a
+// sheen over it does not dim it, as they do not dim the refracted copy.
+vec3 pbr_through(vec3 n, vec3 l, vec3 v, PbrView p) {
+    float n_dot_l = -dot(n, l);  // N.L_m of the mirrored direction
+    if (n_dot_l <= 0.0) {
+        return vec3(0.0);
+    }
+    vec3 l_plus_v = l + 2.0 * n_dot_l * n + v;
+    float length2 = dot(l_plus_v, l_plus_v);
+    float inverse_length = inversesqrt(max(length2, 1e-20));
+    float n_dot_h = dot(n, l_plus_v) * inverse_length;
+    float v_dot_h = min(0.5 * length2 * inverse_length, 1.0);
+    float k = 1.0 - n_dot_h * n_dot_h * (1.0 - p.through_alpha2);
+    float light_term = p.n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - p.through_alpha2) + p.through_alpha2);
+    float specular = 0.5 * p.through_alpha2 / max(k * k * (n_dot_l * p.through_view_term + light_term), 1e-20);
+    float m = 1.0 - v_dot_h;
+    float m2 = m * m;
+    vec3 fresnel = p.through_f0 + (p.through_f90 - p.through_f0) * (m2 * m2 * m);
+    return p.through_tint * (1.0 - fresnel) * (specular * n_dot_l);
+}
+#endif
 
 // What a uniform ambient light of radiance 1 gives: the BRDF integrated over the
 // hemisphere, from the fitted integrals of lighting/ambient_brdf.glsl: specular F0 A + B,

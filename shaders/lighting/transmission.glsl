@@ -10,8 +10,10 @@
 // The light that passes is what the GGX lobe does not reflect, 1 - (F0 A + F90 B) (the
 // split sum's hemispherical albedo), tinted by the base colour, and it replaces
 // (1 - metallic) transmission of the diffuse part (pbr.glsl scales that part down).
+// A light behind the surface shines through it (light_through, called per light from
+// lighting/direct.glsl): pbr.glsl's BTDF, for a volume from where the refracted ray leaves
+// it, as the Sample Viewer takes it.
 uniform sampler2D u_transmission_source;
-uniform float u_transmission_ior;
 #ifdef TRANSMISSION_VOLUME
 uniform float u_thickness;
 uniform vec3 u_attenuation_color;
@@ -19,23 +21,48 @@ uniform float u_attenuation_distance;  // 0: no attenuation (an infinite distanc
 #endif
 uniform mat4 u_view_proj;  // camera-relative world -> clip (mesh/mesh.vert's)
 
+// From the point to where the view's refracted ray leaves the volume: 0 for a thin wall
+vec3 transmission_ray(vec3 n, vec3 v) {
+#ifdef TRANSMISSION_VOLUME
+    return safe_normalize(refract(-v, n, 1.0 / u_transmission_ior), -v) * u_thickness;
+#else
+    return vec3(0.0);
+#endif
+}
+
+#ifdef TRANSMISSION_VOLUME
+// Beer-Lambert over a path of ``path`` through the volume
+vec3 volume_attenuation(float path) {
+    return u_attenuation_distance > 0.0 ? pow(u_attenuation_color, vec3(path / u_attenuation_distance)) : vec3(1.0);
+}
+#endif
+
 // The opaque scene seen through the surface at camera-relative ``position``
 vec3 transmitted_radiance(vec3 position, vec3 n, vec3 v, float roughness) {
-    vec3 ray = vec3(0.0);
-#ifdef TRANSMISSION_VOLUME
-    ray = safe_normalize(refract(-v, n, 1.0 / u_transmission_ior), -v) * u_thickness;
-#endif
+    vec3 ray = transmission_ray(n, v);
     vec4 clip = u_view_proj * vec4(position + ray, 1.0);
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
     float width = float(textureSize(u_transmission_source, 0).x);
     float lod = log2(width) * roughness * clamp(u_transmission_ior * 2.0 - 2.0, 0.0, 1.0);
     vec3 behind = textureLod(u_transmission_source, uv, lod).rgb;
 #ifdef TRANSMISSION_VOLUME
-    if (u_attenuation_distance > 0.0) {
-        behind *= pow(u_attenuation_color, vec3(length(ray) / u_attenuation_distance));
-    }
+    behind *= volume_attenuation(length(ray));
 #endif
     return behind;
+}
+
+// What a light of ``radiance`` behind the surface gives through it towards the eye (its
+// shadow is the caller's): ``to_light`` from the point to a point or spot light, or the
+// unit direction towards a directional one (``directional``). For a volume the light's
+// direction is taken from where the refracted ray leaves it (a directional light's does
+// not change), attenuated over the thickness; its radiance stays the point's.
+vec3 light_through(vec3 to_light, bool directional, vec3 radiance, vec3 n, vec3 v, PbrView p) {
+    vec3 l = directional ? to_light : safe_normalize(to_light - transmission_ray(n, v), -n);
+    vec3 through = radiance * pbr_through(n, l, v, p);
+#ifdef TRANSMISSION_VOLUME
+    through *= volume_attenuation(u_thickness);
+#endif
+    return through;
 }
 
 // What the surface lets through towards the eye: (1 - metallic) transmission base

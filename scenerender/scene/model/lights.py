@@ -71,6 +71,8 @@ class SpotLight(_LightBase):
     attenuation: Attenuation = (1.0, 0.0, 0.0)
     inner_angle: animated_number(0, 89.9) = 12.5
     outer_angle: animated_number(0, 89.9, lo_open=True) = 17.5
+    # between the cones: smoothstep of the linear ramp, or its square (KHR_lights_punctual's)
+    cone_falloff: choice("smooth", "gltf") = "smooth"
     attach: choice("camera") | None = None
     radius: number(0) = 0.0  # a sphere light of this radius; 0 a point
     range: number(0, lo_open=True) | None = None  # KHR_lights_punctual's window: no light at range and beyond
