@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from scenerender.scene.model.lights import PREFILTER_LEVELS
-from scenerender.world.environment_visibility import interleave_pattern
+from scenerender.world.environment_visibility import interleave_pattern, region_halves
 from scenerender.world.shadows import first_shadow_views, view_count
 
 # Light and shadow data live in uniform blocks (fast on every driver) up to the size every
@@ -90,6 +90,7 @@ class SceneFeatures:
     # (N, lookups a pixel) of the blocks the directions are shared out over; N 1: every
     # pixel looks up all of them as it shades (environment_visibility.interleave_pattern)
     environment_interleave: tuple = (1, 0)
+    environment_halves: int = 1  # maps a direction (environment_visibility.region_halves)
 
     @classmethod
     def of(cls, world, samples: int = 1, atlas=None) -> "SceneFeatures":
@@ -197,7 +198,8 @@ class SceneFeatures:
         if self.environment_specular_samples:
             defines["ENV_SPECULAR_SAMPLES"] = self.environment_specular_samples
         if self.environment_visibility:
-            defines["ENV_VISIBILITY"] = self.environment_visibility
+            # the maps' count (both halves of each direction's region, where it has two)
+            defines["ENV_VISIBILITY"] = self.environment_visibility * self.environment_halves
             defines["ENV_VIS_MIN_ALPHA"] = visibility_min_alpha(self.environment_visibility)
         return defines
 
@@ -243,7 +245,9 @@ def _environment_features(environment) -> dict:
             "environment_footprint": environment.footprint, "environment_visibility": environment.visibility,
             "environment_specular_samples": environment.specular_samples if environment.specular == "sampled" else 0,
             "environment_interleave": interleave_pattern(environment.visibility, environment.visibility_interleave)
-            if environment.visibility else (1, 0)}
+            if environment.visibility else (1, 0),
+            "environment_halves": region_halves(environment.visibility, environment.visibility_interleave)
+            if environment.visibility else 1}
 
 
 def environment_shades(classic: bool, model: str) -> bool:

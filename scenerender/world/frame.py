@@ -15,7 +15,9 @@ from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.lens import lens_radius, through_lens
 from scenerender.world.motion import ShutterMotion, blurs_by_velocity, shutter_motion
 from scenerender.world.environment_light import EnvironmentState
-from scenerender.world.environment_visibility import EnvironmentViews, environment_views, median_cut, visibility_tiles
+from scenerender.world.environment_visibility import (
+    EnvironmentViews, environment_views, median_cut, region_halves, visibility_tiles,
+)
 from scenerender.world.light_states import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye, hidden_side
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
@@ -234,9 +236,11 @@ class FrameEvaluator:
 
     @cached_property
     def _environment_directions(self) -> tuple:
-        """The environment's visibility directions and weights (median_cut), once a run."""
+        """The environment's visibility directions and weights (median_cut, each region
+        halved where region_halves says), once a run."""
         environment = self.world.environment
-        return median_cut(environment.image, environment.visibility)
+        return median_cut(environment.image, environment.visibility,
+                          halves=region_halves(environment.visibility, environment.visibility_interleave))
 
     def _environment_views(self, world: World, objects: list, bounds, time: float) -> EnvironmentViews | None:
         environment = world.environment
