@@ -15,7 +15,7 @@
 // sub-images, cost a tenth of a frame on llvmpipe.)
 // A pixel counts only on this pixel's surface: its distance from the camera within 3 %
 // of this one's carried along the surface's slope (taken on the flatter side, so an edge
-// beside the pixel does not tilt it), and its normal within 25 degrees of this one's (at
+// beside the pixel does not tilt it), and its normal within 60 degrees of this one's (at
 // a box's foot the ground and the box's side meet at one distance). Each pixel's sums,
 // distance and normal come packed in one texel (halves, float bits, snorm bytes), so a
 // tap is one fetch. The first pass reads them from the visibility pass's sub-images
@@ -46,7 +46,7 @@ const int REACH = ENV_VIS_INTERLEAVE - 1;
 float tap_weight(int i, bool whole) {
     return whole ? (abs(i) == ENV_VIS_INTERLEAVE ? 1.0 : 2.0) : max(float(ENV_VIS_INTERLEAVE - abs(i)), 0.0);
 }
-const float SAME_NORMAL = 0.9;  // cos 25 degrees
+const float SAME_NORMAL = 0.5;  // cos 60 degrees
 
 void main() {
     const int n = ENV_VIS_INTERLEAVE;

@@ -207,9 +207,9 @@ class EnvironmentVisibilityPass(RenderPass):
     def describe(self) -> str:
         _, places = sub_image_layout(self.size, self.interleave)
         counts = sorted({place_lookups(place, self.interleave, self.directions) for place in places})
-        halves = ", one of each's two halves" if self.halves > 1 else ""
-        return (f"{self.directions} directions{halves} over {self.interleave}x{self.interleave} pixels, "
-                f"{' or '.join(map(str, counts))} a pixel, at {self.size[0]}x{self.size[1]}")
+        halves = ", each direction's region in halves taking turns by block" if self.halves > 1 else ""
+        return (f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, "
+                f"{' or '.join(map(str, counts))} a pixel, at {self.size[0]}x{self.size[1]}{halves}")
 
     def execute(self, ctx, data: ImageData) -> None:
         fbo = ctx.framebuffer([data.image])
