@@ -112,41 +112,50 @@ def test_a_sphere_resting_on_the_ground_under_a_sky_against_the_reference(gl, co
     assert blind["ring"] > 0.5 and blind["patch shadow"] > 0.3 and blind["lower half"] > 0.15, blind
 
 
+SKY_SIZE = (256, 192)  # the blotches are a few pixels across: at 128x96 the reference's noise hides them
+
+
 @pytest.fixture(scope="module")
 def sky_contact_reference():
     """Two boxes on a ground under a sky with no sun (benchmarks/quality/sky_contact.py) at
-    128x96 by the reference renderer (3x3 samples a pixel, 24 directions each), and the
+    256x192 by the reference renderer (4x4 samples a pixel, 16 directions each), and the
     regions' masks."""
-    overrides = [f"render.size=[{SIZE[0]},{SIZE[1]}]"]
-    reference = sky_contact.reference(None, overrides, spp=3, environment_samples=24)
-    masks = sky_contact.region_masks(scenerender.load(sky_contact.SCENE, overrides).world, reference, SIZE)
+    overrides = [f"render.size=[{SKY_SIZE[0]},{SKY_SIZE[1]}]"]
+    reference = sky_contact.reference(None, overrides, spp=4, environment_samples=16)
+    masks = sky_contact.region_masks(scenerender.load(sky_contact.SCENE, overrides).world, reference, SKY_SIZE)
     return reference.linear.astype(np.float64).mean(axis=2), masks
 
 
 @pytest.mark.gl
 def test_the_ground_beside_boxes_under_a_sky_without_a_sun_against_the_reference(gl, sky_contact_reference):
     # Each lookup compares the map's texels with the receiver's own plane, under a
-    # constant bias: the ground within 10 cm of a box's foot within 8 %, within 25 cm,
-    # the open ground and the boxes' sides within 3 %. Measured here: +5.7, +1.5, -0.8 and
-    # +0.8 % (the 10 cm band is a pixel or two wide at this size, where the half-resolution
-    # lookups reach past it); at 256x192 against a finer reference
-    # (benchmarks/quality/sky_contact.md): +3.2, +0.3, -0.7, +1.6 %. What the bounds catch:
-    # the lookups' bias that grew with the slope (before) lifted the ground beside the feet
-    # out of their shadow, +11.3 and +4.1 % here, and the split sum looked up at R left the
+    # constant bias: the ground within 10 cm of a box's foot within 8 %, within 25 cm and
+    # the open ground within 3 %, the boxes' sides within 4 % (every pixel looking up all 32
+    # directions gives +2.9 % there, 64 directions +3.0 %: not the directions' error).
+    # Measured here: -1.1, -1.3, -0.8, +2.7 % (against the finer reference of
+    # benchmarks/quality/sky_contact.md: -1.6, -0.9, -0.8, +2.5 %). What the bounds caught
+    # at 128x96: the lookups' bias that grew with the slope lifted the ground beside the
+    # feet out of their shadow, +11.3 and +4.1 %, and the split sum looked up at R left the
     # open ground -2.9 %.
     truth, masks = sky_contact_reference
-    scene = scenerender.load(sky_contact.SCENE, [f"render.size=[{SIZE[0]},{SIZE[1]}]"])
+    scene = scenerender.load(sky_contact.SCENE, [f"render.size=[{SKY_SIZE[0]},{SKY_SIZE[1]}]"])
     with scenerender.Renderer(scene, gl=gl, want_linear=True) as renderer:
         linear = renderer.render(0).linear[..., :3].astype(np.float64).mean(axis=2)
     errors = sky_contact.errors(linear, truth, masks)
     assert abs(errors["foot"]) < 0.08, errors
     assert abs(errors["contact"]) < 0.03, errors
     assert abs(errors["open ground"]) < 0.03, errors
-    assert abs(errors["vertical faces"]) < 0.03, errors
+    assert abs(errors["vertical faces"]) < 0.04, errors
+    # The boxes' sides within 15 cm of the ground, where a side and the ground meet at one
+    # distance from the camera: the blur and the upsample keep each to its own by its
+    # normal. Measured -0.3 %; before (distance alone) -7.4 %, the sides borrowing the
+    # ground's darker visibility.
+    assert abs(errors["face bottoms"]) < 0.04, errors
     # The blotches (the ground within 1 m of a box, 3x3 averaged, RMS about the reference,
-    # whose own noise at 3x3 samples is part of it): 4.6 % here; 16 directions 9.1 %, 64
-    # directions 3.7 % (at 256x192 against the finer reference: 4.5 and 2.3 %).
-    assert errors["blotches"] < 0.06, errors
+    # whose own noise at 4x4 samples is part of it): 2.5 % here with each region's halves
+    # taking turns from block to block; before them 4.7 %, and 4.7 % at 16 directions now
+    # (against the finer reference: 2.2, 4.5 %).
+    assert errors["blotches"] < 0.035, errors
 
 
 @pytest.mark.gl

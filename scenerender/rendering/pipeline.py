@@ -202,7 +202,7 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
     visibility = None
     if inputs.environment_views is not None:
         halves = region_halves(environment.visibility, environment.visibility_interleave)
-        page_size, tiles = visibility_tiles(environment.visibility * halves, environment.visibility_map_size)
+        page_size, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size, halves)
         note = f"{environment.visibility} directions of the environment, {tiles[0].size}px each"
         note += f", {len(tiles)} maps (each direction's region in halves)" if halves > 1 else ""
         visibility = graph.add(ShadowMapPass(f"{environment.name} visibility", "directional", tiles[0].size, 2, 0,

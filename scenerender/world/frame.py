@@ -239,8 +239,12 @@ class FrameEvaluator:
         """The environment's visibility directions and weights (median_cut, each region
         halved where region_halves says), once a run."""
         environment = self.world.environment
-        return median_cut(environment.image, environment.visibility,
-                          halves=region_halves(environment.visibility, environment.visibility_interleave))
+        return median_cut(environment.image, environment.visibility, halves=self._environment_halves)
+
+    @cached_property
+    def _environment_halves(self) -> int:
+        environment = self.world.environment
+        return region_halves(environment.visibility, environment.visibility_interleave)
 
     def _environment_views(self, world: World, objects: list, bounds, time: float) -> EnvironmentViews | None:
         environment = world.environment
@@ -254,7 +258,7 @@ class FrameEvaluator:
         if self._last_environment_views is not None and self._last_environment_views[0] == key:
             return self._last_environment_views[1]
         directions, weights = self._environment_directions
-        _, tiles = visibility_tiles(len(directions), environment.visibility_map_size)
+        _, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size, self._environment_halves)
         views = environment_views(directions, weights, to_image, tiles, casters, bounds)
         self._last_environment_views = (key, views)
         return views

@@ -126,11 +126,9 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     vec2 f = at - low;
     vec4 tent = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
     vec4 on_surface = tent * step(gap, vec4(0.03 * dist));
-    // of those, the ones facing the way this pixel's triangle faces (seen_facing): at a
-    // box's foot the ground's texels, not the box side's, whose distance is the same there
-    vec3 facet = cross(dFdx(p), dFdy(p));
-    facet = safe_normalize(dot(facet, p) > 0.0 ? -facet : facet, n);
-    vec4 weight = on_surface * vec4(equal(seen_facing(found), uvec4(facing_class(facet))));
+    // of those, the ones facing the way this pixel faces (seen_facing): at a box's foot the
+    // ground's texels, not the box side's, whose distance is the same there
+    vec4 weight = on_surface * vec4(equal(seen_facing(found), uvec4(facing_class(n))));
     weight = dot(weight, vec4(1.0)) > 1e-4 ? weight : on_surface;
     float closest = min(min(gap.x, gap.y), min(gap.z, gap.w));
     vec4 nearest = step(gap, vec4(closest));
