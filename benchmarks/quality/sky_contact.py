@@ -209,7 +209,21 @@ def write_table(results: dict, pixels: dict) -> None:
                   "its camera turning, median ms a frame after the first, the settings taking turns (40 frames each):", "",
                   "| setting | ms/frame | vs default |", "|---|---|---|"]
         lines += [f"| {name} | {ms:.1f} | {ms / first:.2f} |" for name, ms in gltf.items()]
+    lines += ["", *BEFORE_HALVES]
     (HERE / "sky_contact.md").write_text("\n".join(lines) + "\n")
+
+
+# The default before each direction's region was cut in two halves (commit b17b6a6, its
+# tree rendered, this script's regions and reference): kept as words, since this tree
+# cannot draw it.
+BEFORE_HALVES = [
+    "Before each direction's region was cut in two halves that take turns from block to block, and",
+    "before the blur and the read-back told surfaces apart by their normals (commit b17b6a6, its tree",
+    "rendering, this reference and these regions): the default +3.2, +0.3, +0.5, -0.7, +1.6, -7.4 %",
+    "(foot, contact, near ground, open ground, vertical faces, face bottoms), blotches 4.5 %; 16",
+    "directions blotches 9.4 %. What the change costs: docs/performance.md, \"The sky's visibility",
+    "in halves\".",
+]
 
 
 if __name__ == "__main__":
