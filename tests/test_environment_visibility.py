@@ -18,7 +18,7 @@ from golden_cases import beyond_cpu_rounding, reference_path, render_case
 from quality_benchmarks import quality_module
 from scenerender.world.environment_light import equirect_directions
 from scenerender.world.environment_files import write_hdr
-from scenerender.world.environment_visibility import interleave_pattern, median_cut
+from scenerender.world.environment_visibility import interleave_pattern, median_cut, region_halves, visibility_tiles
 
 SIZE = (128, 96)
 
@@ -53,6 +53,37 @@ def test_a_bright_patch_draws_directions_and_weight_to_itself():
 def test_a_tiny_image_still_gives_every_direction():
     directions, weights = median_cut(np.ones((2, 4, 3), np.float32), 16)
     assert len(directions) == 16 and weights.sum() == pytest.approx(1.0)
+
+
+def test_each_region_in_halves_keeps_its_power_and_its_centroid():
+    # direction k and k + 32 are region k's halves: their weights add up to the region's,
+    # and their power-weighted mean points where the region's direction does (the first
+    # moment kept); a sky with a bright patch, so that the halves' weights differ
+    d = equirect_directions(64, 128)
+    patch = np.array([0.0, np.sqrt(0.5), np.sqrt(0.5)])
+    image = (np.where((d @ patch)[..., None] > np.cos(np.radians(10.0)), 50.0, 1.0) * np.ones(3)).astype(np.float32)
+    whole, whole_weights = median_cut(image, 32)
+    halves, weights = median_cut(image, 32, halves=2)
+    assert halves.shape == (64, 3) and weights.sum() == pytest.approx(1.0)
+    assert np.allclose(weights[:32] + weights[32:], whole_weights, atol=1e-12)
+    moment = halves[:32] * weights[:32, None] + halves[32:] * weights[32:, None]
+    mean = moment / np.linalg.norm(moment, axis=1, keepdims=True)
+    assert np.degrees(np.arccos(np.clip(np.sum(mean * whole, axis=1), -1, 1))).max() < 0.5
+    assert np.degrees(np.arccos(np.clip(np.sum(halves[:32] * halves[32:], axis=1), -1, 1))).min() > 5.0
+
+
+def test_a_region_of_one_texel_is_both_its_halves_each_at_half_its_weight():
+    halves, weights = median_cut(np.ones((2, 4, 3), np.float32), 8, halves=2)  # 8 texels, 8 regions
+    assert np.allclose(halves[:8], halves[8:]) and np.allclose(weights, 1.0 / 16)
+
+
+def test_regions_are_halved_only_where_the_blocks_share_them_out_within_64_maps():
+    assert region_halves(32, 2) == 2 and region_halves(32, 3) == 2 and region_halves(16, 4) == 2
+    assert region_halves(32, 1) == 1  # every pixel looks every direction up: no blocks to take turns
+    assert region_halves(48, 2) == 1 and region_halves(64, 3) == 1  # the shaders hold 64 maps at most
+    # the halves' maps share a direction's texels: 64 of 362 a side take the texture of 32 of 512
+    page, tiles = visibility_tiles(32, 512, 2)
+    assert len(tiles) == 64 and tiles[0].size == 362 and page[0] * page[1] <= 1.01 * 32 * 512 * 512
 
 
 @pytest.mark.parametrize("count", [1, 2, 4, 8, 16, 24, 32, 48, 64])
@@ -402,6 +433,28 @@ def test_the_lookups_sub_images_hold_every_pixel_once():
         tx, ty = (x % n) * part[0] + x // n, (y % n) * part[1] + y // n
         assert tx.max() < n * part[0] and ty.max() < n * part[1]
         assert len(set(zip(tx.ravel().tolist(), ty.ravel().tolist()))) == size[0] * size[1]
+
+
+def test_the_halves_sub_images_hold_every_pixel_once_and_give_it_back():
+    # with the regions in halves, block (bx, by) looks up half h = (bx + by) % 2, and each
+    # sub-image holds half h's blocks in its h-th column, (bx // 2, by) there: the blur reads
+    # pixel (x, y) there (shaders/post/environment_visibility_blur.frag), and the pass,
+    # drawing a half's column, finds the pixel back (shaders/post/environment_visibility.frag)
+    from scenerender.rendering.passes.environment import sub_image_layout
+
+    for size, n in (((5, 3), 2), ((128, 96), 2), ((7, 11), 3), ((13, 4), 3), ((9, 4), 4)):
+        part, _ = sub_image_layout(size, n, 2)
+        assert part[0] % 2 == 0 and part[0] >= -(-size[0] // n)
+        y, x = np.mgrid[0:size[1], 0:size[0]]
+        bx, by = x // n, y // n
+        half = (bx + by) % 2
+        tx = (x % n) * part[0] + bx // 2 + half * (part[0] // 2)
+        ty = (y % n) * part[1] + by
+        assert tx.max() < n * part[0] and ty.max() < n * part[1]
+        assert len(set(zip(tx.ravel().tolist(), ty.ravel().tolist()))) == size[0] * size[1]
+        # the pass: local = texel - place * part - (half's column), block = (2 lx + (ly + h) % 2, ly)
+        lx, ly = tx - (x % n) * part[0] - half * (part[0] // 2), ty - (y % n) * part[1]
+        assert np.array_equal(2 * lx + (ly + half) % 2, bx) and np.array_equal(ly, by)
 
 
 @pytest.mark.gl
