@@ -318,8 +318,8 @@ def _graph_text(tmp_path, extra: str = "", *options: str) -> str:
 
 def test_visibility_off_leaves_no_trace_in_the_graph(tmp_path):
     output = _graph_text(tmp_path)
-    assert ("shadow:environment0 visibility static   32 directions of the environment, 512px each, 64 maps "
-            "(each direction's region in halves)") in output
+    assert ("shadow:environment0 visibility static   32 directions of the environment in halves, 64 maps of "
+            "362px") in output
     output = _graph_text(tmp_path, ", visibility: false")
     assert "environment_visibility" not in output and "environment_views" not in output
     assert "shadow:" not in output
@@ -433,6 +433,14 @@ def test_the_lookups_sub_images_hold_every_pixel_once():
         tx, ty = (x % n) * part[0] + x // n, (y % n) * part[1] + y // n
         assert tx.max() < n * part[0] and ty.max() < n * part[1]
         assert len(set(zip(tx.ravel().tolist(), ty.ravel().tolist()))) == size[0] * size[1]
+
+
+def test_maps_drawn_again_every_frame_keep_one_a_direction(tmp_path):
+    # where a caster moves, the maps are drawn every frame: twice as many would be twice
+    # the draws, so the regions stay whole there
+    output = _graph_text(tmp_path, "", "--set", "objects[0].position={keys: [[0, [0, 0, 0]], [1, [0.5, 0, 0]]]}")
+    assert "shadow:environment0 visibility dynamic  32 directions of the environment, 512px each" in output
+    assert "in halves" not in output
 
 
 def test_the_halves_sub_images_hold_every_pixel_once_and_give_it_back():

@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from scenerender.scene.model.lights import PREFILTER_LEVELS
-from scenerender.world.environment_visibility import interleave_pattern, region_halves
+from scenerender.world.environment_visibility import interleave_pattern
 from scenerender.world.shadows import first_shadow_views, view_count
 
 # Light and shadow data live in uniform blocks (fast on every driver) up to the size every
@@ -109,7 +109,7 @@ class SceneFeatures:
             shadow_footprint_samples=_footprint_samples(samples),
             **first_views,
             **_sized_lights(world.lights),
-            **_environment_features(world.environment),
+            **_environment_features(world.environment, world.environment_halves),
         )
 
     @property
@@ -238,7 +238,7 @@ def _sized_lights(lights) -> dict:
     return {name: tuple(values) for name, values in found.items()}
 
 
-def _environment_features(environment) -> dict:
+def _environment_features(environment, halves: int) -> dict:
     if environment is None:
         return {}
     return {"environment": specular_layout(environment), "environment_classic": environment.classic,
@@ -246,8 +246,7 @@ def _environment_features(environment) -> dict:
             "environment_specular_samples": environment.specular_samples if environment.specular == "sampled" else 0,
             "environment_interleave": interleave_pattern(environment.visibility, environment.visibility_interleave)
             if environment.visibility else (1, 0),
-            "environment_halves": region_halves(environment.visibility, environment.visibility_interleave)
-            if environment.visibility else 1}
+            "environment_halves": halves}
 
 
 def environment_shades(classic: bool, model: str) -> bool:

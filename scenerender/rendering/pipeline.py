@@ -20,7 +20,7 @@ from scenerender.rendering.passes.output import (
     NO_TONE, OutputTransformPass, ReadbackPass, ResolveOutputPass, ResolvePass, ResolveToSrgbPass, ToneCurve,
 )
 from scenerender.rendering.passes.sky import NO_SKY, EnvironmentSky, SkyboxPass, SkyUnder
-from scenerender.world.environment_visibility import interleave_pattern, region_halves, visibility_tiles
+from scenerender.world.environment_visibility import interleave_pattern, visibility_tiles
 from scenerender.world.build import scene_bounds
 from scenerender.world.frame import FrameEvaluator
 from scenerender.world.probe_grid import probe_grid
@@ -201,10 +201,10 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
                                                   environment.samples)).image
     visibility = None
     if inputs.environment_views is not None:
-        halves = region_halves(environment.visibility, environment.visibility_interleave)
+        halves = world.environment_halves
         page_size, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size, halves)
-        note = f"{environment.visibility} directions of the environment, {tiles[0].size}px each"
-        note += f", {len(tiles)} maps (each direction's region in halves)" if halves > 1 else ""
+        note = (f"{environment.visibility} directions of the environment, {tiles[0].size}px each" if halves == 1 else
+                f"{environment.visibility} directions of the environment in halves, {len(tiles)} maps of {tiles[0].size}px")
         visibility = graph.add(ShadowMapPass(f"{environment.name} visibility", "directional", tiles[0].size, 2, 0,
                                              page_size, inputs.environment_views, inputs.objects, None,
                                              _masked_materials(world, inputs, casters_only=True),

@@ -175,16 +175,18 @@ def interleave_pattern(count: int, interleave: int) -> tuple[int, int]:
     return n, place_lookups((0, 0), n, count)  # the block's first pixel has the most
 
 
-def region_halves(count: int, interleave: int) -> int:
+def region_halves(count: int, interleave: int, redrawn: bool = False) -> int:
     """How many maps each of ``count`` regions gets, asked ``interleave``: 2 where the
-    directions are shared out over blocks (interleave_pattern's N above 1) and both halves
-    of every region fit in MAX_MAPS, else 1. A pixel looks up one half of each of its
-    regions, the two taking turns from block to block
+    directions are shared out over blocks (interleave_pattern's N above 1), both halves of
+    every region fit in MAX_MAPS and the maps are drawn once (not ``redrawn`` every frame,
+    as where a caster moves: twice the maps are twice the draws a frame, 1.09x a frame of
+    the quality scene with one box moving), else 1. A pixel looks up one half of each of
+    its regions, the two taking turns from block to block
     (shaders/post/environment_visibility.frag), so a region's hard shadow is two shadows
     half as strong, mixed by the blur, rather than one: the blotches beside an object
     where each direction's shadow ends (benchmarks/quality/sky_contact.md)."""
     n, _ = interleave_pattern(count, interleave)
-    return 2 if n > 1 and 2 * count <= MAX_MAPS else 1
+    return 2 if n > 1 and 2 * count <= MAX_MAPS and not redrawn else 1
 
 
 def place_lookups(place: tuple, interleave: int, count: int) -> int:

@@ -15,9 +15,7 @@ from scenerender.world.camera import CameraRig, CameraState
 from scenerender.world.lens import lens_radius, through_lens
 from scenerender.world.motion import ShutterMotion, blurs_by_velocity, shutter_motion
 from scenerender.world.environment_light import EnvironmentState
-from scenerender.world.environment_visibility import (
-    EnvironmentViews, environment_views, median_cut, region_halves, visibility_tiles,
-)
+from scenerender.world.environment_visibility import EnvironmentViews, environment_views, median_cut, visibility_tiles
 from scenerender.world.light_states import LightState, ambient_light, evaluate_lights
 from scenerender.world.facing import hidden_from_eye, hidden_side
 from scenerender.world.shadows import AtlasLayout, light_views, visible_region
@@ -237,14 +235,9 @@ class FrameEvaluator:
     @cached_property
     def _environment_directions(self) -> tuple:
         """The environment's visibility directions and weights (median_cut, each region
-        halved where region_halves says), once a run."""
+        halved where World.environment_halves says), once a run."""
         environment = self.world.environment
-        return median_cut(environment.image, environment.visibility, halves=self._environment_halves)
-
-    @cached_property
-    def _environment_halves(self) -> int:
-        environment = self.world.environment
-        return region_halves(environment.visibility, environment.visibility_interleave)
+        return median_cut(environment.image, environment.visibility, halves=self.world.environment_halves)
 
     def _environment_views(self, world: World, objects: list, bounds, time: float) -> EnvironmentViews | None:
         environment = world.environment
@@ -258,7 +251,7 @@ class FrameEvaluator:
         if self._last_environment_views is not None and self._last_environment_views[0] == key:
             return self._last_environment_views[1]
         directions, weights = self._environment_directions
-        _, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size, self._environment_halves)
+        _, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size, world.environment_halves)
         views = environment_views(directions, weights, to_image, tiles, casters, bounds)
         self._last_environment_views = (key, views)
         return views
