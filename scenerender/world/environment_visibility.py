@@ -41,6 +41,13 @@ CUT_WIDTH = 128  # the image is area-averaged to at most this wide before the cu
 MAX_TEXTURE_SIDE = 16384  # what every GL 4.3 device offers (world.directional_views)
 AREA_SHARE = 0.5  # the cuts share out this much solid angle beside power (see median_cut)
 MAX_MAPS = 64  # the shaders' arrays of maps are no longer (the scene's visibility_directions: at most 64)
+# A region's halves' maps, each of this share of visibility_map_size a side (320 of 512):
+# what a frame's lookups read costs on llvmpipe more than their count: against 32 whole
+# maps of 512, 64 maps of 512 made the visibility pass 1.23x as long on the quality scene
+# (256x192, process CPU), 64 of 362 (a direction's texels, shared) 1.07-1.08x, of 320
+# 1.03x, with the contact as close to the reference (benchmarks/quality/sky_contact.md:
+# the ground within 10 cm of a box -1.6 % at 362, -1.0 % at 320)
+HALF_MAP_SIDE = 0.625
 
 
 def median_cut(image: np.ndarray, count: int, area_share: float = AREA_SHARE,
@@ -108,13 +115,11 @@ def _cut(region: tuple, power: np.ndarray, height: int) -> list:
 
 def visibility_tiles(count: int, size: int, halves: int = 1, max_side: int = MAX_TEXTURE_SIDE) -> tuple[tuple, list]:
     """((width, height) of the depth texture, [Tile] per map): ``count`` x ``halves`` tiles
-    of ``size`` texels, or size / sqrt(2) where each region has two halves (region_halves:
-    its texels shared between them, so that the maps take the memory, and a frame's
-    lookups the cache, of ``count`` maps: at 512 a side, 64 maps cost 1.12x a frame of the
-    quality scene at 256x192, 362 a side 1.04-1.07x), halved until the texture fits
-    ``max_side``, in the grid of least area, the squarer of two equal ones."""
+    of ``size`` texels, or HALF_MAP_SIDE of it where each region has two halves
+    (region_halves), halved until the texture fits ``max_side``, in the grid of least area,
+    the squarer of two equal ones."""
     count *= halves
-    size = size if halves == 1 else round(size / math.sqrt(halves))
+    size = size if halves == 1 else int(size * HALF_MAP_SIDE)
     columns = min(range(1, count + 1), key=lambda c: (c * math.ceil(count / c), abs(c - math.ceil(count / c))))
     rows = math.ceil(count / columns)
     while max(columns, rows) * size > max_side and size > 16:
