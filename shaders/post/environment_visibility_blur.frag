@@ -47,6 +47,7 @@ float tap_weight(int i, bool whole) {
     return whole ? (abs(i) == ENV_VIS_INTERLEAVE ? 1.0 : 2.0) : max(float(ENV_VIS_INTERLEAVE - abs(i)), 0.0);
 }
 const float SAME_NORMAL = 0.5;  // cos 60 degrees
+const float FLAT_NORMAL = 0.985;  // cos 10 degrees
 
 void main() {
     const int n = ENV_VIS_INTERLEAVE;
@@ -75,15 +76,20 @@ void main() {
     float after = uintBitsToFloat(taps[REACH + 1].z) - here;
     float slope = abs(before) < abs(after) ? before : after;
     bool same[2 * REACH + 1];
+    float turned[2 * REACH + 1];  // the cosine between this pixel's normal and each tap's
     for (int i = -REACH; i <= REACH; ++i) {
         ivec2 at = pixel + axis * i;
         uvec4 found = taps[i + REACH];
+        turned[i + REACH] = dot(unpackSnorm4x8(found.w).xyz, normal);
         same[i + REACH] = all(greaterThanEqual(at, ivec2(0))) && all(lessThanEqual(at, last))
                           && abs(uintBitsToFloat(found.z) - (here + slope * float(i))) <= 0.03 * here
-                          && dot(unpackSnorm4x8(found.w).xyz, normal) >= SAME_NORMAL;
+                          && turned[i + REACH] >= SAME_NORMAL;
     }
 #if defined(ENV_VIS_HALVES) && defined(ENV_VIS_RATIO)
-    bool whole = same[0] && same[2 * REACH];
+    // the wider window on a flat stretch only: on a curved one (a sphere a few pixels
+    // across) the reflection turns within it, and the specular visibility it mixes moved
+    // the copper sphere among three from +2.7 to +3.2 % at 128x96
+    bool whole = same[0] && same[2 * REACH] && min(turned[0], turned[2 * REACH]) >= FLAT_NORMAL;
 #else
     const bool whole = false;
 #endif
