@@ -42,6 +42,9 @@ def rows() -> list[list[str]]:
          f"{sky['default'].get('ms', float('nan')):.1f}", "64 directions, every pixel",
          f"{pct(sky['64 directions, exact']['errors']['open ground'])} / "
          f"{pct(sky['64 directions, exact']['errors']['vertical faces'])}", "-"],
+        ["environment visibility (as above)", "sky_contact, blotches: RMS over the ground within 1 m of a box",
+         f"{sky['default']['errors']['blotches'] * 100:.1f} %", f"{sky['default'].get('ms', float('nan')):.1f}",
+         "64 directions, every pixel", f"{sky['64 directions, exact']['errors']['blotches'] * 100:.1f} %", "-"],
         ["rect light soft shadow: blockers 16, filter 32", "rect_umbra, floor's umbra leak (% of the lit floor) / band RMS",
          f"{umbra['default']['umbra leak %']:.2f} % / {umbra['default']['band RMS %']:.1f} %", f"{umbra['default']['ms']:.1f}",
          "blockers 64, filter 128",

@@ -99,6 +99,7 @@ class SceneFeatures:
     # pixel looks up all of them as it shades (environment_visibility.interleave_pattern)
     environment_interleave: tuple = (1, 0)
     light_range: bool = False  # a point or spot light has a range (lighting/lights.glsl, range_window)
+    environment_halves: int = 1  # maps a direction (environment_visibility.region_halves)
 
     @classmethod
     def of(cls, world, samples: int = 1, atlas=None) -> "SceneFeatures":
@@ -117,7 +118,7 @@ class SceneFeatures:
             shadow_footprint_samples=_footprint_samples(samples),
             **first_views,
             **_sized_lights(world.lights),
-            **_environment_features(world.environment),
+            **_environment_features(world.environment, world.environment_halves),
             light_range=any(light.range is not None for light in world.lights),
         )
 
@@ -209,7 +210,8 @@ class SceneFeatures:
         if self.environment_specular_samples:
             defines["ENV_SPECULAR_SAMPLES"] = self.environment_specular_samples
         if self.environment_visibility:
-            defines["ENV_VISIBILITY"] = self.environment_visibility
+            # the maps' count (both halves of each direction's region, where it has two)
+            defines["ENV_VISIBILITY"] = self.environment_visibility * self.environment_halves
             defines["ENV_VIS_MIN_ALPHA"] = visibility_min_alpha(self.environment_visibility)
         return defines
 
@@ -248,14 +250,15 @@ def _sized_lights(lights) -> dict:
     return {name: tuple(values) for name, values in found.items()}
 
 
-def _environment_features(environment) -> dict:
+def _environment_features(environment, halves: int) -> dict:
     if environment is None:
         return {}
     return {"environment": specular_layout(environment), "environment_classic": environment.classic,
             "environment_footprint": environment.footprint, "environment_visibility": environment.visibility,
             "environment_specular_samples": environment.specular_samples if environment.specular == "sampled" else 0,
             "environment_interleave": interleave_pattern(environment.visibility, environment.visibility_interleave)
-            if environment.visibility else (1, 0)}
+            if environment.visibility else (1, 0),
+            "environment_halves": halves}
 
 
 def environment_shades(classic: bool, model: str) -> bool:

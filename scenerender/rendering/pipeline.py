@@ -206,8 +206,10 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
                                                   environment.samples)).image
     visibility = None
     if inputs.environment_views is not None:
-        page_size, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size)
-        note = f"{environment.visibility} directions of the environment, {tiles[0].size}px each"
+        halves = world.environment_halves
+        page_size, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size, halves)
+        note = (f"{environment.visibility} directions of the environment, {tiles[0].size}px each" if halves == 1 else
+                f"{environment.visibility} directions of the environment in halves, {len(tiles)} maps of {tiles[0].size}px")
         visibility = graph.add(ShadowMapPass(f"{environment.name} visibility", "directional", tiles[0].size, 2, 0,
                                              page_size, inputs.environment_views, inputs.objects, None,
                                              _masked_materials(world, inputs, casters_only=True),
@@ -221,9 +223,9 @@ def _environment_lighting(graph, world, inputs: InputHandles, size: tuple) -> En
                                                      _masked_materials(world, inputs)))
         found = graph.add(EnvironmentVisibilityPass(lookup_size, inputs.camera, surfaces, inputs.environment_views,
                                                     visibility, environment.visibility, interleave,
-                                                    visibility_min_alpha(environment.visibility))).image
-        across = graph.add(EnvironmentVisibilityBlurPass(found, lookup_size, interleave, 0, False, True)).image
-        lookups = graph.add(EnvironmentVisibilityBlurPass(across, lookup_size, interleave, 1, True)).image
+                                                    visibility_min_alpha(environment.visibility), halves)).image
+        across = graph.add(EnvironmentVisibilityBlurPass(found, lookup_size, interleave, 0, False, True, halves)).image
+        lookups = graph.add(EnvironmentVisibilityBlurPass(across, lookup_size, interleave, 1, True, False, halves)).image
     return EnvironmentLighting(inputs.environment, inputs.environment_map, specular, inputs.environment_views,
                                visibility, lookups, scale)
 

@@ -24,6 +24,7 @@ from scenerender.world import materials as mats
 from scenerender.world import texture_files
 from scenerender.world.directional_views import fixed_view_sizes
 from scenerender.world.environment_light import EnvironmentDef, environment_def
+from scenerender.world.environment_visibility import region_halves
 from scenerender.world.file_nodes import FileCamera, file_light, node_placement
 from scenerender.world.frame_inputs import AnimatedParts, WorldInputs, animated_parts, world_inputs
 from scenerender.world.images import ImageStore
@@ -96,6 +97,17 @@ class World:
     def inputs(self) -> WorldInputs:
         """Its per-frame inputs and which of them change (world.frame_inputs.world_inputs)."""
         return world_inputs(self)
+
+    @cached_property
+    def environment_halves(self) -> int:
+        """The maps each direction of the environment's visibility gets
+        (world.environment_visibility.region_halves): 1 where it has none, or where its maps
+        are drawn again every frame."""
+        environment = self.environment
+        if environment is None or not environment.visibility:
+            return 1
+        return region_halves(environment.visibility, environment.visibility_interleave,
+                             self.inputs.environment_views.dynamic)
 
     @property
     def shadowed_lights(self) -> list[LightDef]:

@@ -19,6 +19,12 @@ light that reaches a point:
 (s_k: 1 lit, 0 shadowed; D: GGX of the surface's roughness, at least the directions'
 spacing), which scale the split sum's diffuse and specular terms. A point no direction
 is blocked at gets exactly 1, so a convex object alone is not darkened by itself.
+
+Where the directions are shared out over pixel blocks, each region is cut once more
+(region_halves): two maps a region, one looked up in each block, the halves taking turns
+from block to block, so that a region's hard shadow edge becomes two edges of half the
+step each, which the blocks' blur mixes (the blotches on a ground beside objects, where
+32 directions' shadows end one by one: benchmarks/quality/sky_contact.md).
 """
 from __future__ import annotations
 
@@ -34,12 +40,24 @@ from scenerender.world.shadows import Tile, directional_rotation, directional_vi
 CUT_WIDTH = 128  # the image is area-averaged to at most this wide before the cut
 MAX_TEXTURE_SIDE = 16384  # what every GL 4.3 device offers (world.directional_views)
 AREA_SHARE = 0.5  # the cuts share out this much solid angle beside power (see median_cut)
+MAX_MAPS = 64  # the shaders' arrays of maps are no longer (the scene's visibility_directions: at most 64)
+# A region's halves' maps, each of this share of visibility_map_size a side (320 of 512):
+# what a frame's lookups read costs on llvmpipe more than their count: against 32 whole
+# maps of 512, 64 maps of 512 made the visibility pass 1.23x as long on the quality scene
+# (256x192, process CPU), 64 of 362 (a direction's texels, shared) 1.07-1.08x, of 320
+# 1.03x, with the contact as close to the reference (benchmarks/quality/sky_contact.md:
+# the ground within 10 cm of a box -1.6 % at 362, -1.0 % at 320)
+HALF_MAP_SIDE = 0.625
 
 
-def median_cut(image: np.ndarray, count: int, area_share: float = AREA_SHARE) -> tuple[np.ndarray, np.ndarray]:
-    """((count, 3) unit directions in the image's frame, (count,) weights summing to 1):
-    the centroids and power shares of ``count`` regions of about equal measure (the
-    module's docstring; ``area_share`` 0 is Debevec's equal power)."""
+def median_cut(image: np.ndarray, count: int, area_share: float = AREA_SHARE,
+               halves: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """((count x halves, 3) unit directions in the image's frame, (count x halves,) weights
+    summing to 1): the centroids and power shares of ``count`` regions of about equal
+    measure (the module's docstring; ``area_share`` 0 is Debevec's equal power); with
+    ``halves`` 2, each region cut once more at its measure's median, direction k + count
+    the second half of region k's (a region too small to cut: itself twice, each of half
+    its power)."""
     small = area_average(np.asarray(image, dtype=np.float64), CUT_WIDTH)
     while small.shape[0] * small.shape[1] < count:  # a tiny image: texels enough for every region
         small = np.repeat(np.repeat(small, 2, axis=0), 2, axis=1)
@@ -59,6 +77,8 @@ def median_cut(image: np.ndarray, count: int, area_share: float = AREA_SHARE) ->
         for region in cuttable[:count - len(regions)]:
             regions.remove(region)
             regions.extend(_cut(region, measure, height))
+    if halves == 2:
+        regions = _halved(regions, measure, height)
     directions = equirect_directions(height, width)
     found_directions, weights = [], []
     for top, bottom, left, right in regions:
@@ -66,9 +86,16 @@ def median_cut(image: np.ndarray, count: int, area_share: float = AREA_SHARE) ->
         total = p.sum()
         d = (directions[top:bottom, left:right] * (p if total > 0 else np.ones_like(p))[..., None]).sum(axis=(0, 1))
         found_directions.append(d / max(np.linalg.norm(d), 1e-12))
-        weights.append(total)
+        weights.append(total / regions.count((top, bottom, left, right)))  # a region kept whole shares it
     weights = np.asarray(weights)
     return np.asarray(found_directions), weights / weights.sum()
+
+
+def _halved(regions: list, measure: np.ndarray, height: int) -> list:
+    """Each of ``regions`` cut in two (_cut): the first halves in the regions' order, then
+    the second halves; a region of one texel stays whole, its power split between both."""
+    cut = [_cut(r, measure, height) if r[1] - r[0] > 1 or r[3] - r[2] > 1 else [r, r] for r in regions]
+    return [first for first, _ in cut] + [second for _, second in cut]
 
 
 def _cut(region: tuple, power: np.ndarray, height: int) -> list:
@@ -86,10 +113,13 @@ def _cut(region: tuple, power: np.ndarray, height: int) -> list:
     return [(top, top + at, left, right), (top + at, bottom, left, right)]
 
 
-def visibility_tiles(count: int, size: int, max_side: int = MAX_TEXTURE_SIDE) -> tuple[tuple, list]:
-    """((width, height) of the depth texture, [Tile] per direction): ``count`` tiles of
-    ``size`` texels (halved until the texture fits ``max_side``) in the grid of least area,
+def visibility_tiles(count: int, size: int, halves: int = 1, max_side: int = MAX_TEXTURE_SIDE) -> tuple[tuple, list]:
+    """((width, height) of the depth texture, [Tile] per map): ``count`` x ``halves`` tiles
+    of ``size`` texels, or HALF_MAP_SIDE of it where each region has two halves
+    (region_halves), halved until the texture fits ``max_side``, in the grid of least area,
     the squarer of two equal ones."""
+    count *= halves
+    size = size if halves == 1 else int(size * HALF_MAP_SIDE)
     columns = min(range(1, count + 1), key=lambda c: (c * math.ceil(count / c), abs(c - math.ceil(count / c))))
     rows = math.ceil(count / columns)
     while max(columns, rows) * size > max_side and size > 16:
@@ -148,6 +178,20 @@ def interleave_pattern(count: int, interleave: int) -> tuple[int, int]:
     sqrt(count), so every pixel has one; N 1: each pixel looks up all of them as it shades."""
     n = max(1, min(interleave, math.isqrt(count)))
     return n, place_lookups((0, 0), n, count)  # the block's first pixel has the most
+
+
+def region_halves(count: int, interleave: int, redrawn: bool = False) -> int:
+    """How many maps each of ``count`` regions gets, asked ``interleave``: 2 where the
+    directions are shared out over blocks (interleave_pattern's N above 1), both halves of
+    every region fit in MAX_MAPS and the maps are drawn once (not ``redrawn`` every frame,
+    as where a caster moves: twice the maps are twice the draws a frame, 1.09x a frame of
+    the quality scene with one box moving), else 1. A pixel looks up one half of each of
+    its regions, the two taking turns from block to block
+    (shaders/post/environment_visibility.frag), so a region's hard shadow is two shadows
+    half as strong, mixed by the blur, rather than one: the blotches beside an object
+    where each direction's shadow ends (benchmarks/quality/sky_contact.md)."""
+    n, _ = interleave_pattern(count, interleave)
+    return 2 if n > 1 and 2 * count <= MAX_MAPS and not redrawn else 1
 
 
 def place_lookups(place: tuple, interleave: int, count: int) -> int:

@@ -235,9 +235,10 @@ class FrameEvaluator:
 
     @cached_property
     def _environment_directions(self) -> tuple:
-        """The environment's visibility directions and weights (median_cut), once a run."""
+        """The environment's visibility directions and weights (median_cut, each region
+        halved where World.environment_halves says), once a run."""
         environment = self.world.environment
-        return median_cut(environment.image, environment.visibility)
+        return median_cut(environment.image, environment.visibility, halves=self.world.environment_halves)
 
     def _environment_views(self, world: World, objects: list, bounds, time: float) -> EnvironmentViews | None:
         environment = world.environment
@@ -251,7 +252,7 @@ class FrameEvaluator:
         if self._last_environment_views is not None and self._last_environment_views[0] == key:
             return self._last_environment_views[1]
         directions, weights = self._environment_directions
-        _, tiles = visibility_tiles(len(directions), environment.visibility_map_size)
+        _, tiles = visibility_tiles(environment.visibility, environment.visibility_map_size, world.environment_halves)
         views = environment_views(directions, weights, to_image, tiles, casters, bounds)
         self._last_environment_views = (key, views)
         return views

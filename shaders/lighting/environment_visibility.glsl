@@ -1,6 +1,7 @@
 // How much of the environment's light reaches a point (world/environment_visibility.py):
-// the image split into ENV_VISIBILITY directions of about equal power, each with an
-// orthographic shadow map, tiles of one depth texture. With s_k the lookup (1 lit, 0
+// the image split into directions of about equal power, each with an orthographic shadow
+// map (ENV_VISIBILITY maps: two for each direction where its region is halved, one for each
+// half), tiles of one depth texture. With s_k the lookup (1 lit, 0
 // shadowed) and w_k the direction's power share:
 //   diffuse:  V_d = sum w_k (N.l_k) s_k / sum w_k (N.l_k)
 //   specular: V_s = the same, each term also times GGX D(N.h_k) of the roughness (alpha
@@ -74,7 +75,8 @@ vec2 env_vis_ratio(vec4 sum) {  // diffuse weight, of it lit, specular weight, o
 }
 
 #ifndef ENV_VIS_INTERLEAVE
-// (V_d, V_s) at p, normal n, towards the viewer v: every direction looked up here.
+// (V_d, V_s) at p, normal n, towards the viewer v: every direction looked up here (both
+// halves of each region, where they have two).
 vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     float alpha = max(roughness * roughness, ENV_VIS_MIN_ALPHA);
     vec4 sum = vec4(0.0);
@@ -94,10 +96,10 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
 // (post/environment_visibility.frag) and its blur (post/environment_visibility_blur.frag)
 // left, at u_env_vis_scale of this pass's resolution, packed in one uint: V_d and V_s at
 // the narrowest lobe, alpha = ENV_VIS_MIN_ALPHA, and the surface's distance from the
-// camera. Read
-// bilinearly among the four texels around the pixel that lie on its surface (distance
-// within 3 % of this one's, carried along its slope), the nearest in distance where none
-// does. The widest lobe, alpha = 1, is GGX D = 1 / pi everywhere, which makes V_s = V_d:
+// camera, and which way the surface faces. Read bilinearly among the four texels around
+// the pixel that lie on its surface (distance within 3 % of this one's, carried along its
+// slope) and face its way (common/seen_texel.glsl's facing_class), those on its surface
+// where none faces its way, the nearest in distance where none is on it. The widest lobe, alpha = 1, is GGX D = 1 / pi everywhere, which makes V_s = V_d:
 // between the two, V_s is taken linearly in alpha (exact at both ends; the pass draws no
 // material, so it knows no roughness).
 uniform usampler2D u_env_vis_samples;
@@ -123,7 +125,11 @@ vec2 env_visibility(vec3 p, vec3 n, vec3 v, float roughness) {
     vec4 gap = abs(found_distance - expected);
     vec2 f = at - low;
     vec4 tent = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
-    vec4 weight = tent * step(gap, vec4(0.03 * dist));
+    vec4 on_surface = tent * step(gap, vec4(0.03 * dist));
+    // of those, the ones facing the way this pixel faces (seen_facing): at a box's foot the
+    // ground's texels, not the box side's, whose distance is the same there
+    vec4 weight = on_surface * vec4(equal(seen_facing(found), uvec4(facing_class(n))));
+    weight = dot(weight, vec4(1.0)) > 1e-4 ? weight : on_surface;
     float closest = min(min(gap.x, gap.y), min(gap.z, gap.w));
     vec4 nearest = step(gap, vec4(closest));
     weight = dot(weight, vec4(1.0)) > 1e-4 ? weight : nearest;

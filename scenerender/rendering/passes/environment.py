@@ -182,8 +182,9 @@ class EnvironmentVisibilityPass(RenderPass):
     world.environment_visibility), at the surface EnvironmentSurfacesPass
     found there, as weighted sums with the surface's distance, packed
     (shaders/post/environment_visibility.frag); full-screen, once for each place in the
-    block, into a sub-image of its own (sub_image_layout). ``min_alpha``: the narrowest
-    specular lobe (features.visibility_min_alpha)."""
+    block (and each half of the regions, where ``halves`` is 2), into a sub-image of its
+    own (sub_image_layout). ``min_alpha``: the narrowest specular lobe
+    (features.visibility_min_alpha)."""
 
     size: tuple
     camera: Handle
@@ -193,20 +194,22 @@ class EnvironmentVisibilityPass(RenderPass):
     directions: int
     interleave: int
     min_alpha: str
+    halves: int = 1  # maps a direction (world.environment_visibility.region_halves)
 
     name = "environment_visibility"
 
     def setup(self, builder) -> ImageData:
         builder.read(self.camera, self.views, self.visibility, self.surfaces.surfaces)
-        part, _ = sub_image_layout(self.size, self.interleave)
+        part, _ = sub_image_layout(self.size, self.interleave, self.halves)
         whole = (part[0] * self.interleave, part[1] * self.interleave)
         return ImageData(builder.create("environment_lookups", ResourceDesc("color", whole, "rgba32ui")))
 
     def describe(self) -> str:
         _, places = sub_image_layout(self.size, self.interleave)
         counts = sorted({place_lookups(place, self.interleave, self.directions) for place in places})
+        halves = ", each direction's region in halves taking turns by block" if self.halves > 1 else ""
         return (f"{self.directions} directions over {self.interleave}x{self.interleave} pixels, "
-                f"{' or '.join(map(str, counts))} a pixel, at {self.size[0]}x{self.size[1]}")
+                f"{' or '.join(map(str, counts))} a pixel, at {self.size[0]}x{self.size[1]}{halves}")
 
     def execute(self, ctx, data: ImageData) -> None:
         fbo = ctx.framebuffer([data.image])
@@ -215,7 +218,8 @@ class EnvironmentVisibilityPass(RenderPass):
         bind_visibility_maps(ctx, self.visibility)
         ctx.image(self.surfaces.surfaces).use(TEXTURE_UNITS["u_env_vis_surfaces"])
         uniforms = visibility_uniforms(ctx, self.views, self.visibility, ctx.input(self.camera).position)
-        part, places = sub_image_layout(self.size, self.interleave)
+        part, places = sub_image_layout(self.size, self.interleave, self.halves)
+        width = part[0] // self.halves  # each half's blocks: a column of the sub-image (sub_image_layout)
         programs = {}
         waits = Waits(ctx)  # over all places: each may be short, all of them long
         try:
@@ -225,10 +229,15 @@ class EnvironmentVisibilityPass(RenderPass):
                     programs[lookups] = self._program(ctx, lookups)
                     set_uniforms(programs[lookups], **uniforms)
                 program = programs[lookups]
-                fbo.viewport = (place[0] * part[0], place[1] * part[1], *part)
                 program["u_env_vis_place"].value = place
-                # at the largest images a place's draw takes seconds on a software renderer
-                draw_in_steps(ctx, steps_over(fbo.viewport, lookups), lambda: ctx.fullscreen(program), waits=waits)
+                for half in range(self.halves):
+                    # one draw a half: all its pixels look up the same maps, whose data
+                    # llvmpipe then reads once for all of them
+                    fbo.viewport = (place[0] * part[0] + half * width, place[1] * part[1], width, part[1])
+                    if self.halves > 1:
+                        program["u_env_vis_half"].value = half
+                    # at the largest images a place's draw takes seconds on a software renderer
+                    draw_in_steps(ctx, steps_over(fbo.viewport, lookups), lambda: ctx.fullscreen(program), waits=waits)
         finally:
             fbo.viewport = (0, 0, *fbo.size)
 
@@ -236,19 +245,25 @@ class EnvironmentVisibilityPass(RenderPass):
         """The pass's program for a place that looks up ``lookups`` directions: where N^2
         does not divide the count, the places with one fewer run a shorter loop rather
         than lookups weighed by 0."""
-        defines = {"ENV_VISIBILITY": self.directions, "ENV_VIS_INTERLEAVE": self.interleave,
+        defines = {"ENV_VISIBILITY": self.directions * self.halves, "ENV_VIS_INTERLEAVE": self.interleave,
                    "ENV_VIS_PER_PIXEL": lookups, "ENV_VIS_MIN_ALPHA": self.min_alpha}
+        if self.halves > 1:  # the regions; their second halves' maps follow the first halves'
+            defines["ENV_VIS_REGIONS"] = self.directions
         program = ctx.programs.get(FULLSCREEN_VERTEX, VISIBILITY_FRAGMENT, defines)
         bind_texture_units(program)
         return program
 
 
-def sub_image_layout(size: tuple, interleave: int) -> tuple[tuple, list]:
+def sub_image_layout(size: tuple, interleave: int, halves: int = 1) -> tuple[tuple, list]:
     """The visibility pass's sub-images, one for each place (x, y) in the ``interleave``
     block, of the pixels of ``size`` at that place: their (width, height), each side's
-    count of such pixels rounded up, and the places, the sub-image of (x, y) at
-    (x, y) times that size."""
-    part = tuple(-(-side // interleave) for side in size)
+    count of such pixels rounded up (the width to a multiple of ``halves``), and the
+    places, the sub-image of (x, y) at (x, y) times that size. With ``halves`` 2 the
+    blocks (bx, by) take the regions' halves in turn, h = (bx + by) % 2, and each
+    sub-image holds half h's blocks in its h-th column of half its width, block (bx, by)
+    at (bx // 2, by) there (shaders/post/environment_visibility.frag)."""
+    columns = -(-size[0] // interleave)
+    part = (-(-columns // halves) * halves, -(-size[1] // interleave))
     return part, [(x, y) for y in range(interleave) for x in range(interleave)]
 
 
@@ -266,6 +281,9 @@ class EnvironmentVisibilityBlurPass(RenderPass):
     axis: int
     ratio: bool
     sub_images: bool = False  # ``sums`` laid out as EnvironmentVisibilityPass leaves them
+    # maps a direction (world.environment_visibility.region_halves): 2 lays the sub-images
+    # out by half, and widens the second pass's window a pixel each side
+    halves: int = 1
 
     name = "environment_visibility_blur"
 
@@ -275,7 +293,8 @@ class EnvironmentVisibilityBlurPass(RenderPass):
         return ImageData(builder.create(name, ResourceDesc("color", self.size, packing)))
 
     def describe(self) -> str:
-        return f"{2 * self.interleave - 1} pixels along {'xy'[self.axis]}"
+        wide = self.halves > 1 and self.ratio
+        return f"{2 * self.interleave + (1 if wide else -1)} pixels along {'xy'[self.axis]}"
 
     def execute(self, ctx, data: ImageData) -> None:
         begin_fullscreen_pass(ctx, data.image)
@@ -284,6 +303,8 @@ class EnvironmentVisibilityBlurPass(RenderPass):
             defines["ENV_VIS_RATIO"] = True
         if self.sub_images:
             defines["ENV_VIS_SUB_IMAGES"] = True
+        if self.halves > 1:
+            defines["ENV_VIS_HALVES"] = True
         program = ctx.programs.get(FULLSCREEN_VERTEX, BLUR_FRAGMENT, defines)
         bind_texture_units(program)
         if self.sub_images:
