@@ -137,10 +137,12 @@ bool segment_blocked(int index, int page, vec3 p, vec3 point, bool radial, float
         if (any(lessThan(x.xy, tile.xy)) || any(greaterThan(x.xy, tile.zw))) {
             return false;  // off this view of the map
         }
-        // a thin (open) surface counts as one step thick, so the march cannot step over it
-        float thickness = max(last - x.z, margin);
+        // a thin (open) surface counts as one step thick, so the march cannot step over
+        // it; a closed caster as thick as it is
+        float step = max(last - x.z, margin);
         last = x.z;
-        if (x.z > stored_depth(page, x.xy) + margin && x.z < back_depth(page, x.xy) + thickness) {
+        float front = stored_depth(page, x.xy);
+        if (x.z > front + margin && x.z < max(back_depth(page, x.xy), front + step)) {
             return true;
         }
     }
