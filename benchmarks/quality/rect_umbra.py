@@ -38,6 +38,7 @@ VARIANTS = {
     "default": [],
     "map 2048": ["lights[0].shadows={size: 2048}"],
     "filter 128, blockers 64": ["render.shadows.filter_samples=128", "render.shadows.blocker_samples=64"],
+    "casters: solid": ["render.shadows.casters=solid"],
 }
 # what the table read before the soft shadow's fade near the umbra where the light's centre
 # is hidden (shaders/lighting/soft_shadows.glsl), and the alternatives measured for it

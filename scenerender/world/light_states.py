@@ -55,8 +55,9 @@ class LightDef:
     @property
     def solid_casters(self) -> bool:
         """Whether its soft shadow reads the casters' back faces too (render.shadows.casters:
-        solid), a sized light's seen in perspective (a directional light's is left as is)."""
-        return (self.sized and self.shadow is not None and self.kind != "directional"
+        solid): a sized light with a cube map (point, rect, disk). A spot light's and a
+        directional light's soft shadows are left as filtered (docs/limitations.md)."""
+        return (self.sized and self.shadow is not None and self.kind in ("point", "rect", "disk")
                 and self.shadow.casters == "solid")
 
     @property

@@ -11,6 +11,7 @@ from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import bind_material, bind_texture_units, skip_faces, stop_culling
 from scenerender.rendering.features import mask_defines
 from scenerender.rendering.steps import CHECKPOINT_TEXELS, Waits
+from scenerender.world.facing import hidden_side
 from scenerender.world.shadows import CUBE_MAP_KINDS, atlas_page_name, back_page_name, hidden_from_light
 
 
@@ -119,7 +120,7 @@ class ShadowMapPass(RenderPass):
                 frame = objects.frames[index]
                 # faces turned away from the light never hold the nearest depth (nor, the
                 # other way round, the faces it sees the back-face map's)
-                skip_faces(gl, self._skipped(hidden_from_light(view, frame.winding, frame.bounds)))
+                skip_faces(gl, self._skipped(view, frame))
                 materials = objects.definitions[index].materials
                 if any(id(material) in masked for material in materials):
                     for group, material in enumerate(materials):
@@ -130,12 +131,15 @@ class ShadowMapPass(RenderPass):
                     ctx.draw_placed(program, objects, index)
         stop_culling(gl)
 
-    def _skipped(self, hidden: str | None) -> str | None:
-        """The faces this pass leaves out, given those ``hidden`` from the light: none where
-        it cannot tell (both sides drawn: an open surface has no thickness)."""
-        if not self.back_faces or hidden is None:
-            return hidden
-        return "front" if hidden == "back" else "back"
+    def _skipped(self, view, frame) -> str | None:
+        """The faces this pass leaves out of a caster (``frame``: its ObjectFrame). The
+        back-face map leaves out the side any outside viewpoint sees, even where the near
+        plane may cut into the caster (a spot light's wide view): a caster drawn on both
+        sides there would be thin. An open surface is drawn on both sides."""
+        if not self.back_faces:
+            return hidden_from_light(view, frame.winding, frame.bounds)
+        hidden = hidden_side(frame.winding)
+        return None if hidden is None else ("front" if hidden == "back" else "back")
 
     def _masked_programs(self, ctx, defines: dict, objects, casters) -> dict:
         """{id(material): program} for the alpha-masked materials of the casters."""
