@@ -22,6 +22,7 @@ from scenerender.raytrace import render_reference
 from scenerender.tools.penumbra import penumbra_errors, penumbra_regions
 from scenerender.raytrace.sized_lights import sphere_directions
 from scenerender.rendering.features import SceneFeatures
+from scenerender.rendering.renderer import plan
 
 SPP = 8
 
@@ -289,3 +290,34 @@ def test_solid_casters_keep_the_cornell_box_floor_beside_the_tall_box_dark(gl, c
     image = render([f"lights[0].shadows={{casters: {casters}}}"])
     error = image[floor].mean() / direct[floor].mean() - 1.0
     assert (abs(error) < 0.12) == within, f"casters {casters}: the floor in shadow {100 * error:+.1f} %"
+
+
+SPOT_LIGHT = ("{type: spot, position: [0.9, 2.5, 0], direction: [-0.3, -1, 0], outer_angle: 70, radius: 0.3, "
+              "attenuation: [0, 0, 1], intensity: 6, shadows: true}")
+
+
+def pass_names(scene) -> list:
+    world = scene.world
+    return plan(world, world.settings.size, world.settings.samples).compiled.pass_names
+
+
+@pytest.mark.parametrize("light, applies", [(SPHERE_LIGHT, True), (RECT_LIGHT, True), (DISK_LIGHT, True),
+                                            (SPOT_LIGHT, False)], ids=["sphere", "rect", "disk", "spot"])
+def test_solid_casters_add_the_back_faces_where_they_apply(light, applies):
+    """render.shadows.casters: solid adds a back-face shadow pass and its defines for a
+    sized light with a cube map, and nothing for a spot light (left as filtered)."""
+    solid = box_scene(light, overrides=["render.shadows.casters=solid"])
+    defines = SceneFeatures.of(solid.world, samples=4).lighting_defines()
+    assert ("SOLID_CASTERS" in defines) == applies, defines
+    assert any(name.startswith("shadow_back:") for name in pass_names(solid)) == applies
+    assert not any(name.startswith("shadow_back:") for name in pass_names(box_scene(light)))
+
+
+@pytest.mark.gl
+def test_casters_surface_renders_the_bytes_of_an_unset_key(gl):
+    """`casters: surface` is the default: the same programs and the same bytes as no key."""
+    unset = box_scene(RECT_LIGHT)
+    surface = box_scene(RECT_LIGHT, overrides=["render.shadows.casters=surface"])
+    assert (SceneFeatures.of(unset.world, samples=4).lighting_defines()
+            == SceneFeatures.of(surface.world, samples=4).lighting_defines())
+    assert np.array_equal(gpu_pixels(unset, gl), gpu_pixels(surface, gl))
