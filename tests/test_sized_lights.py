@@ -301,11 +301,15 @@ def pass_names(scene) -> list:
     return plan(world, world.settings.size, world.settings.samples).compiled.pass_names
 
 
+SUN_LIGHT = "{type: directional, direction: [-0.5, -1, 0.2], angular_diameter: 8, intensity: 1.2, shadows: true}"
+
+
 @pytest.mark.parametrize("light, applies", [(SPHERE_LIGHT, True), (RECT_LIGHT, True), (DISK_LIGHT, True),
-                                            (SPOT_LIGHT, False)], ids=["sphere", "rect", "disk", "spot"])
+                                            (SPOT_LIGHT, True), (SUN_LIGHT, False)],
+                         ids=["sphere", "rect", "disk", "spot", "sun"])
 def test_solid_casters_add_the_back_faces_where_they_apply(light, applies):
     """render.shadows.casters: solid adds a back-face shadow pass and its defines for a
-    sized light with a cube map, and nothing for a spot light (left as filtered)."""
+    sized light seen in perspective, and nothing for a sun (its penumbra left as filtered)."""
     solid = box_scene(light, overrides=["render.shadows.casters=solid"])
     defines = SceneFeatures.of(solid.world, samples=4).lighting_defines()
     assert ("SOLID_CASTERS" in defines) == applies, defines

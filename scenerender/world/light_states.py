@@ -55,9 +55,9 @@ class LightDef:
     @property
     def solid_casters(self) -> bool:
         """Whether its soft shadow reads the casters' back faces too (render.shadows.casters:
-        solid): a sized light with a cube map (point, rect, disk). A spot light's and a
-        directional light's soft shadows are left as filtered (docs/limitations.md)."""
-        return (self.sized and self.shadow is not None and self.kind in ("point", "rect", "disk")
+        solid): a sized light seen in perspective (point, spot, rect, disk). A directional
+        light's soft shadow is left as filtered (its map is orthographic)."""
+        return (self.sized and self.shadow is not None and self.kind != "directional"
                 and self.shadow.casters == "solid")
 
     @property

@@ -139,10 +139,13 @@ bool segment_blocked(int index, int page, vec3 p, vec3 point, bool radial, float
         }
         // a thin (open) surface counts as one step thick, so the march cannot step over
         // it; a closed caster as thick as it is
-        float step = max(last - x.z, margin);
+        // the receiver's bias keeps its own surface from blocking the ray where the ray
+        // leaves it; past the first point a tenth of it
+        float bias = j == 1 ? margin : 0.1 * margin;
+        float step = max(last - x.z, bias);
         last = x.z;
         float front = stored_depth(page, x.xy);
-        if (x.z > front + margin && x.z < max(back_depth(page, x.xy), front + step)) {
+        if (x.z > front + bias && x.z < max(back_depth(page, x.xy), front + step)) {
             return true;
         }
     }
