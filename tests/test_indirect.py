@@ -128,7 +128,7 @@ def _pass_names(scene) -> list:
 # The Cornell box of benchmarks/quality/scenes/cornell_box.yaml at the setting's defaults,
 # against the path tracer's kept image (16 bounces, 1024 paths a pixel), by region
 # (scenerender/tools/bounce_regions.py). The goal is 5 % in every region; measured at the
-# defaults (benchmarks/quality/cornell_indirect.md): the floor in the boxes' shadow -1.8 %
+# defaults (benchmarks/quality/cornell_indirect.md): the floor in the boxes' shadow -2.5 %
 # with the scene's solid casters (+11 % without: the direct light's soft shadow let light
 # into the umbra beside the tall box's foot, cornell_split.md), the floor
 # under the lamp -2.9 %, the ceiling +2.1 %, every other region within 2 %. Each tolerance

@@ -272,7 +272,7 @@ def test_solid_casters_keep_the_cornell_box_floor_beside_the_tall_box_dark(gl, c
     # benchmarks/quality/scenes/cornell_box.yaml, direct light only, against the path
     # tracer's kept direct-only image: the floor in the boxes' shadow (mostly the umbra
     # beside the tall box's foot, scenerender/tools/bounce_regions.py) within 12 % of the
-    # truth with render.shadows.casters: solid (measured -6.6 %); the soft shadow of the
+    # truth with render.shadows.casters: solid (measured -7.7 %); the soft shadow of the
     # nearest surface alone lets the light the box's side blocks through there (+125 %).
     from scenerender.tools.bounce_regions import bounce_regions
 

@@ -4,7 +4,9 @@
 // fraction of the light seen. The penumbra is sharp where a caster meets its receiver and
 // widens with the distance between them. Near the umbra a perspective view's light fades
 // out where the light's centre is hidden (CONTACT_FULL, CONTACT_FADE), which keeps the umbra
-// beside a box's foot dark. Included only where a shadowed light has a size
+// beside a box's foot dark; with solid casters (SOLID_CASTERS, solid_fraction) each tap's
+// ray is marched through the map and a second one of the casters' back faces instead.
+// Included only where a shadowed light has a size
 // (SOFT_SHADOWS); the atlas is read twice over: through its comparison sampler
 // (u_shadow_atlas) and as plain depth (u_shadow_depth, the same texture with comparison
 // off), which the blocker search needs.
