@@ -128,14 +128,15 @@ def _pass_names(scene) -> list:
 # The Cornell box of benchmarks/quality/scenes/cornell_box.yaml at the setting's defaults,
 # against the path tracer's kept image (16 bounces, 1024 paths a pixel), by region
 # (scenerender/tools/bounce_regions.py). The goal is 5 % in every region; measured at the
-# defaults (benchmarks/quality/cornell_indirect.md): the floor in the boxes' shadow +15 %
-# (the direct light's soft shadow: its bounced light is -1.5 %, cornell_split.md), the floor
+# defaults (benchmarks/quality/cornell_indirect.md): the floor in the boxes' shadow -2.5 %
+# with the scene's solid casters (+11 % without: the direct light's soft shadow let light
+# into the umbra beside the tall box's foot, cornell_split.md), the floor
 # under the lamp -2.9 %, the ceiling +2.1 %, every other region within 2 %. Each tolerance
 # leaves a point or more over what is measured; the direct-only image is off by 40-100 % in
 # every region, and 4 bounces instead of 8 fail (the floor under the lamp -7.6 %, the red
 # wall -9.5 %).
 QUALITY = Path(__file__).resolve().parent.parent / "benchmarks" / "quality"
-CORNELL_TOLERANCES = {"ceiling": 0.04, "floor_under_light": 0.045, "floor_in_shadow": 0.18, "red_wall": 0.03,
+CORNELL_TOLERANCES = {"ceiling": 0.04, "floor_under_light": 0.045, "floor_in_shadow": 0.05, "red_wall": 0.03,
                       "green_wall": 0.02, "back_wall": 0.02, "box_sides": 0.02, "tall_box_front": 0.02,
                       "short_box_front": 0.03}
 CORNELL_RMSE = 0.06     # measured 4.8 %; the issue's goal 10 %

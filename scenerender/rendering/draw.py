@@ -12,7 +12,7 @@ from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.features import TEXTURE_UNITS, mask_defines
 from scenerender.rendering.graph_inputs import LightsInput, MaterialsInput, ObjectsInput
 from scenerender.rendering.light_buffers import LIGHT_BINDING, SHADOW_VIEW_BINDING
-from scenerender.world.shadows import atlas_page_name
+from scenerender.world.shadows import atlas_page_name, back_page_name
 
 # The vertex shader of every pass that draws scene meshes.
 MESH_VERTEX = "mesh/mesh.vert"
@@ -189,16 +189,21 @@ def bind_shadow_depth(ctx, atlas, page: int = 0) -> None:
     ctx.shared("plain_depth_sampler", _plain_depth_sampler).use(unit)
 
 
-def bind_light_tables(ctx, atlas_pages) -> None:
+def bind_light_tables(ctx, atlas_pages, back_pages: tuple = ()) -> None:
     """What the direct lights read besides their buffers: the LTC table where the scene has
     area lights, and each shadow atlas page (``atlas_pages``: handles), with its plain depth
-    too where shadows are soft. The forward pass and the probes' captures share it."""
+    too where shadows are soft, and its casters' back faces where they are solid
+    (``back_pages``: (page, handle) pairs). The forward pass and the probes' captures share it."""
     if ctx.features.n_area:
         bind_ltc(ctx)
     for page, handle in enumerate(atlas_pages):
         bind_shadow_atlas(ctx, handle, page)
         if ctx.features.soft_shadows:
             bind_shadow_depth(ctx, handle, page)
+    for page, handle in back_pages:
+        unit = TEXTURE_UNITS[f"u_{back_page_name(page)}"]
+        ctx.image(handle).use(unit)
+        ctx.shared("plain_depth_sampler", _plain_depth_sampler).use(unit)
 
 
 def _plain_depth_sampler(gl):

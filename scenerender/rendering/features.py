@@ -40,6 +40,8 @@ TEXTURE_UNITS = {
     "u_anisotropy_map": 42,
     # the opaque scene behind transmissive surfaces (passes/transmission.py)
     "u_transmission_source": 43,
+    # the shadow casters' back faces (render.shadows.casters: solid), plain depth
+    "u_shadow_back": 44, "u_shadow_back_2": 45,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map", "clearcoat_map", "clearcoat_roughness_map",
@@ -88,6 +90,12 @@ class SceneFeatures:
     area_shadow_taps: tuple = ()
     area_shadow_pages: tuple = ()
     area_soft: tuple = ()
+    # per light type, in light order: whether a soft shadow's casters are solid (a second
+    # map of their back faces; render.shadows.casters)
+    dir_solid: tuple = ()
+    point_solid: tuple = ()
+    spot_solid: tuple = ()
+    area_solid: tuple = ()
     # the environment light's prefiltered image, (levels, strip width, strip height), or
     # None; ``environment_classic``: Phong and Blinn-Phong materials get its diffuse term
     environment: tuple | None = None
@@ -127,6 +135,12 @@ class SceneFeatures:
         """Whether a shadowed light has a size: then the shaders read the atlas as plain
         depth too (lighting/soft_shadows.glsl)."""
         return any(blockers for blockers, _ in self.dir_soft + self.point_soft + self.spot_soft + self.area_soft)
+
+    @property
+    def solid_casters(self) -> bool:
+        """Whether a soft shadow reads its casters' back faces too (render.shadows.casters:
+        solid): then the shaders bind the back-face pages (lighting/soft_shadows.glsl)."""
+        return any(self.dir_solid + self.point_solid + self.spot_solid + self.area_solid)
 
     def lighting_defines(self) -> dict:
         defines = {"N_DIR_LIGHTS": self.n_dir, "N_POINT_LIGHTS": self.n_point, "N_SPOT_LIGHTS": self.n_spot}
@@ -171,6 +185,10 @@ class SceneFeatures:
             if any(blockers for blockers, _ in soft):
                 defines[f"{kind.upper()}_SOFT_BLOCKERS"] = ", ".join(str(b) for b, _ in soft)
                 defines[f"{kind.upper()}_SOFT_FILTER"] = ", ".join(str(f) for _, f in soft)
+            solid = getattr(self, f"{kind}_solid")
+            if any(solid):
+                defines["SOLID_CASTERS"] = True
+                defines[f"{kind.upper()}_SOFT_SOLID"] = ", ".join("true" if v else "false" for v in solid)
         return defines
 
     @property
@@ -239,14 +257,16 @@ def _sized_lights(lights) -> dict:
     """Per light type, in light order: whether each light has a size, and (blocker reads,
     filter reads) of its soft shadow, (0, 0) unless it is shadowed and has a size."""
     key = {"directional": "dir", "point": "point", "spot": "spot", "rect": "area", "disk": "area"}
-    found = {f"{kind}_{what}": [] for kind in ("dir", "point", "spot") for what in ("sized", "soft")}
+    found = {f"{kind}_{what}": [] for kind in ("dir", "point", "spot") for what in ("sized", "soft", "solid")}
     found["area_soft"] = []
+    found["area_solid"] = []
     for light in lights:
         kind = key[light.kind]
         if kind != "area":
             found[f"{kind}_sized"].append(light.sized)
         soft = light.sized and light.shadow is not None
         found[f"{kind}_soft"].append((light.shadow.blocker_samples, light.shadow.filter_samples) if soft else (0, 0))
+        found[f"{kind}_solid"].append(light.solid_casters)
     return {name: tuple(values) for name, values in found.items()}
 
 

@@ -65,6 +65,7 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     size, samples = options.size, options.samples
 
     shadow_passes, atlas_pages = _add_shadow_passes(graph, world, atlas, inputs)
+    back_pages = _add_back_face_passes(graph, world, atlas, inputs) if atlas_pages else ()
 
     gbuffer = ao = None
     fill = settings.mode if settings.mode in ("wireframe", "points") else "solid"
@@ -88,10 +89,11 @@ def build_graph(world, atlas, options: GraphOptions) -> tuple[FrameGraph, InputH
     visible = fill == "solid" and (options.visible_samples if options.visible_samples is not None
                                    else visible_samples_pay(world, samples, options.post_depth_coverage))
     environment = _environment_lighting(graph, world, inputs, size)
-    indirect = (_indirect_lighting(graph, world, inputs, atlas, atlas_pages, environment, options.indirect_updates)
+    indirect = (_indirect_lighting(graph, world, inputs, atlas, atlas_pages, environment, back_pages,
+                                   options.indirect_updates)
                 if fill == "solid" and settings.indirect is not None else None)
     shading = Shading(inputs, atlas_pages, ao if settings.ambient_occlusion is not None else None, visible,
-                      environment, indirect)
+                      environment, indirect, back_pages)
     prepass = fill == "solid" and (options.depth_prepass if options.depth_prepass is not None
                                    else visible or prepass_pays(world, atlas, size, samples))
     tone = _tone_curve(world, inputs)
@@ -241,7 +243,7 @@ def _transmission_source(graph, world, color, size: tuple, samples: int, sky: Sk
 
 
 def _indirect_lighting(graph, world, inputs: InputHandles, atlas, atlas_pages: tuple, environment,
-                       partial_updates: bool):
+                       back_pages: tuple, partial_updates: bool):
     """render.indirect's probe grid over the scene's bounds at t = 0, with the pass that
     bakes it (and, with ``partial_updates``, its record of what each probe holds, so that
     a frame where the scene moved draws only the probes the change touches); None where
@@ -257,7 +259,7 @@ def _indirect_lighting(graph, world, inputs: InputHandles, atlas, atlas_pages: t
     settings = world.settings.indirect
     grid = probe_grid(bounds, settings.probe_spacing)
     updates = ProbeUpdates(grid, settings.probe_budget, settings.bounces) if partial_updates else None
-    baked = graph.add(IndirectLightPass(grid, settings, inputs, atlas, atlas_pages, environment, updates))
+    baked = graph.add(IndirectLightPass(grid, settings, inputs, atlas, atlas_pages, environment, updates, back_pages))
     return IndirectLighting(grid, baked.irradiance, baked.depth)
 
 
@@ -391,6 +393,25 @@ def _add_shadow_passes(graph, world, atlas, inputs: InputHandles) -> tuple[list,
                                                 _masked_materials(world, inputs, casters_only=True))).atlas
         handles.append((light_index, current[page]))
     return handles, tuple(current[page] for page in sorted(current))
+
+
+def _add_back_face_passes(graph, world, atlas, inputs: InputHandles) -> tuple:
+    """The casters' back faces of each light whose soft shadow has solid casters
+    (render.shadows.casters: solid), into its tiles of its page's back-face twin; returns
+    (page, its final handle) pairs in page order (none where no light has them)."""
+    from scenerender.rendering.passes.shadow import ShadowMapPass  # deferred: see the imports
+
+    current: dict = {}
+    for light_index, views in inputs.shadow_views:
+        light = world.lights[light_index]
+        if not light.solid_casters:
+            continue
+        page = atlas.page_of(light_index)
+        current[page] = graph.add(ShadowMapPass(light.name, light.kind, atlas.tiles[light_index][0].size,
+                                                light.shadow.pcf, page, atlas.pages[page], views, inputs.objects,
+                                                current.get(page), _masked_materials(world, inputs, casters_only=True),
+                                                back_faces=True)).atlas
+    return tuple(sorted(current.items()))
 
 
 def _masked_materials(world, inputs: InputHandles, casters_only: bool = False):

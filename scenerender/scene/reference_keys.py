@@ -84,6 +84,7 @@ KEYS: dict[str, Key] = {
     "render.shadows.bias": Key("Depth bias, as a fraction of the light view's depth range; removes shadow acne.", "0.005"),
     "render.shadows.blocker_samples": Key("Lights with a size (`radius`, `angular_diameter`): depth-map reads that look for the casters between a point and the light, the first step of a soft shadow. No effect on other lights.", "16"),
     "render.shadows.filter_samples": Key("Lights with a size: comparison reads averaged over the penumbra, which is sharp where a caster meets the receiver and widens with the distance between them. No effect on other lights.", "32"),
+    "render.shadows.casters": Key("Lights with a size seen in perspective (point, spot, rect, disk): `solid` adds a second map of the casters' back faces, and each ray of the soft shadow towards its point of the light is blocked only inside a caster (the umbra beside a box's foot stays dark); its cost in docs/performance.md. `surface`: the nearest surface alone. No effect on other lights.", "solid"),
     "render.shadows.slope_bias": Key("Extra bias where light grazes the surface: the bias used is max(bias, slope_bias (1 - N.L)).", "0.05"),
     # -- output ---------------------------------------------------------------------------
     "output.fps": Key("Frames per second: frame i is at time i / fps.", "24"),

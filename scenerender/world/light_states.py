@@ -56,6 +56,14 @@ class LightDef:
         return self.size > 0.0
 
     @property
+    def solid_casters(self) -> bool:
+        """Whether its soft shadow reads the casters' back faces too (render.shadows.casters:
+        solid): a sized light seen in perspective (point, spot, rect, disk). A directional
+        light's soft shadow is left as filtered (its map is orthographic)."""
+        return (self.sized and self.shadow is not None and self.kind != "directional"
+                and self.shadow.casters == "solid")
+
+    @property
     def area(self) -> bool:
         """A one-sided rectangle or disk (AREA_KINDS)."""
         return self.kind in AREA_KINDS
@@ -158,7 +166,7 @@ def _merged_shadow(option, defaults, kind: str, sized: bool = False):
         values.update({k: v for k, v in option.model_dump().items() if v is not None})
     merged = type(defaults).model_validate(values)  # checks the combination
     return ShadowMapSettings(merged.size, merged.pcf, merged.bias, merged.slope_bias, merged.blocker_samples,
-                             merged.filter_samples)
+                             merged.filter_samples, merged.casters)
 
 
 def _from_spec(index: int, light, shadows_default) -> LightDef:

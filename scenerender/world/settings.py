@@ -48,6 +48,9 @@ class ShadowMapSettings:
     # the blocker search, comparison reads of the filter
     blocker_samples: int = 16
     filter_samples: int = 32
+    # "solid": a second map holds the casters' back faces, and a soft shadow's rays are
+    # blocked only inside a caster (shaders/lighting/soft_shadows.glsl, solid_fraction)
+    casters: str = "surface"
 
 
 @dataclass(frozen=True)

@@ -178,6 +178,12 @@ def atlas_page_name(page: int) -> str:
     return "shadow_atlas" if page == 0 else f"shadow_atlas_{page + 1}"
 
 
+def back_page_name(page: int) -> str:
+    """The graph's name for the back faces of atlas page ``page`` (the casters' far side as
+    the lights see it, render.shadows.casters: solid; its sampler is "u_" + this name)."""
+    return "shadow_back" if page == 0 else f"shadow_back_{page + 1}"
+
+
 def hidden_from_light(view: ShadowView, winding: int, bounds: np.ndarray) -> str | None:
     """The faces of a closed surface (world bounds (2, 3)) that ``view`` cannot see, which
     its shadow map may skip (world.facing), or None. An orthographic (directional) view's

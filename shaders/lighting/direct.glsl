@@ -39,17 +39,41 @@ const int area_shadow_page[N_AREA_LIGHTS] = int[](AREA_SHADOW_PAGES);
 const int dir_soft_blockers[N_DIR_LIGHTS] = int[](DIR_SOFT_BLOCKERS);
 const int dir_soft_filter[N_DIR_LIGHTS] = int[](DIR_SOFT_FILTER);
 #endif
+#ifdef DIR_SOFT_SOLID
+const bool dir_soft_solid[N_DIR_LIGHTS] = bool[](DIR_SOFT_SOLID);
+#define DIR_SOLID(i) dir_soft_solid[i]
+#else
+#define DIR_SOLID(i) false
+#endif
 #ifdef POINT_SOFT_BLOCKERS
 const int point_soft_blockers[N_POINT_LIGHTS] = int[](POINT_SOFT_BLOCKERS);
 const int point_soft_filter[N_POINT_LIGHTS] = int[](POINT_SOFT_FILTER);
+#endif
+#ifdef POINT_SOFT_SOLID
+const bool point_soft_solid[N_POINT_LIGHTS] = bool[](POINT_SOFT_SOLID);
+#define POINT_SOLID(i) point_soft_solid[i]
+#else
+#define POINT_SOLID(i) false
 #endif
 #ifdef SPOT_SOFT_BLOCKERS
 const int spot_soft_blockers[N_SPOT_LIGHTS] = int[](SPOT_SOFT_BLOCKERS);
 const int spot_soft_filter[N_SPOT_LIGHTS] = int[](SPOT_SOFT_FILTER);
 #endif
+#ifdef SPOT_SOFT_SOLID
+const bool spot_soft_solid[N_SPOT_LIGHTS] = bool[](SPOT_SOFT_SOLID);
+#define SPOT_SOLID(i) spot_soft_solid[i]
+#else
+#define SPOT_SOLID(i) false
+#endif
 #ifdef AREA_SOFT_BLOCKERS
 const int area_soft_blockers[N_AREA_LIGHTS] = int[](AREA_SOFT_BLOCKERS);
 const int area_soft_filter[N_AREA_LIGHTS] = int[](AREA_SOFT_FILTER);
+#endif
+#ifdef AREA_SOFT_SOLID
+const bool area_soft_solid[N_AREA_LIGHTS] = bool[](AREA_SOFT_SOLID);
+#define AREA_SOLID(i) area_soft_solid[i]
+#else
+#define AREA_SOLID(i) false
 #endif
 #endif
 #endif
@@ -130,7 +154,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
             float size = light.direction.w;
 #ifdef DIR_SOFT_BLOCKERS
             if (dir_shadow_view[i] >= 0 && sized_faces(n, l, size)) {
-                radiance *= shadow_lookup_soft(dir_shadow_view[i], dir_shadow_page[i], dir_soft_blockers[i], dir_soft_filter[i], p, n, dot(n, l), false, false, size);
+                radiance *= shadow_lookup_soft(dir_shadow_view[i], dir_shadow_page[i], dir_soft_blockers[i], dir_soft_filter[i], p, n, dot(n, l), false, false, size, DIR_SOLID(i));
             }
 #endif
             total += SHADE_SIZED(l, size, radiance);
@@ -171,7 +195,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
             float radius = light.attenuation.w;
 #ifdef POINT_SOFT_BLOCKERS
             if (point_shadow_view[i] >= 0 && sized_faces(n, to_light, radius) && max_component(radiance) > 1e-4) {
-                radiance *= shadow_lookup_soft(point_shadow_view[i] + cube_face(-to_light), point_shadow_page[i], point_soft_blockers[i], point_soft_filter[i], p, n, dot(n, l), true, true, radius);
+                radiance *= shadow_lookup_soft(point_shadow_view[i] + cube_face(-to_light), point_shadow_page[i], point_soft_blockers[i], point_soft_filter[i], p, n, dot(n, l), true, true, radius, POINT_SOLID(i));
             }
 #endif
             total += SHADE_SIZED(to_light, radius, radiance);
@@ -215,7 +239,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
             float radius = light.attenuation.w;
 #ifdef SPOT_SOFT_BLOCKERS
             if (spot_shadow_view[i] >= 0 && sized_faces(n, to_light, radius) && max_component(radiance) > 1e-4) {
-                radiance *= shadow_lookup_soft(spot_shadow_view[i], spot_shadow_page[i], spot_soft_blockers[i], spot_soft_filter[i], p, n, dot(n, l), true, false, radius);
+                radiance *= shadow_lookup_soft(spot_shadow_view[i], spot_shadow_page[i], spot_soft_blockers[i], spot_soft_filter[i], p, n, dot(n, l), true, false, radius, SPOT_SOLID(i));
             }
 #endif
             total += SHADE_SIZED(to_light, radius, radiance);
@@ -241,7 +265,7 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, Surface s) {
         vec3 radiance = light.color.rgb;
 #ifdef AREA_SOFT_BLOCKERS
         if (area_shadow_view[i] >= 0) {
-            radiance *= shadow_lookup_shaped(area_shadow_view[i] + cube_face(-to_light), area_shadow_page[i], area_soft_blockers[i], area_soft_filter[i], p, n, max(dot(n, safe_normalize(to_light, n)), 0.0), true, true, light.normal.w, light.axis_u.xyz, light.axis_v.xyz, !area_is_disk(light));
+            radiance *= shadow_lookup_shaped(area_shadow_view[i] + cube_face(-to_light), area_shadow_page[i], area_soft_blockers[i], area_soft_filter[i], p, n, max(dot(n, safe_normalize(to_light, n)), 0.0), true, true, light.normal.w, light.axis_u.xyz, light.axis_v.xyz, !area_is_disk(light), AREA_SOLID(i));
         }
 #endif
         total += SHADE_AREA(light, radiance);

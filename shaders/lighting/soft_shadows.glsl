@@ -4,7 +4,9 @@
 // fraction of the light seen. The penumbra is sharp where a caster meets its receiver and
 // widens with the distance between them. Near the umbra a perspective view's light fades
 // out where the light's centre is hidden (CONTACT_FULL, CONTACT_FADE), which keeps the umbra
-// beside a box's foot dark. Included only where a shadowed light has a size
+// beside a box's foot dark; with solid casters (SOLID_CASTERS, solid_fraction) each tap's
+// ray is marched through the map and a second one of the casters' back faces instead.
+// Included only where a shadowed light has a size
 // (SOFT_SHADOWS); the atlas is read twice over: through its comparison sampler
 // (u_shadow_atlas) and as plain depth (u_shadow_depth, the same texture with comparison
 // off), which the blocker search needs.
@@ -90,12 +92,107 @@ float light_point_weight(vec3 point, vec3 p, vec3 n, vec3 facing) {
 const float CONTACT_FULL = 0.1;
 const float CONTACT_FADE = 0.2;
 
+#ifdef SOLID_CASTERS
+// Solid casters (render.shadows.casters: solid): a second map holds, per texel, the depth
+// of the casters' far side as the light sees it (their faces turned away from it), so a
+// closed caster fills the depths between the two maps and the space behind it is empty.
+// Each filter tap's ray towards its point of the light is marched through the two maps and
+// blocked where it lies inside a caster: beside a box's foot the box's side blocks it,
+// behind the box's top it passes. An open surface (a plane) is drawn on both sides, thin:
+// a ray is blocked where it crosses it, within one step.
+uniform sampler2D u_shadow_back;
+#if SHADOW_PAGES > 1
+uniform sampler2D u_shadow_back_2;
+#endif
+
+float back_depth(int page, vec2 uv) {
+#if SHADOW_PAGES > 1
+    return page == 0 ? textureLod(u_shadow_back, uv, 0.0).r : textureLod(u_shadow_back_2, uv, 0.0).r;
+#else
+    return textureLod(u_shadow_back, uv, 0.0).r;
+#endif
+}
+
+// Points looked at along each ray, evenly spread over the map (in 1 / depth) from p's
+// depth to the nearest caster the blocker search found.
+const int SOLID_STEPS = 8;
+
+// World point x in a view of the map: (atlas uv, depth as the map stores it).
+vec3 map_point(int index, vec3 x, bool radial) {
+    vec4 q = shadow_views[index].to_atlas * vec4(x, 1.0);
+    vec4 depth_params = shadow_views[index].depth;
+    float depth = radial ? (distance(x, shadow_views[index].light.xyz) - depth_params.x) * depth_params.y : q.z;
+    return vec3(q.xy / q.w, depth);
+}
+
+// Whether the segment from p towards ``point`` of the light passes inside a caster.
+// d_receiver, d_nearest: p's and the nearest caster's distances (along the view's depth);
+// margin: the receiver's bias, in the map's depth units.
+bool segment_blocked(int index, int page, vec3 p, vec3 point, bool radial, float d_receiver, float d_nearest,
+                     float margin) {
+    vec4 tile = shadow_views[index].tile;
+    float last = map_point(index, p, radial).z;
+    for (int j = 1; j <= SOLID_STEPS; ++j) {
+        float inverse = mix(1.0 / d_receiver, 1.0 / d_nearest, float(j) / float(SOLID_STEPS));
+        // towards the light's centre, depth falls as d_receiver (1 - t) along the segment
+        vec3 x = map_point(index, mix(p, point, 1.0 - 1.0 / (inverse * d_receiver)), radial);
+        if (any(lessThan(x.xy, tile.xy)) || any(greaterThan(x.xy, tile.zw))) {
+            return false;  // off this view of the map
+        }
+        // a thin (open) surface counts as one step thick, so the march cannot step over
+        // it; a closed caster as thick as it is
+        // the receiver's bias keeps its own surface from blocking the ray where the ray
+        // leaves it; past the first point a tenth of it
+        float bias = j == 1 ? margin : 0.1 * margin;
+        float step = max(last - x.z, bias);
+        last = x.z;
+        float front = stored_depth(page, x.xy);
+        if (x.z > front + bias && x.z < max(back_depth(page, x.xy), front + step)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// The weighted share of the light's points (the filter's taps) whose rays reach p.
+// Arguments as shadow_lookup_shaped's; d_nearest: the nearest caster's distance.
+float solid_fraction(int index, int page, int filters, vec3 p, vec3 n, vec2 uv, float margin, float d_receiver,
+                     float d_nearest, bool radial, float size, vec3 extent_u, vec3 extent_v, vec3 facing,
+                     bool shaped, bool square, float turn) {
+    vec3 centre = shadow_views[index].light.xyz;
+    // a sphere's tap stands for the point of its disc facing p that far along the map's
+    // axes (their directions in the world at p: the gradients of u and v, (row - uv * row
+    // 3) / w, the 1 / w dropped)
+    vec3 toward = normalize(centre - p);
+    mat4 m = shadow_views[index].to_atlas;
+    vec3 row_w = vec3(m[0][3], m[1][3], m[2][3]);
+    vec3 grad_u = vec3(m[0][0], m[1][0], m[2][0]) - uv.x * row_w;
+    vec3 grad_v = vec3(m[0][1], m[1][1], m[2][1]) - uv.y * row_w;
+    vec3 across_u = normalize(grad_u - dot(grad_u, toward) * toward);
+    vec3 across_v = cross(toward, across_u);
+    across_v *= dot(across_v, grad_v) < 0.0 ? -1.0 : 1.0;
+    float lit = 0.0;
+    float total = 0.0;
+    for (int k = 0; k < filters; ++k) {
+        vec2 unit = square ? square_point(k, filters, turn * 0.159154943) : disc_point(k, filters, turn + 1.0);
+        vec3 point = shaped ? centre + unit.x * extent_u + unit.y * extent_v
+                            : centre + size * (unit.x * across_u + unit.y * across_v);
+        float weight = shaped ? light_point_weight(point, p, n, facing) : 1.0;
+        lit += segment_blocked(index, page, p, point, radial, d_receiver, d_nearest, margin) ? 0.0 : weight;
+        total += weight;
+    }
+    return total > 0.0 ? lit / total : 1.0;
+}
+#endif
+
 // Rectangle and disk lights pass their half axes (world vectors, ``extent_u``,
 // ``extent_v``; zero for a sphere) and whether they are a rectangle: the filter then takes
 // the light's own shape, its axes carried onto the map at p, instead of a disc of radius
-// ``size``.
+// ``size``. solid: the light's casters are solid (solid_fraction; a compile-time constant,
+// false unless SOLID_CASTERS).
 float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 p, vec3 n, float n_dot_l,
-                           bool perspective, bool radial, float size, vec3 extent_u, vec3 extent_v, bool square) {
+                           bool perspective, bool radial, float size, vec3 extent_u, vec3 extent_v, bool square,
+                           bool solid) {
     vec4 light = shadow_views[index].light;
     vec4 depth_params = shadow_views[index].depth;
     vec4 texel_world = shadow_views[index].texel;
@@ -146,6 +243,7 @@ float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 
     float turn = pixel_turn();
     float blocker_sum = 0.0;
     float blocker_count = 0.0;
+    float blocker_nearest = 1.0;
     for (int k = 0; k < blockers; ++k) {
         vec2 offset = disc_point(k, blockers, turn) * search;
         vec2 tap = clamp(uv + offset * texel, tile.xy + texel, tile.zw - texel);
@@ -153,10 +251,18 @@ float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 
         bool blocks = depth < receiver - bias - slope * length(offset);
         blocker_sum += blocks ? depth : 0.0;
         blocker_count += blocks ? 1.0 : 0.0;
+        blocker_nearest = blocks ? min(blocker_nearest, depth) : blocker_nearest;
     }
     if (blocker_count == 0.0) {
         return 1.0;
     }
+#ifdef SOLID_CASTERS
+    if (solid) {
+        float d_nearest = max(depth_params.x + blocker_nearest * range, near);
+        return solid_fraction(index, page, filters, p, n, uv, bias + slope, d_receiver, d_nearest, radial, size,
+                              extent_u, extent_v, facing, shaped, square, turn);
+    }
+#endif
     float d_blocker = depth_params.x + blocker_sum / blocker_count * range;
     // the light's disc seen from p through the blockers' plane, in texels: the penumbra
     float penumbra = perspective ? per_inverse_depth * (1.0 / max(d_blocker, near) - 1.0 / d_receiver)
@@ -189,7 +295,7 @@ float shadow_lookup_shaped(int index, int page, int blockers, int filters, vec3 
 
 // A sphere light (or a sun): a disc of radius ``size``.
 float shadow_lookup_soft(int index, int page, int blockers, int filters, vec3 p, vec3 n, float n_dot_l,
-                         bool perspective, bool radial, float size) {
+                         bool perspective, bool radial, float size, bool solid) {
     return shadow_lookup_shaped(index, page, blockers, filters, p, n, n_dot_l, perspective, radial, size,
-                                vec3(0.0), vec3(0.0), false);
+                                vec3(0.0), vec3(0.0), false, solid);
 }

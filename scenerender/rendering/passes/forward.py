@@ -41,17 +41,19 @@ class Shading:
     visible_samples: bool = False  # shadows averaged over the samples that pass the depth test
     environment: EnvironmentLighting | None = None
     indirect: IndirectLighting | None = None  # render.indirect's probes
+    back_pages: tuple = ()  # ((page, handle), ...): solid casters' back faces
 
     def declare(self, builder) -> None:
         # the shadow views too: where their casters' shadows can fall (shadow_reach.py)
         views = tuple(handle for _, handle in self.inputs.shadow_views) if self.atlas_pages else ()
-        builder.read(*self.inputs.shading(), *self.atlas_pages, *((self.ao,) if self.ao is not None else ()),
+        builder.read(*self.inputs.shading(), *self.atlas_pages, *(handle for _, handle in self.back_pages),
+                     *((self.ao,) if self.ao is not None else ()),
                      *(self.environment.handles() if self.environment is not None else ()),
                      *(self.indirect.handles() if self.indirect is not None else ()), *views)
 
     def bind(self, ctx) -> None:
         bind_lights(ctx.input(self.inputs.lights))
-        bind_light_tables(ctx, self.atlas_pages)
+        bind_light_tables(ctx, self.atlas_pages, self.back_pages)
         if self.ao is not None:
             ctx.image(self.ao).use(TEXTURE_UNITS["u_ao"])
         if self.environment is not None:

@@ -174,13 +174,15 @@ class IndirectLightPass(RenderPass):
     atlas_pages: tuple = ()
     environment: object = None  # passes.environment.EnvironmentLighting
     updates: ProbeUpdates | None = None
+    back_pages: tuple = ()  # ((page, handle), ...): solid casters' back faces
 
     name = "indirect_light"
 
     def setup(self, builder) -> IndirectData:
         views = tuple(handle for _, handle in self.inputs.shadow_views) if self.atlas_pages else ()
         builder.read(self.inputs.objects, self.inputs.materials, self.inputs.ambient, *self.inputs.per_light,
-                     *views, *self.atlas_pages, *(self._environment().handles() if self.environment else ()))
+                     *views, *self.atlas_pages, *(handle for _, handle in self.back_pages),
+                     *(self._environment().handles() if self.environment else ()))
         layout = ResourceDesc("color", depth_atlas_size(self.grid), "rgba16f")
         capture = capture_size(self.grid, self.settings.capture_size)
         several = self.settings.bounces > 1
@@ -285,7 +287,7 @@ class IndirectLightPass(RenderPass):
         packed = pack_lights_from(lights, views, anchor, self.atlas)
         buffers = (ctx.gl.buffer(packed.lights), ctx.gl.buffer(packed.views))
         bind_lights(LightsInput(*buffers, packed.first_view))
-        bind_light_tables(ctx, self.atlas_pages)
+        bind_light_tables(ctx, self.atlas_pages, self.back_pages)
         if self.environment is not None:
             self._environment().bind(ctx)
         return buffers

@@ -11,7 +11,8 @@ from scenerender.gpu.uniforms import set_uniforms
 from scenerender.rendering.draw import bind_material, bind_texture_units, skip_faces, stop_culling
 from scenerender.rendering.features import mask_defines
 from scenerender.rendering.steps import CHECKPOINT_TEXELS, Waits
-from scenerender.world.shadows import CUBE_MAP_KINDS, atlas_page_name, hidden_from_light
+from scenerender.world.facing import hidden_side
+from scenerender.world.shadows import CUBE_MAP_KINDS, atlas_page_name, back_page_name, hidden_from_light
 
 
 @dataclass(frozen=True)
@@ -33,6 +34,9 @@ class ShadowMapPass(RenderPass):
     a scene with alpha-masked materials (glTF MASK), whose cut-away pixels cast no shadow.
     page_name: the depth texture's name where it is not an atlas page, and ``note`` what
     the dump shows instead (the environment's visibility maps, rendering.pipeline).
+    back_faces: draw the casters' far side as the light sees it (the faces turned away
+    from it) into the page's back-face twin, same tiles (render.shadows.casters: solid):
+    a closed caster then fills the depths between the two maps, an open surface is thin.
     """
 
     keeps_unchanged = True  # casters are drawn relative to the light, never the camera
@@ -49,15 +53,16 @@ class ShadowMapPass(RenderPass):
     materials: Handle | None = None
     page_name: str | None = None
     note: str = ""
+    back_faces: bool = False
 
     @property
     def name(self) -> str:
-        return f"shadow:{self.light_name}"
+        return f"shadow_back:{self.light_name}" if self.back_faces else f"shadow:{self.light_name}"
 
     def setup(self, builder) -> ShadowMapData:
         builder.read(self.views, self.objects, *((self.materials,) if self.materials is not None else ()))
         if self.atlas_in is None:
-            name = self.page_name or atlas_page_name(self.page)
+            name = self.page_name or (back_page_name if self.back_faces else atlas_page_name)(self.page)
             return ShadowMapData(builder.create(name, ResourceDesc("depth", self.page_size, "depth24")))
         return ShadowMapData(builder.write(self.atlas_in, own_region=True))  # its own tiles
 
@@ -65,7 +70,8 @@ class ShadowMapPass(RenderPass):
         if self.note:
             return self.note
         views = "6 cube faces" if self.kind in CUBE_MAP_KINDS else "1 view"
-        return f"{self.kind} light, {views}, {self.map_size}px, pcf {self.pcf}"
+        back = ", back faces" if self.back_faces else ""
+        return f"{self.kind} light, {views}, {self.map_size}px, pcf {self.pcf}{back}"
 
     def execute(self, ctx, data: ShadowMapData) -> None:
         gl = ctx.gl
@@ -112,8 +118,9 @@ class ShadowMapPass(RenderPass):
                              u_depth_range=(view.near, view.far))
             for index in casters:
                 frame = objects.frames[index]
-                # faces turned away from the light never hold the nearest depth
-                skip_faces(gl, hidden_from_light(view, frame.winding, frame.bounds))
+                # faces turned away from the light never hold the nearest depth (nor, the
+                # other way round, the faces it sees the back-face map's)
+                skip_faces(gl, self._skipped(view, frame))
                 materials = objects.definitions[index].materials
                 if any(id(material) in masked for material in materials):
                     for group, material in enumerate(materials):
@@ -123,6 +130,16 @@ class ShadowMapPass(RenderPass):
                 else:
                     ctx.draw_placed(program, objects, index)
         stop_culling(gl)
+
+    def _skipped(self, view, frame) -> str | None:
+        """The faces this pass leaves out of a caster (``frame``: its ObjectFrame). The
+        back-face map leaves out the side any outside viewpoint sees, even where the near
+        plane may cut into the caster (a spot light's wide view): a caster drawn on both
+        sides there would be thin. An open surface is drawn on both sides."""
+        if not self.back_faces:
+            return hidden_from_light(view, frame.winding, frame.bounds)
+        hidden = hidden_side(frame.winding)
+        return None if hidden is None else ("front" if hidden == "back" else "back")
 
     def _masked_programs(self, ctx, defines: dict, objects, casters) -> dict:
         """{id(material): program} for the alpha-masked materials of the casters."""

@@ -26,6 +26,7 @@ class ShadowSettings(StrictModel):
     slope_bias: number(0, 1) = 0.02
     blocker_samples: number(4, 64, integer=True) = 16
     filter_samples: number(4, 128, integer=True) = 32
+    casters: choice("surface", "solid") = "surface"
 
 
 class ShadowOverride(StrictModel):
@@ -37,6 +38,7 @@ class ShadowOverride(StrictModel):
     slope_bias: number(0, 1) | None = None
     blocker_samples: number(4, 64, integer=True) | None = None
     filter_samples: number(4, 128, integer=True) | None = None
+    casters: choice("surface", "solid") | None = None
 
 
 class Fog(StrictModel):
