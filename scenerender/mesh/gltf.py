@@ -144,6 +144,8 @@ class GltfMaterial:
     specular_color_map: GltfTexture | None = None
     specular_glossiness_map: GltfTexture | None = None  # KHR_materials_pbrSpecularGlossiness
     anisotropy_map: GltfTexture | None = None
+    transmission_map: GltfTexture | None = None  # transmissionTexture, thicknessTexture
+    thickness_map: GltfTexture | None = None
     # KHR_materials_transmission, KHR_materials_volume (their factors)
     transmission: float = 0.0
     thickness: float = 0.0
@@ -383,7 +385,9 @@ LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_facto
                   ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"): "clearcoat_roughness_map",
                   ("KHR_materials_sheen", "sheenColorTexture"): "sheen_color_map",
                   ("KHR_materials_sheen", "sheenRoughnessTexture"): "sheen_roughness_map",
-                  ("KHR_materials_anisotropy", "anisotropyTexture"): "anisotropy_map"}
+                  ("KHR_materials_anisotropy", "anisotropyTexture"): "anisotropy_map",
+                  ("KHR_materials_transmission", "transmissionTexture"): "transmission_map",
+                  ("KHR_materials_volume", "thicknessTexture"): "thickness_map"}
 # read by no one, each named in a warning
 _UNREAD_LAYER_TEXTURES = {("KHR_materials_clearcoat", "clearcoatNormalTexture"): "the coat's normal is the surface's",
                           ("KHR_materials_iridescence", "iridescenceTexture"): "its factor alone applies",
@@ -406,6 +410,8 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
                               f"material {name!r}: KHR_materials_iridescence")
     values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat, "KHR_materials_sheen": sheen,
               "KHR_materials_anisotropy": anisotropy, "KHR_materials_iridescence": iridescence}
+    values.update({extension: json_object(extensions.get(extension, {}), f"material {name!r}: {extension}")
+                   for extension in ("KHR_materials_transmission", "KHR_materials_volume")})
     for (extension, key), instead in _UNREAD_LAYER_TEXTURES.items():
         note = f"{extension} {key} is not read ({instead})"
         if key in values[extension] and note not in result.unsupported:
@@ -435,22 +441,12 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
     }
 
 
-# the textures of KHR_materials_transmission and _volume, which are not read either
-_TRANSMISSION_TEXTURES = {"KHR_materials_transmission": ("transmissionTexture",),
-                          "KHR_materials_volume": ("thicknessTexture",)}
-
-
 def _transmission(name: str, extensions: dict, result: GltfFile) -> dict:
     """The GltfMaterial fields of KHR_materials_transmission and KHR_materials_volume
-    (glTF's defaults where absent: no transmission, thin-walled, no attenuation). The
-    volume's thickness is the factor alone, read in the scene's units."""
+    (glTF's defaults where absent: no transmission, thin-walled, no attenuation), their
+    textures aside (_layers reads them). The volume's thickness is read in the scene's units."""
     values = {extension: json_object(extensions.get(extension, {}), f"material {name!r}: {extension}")
-              for extension in _TRANSMISSION_TEXTURES}
-    for extension, keys in _TRANSMISSION_TEXTURES.items():
-        for key in keys:
-            note = f"{extension} {key} is not read (its factor alone applies)"
-            if key in values[extension] and note not in result.unsupported:
-                result.unsupported.append(note)
+              for extension in ("KHR_materials_transmission", "KHR_materials_volume")}
     transmission, volume = values["KHR_materials_transmission"], values["KHR_materials_volume"]
     distance = volume.get("attenuationDistance")
     return {

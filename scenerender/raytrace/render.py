@@ -726,7 +726,7 @@ class _FrameScene:
         place): base and Ks times the diffuse and specular maps, metallic and roughness
         times theirs, emission times the emissive map, occlusion from its map."""
         uv = corner_uvs[:, 0] * (1.0 - u - v)[:, None] + corner_uvs[:, 1] * u[:, None] + corner_uvs[:, 2] * v[:, None]
-        for key in ("diffuse", "specular", "emissive", "metallic", "roughness", *shading.LAYER_KEYS):
+        for key in ("diffuse", "specular", "emissive", "metallic", "roughness", "thickness", *shading.LAYER_KEYS):
             surface[key] = surface[key].copy()
         for material_index, (samplers, material) in self.maps.items():
             rows = np.flatnonzero(m == material_index)
@@ -921,7 +921,8 @@ def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -
     """The pbr layers' maps (world.materials.LAYER_MAP_KEYS) of ``material`` applied to
     ``surface``'s layer arrays at ``rows``, as lighting/material.glsl's sample_layers: a
     specular colour map multiplies F0 before its clamp, the specular map F0 and F90; the
-    specular-glossiness map sets F0, roughness and the diffuse colour's share."""
+    specular-glossiness map sets F0, roughness and the diffuse colour's share; the
+    transmission and thickness maps multiply theirs (red, green)."""
     if "specular_color_map" in sample:
         f0 = np.minimum(material.dielectric_reflectance() * sample["specular_color_map"][:, :3], 1.0)
         surface["f0"][rows] = f0 * material.specular_factor
@@ -950,6 +951,10 @@ def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -
         surface["sheen_color"][rows] *= sample["sheen_color_map"][:, :3]
     if "sheen_roughness_map" in sample:
         surface["sheen_roughness"][rows] *= sample["sheen_roughness_map"][:, 3]
+    if "transmission_map" in sample:
+        surface["transmission"][rows] *= sample["transmission_map"][:, 0]
+    if "thickness_map" in sample:
+        surface["thickness"][rows] *= sample["thickness_map"][:, 1]
 
 
 def _material_maps(materials: list, images) -> dict:

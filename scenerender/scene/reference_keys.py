@@ -214,6 +214,8 @@ KEYS: dict[str, Key] = {
     "materials.<name>.sheen_roughness_map": Key("pbr: texture whose alpha channel multiplies `sheen_roughness` (glTF `sheenRoughnessTexture`); data.", "textures/ground.png"),
     "materials.<name>.specular_factor_map": Key("pbr: texture whose alpha channel multiplies `specular_factor`, F0 and F90 both (glTF `specularTexture`); data.", "textures/ground.png"),
     "materials.<name>.specular_color_map": Key("pbr: colour texture (sRGB) multiplying `specular_color`, before F0's clamp to 1 (glTF `specularColorTexture`).", "textures/ground.png"),
+    "materials.<name>.transmission_map": Key("pbr: texture whose red channel multiplies `transmission` (glTF `transmissionTexture`); data.", "textures/ground.png"),
+    "materials.<name>.thickness_map": Key("pbr: texture whose green channel multiplies `thickness` (glTF KHR_materials_volume `thicknessTexture`); data.", "textures/ground.png"),
     "materials.<name>.transmission": Key("pbr: the share of the diffuse part (times 1 - metallic) that lets light through, a glass's or a film's (glTF KHR_materials_transmission): what lies behind shows through, blurred by `roughness`; the GPU refracts the opaque scene only. Not set: 0, none.", "1"),
     "materials.<name>.thickness": Key("pbr, with `transmission`: the volume's thickness in scene units (glTF KHR_materials_volume `thicknessFactor`): light refracts by `ior` through it and is attenuated over it; 0 is a thin wall (no bending). Not set: 0.", "0.05"),
     "materials.<name>.attenuation_color": Key("pbr, with `thickness`: the colour white light becomes after `attenuation_distance` inside the volume (Beer-Lambert). Not set: white, none.", "[0.9, 0.5, 0.2]"),

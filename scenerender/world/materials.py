@@ -43,9 +43,11 @@ MAP_KEYS = ("diffuse_map", "specular_map", "normal_map", "opacity_map", "metalli
 # multiplies its layer's factor by one channel (clearcoat red, clearcoat_roughness green,
 # sheen_roughness and specular_factor alpha) or by its colour (sheen_color, specular_color);
 # specular_glossiness is KHR_materials_pbrSpecularGlossiness's texture (mesh.gltf); anisotropy's
-# red and green are a direction in the tangent frame (0..1 for -1..1), blue its strength
+# red and green are a direction in the tangent frame (0..1 for -1..1), blue its strength;
+# KHR_materials_transmission's red multiplies transmission, KHR_materials_volume's green thickness
 LAYER_MAP_KEYS = ("clearcoat_map", "clearcoat_roughness_map", "sheen_color_map", "sheen_roughness_map",
-                  "specular_factor_map", "specular_color_map", "specular_glossiness_map", "anisotropy_map")
+                  "specular_factor_map", "specular_color_map", "specular_glossiness_map", "anisotropy_map",
+                  "transmission_map", "thickness_map")
 MAP_KEYS += LAYER_MAP_KEYS
 # the maps that change the dielectric's F0 (PBR_DIELECTRIC_SPECULAR)
 SPECULAR_MAPS = ("specular_factor_map", "specular_color_map", "specular_glossiness_map")
@@ -55,7 +57,8 @@ SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "op
              "metallic_map": False,
              "clearcoat_map": False, "clearcoat_roughness_map": False, "sheen_color_map": True,
              "sheen_roughness_map": False, "specular_factor_map": False, "specular_color_map": True,
-             "specular_glossiness_map": True, "anisotropy_map": False}
+             "specular_glossiness_map": True, "anisotropy_map": False, "transmission_map": False,
+             "thickness_map": False}
 # a scene's key for a map, where it is not the map's own name
 SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
 SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")

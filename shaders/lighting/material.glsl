@@ -87,6 +87,14 @@ uniform vec4 u_specular_glossiness_map_st;
 uniform sampler2D u_specular_color_map;  // specularColorTexture: rgb (sRGB) times specular_color
 uniform vec4 u_specular_color_map_st;
 #endif
+#ifdef HAS_TRANSMISSION_MAP
+uniform sampler2D u_transmission_map;  // KHR_materials_transmission transmissionTexture: red times transmission
+uniform vec4 u_transmission_map_st;
+#endif
+#ifdef HAS_THICKNESS_MAP
+uniform sampler2D u_thickness_map;  // KHR_materials_volume thicknessTexture: green times thickness
+uniform vec4 u_thickness_map_st;
+#endif
 
 // The texture coordinates each map reads: the mesh's set 0 (``uv``), or set 1 where the
 // map asks for it (glTF texCoord: 1; <MAP>_UV1).
@@ -178,6 +186,16 @@ in vec2 v_uv1;
 #else
 #define UV_OF_u_specular_color_map(uv) (uv)
 #endif
+#ifdef TRANSMISSION_MAP_UV1
+#define UV_OF_u_transmission_map(uv) v_uv1
+#else
+#define UV_OF_u_transmission_map(uv) (uv)
+#endif
+#ifdef THICKNESS_MAP_UV1
+#define UV_OF_u_thickness_map(uv) v_uv1
+#else
+#define UV_OF_u_thickness_map(uv) (uv)
+#endif
 
 // Texture coordinates for a map: MTL -s/-o scale and offset, then the wrap mode. Mirrored
 // wrap folds coordinates here (a triangle wave, so derivatives stay continuous).
@@ -243,6 +261,12 @@ uniform vec2 u_specular_glossiness_map_skew;
 #ifdef HAS_ANISOTROPY_MAP
 uniform vec2 u_anisotropy_map_skew;
 #endif
+#ifdef HAS_TRANSMISSION_MAP
+uniform vec2 u_transmission_map_skew;
+#endif
+#ifdef HAS_THICKNESS_MAP
+uniform vec2 u_thickness_map_skew;
+#endif
 
 vec2 map_uv(vec2 uv, vec4 st, vec2 skew) {
     vec2 t = vec2(uv.x * st.x + uv.y * skew.x, uv.x * skew.y + uv.y * st.y) + st.zw;
@@ -285,6 +309,12 @@ struct Surface {
     float iridescence_ior;
     float iridescence_thickness;  // nanometres
 #endif
+#ifdef PBR_TRANSMISSION
+    float transmission;
+#ifdef TRANSMISSION_VOLUME
+    float thickness;
+#endif
+#endif
 #endif
 };
 
@@ -310,13 +340,20 @@ uniform float u_iridescence;           // KHR_materials_iridescence: its weight,
 uniform float u_iridescence_ior;       // the film's index of refraction
 uniform float u_iridescence_thickness; // and thickness, nanometres
 #endif
+#ifdef PBR_TRANSMISSION
+uniform float u_transmission;  // the share of the diffuse part that lets light through
+#ifdef TRANSMISSION_VOLUME
+uniform float u_thickness;     // the volume's, scene units
+#endif
+#endif
 #ifdef PBR_ANISOTROPY
 uniform float u_anisotropy;            // KHR_materials_anisotropy's strength
 uniform vec2 u_anisotropy_direction;   // (cos, sin) of its rotation from the tangent
 #endif
 
-// The layers' factors times their maps (KHR_materials_specular, _clearcoat, _sheen
-// textures); a material without maps takes its factors as they are.
+// The layers' factors times their maps (KHR_materials_specular, _clearcoat, _sheen,
+// _anisotropy, _transmission, _volume textures); a material without maps takes its
+// factors as they are.
 void sample_layers(inout Surface s, vec2 uv) {
 #ifdef PBR_DIELECTRIC_SPECULAR
     s.dielectric_f0 = u_dielectric_f0;
@@ -375,6 +412,18 @@ void sample_layers(inout Surface s, vec2 uv) {
     s.iridescence = u_iridescence;
     s.iridescence_ior = u_iridescence_ior;
     s.iridescence_thickness = u_iridescence_thickness;
+#endif
+#ifdef PBR_TRANSMISSION
+    s.transmission = u_transmission;
+#ifdef HAS_TRANSMISSION_MAP
+    s.transmission *= texture(u_transmission_map, MAP_UV(u_transmission_map, uv)).r;
+#endif
+#ifdef TRANSMISSION_VOLUME
+    s.thickness = u_thickness;
+#ifdef HAS_THICKNESS_MAP
+    s.thickness *= texture(u_thickness_map, MAP_UV(u_thickness_map, uv)).g;
+#endif
+#endif
 #endif
 }
 

@@ -49,7 +49,6 @@ const float PBR_MIN_ALPHA = 0.002;
 
 // the layers' values are the Surface's (lighting/material.glsl, sample_layers)
 #ifdef PBR_TRANSMISSION
-uniform float u_transmission;  // the share of the diffuse part that lets light through
 uniform float u_transmission_ior;
 #endif
 
@@ -98,6 +97,9 @@ struct PbrView {
     float through_view_term;  // view_term at alpha_t
     vec3 through_f0;          // the dielectric's Fresnel
     float through_f90;
+#ifdef TRANSMISSION_VOLUME
+    float thickness;          // the volume's at the point (its map's)
+#endif
 #endif
 };
 
@@ -139,7 +141,7 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
 #endif
     p.diffuse = s.base * (1.0 - s.metallic);
 #ifdef PBR_TRANSMISSION
-    p.diffuse *= 1.0 - u_transmission;
+    p.diffuse *= 1.0 - s.transmission;
 #endif
 #ifdef PBR_CLEARCOAT
     float coat_alpha = max(s.clearcoat_roughness * s.clearcoat_roughness, PBR_MIN_ALPHA);
@@ -158,7 +160,10 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     p.iridescence = s.iridescence;
 #endif
 #ifdef PBR_TRANSMISSION
-    p.through_tint = s.base * (1.0 - s.metallic) * u_transmission;
+    p.through_tint = s.base * (1.0 - s.metallic) * s.transmission;
+#ifdef TRANSMISSION_VOLUME
+    p.thickness = s.thickness;
+#endif
     float through_alpha = max(alpha * clamp(2.0 * u_transmission_ior - 2.0, 0.0, 1.0), PBR_MIN_ALPHA);
     p.through_alpha2 = through_alpha * through_alpha;
     p.through_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.through_alpha2) + p.through_alpha2);
@@ -315,7 +320,7 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     w.diffuse = mix(w.diffuse, s.base * (1.0 - s.metallic) * (1.0 - max(film.r, max(film.g, film.b))), s.iridescence);
 #endif
 #ifdef PBR_TRANSMISSION
-    w.diffuse *= 1.0 - u_transmission;
+    w.diffuse *= 1.0 - s.transmission;
 #endif
 #if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
     w.base_scale = 1.0;

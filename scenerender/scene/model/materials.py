@@ -71,6 +71,8 @@ class MaterialSpec(StrictModel):
     specular_factor_map: ImagePath | None = None
     specular_color_map: ImagePath | None = None
     anisotropy_map: ImagePath | None = None
+    transmission_map: ImagePath | None = None
+    thickness_map: ImagePath | None = None
     # light through the surface (KHR_materials_transmission) and through its volume
     # (KHR_materials_volume): docs/scene-notes.md, "Transmission and volume"
     transmission: number(0, 1) | None = None
