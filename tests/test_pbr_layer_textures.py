@@ -38,6 +38,11 @@ TEXTURED = {
                         "sheenRoughnessTexture"),
     "specular": ("KHR_materials_specular", {}, "specularTexture"),
     "specular_color": ("KHR_materials_specular", {"specularColorFactor": [1.5, 1.0, 0.5]}, "specularColorTexture"),
+    "iridescence": ("KHR_materials_iridescence", {"iridescenceFactor": 1.0, "iridescenceIor": 1.8,
+                                                  "iridescenceThicknessMaximum": 600}, "iridescenceTexture"),
+    "iridescence_thickness": ("KHR_materials_iridescence", {"iridescenceFactor": 1.0, "iridescenceIor": 1.8,
+                                                            "iridescenceThicknessMaximum": 600},
+                              "iridescenceThicknessTexture"),
 }
 
 
@@ -161,3 +166,37 @@ def test_the_scene_keys_set_the_same_maps_as_the_extensions(gl, tmp_path):
     # within 1 of 255: the file's texture coordinates are flipped in v by the texture's
     # transform (glTF's v runs down), which rounds differently from the scene map's identity
     assert np.abs(from_file.astype(int) - from_keys).max() <= 1
+
+
+def test_the_film_takes_its_minimum_thickness_where_its_texture_is_0_and_its_maximum_where_1(gl, tmp_path):
+    # a thickness texture 0 on its left half (u < 0.5, the sphere's left as seen) and 1 on
+    # its right: each half draws as the film of that thickness alone, iridescenceThicknessMinimum
+    # 250 nm and iridescenceThicknessMaximum 600 nm, to the byte (the columns beside the edge
+    # and the poles, where the halves meet within a few texels of the mip chain, aside)
+    extension, factors, key = TEXTURED["iridescence_thickness"]
+    halves = np.zeros((4, 64, 4), np.uint8)
+    halves[:, 32:] = 255
+    textured_glb(tmp_path / "model.glb", extension, {**factors, "iridescenceThicknessMinimum": 250}, key, halves)
+    textured = _frame(gl, tmp_path)[1].pixels.astype(int)
+    alone = {}
+    for thickness in (250, 600):
+        textured_glb(tmp_path / "model.glb", extension, {**factors, "iridescenceThicknessMaximum": thickness}, None)
+        alone[thickness] = _frame(gl, tmp_path)[1].pixels.astype(int)
+    left, right = (slice(16, 56), slice(0, 44)), (slice(16, 56), slice(52, None))
+    assert np.array_equal(textured[left], alone[250][left])
+    assert np.array_equal(textured[right], alone[600][right])
+    assert np.abs(alone[250] - alone[600]).max() > 10
+
+
+def test_the_iridescence_scene_keys_set_the_same_as_the_file(gl, tmp_path):
+    extension, factors, key = TEXTURED["iridescence_thickness"]
+    textured_glb(tmp_path / "model.glb", extension, {**factors, "iridescenceThicknessMinimum": 250}, key, gradient())
+    from_file = _frame(gl, tmp_path)[1].pixels
+    Image.fromarray(gradient()).save(tmp_path / "film.png")
+    textured_glb(tmp_path / "model.glb", extension, factors, None)
+    text = SCENE.replace("  - mesh: model.glb", "  - {mesh: model.glb, material_overrides: {layered: "
+                         "{iridescence_thickness_map: film.png, iridescence_thickness_min: 250}}}")
+    loaded = scenerender.Scene.from_yaml(text, tmp_path)
+    with scenerender.Renderer(loaded, gl=gl) as renderer:
+        from_keys = renderer.render(0).pixels
+    assert np.abs(from_file.astype(int) - from_keys).max() <= 1  # as the coat's keys above

@@ -134,6 +134,7 @@ class GltfMaterial:
     iridescence: float = 0.0  # KHR_materials_iridescence: weight, film ior, thickness (nm)
     iridescence_ior: float = 1.3
     iridescence_thickness: float = 400.0
+    iridescence_thickness_min: float = 100.0  # where the thickness texture is 0
     # the layers' textures (clearcoatTexture, clearcoatRoughnessTexture, sheenColorTexture,
     # sheenRoughnessTexture, specularTexture, specularColorTexture)
     clearcoat_map: GltfTexture | None = None
@@ -146,6 +147,8 @@ class GltfMaterial:
     anisotropy_map: GltfTexture | None = None
     transmission_map: GltfTexture | None = None  # transmissionTexture, thicknessTexture
     thickness_map: GltfTexture | None = None
+    iridescence_map: GltfTexture | None = None  # iridescenceTexture, iridescenceThicknessTexture
+    iridescence_thickness_map: GltfTexture | None = None
     # KHR_materials_transmission, KHR_materials_volume (their factors)
     transmission: float = 0.0
     thickness: float = 0.0
@@ -387,12 +390,11 @@ LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_facto
                   ("KHR_materials_sheen", "sheenRoughnessTexture"): "sheen_roughness_map",
                   ("KHR_materials_anisotropy", "anisotropyTexture"): "anisotropy_map",
                   ("KHR_materials_transmission", "transmissionTexture"): "transmission_map",
-                  ("KHR_materials_volume", "thicknessTexture"): "thickness_map"}
+                  ("KHR_materials_volume", "thicknessTexture"): "thickness_map",
+                  ("KHR_materials_iridescence", "iridescenceTexture"): "iridescence_map",
+                  ("KHR_materials_iridescence", "iridescenceThicknessTexture"): "iridescence_thickness_map"}
 # read by no one, each named in a warning
-_UNREAD_LAYER_TEXTURES = {("KHR_materials_clearcoat", "clearcoatNormalTexture"): "the coat's normal is the surface's",
-                          ("KHR_materials_iridescence", "iridescenceTexture"): "its factor alone applies",
-                          ("KHR_materials_iridescence", "iridescenceThicknessTexture"):
-                              "the film is iridescenceThicknessMaximum thick"}
+_UNREAD_LAYER_TEXTURES = {("KHR_materials_clearcoat", "clearcoatNormalTexture"): "the coat's normal is the surface's"}
 
 
 def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: str) -> dict:
@@ -435,9 +437,12 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
                                                      "anisotropyRotation", -1e6, 1e6)[0]) % 360.0,
         "iridescence": _numbers([iridescence.get("iridescenceFactor", 0.0)], 1, "iridescenceFactor", 0.0, 1.0)[0],
         "iridescence_ior": _numbers([iridescence.get("iridescenceIor", 1.3)], 1, "iridescenceIor", 1.0, MAX_IOR)[0],
-        # the film's thickness without a thickness texture (the specification)
+        # the film's thickness without a thickness texture (the specification); with one,
+        # mix(minimum, maximum, its green)
         "iridescence_thickness": _numbers([iridescence.get("iridescenceThicknessMaximum", 400.0)], 1,
                                           "iridescenceThicknessMaximum", 0.0, 10000.0)[0],
+        "iridescence_thickness_min": _numbers([iridescence.get("iridescenceThicknessMinimum", 100.0)], 1,
+                                              "iridescenceThicknessMinimum", 0.0, 10000.0)[0],
     }
 
 

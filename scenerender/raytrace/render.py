@@ -922,7 +922,9 @@ def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -
     ``surface``'s layer arrays at ``rows``, as lighting/material.glsl's sample_layers: a
     specular colour map multiplies F0 before its clamp, the specular map F0 and F90; the
     specular-glossiness map sets F0, roughness and the diffuse colour's share; the
-    transmission and thickness maps multiply theirs (red, green)."""
+    transmission and thickness maps multiply theirs (red, green), the iridescence map its
+    weight (red); the iridescence thickness map mixes the film's thickness from its minimum
+    to its maximum by its green."""
     if "specular_color_map" in sample:
         f0 = np.minimum(material.dielectric_reflectance() * sample["specular_color_map"][:, :3], 1.0)
         surface["f0"][rows] = f0 * material.specular_factor
@@ -951,6 +953,11 @@ def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -
         surface["sheen_color"][rows] *= sample["sheen_color_map"][:, :3]
     if "sheen_roughness_map" in sample:
         surface["sheen_roughness"][rows] *= sample["sheen_roughness_map"][:, 3]
+    if "iridescence_map" in sample:
+        surface["iridescence"][rows] *= sample["iridescence_map"][:, 0]
+    if "iridescence_thickness_map" in sample:
+        low, high = material.iridescence_thickness_min, material.iridescence_thickness
+        surface["iridescence_thickness"][rows] = low + (high - low) * sample["iridescence_thickness_map"][:, 1]
     if "transmission_map" in sample:
         surface["transmission"][rows] *= sample["transmission_map"][:, 0]
     if "thickness_map" in sample:

@@ -266,7 +266,8 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
         set_uniforms(program, u_anisotropy=material.anisotropy, u_anisotropy_direction=material.anisotropy_direction())
     if material.iridescence > 0.0:
         set_uniforms(program, u_iridescence=material.iridescence, u_iridescence_ior=material.iridescence_ior,
-                     u_iridescence_thickness=material.iridescence_thickness)
+                     u_iridescence_thickness=material.iridescence_thickness,
+                     u_iridescence_thickness_min=material.iridescence_thickness_min)
     if material.transmissive:
         distance = material.attenuation_distance
         set_uniforms(program, u_transmission=material.transmission, u_transmission_ior=material.ior,

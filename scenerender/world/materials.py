@@ -44,10 +44,12 @@ MAP_KEYS = ("diffuse_map", "specular_map", "normal_map", "opacity_map", "metalli
 # sheen_roughness and specular_factor alpha) or by its colour (sheen_color, specular_color);
 # specular_glossiness is KHR_materials_pbrSpecularGlossiness's texture (mesh.gltf); anisotropy's
 # red and green are a direction in the tangent frame (0..1 for -1..1), blue its strength;
-# KHR_materials_transmission's red multiplies transmission, KHR_materials_volume's green thickness
+# KHR_materials_transmission's red multiplies transmission, KHR_materials_volume's green thickness;
+# KHR_materials_iridescence's red multiplies iridescence, its thickness map's green mixes the
+# film's thickness from iridescence_thickness_min to iridescence_thickness
 LAYER_MAP_KEYS = ("clearcoat_map", "clearcoat_roughness_map", "sheen_color_map", "sheen_roughness_map",
                   "specular_factor_map", "specular_color_map", "specular_glossiness_map", "anisotropy_map",
-                  "transmission_map", "thickness_map")
+                  "transmission_map", "thickness_map", "iridescence_map", "iridescence_thickness_map")
 MAP_KEYS += LAYER_MAP_KEYS
 # the maps that change the dielectric's F0 (PBR_DIELECTRIC_SPECULAR)
 SPECULAR_MAPS = ("specular_factor_map", "specular_color_map", "specular_glossiness_map")
@@ -58,7 +60,7 @@ SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "op
              "clearcoat_map": False, "clearcoat_roughness_map": False, "sheen_color_map": True,
              "sheen_roughness_map": False, "specular_factor_map": False, "specular_color_map": True,
              "specular_glossiness_map": True, "anisotropy_map": False, "transmission_map": False,
-             "thickness_map": False}
+             "thickness_map": False, "iridescence_map": False, "iridescence_thickness_map": False}
 # a scene's key for a map, where it is not the map's own name
 SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
 SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
@@ -66,7 +68,8 @@ SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness", "sheen_color",
               "sheen_roughness")
 LAYER_KEYS += ("anisotropy", "anisotropy_rotation")  # KHR_materials_anisotropy
-LAYER_KEYS += ("iridescence", "iridescence_ior", "iridescence_thickness")  # KHR_materials_iridescence
+LAYER_KEYS += ("iridescence", "iridescence_ior", "iridescence_thickness",  # KHR_materials_iridescence
+               "iridescence_thickness_min")
 # light through the surface and its volume (KHR_materials_transmission, KHR_materials_volume)
 TRANSMISSION_KEYS = ("transmission", "thickness", "attenuation_color", "attenuation_distance")
 
@@ -164,6 +167,7 @@ class Material:
     iridescence: float = 0.0
     iridescence_ior: float = 1.3
     iridescence_thickness: float = 400.0
+    iridescence_thickness_min: float = 100.0  # the thickness map's 0 (its 1 is iridescence_thickness)
     # light through it (docs/scene-notes.md, "Transmission and volume"): the share of the
     # diffuse part that passes through; a volume's thickness (0: thin-walled) and its
     # Beer-Lambert colour reached after attenuation_distance (inf: clear)

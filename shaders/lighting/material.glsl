@@ -91,6 +91,14 @@ uniform vec4 u_specular_color_map_st;
 uniform sampler2D u_transmission_map;  // KHR_materials_transmission transmissionTexture: red times transmission
 uniform vec4 u_transmission_map_st;
 #endif
+#ifdef HAS_IRIDESCENCE_MAP
+uniform sampler2D u_iridescence_map;  // KHR_materials_iridescence iridescenceTexture: red times iridescence
+uniform vec4 u_iridescence_map_st;
+#endif
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+uniform sampler2D u_iridescence_thickness_map;  // iridescenceThicknessTexture: green mixes min .. max
+uniform vec4 u_iridescence_thickness_map_st;
+#endif
 #ifdef HAS_THICKNESS_MAP
 uniform sampler2D u_thickness_map;  // KHR_materials_volume thicknessTexture: green times thickness
 uniform vec4 u_thickness_map_st;
@@ -191,6 +199,16 @@ in vec2 v_uv1;
 #else
 #define UV_OF_u_transmission_map(uv) (uv)
 #endif
+#ifdef IRIDESCENCE_MAP_UV1
+#define UV_OF_u_iridescence_map(uv) v_uv1
+#else
+#define UV_OF_u_iridescence_map(uv) (uv)
+#endif
+#ifdef IRIDESCENCE_THICKNESS_MAP_UV1
+#define UV_OF_u_iridescence_thickness_map(uv) v_uv1
+#else
+#define UV_OF_u_iridescence_thickness_map(uv) (uv)
+#endif
 #ifdef THICKNESS_MAP_UV1
 #define UV_OF_u_thickness_map(uv) v_uv1
 #else
@@ -267,6 +285,12 @@ uniform vec2 u_transmission_map_skew;
 #ifdef HAS_THICKNESS_MAP
 uniform vec2 u_thickness_map_skew;
 #endif
+#ifdef HAS_IRIDESCENCE_MAP
+uniform vec2 u_iridescence_map_skew;
+#endif
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+uniform vec2 u_iridescence_thickness_map_skew;
+#endif
 
 vec2 map_uv(vec2 uv, vec4 st, vec2 skew) {
     vec2 t = vec2(uv.x * st.x + uv.y * skew.x, uv.x * skew.y + uv.y * st.y) + st.zw;
@@ -339,6 +363,9 @@ uniform float u_sheen_roughness;
 uniform float u_iridescence;           // KHR_materials_iridescence: its weight,
 uniform float u_iridescence_ior;       // the film's index of refraction
 uniform float u_iridescence_thickness; // and thickness, nanometres
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+uniform float u_iridescence_thickness_min;  // the thickness where its map's green is 0
+#endif
 #endif
 #ifdef PBR_TRANSMISSION
 uniform float u_transmission;  // the share of the diffuse part that lets light through
@@ -352,7 +379,7 @@ uniform vec2 u_anisotropy_direction;   // (cos, sin) of its rotation from the ta
 #endif
 
 // The layers' factors times their maps (KHR_materials_specular, _clearcoat, _sheen,
-// _anisotropy, _transmission, _volume textures); a material without maps takes its
+// _anisotropy, _iridescence, _transmission, _volume textures); a material without maps takes its
 // factors as they are.
 void sample_layers(inout Surface s, vec2 uv) {
 #ifdef PBR_DIELECTRIC_SPECULAR
@@ -412,6 +439,13 @@ void sample_layers(inout Surface s, vec2 uv) {
     s.iridescence = u_iridescence;
     s.iridescence_ior = u_iridescence_ior;
     s.iridescence_thickness = u_iridescence_thickness;
+#ifdef HAS_IRIDESCENCE_MAP
+    s.iridescence *= texture(u_iridescence_map, MAP_UV(u_iridescence_map, uv)).r;
+#endif
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+    s.iridescence_thickness = mix(u_iridescence_thickness_min, u_iridescence_thickness,
+                                  texture(u_iridescence_thickness_map, MAP_UV(u_iridescence_thickness_map, uv)).g);
+#endif
 #endif
 #ifdef PBR_TRANSMISSION
     s.transmission = u_transmission;
