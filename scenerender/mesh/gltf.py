@@ -147,6 +147,7 @@ class GltfMaterial:
     anisotropy_map: GltfTexture | None = None
     transmission_map: GltfTexture | None = None  # transmissionTexture, thicknessTexture
     thickness_map: GltfTexture | None = None
+    clearcoat_normal_map: GltfTexture | None = None  # clearcoatNormalTexture (its scale in .scale)
     iridescence_map: GltfTexture | None = None  # iridescenceTexture, iridescenceThicknessTexture
     iridescence_thickness_map: GltfTexture | None = None
     # KHR_materials_transmission, KHR_materials_volume (their factors)
@@ -386,6 +387,7 @@ LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_facto
                   ("KHR_materials_specular", "specularColorTexture"): "specular_color_map",
                   ("KHR_materials_clearcoat", "clearcoatTexture"): "clearcoat_map",
                   ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"): "clearcoat_roughness_map",
+                  ("KHR_materials_clearcoat", "clearcoatNormalTexture"): "clearcoat_normal_map",
                   ("KHR_materials_sheen", "sheenColorTexture"): "sheen_color_map",
                   ("KHR_materials_sheen", "sheenRoughnessTexture"): "sheen_roughness_map",
                   ("KHR_materials_anisotropy", "anisotropyTexture"): "anisotropy_map",
@@ -393,8 +395,6 @@ LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_facto
                   ("KHR_materials_volume", "thicknessTexture"): "thickness_map",
                   ("KHR_materials_iridescence", "iridescenceTexture"): "iridescence_map",
                   ("KHR_materials_iridescence", "iridescenceThicknessTexture"): "iridescence_thickness_map"}
-# read by no one, each named in a warning
-_UNREAD_LAYER_TEXTURES = {("KHR_materials_clearcoat", "clearcoatNormalTexture"): "the coat's normal is the surface's"}
 
 
 def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: str) -> dict:
@@ -414,11 +414,8 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
               "KHR_materials_anisotropy": anisotropy, "KHR_materials_iridescence": iridescence}
     values.update({extension: json_object(extensions.get(extension, {}), f"material {name!r}: {extension}")
                    for extension in ("KHR_materials_transmission", "KHR_materials_volume")})
-    for (extension, key), instead in _UNREAD_LAYER_TEXTURES.items():
-        note = f"{extension} {key} is not read ({instead})"
-        if key in values[extension] and note not in result.unsupported:
-            result.unsupported.append(note)
-    maps = {field: _texture(values[extension].get(key), header, result, label, key)
+    maps = {field: _texture(values[extension].get(key), header, result, label, key,
+                            "scale" if key == "clearcoatNormalTexture" else None)
             for (extension, key), field in LAYER_TEXTURES.items()}
     index = _numbers([ior.get("ior", 1.5)], 1, "ior", 0.0, MAX_IOR)[0]
     return {

@@ -412,14 +412,20 @@ class _FrameScene:
         colors = soup.colors[tri]
         surface["diffuse"] = surface["diffuse"] * (colors[:, 0] * (1.0 - u - v)[:, None] + colors[:, 1] * u[:, None]
                                                    + colors[:, 2] * v[:, None])[:, :3]
+        coat_normals = any("clearcoat_normal_map" in samplers for samplers, _ in self.maps.values())
         if soup.tangents is not None:
             surface["anisotropy"] = table["anisotropy"][m]
             surface["anisotropy_xy"] = table["anisotropy_direction"][m]
+        if coat_normals:  # tangent space, flat where a material has no coat normal map
+            surface["clearcoat_texel"] = np.tile([0.0, 0.0, 1.0], (len(m), 1))
         if self.maps:
             self._apply_maps(m, soup.uvs[tri], u, v, surface)
         if soup.tangents is not None:
             surface["anisotropy_t"] = _anisotropy_direction(soup.tangents[tri], u, v, n, back,
                                                             surface.pop("anisotropy_xy"))
+        if coat_normals:
+            surface["clearcoat_normal"] = _tangent_space_normal(soup.tangents[tri], u, v, n, back,
+                                                                surface.pop("clearcoat_texel"))
         return _Hit(n, facing, view, surface, table["model"][m])
 
     def _lit(self, hit: "_Hit", p: np.ndarray, strata, draws: "_Draws"):
@@ -917,6 +923,18 @@ def _anisotropy_direction(frames: np.ndarray, u: np.ndarray, v: np.ndarray, n: n
     return shading.safe_normalize(t * direction[:, :1] + b * direction[:, 1:], t)
 
 
+def _tangent_space_normal(frames: np.ndarray, u: np.ndarray, v: np.ndarray, n: np.ndarray, back: np.ndarray,
+                          texel: np.ndarray) -> np.ndarray:
+    """(P, 3) unit world normals from tangent-space ``texel`` (P, 3) (already * 2 - 1, xy
+    scaled) over normals ``n`` (P, 3), as lighting/material.glsl's coat_mapped_normal: the
+    tangent frame as _anisotropy_direction takes it."""
+    tangent = frames[:, 0] * (1.0 - u - v)[:, None] + frames[:, 1] * u[:, None] + frames[:, 2] * v[:, None]
+    xyz = np.where(back[:, None], -tangent[:, :3], tangent[:, :3])
+    t = shading.safe_normalize(xyz - n * np.sum(n * xyz, axis=1, keepdims=True), np.array([1.0, 0.0, 0.0]))
+    b = np.cross(n, t) * np.where(frames[:, 0, 3:] < 0.0, -1.0, 1.0)
+    return shading.safe_normalize(t * texel[:, :1] + b * texel[:, 1:2] + n * texel[:, 2:], n)
+
+
 def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -> None:
     """The pbr layers' maps (world.materials.LAYER_MAP_KEYS) of ``material`` applied to
     ``surface``'s layer arrays at ``rows``, as lighting/material.glsl's sample_layers: a
@@ -949,6 +967,10 @@ def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -
         surface["clearcoat"][rows] *= sample["clearcoat_map"][:, 0]
     if "clearcoat_roughness_map" in sample:
         surface["clearcoat_roughness"][rows] *= sample["clearcoat_roughness_map"][:, 1]
+    if "clearcoat_normal_map" in sample:
+        texel = sample["clearcoat_normal_map"][:, :3] * 2.0 - 1.0
+        texel[:, :2] *= material.maps["clearcoat_normal_map"].strength
+        surface["clearcoat_texel"][rows] = texel
     if "sheen_color_map" in sample:
         surface["sheen_color"][rows] *= sample["sheen_color_map"][:, :3]
     if "sheen_roughness_map" in sample:

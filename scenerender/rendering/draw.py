@@ -282,6 +282,8 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
         set_uniforms(program, **{f"u_{key}_st": (*source.uv_scale, *source.uv_offset), f"u_{key}_skew": source.uv_skew})
         if key == "normal_map":
             set_uniforms(program, u_normal_strength=source.strength * material.normal_scale)
+        if key == "clearcoat_normal_map":
+            set_uniforms(program, u_clearcoat_normal_strength=source.strength)
 
 
 def _sampler_state(texture, material, source) -> None:

@@ -41,12 +41,13 @@ TEXTURE_UNITS = {
     # the opaque scene behind transmissive surfaces (passes/transmission.py)
     "u_transmission_source": 43,
     "u_transmission_map": 44, "u_thickness_map": 45, "u_iridescence_map": 46, "u_iridescence_thickness_map": 47,
+    "u_clearcoat_normal_map": 48,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map", "clearcoat_map", "clearcoat_roughness_map",
             "sheen_color_map", "sheen_roughness_map", "specular_factor_map", "specular_color_map",
             "specular_glossiness_map", "anisotropy_map", "transmission_map", "thickness_map",
-            "iridescence_map", "iridescence_thickness_map")
+            "iridescence_map", "iridescence_thickness_map", "clearcoat_normal_map")
 
 
 @dataclass(frozen=True)

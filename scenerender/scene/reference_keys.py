@@ -216,6 +216,7 @@ KEYS: dict[str, Key] = {
     "materials.<name>.specular_factor_map": Key("pbr: texture whose alpha channel multiplies `specular_factor`, F0 and F90 both (glTF `specularTexture`); data.", "textures/ground.png"),
     "materials.<name>.specular_color_map": Key("pbr: colour texture (sRGB) multiplying `specular_color`, before F0's clamp to 1 (glTF `specularColorTexture`).", "textures/ground.png"),
     "materials.<name>.transmission_map": Key("pbr: texture whose red channel multiplies `transmission` (glTF `transmissionTexture`); data.", "textures/ground.png"),
+    "materials.<name>.clearcoat_normal_map": Key("pbr: tangent-space normal map (OpenGL convention, green up) of the clear coat alone, bending its highlight and Fresnel but not the base's (glTF `clearcoatNormalTexture`); without it the coat takes the surface's normal. Data.", "textures/ground.png"),
     "materials.<name>.iridescence_map": Key("pbr: texture whose red channel multiplies `iridescence` (glTF `iridescenceTexture`); data.", "textures/ground.png"),
     "materials.<name>.iridescence_thickness_map": Key("pbr: texture whose green channel sets the thin film's thickness, from `iridescence_thickness_min` at 0 to `iridescence_thickness` at 1 (glTF `iridescenceThicknessTexture`); data.", "textures/ground.png"),
     "materials.<name>.thickness_map": Key("pbr: texture whose green channel multiplies `thickness` (glTF KHR_materials_volume `thicknessTexture`); data.", "textures/ground.png"),

@@ -91,6 +91,14 @@ uniform vec4 u_specular_color_map_st;
 uniform sampler2D u_transmission_map;  // KHR_materials_transmission transmissionTexture: red times transmission
 uniform vec4 u_transmission_map_st;
 #endif
+#ifdef HAS_CLEARCOAT_NORMAL_MAP
+uniform sampler2D u_clearcoat_normal_map;  // clearcoatNormalTexture: the coat's own tangent-space normal
+uniform vec4 u_clearcoat_normal_map_st;
+uniform float u_clearcoat_normal_strength;  // its scale
+#endif
+#if defined(PBR_CLEARCOAT) && defined(HAS_CLEARCOAT_NORMAL_MAP)
+#define PBR_COAT_NORMAL  // the coat's normal is its map's, the rest keeps the surface's
+#endif
 #ifdef HAS_IRIDESCENCE_MAP
 uniform sampler2D u_iridescence_map;  // KHR_materials_iridescence iridescenceTexture: red times iridescence
 uniform vec4 u_iridescence_map_st;
@@ -199,6 +207,11 @@ in vec2 v_uv1;
 #else
 #define UV_OF_u_transmission_map(uv) (uv)
 #endif
+#ifdef CLEARCOAT_NORMAL_MAP_UV1
+#define UV_OF_u_clearcoat_normal_map(uv) v_uv1
+#else
+#define UV_OF_u_clearcoat_normal_map(uv) (uv)
+#endif
 #ifdef IRIDESCENCE_MAP_UV1
 #define UV_OF_u_iridescence_map(uv) v_uv1
 #else
@@ -288,6 +301,9 @@ uniform vec2 u_thickness_map_skew;
 #ifdef HAS_IRIDESCENCE_MAP
 uniform vec2 u_iridescence_map_skew;
 #endif
+#ifdef HAS_CLEARCOAT_NORMAL_MAP
+uniform vec2 u_clearcoat_normal_map_skew;
+#endif
 #ifdef HAS_IRIDESCENCE_THICKNESS_MAP
 uniform vec2 u_iridescence_thickness_map_skew;
 #endif
@@ -318,6 +334,9 @@ struct Surface {
 #ifdef PBR_CLEARCOAT
     float clearcoat;
     float clearcoat_roughness;
+#endif
+#ifdef PBR_COAT_NORMAL
+    vec3 clearcoat_normal;  // unit, in the world: from its map over the geometric normal (forward.frag)
 #endif
 #ifdef PBR_SHEEN
     vec3 sheen_color;
@@ -532,6 +551,18 @@ vec3 mapped_normal(vec3 n, vec4 tangent, vec2 uv) {
     vec3 b = cross(n, t) * tangent.w;
     vec3 m = texture(u_normal_map, MAP_UV(u_normal_map, uv)).xyz * 2.0 - 1.0;
     m.xy *= u_normal_strength;
+    return safe_normalize(mat3(t, b, n) * m, n);
+}
+#endif
+
+#ifdef PBR_COAT_NORMAL
+// The clear coat's normal (KHR_materials_clearcoat clearcoatNormalTexture): its tangent-space
+// map over the geometric normal n, not the base's normal map (the specification)
+vec3 coat_mapped_normal(vec3 n, vec4 tangent, vec2 uv) {
+    vec3 t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3(1.0, 0.0, 0.0));
+    vec3 b = cross(n, t) * tangent.w;
+    vec3 m = texture(u_clearcoat_normal_map, MAP_UV(u_clearcoat_normal_map, uv)).xyz * 2.0 - 1.0;
+    m.xy *= u_clearcoat_normal_strength;
     return safe_normalize(mat3(t, b, n) * m, n);
 }
 #endif

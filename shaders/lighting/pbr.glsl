@@ -73,6 +73,10 @@ struct PbrView {
     float coat_alpha2;
     float coat_view_term;
     float coat;  // c Fc(N.V): the share of every light the coat takes
+#ifdef PBR_COAT_NORMAL
+    vec3 coat_normal;      // the coat's own (its map's); N.V above is then the coat's
+    float coat_n_dot_v;
+#endif
 #endif
 #ifdef PBR_SHEEN
     float sheen_alpha;
@@ -146,8 +150,15 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
 #ifdef PBR_CLEARCOAT
     float coat_alpha = max(s.clearcoat_roughness * s.clearcoat_roughness, PBR_MIN_ALPHA);
     p.coat_alpha2 = coat_alpha * coat_alpha;
+#ifdef PBR_COAT_NORMAL
+    p.coat_normal = s.clearcoat_normal;
+    p.coat_n_dot_v = clamp(dot(s.clearcoat_normal, v), 0.0, 1.0);
+    p.coat_view_term = sqrt(p.coat_n_dot_v * p.coat_n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
+    p.coat = coat_fresnel(s.clearcoat, p.coat_n_dot_v);
+#else
     p.coat_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
     p.coat = coat_fresnel(s.clearcoat, p.n_dot_v);
+#endif
 #endif
 #ifdef PBR_SHEEN
     p.sheen_color = s.sheen_color;
@@ -233,7 +244,16 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
     layered = layered * through + p.sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
 #endif
 #ifdef PBR_CLEARCOAT
+#ifdef PBR_COAT_NORMAL
+    // the coat's lobe about its own normal (none where the light is below it)
+    float coat_n_dot_l = dot(p.coat_normal, l);
+    float coat_specular = coat_n_dot_l > 0.0
+        ? coat_lobe(dot(p.coat_normal, l_plus_v) * inverse_length, coat_n_dot_l, p.coat_n_dot_v, p.coat_alpha2,
+                    p.coat_view_term) * coat_n_dot_l / n_dot_l
+        : 0.0;
+#else
     float coat_specular = coat_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
+#endif
     layered = layered * (1.0 - p.coat) + p.coat * coat_specular;
 #endif
     return layered * n_dot_l;
@@ -330,8 +350,13 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     w.sheen = s.sheen_color * sheen_albedo(n_dot_v, s.sheen_roughness);
 #endif
 #ifdef PBR_CLEARCOAT
-    vec2 coat_scale_bias = ambient_specular(n_dot_v, s.clearcoat_roughness);
-    float coat_through = 1.0 - coat_fresnel(s.clearcoat, n_dot_v);
+#ifdef PBR_COAT_NORMAL
+    float coat_n_dot_v = clamp(dot(s.clearcoat_normal, v), 0.0, 1.0);
+#else
+    float coat_n_dot_v = n_dot_v;
+#endif
+    vec2 coat_scale_bias = ambient_specular(coat_n_dot_v, s.clearcoat_roughness);
+    float coat_through = 1.0 - coat_fresnel(s.clearcoat, coat_n_dot_v);
     w.base_scale *= coat_through;
 #ifdef PBR_SHEEN
     w.sheen *= coat_through;

@@ -75,6 +75,7 @@ class MaterialSpec(StrictModel):
     transmission_map: ImagePath | None = None
     thickness_map: ImagePath | None = None
     iridescence_map: ImagePath | None = None
+    clearcoat_normal_map: ImagePath | None = None
     iridescence_thickness_map: ImagePath | None = None
     # light through the surface (KHR_materials_transmission) and through its volume
     # (KHR_materials_volume): docs/scene-notes.md, "Transmission and volume"
