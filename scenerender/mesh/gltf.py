@@ -135,8 +135,8 @@ class GltfMaterial:
     iridescence_ior: float = 1.3
     iridescence_thickness: float = 400.0
     iridescence_thickness_min: float = 100.0  # where the thickness texture is 0
-    # the layers' textures (clearcoatTexture, clearcoatRoughnessTexture, sheenColorTexture,
-    # sheenRoughnessTexture, specularTexture, specularColorTexture)
+    # the layers' textures (LAYER_TEXTURES: clearcoatTexture, clearcoatRoughnessTexture,
+    # sheenColorTexture, sheenRoughnessTexture, specularTexture, specularColorTexture, ...)
     clearcoat_map: GltfTexture | None = None
     clearcoat_roughness_map: GltfTexture | None = None
     sheen_color_map: GltfTexture | None = None
@@ -352,7 +352,7 @@ def _material(name: str, material: dict, header: dict, result: GltfFile, label: 
         alpha_cutoff=_numbers([material.get("alphaCutoff", 0.5)], 1, "alphaCutoff", 0.0, 1e6)[0],
         double_sided=_bool(material.get("doubleSided", False), "doubleSided"),
         unlit="KHR_materials_unlit" in extensions,
-        **_transmission(name, extensions, result),
+        **_transmission(name, extensions),
         **fields,
     )
 
@@ -398,8 +398,9 @@ LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_facto
 
 
 def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: str) -> dict:
-    """The GltfMaterial fields of KHR_materials_ior, _specular, _clearcoat and _sheen (glTF's
-    defaults where absent), their textures included. An ior of 0 is the specification's
+    """The GltfMaterial fields of KHR_materials_ior, _specular, _clearcoat, _sheen,
+    _anisotropy and _iridescence (glTF's defaults where absent), their textures included,
+    and the textures of _transmission and _volume (LAYER_TEXTURES). An ior of 0 is the specification's
     "infinitely high" index (a dielectric that reflects all), taken here as the largest the
     scene format takes."""
     ior = json_object(extensions.get("KHR_materials_ior", {}), f"material {name!r}: KHR_materials_ior")
@@ -443,7 +444,7 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
     }
 
 
-def _transmission(name: str, extensions: dict, result: GltfFile) -> dict:
+def _transmission(name: str, extensions: dict) -> dict:
     """The GltfMaterial fields of KHR_materials_transmission and KHR_materials_volume
     (glTF's defaults where absent: no transmission, thin-walled, no attenuation), their
     textures aside (_layers reads them). The volume's thickness is read in the scene's units."""
