@@ -6,12 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
 import scenerender
 from conftest import render, scene
 from gltf_files import GlbBuilder, sphere
-from scenerender.cli import main
 from scenerender.raytrace import render_reference, shading
 from scenerender.rendering.features import material_defines
 from scenerender.tools.quality import frame_errors
@@ -193,14 +191,6 @@ def test_white_furnace_a_layer_over_a_white_base_neither_makes_nor_loses_much_li
     # the formula the GPU uses for uniform light (fitted integrals) near the integral
     formula = render_reference(loaded, 0, spp=2)
     assert abs(float(formula.linear[(ref.object == 0) & ~ref.mixed].mean()) - float(values.mean())) < formula_tolerance
-
-
-def test_the_coats_normal_texture_is_named_in_a_warning(tmp_path):
-    layered_glb(tmp_path / "model.glb", KHR_materials_clearcoat={"clearcoatFactor": 1,
-                                                                 "clearcoatNormalTexture": {"index": 0}})
-    result = CliRunner().invoke(main, ["validate", str(tmp_path / "model.glb")])
-    assert result.exit_code == 0, result.output
-    assert "KHR_materials_clearcoat clearcoatNormalTexture is not read" in result.output
 
 
 def test_the_reference_layers_reduce_to_the_model_without_them():

@@ -243,16 +243,6 @@ def test_the_scene_keys_set_the_same_as_the_extensions(gl, tmp_path):
     assert np.array_equal(from_file, from_keys)
 
 
-def test_transmission_textures_are_named_in_a_warning(tmp_path):
-    glass_glb(tmp_path / "model.glb", extensions={
-        "KHR_materials_transmission": {"transmissionFactor": 1, "transmissionTexture": {"index": 0}},
-        "KHR_materials_volume": {"thicknessFactor": 0.1, "thicknessTexture": {"index": 0}}})
-    result = CliRunner().invoke(main, ["validate", str(tmp_path / "model.glb")])
-    assert result.exit_code == 0, result.output
-    assert "KHR_materials_transmission transmissionTexture is not read" in result.output
-    assert "KHR_materials_volume thicknessTexture is not read" in result.output
-
-
 def test_a_bad_attenuation_distance_is_an_error_naming_the_key(tmp_path):
     glass_glb(tmp_path / "model.glb", extensions={})
     text = _scene_text().replace("  - mesh: model.glb",

@@ -134,8 +134,9 @@ class GltfMaterial:
     iridescence: float = 0.0  # KHR_materials_iridescence: weight, film ior, thickness (nm)
     iridescence_ior: float = 1.3
     iridescence_thickness: float = 400.0
-    # the layers' textures (clearcoatTexture, clearcoatRoughnessTexture, sheenColorTexture,
-    # sheenRoughnessTexture, specularTexture, specularColorTexture)
+    iridescence_thickness_min: float = 100.0  # where the thickness texture is 0
+    # the layers' textures (LAYER_TEXTURES: clearcoatTexture, clearcoatRoughnessTexture,
+    # sheenColorTexture, sheenRoughnessTexture, specularTexture, specularColorTexture, ...)
     clearcoat_map: GltfTexture | None = None
     clearcoat_roughness_map: GltfTexture | None = None
     sheen_color_map: GltfTexture | None = None
@@ -144,6 +145,11 @@ class GltfMaterial:
     specular_color_map: GltfTexture | None = None
     specular_glossiness_map: GltfTexture | None = None  # KHR_materials_pbrSpecularGlossiness
     anisotropy_map: GltfTexture | None = None
+    transmission_map: GltfTexture | None = None  # transmissionTexture, thicknessTexture
+    thickness_map: GltfTexture | None = None
+    clearcoat_normal_map: GltfTexture | None = None  # clearcoatNormalTexture (its scale in .scale)
+    iridescence_map: GltfTexture | None = None  # iridescenceTexture, iridescenceThicknessTexture
+    iridescence_thickness_map: GltfTexture | None = None
     # KHR_materials_transmission, KHR_materials_volume (their factors)
     transmission: float = 0.0
     thickness: float = 0.0
@@ -346,7 +352,7 @@ def _material(name: str, material: dict, header: dict, result: GltfFile, label: 
         alpha_cutoff=_numbers([material.get("alphaCutoff", 0.5)], 1, "alphaCutoff", 0.0, 1e6)[0],
         double_sided=_bool(material.get("doubleSided", False), "doubleSided"),
         unlit="KHR_materials_unlit" in extensions,
-        **_transmission(name, extensions, result),
+        **_transmission(name, extensions),
         **fields,
     )
 
@@ -381,19 +387,20 @@ LAYER_TEXTURES = {("KHR_materials_specular", "specularTexture"): "specular_facto
                   ("KHR_materials_specular", "specularColorTexture"): "specular_color_map",
                   ("KHR_materials_clearcoat", "clearcoatTexture"): "clearcoat_map",
                   ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"): "clearcoat_roughness_map",
+                  ("KHR_materials_clearcoat", "clearcoatNormalTexture"): "clearcoat_normal_map",
                   ("KHR_materials_sheen", "sheenColorTexture"): "sheen_color_map",
                   ("KHR_materials_sheen", "sheenRoughnessTexture"): "sheen_roughness_map",
-                  ("KHR_materials_anisotropy", "anisotropyTexture"): "anisotropy_map"}
-# read by no one, each named in a warning
-_UNREAD_LAYER_TEXTURES = {("KHR_materials_clearcoat", "clearcoatNormalTexture"): "the coat's normal is the surface's",
-                          ("KHR_materials_iridescence", "iridescenceTexture"): "its factor alone applies",
-                          ("KHR_materials_iridescence", "iridescenceThicknessTexture"):
-                              "the film is iridescenceThicknessMaximum thick"}
+                  ("KHR_materials_anisotropy", "anisotropyTexture"): "anisotropy_map",
+                  ("KHR_materials_transmission", "transmissionTexture"): "transmission_map",
+                  ("KHR_materials_volume", "thicknessTexture"): "thickness_map",
+                  ("KHR_materials_iridescence", "iridescenceTexture"): "iridescence_map",
+                  ("KHR_materials_iridescence", "iridescenceThicknessTexture"): "iridescence_thickness_map"}
 
 
 def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: str) -> dict:
-    """The GltfMaterial fields of KHR_materials_ior, _specular, _clearcoat and _sheen (glTF's
-    defaults where absent), their textures included. An ior of 0 is the specification's
+    """The GltfMaterial fields of KHR_materials_ior, _specular, _clearcoat, _sheen,
+    _anisotropy and _iridescence (glTF's defaults where absent), their textures included,
+    and the textures of _transmission and _volume (LAYER_TEXTURES). An ior of 0 is the specification's
     "infinitely high" index (a dielectric that reflects all), taken here as the largest the
     scene format takes."""
     ior = json_object(extensions.get("KHR_materials_ior", {}), f"material {name!r}: KHR_materials_ior")
@@ -406,11 +413,10 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
                               f"material {name!r}: KHR_materials_iridescence")
     values = {"KHR_materials_specular": specular, "KHR_materials_clearcoat": coat, "KHR_materials_sheen": sheen,
               "KHR_materials_anisotropy": anisotropy, "KHR_materials_iridescence": iridescence}
-    for (extension, key), instead in _UNREAD_LAYER_TEXTURES.items():
-        note = f"{extension} {key} is not read ({instead})"
-        if key in values[extension] and note not in result.unsupported:
-            result.unsupported.append(note)
-    maps = {field: _texture(values[extension].get(key), header, result, label, key)
+    values.update({extension: json_object(extensions.get(extension, {}), f"material {name!r}: {extension}")
+                   for extension in ("KHR_materials_transmission", "KHR_materials_volume")})
+    maps = {field: _texture(values[extension].get(key), header, result, label, key,
+                            "scale" if key == "clearcoatNormalTexture" else None)
             for (extension, key), field in LAYER_TEXTURES.items()}
     index = _numbers([ior.get("ior", 1.5)], 1, "ior", 0.0, MAX_IOR)[0]
     return {
@@ -429,28 +435,21 @@ def _layers(name: str, extensions: dict, header: dict, result: GltfFile, label: 
                                                      "anisotropyRotation", -1e6, 1e6)[0]) % 360.0,
         "iridescence": _numbers([iridescence.get("iridescenceFactor", 0.0)], 1, "iridescenceFactor", 0.0, 1.0)[0],
         "iridescence_ior": _numbers([iridescence.get("iridescenceIor", 1.3)], 1, "iridescenceIor", 1.0, MAX_IOR)[0],
-        # the film's thickness without a thickness texture (the specification)
+        # the film's thickness without a thickness texture (the specification); with one,
+        # mix(minimum, maximum, its green)
         "iridescence_thickness": _numbers([iridescence.get("iridescenceThicknessMaximum", 400.0)], 1,
                                           "iridescenceThicknessMaximum", 0.0, 10000.0)[0],
+        "iridescence_thickness_min": _numbers([iridescence.get("iridescenceThicknessMinimum", 100.0)], 1,
+                                              "iridescenceThicknessMinimum", 0.0, 10000.0)[0],
     }
 
 
-# the textures of KHR_materials_transmission and _volume, which are not read either
-_TRANSMISSION_TEXTURES = {"KHR_materials_transmission": ("transmissionTexture",),
-                          "KHR_materials_volume": ("thicknessTexture",)}
-
-
-def _transmission(name: str, extensions: dict, result: GltfFile) -> dict:
+def _transmission(name: str, extensions: dict) -> dict:
     """The GltfMaterial fields of KHR_materials_transmission and KHR_materials_volume
-    (glTF's defaults where absent: no transmission, thin-walled, no attenuation). The
-    volume's thickness is the factor alone, read in the scene's units."""
+    (glTF's defaults where absent: no transmission, thin-walled, no attenuation), their
+    textures aside (_layers reads them). The volume's thickness is read in the scene's units."""
     values = {extension: json_object(extensions.get(extension, {}), f"material {name!r}: {extension}")
-              for extension in _TRANSMISSION_TEXTURES}
-    for extension, keys in _TRANSMISSION_TEXTURES.items():
-        for key in keys:
-            note = f"{extension} {key} is not read (its factor alone applies)"
-            if key in values[extension] and note not in result.unsupported:
-                result.unsupported.append(note)
+              for extension in ("KHR_materials_transmission", "KHR_materials_volume")}
     transmission, volume = values["KHR_materials_transmission"], values["KHR_materials_volume"]
     distance = volume.get("attenuationDistance")
     return {

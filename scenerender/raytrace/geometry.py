@@ -39,8 +39,8 @@ class Soup:
     casts: np.ndarray
     materials: list
     # (T, 3, 4) float64 world-space tangent frames (xyz, handedness w) of the objects with an
-    # anisotropic material (mesh.geometry.tangents; (1, 0, 0, 1) elsewhere), or None where
-    # no object has one
+    # anisotropic material or a coat's normal map (mesh.geometry.tangents; (1, 0, 0, 1)
+    # elsewhere), or None where no object has one
     tangents: np.ndarray | None = None
 
     @property
@@ -85,9 +85,9 @@ _NO_TANGENT = np.array([1.0, 0.0, 0.0, 1.0])
 def _object_tangents(obj, matrices: np.ndarray) -> np.ndarray | None:
     """(T, 3, 4) the object's tangent frames at its triangles' corners, every instance,
     turned by each instance's matrix as the GPU's vertex stage turns them, where a material
-    of it is anisotropic (its geometry's tangents); None elsewhere."""
+    of it is anisotropic or has a coat's normal map (its geometry's tangents); None elsewhere."""
     mesh = obj.mesh
-    if not any(material.anisotropy > 0.0 for material in obj.materials):
+    if not any(material.anisotropy > 0.0 or "clearcoat_normal_map" in material.maps for material in obj.materials):
         return None
     frames = tangents(mesh).astype(np.float64)[mesh.indices]
     return np.concatenate([np.concatenate([frames[..., :3] @ model[:3, :3].T, frames[..., 3:]], axis=-1)

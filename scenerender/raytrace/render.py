@@ -412,14 +412,20 @@ class _FrameScene:
         colors = soup.colors[tri]
         surface["diffuse"] = surface["diffuse"] * (colors[:, 0] * (1.0 - u - v)[:, None] + colors[:, 1] * u[:, None]
                                                    + colors[:, 2] * v[:, None])[:, :3]
+        coat_normals = any("clearcoat_normal_map" in samplers for samplers, _ in self.maps.values())
         if soup.tangents is not None:
             surface["anisotropy"] = table["anisotropy"][m]
             surface["anisotropy_xy"] = table["anisotropy_direction"][m]
+        if coat_normals:  # tangent space, flat where a material has no coat normal map
+            surface["clearcoat_texel"] = np.tile([0.0, 0.0, 1.0], (len(m), 1))
         if self.maps:
             self._apply_maps(m, soup.uvs[tri], u, v, surface)
         if soup.tangents is not None:
             surface["anisotropy_t"] = _anisotropy_direction(soup.tangents[tri], u, v, n, back,
                                                             surface.pop("anisotropy_xy"))
+        if coat_normals:
+            surface["clearcoat_normal"] = _tangent_space_normal(soup.tangents[tri], u, v, n, back,
+                                                                surface.pop("clearcoat_texel"))
         return _Hit(n, facing, view, surface, table["model"][m])
 
     def _lit(self, hit: "_Hit", p: np.ndarray, strata, draws: "_Draws"):
@@ -726,7 +732,7 @@ class _FrameScene:
         place): base and Ks times the diffuse and specular maps, metallic and roughness
         times theirs, emission times the emissive map, occlusion from its map."""
         uv = corner_uvs[:, 0] * (1.0 - u - v)[:, None] + corner_uvs[:, 1] * u[:, None] + corner_uvs[:, 2] * v[:, None]
-        for key in ("diffuse", "specular", "emissive", "metallic", "roughness", *shading.LAYER_KEYS):
+        for key in ("diffuse", "specular", "emissive", "metallic", "roughness", "thickness", *shading.LAYER_KEYS):
             surface[key] = surface[key].copy()
         for material_index, (samplers, material) in self.maps.items():
             rows = np.flatnonzero(m == material_index)
@@ -917,11 +923,26 @@ def _anisotropy_direction(frames: np.ndarray, u: np.ndarray, v: np.ndarray, n: n
     return shading.safe_normalize(t * direction[:, :1] + b * direction[:, 1:], t)
 
 
+def _tangent_space_normal(frames: np.ndarray, u: np.ndarray, v: np.ndarray, n: np.ndarray, back: np.ndarray,
+                          texel: np.ndarray) -> np.ndarray:
+    """(P, 3) unit world normals from tangent-space ``texel`` (P, 3) (already * 2 - 1, xy
+    scaled) over normals ``n`` (P, 3), as lighting/material.glsl's coat_mapped_normal: the
+    tangent frame as _anisotropy_direction takes it."""
+    tangent = frames[:, 0] * (1.0 - u - v)[:, None] + frames[:, 1] * u[:, None] + frames[:, 2] * v[:, None]
+    xyz = np.where(back[:, None], -tangent[:, :3], tangent[:, :3])
+    t = shading.safe_normalize(xyz - n * np.sum(n * xyz, axis=1, keepdims=True), np.array([1.0, 0.0, 0.0]))
+    b = np.cross(n, t) * np.where(frames[:, 0, 3:] < 0.0, -1.0, 1.0)
+    return shading.safe_normalize(t * texel[:, :1] + b * texel[:, 1:2] + n * texel[:, 2:], n)
+
+
 def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -> None:
     """The pbr layers' maps (world.materials.LAYER_MAP_KEYS) of ``material`` applied to
     ``surface``'s layer arrays at ``rows``, as lighting/material.glsl's sample_layers: a
     specular colour map multiplies F0 before its clamp, the specular map F0 and F90; the
-    specular-glossiness map sets F0, roughness and the diffuse colour's share."""
+    specular-glossiness map sets F0, roughness and the diffuse colour's share; the
+    transmission and thickness maps multiply theirs (red, green), the iridescence map its
+    weight (red); the iridescence thickness map mixes the film's thickness from its minimum
+    to its maximum by its green."""
     if "specular_color_map" in sample:
         f0 = np.minimum(material.dielectric_reflectance() * sample["specular_color_map"][:, :3], 1.0)
         surface["f0"][rows] = f0 * material.specular_factor
@@ -946,10 +967,23 @@ def _apply_layer_maps(rows: np.ndarray, sample: dict, material, surface: dict) -
         surface["clearcoat"][rows] *= sample["clearcoat_map"][:, 0]
     if "clearcoat_roughness_map" in sample:
         surface["clearcoat_roughness"][rows] *= sample["clearcoat_roughness_map"][:, 1]
+    if "clearcoat_normal_map" in sample:
+        texel = sample["clearcoat_normal_map"][:, :3] * 2.0 - 1.0
+        texel[:, :2] *= material.maps["clearcoat_normal_map"].strength
+        surface["clearcoat_texel"][rows] = texel
     if "sheen_color_map" in sample:
         surface["sheen_color"][rows] *= sample["sheen_color_map"][:, :3]
     if "sheen_roughness_map" in sample:
         surface["sheen_roughness"][rows] *= sample["sheen_roughness_map"][:, 3]
+    if "iridescence_map" in sample:
+        surface["iridescence"][rows] *= sample["iridescence_map"][:, 0]
+    if "iridescence_thickness_map" in sample:
+        low, high = material.iridescence_thickness_min, material.iridescence_thickness
+        surface["iridescence_thickness"][rows] = low + (high - low) * sample["iridescence_thickness_map"][:, 1]
+    if "transmission_map" in sample:
+        surface["transmission"][rows] *= sample["transmission_map"][:, 0]
+    if "thickness_map" in sample:
+        surface["thickness"][rows] *= sample["thickness_map"][:, 1]
 
 
 def _material_maps(materials: list, images) -> dict:

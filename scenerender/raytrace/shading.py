@@ -177,12 +177,19 @@ def pbr_direct_term(n: np.ndarray, l: np.ndarray, v: np.ndarray, radiance: np.nd
     term = ((1.0 - diffuse_fresnel) * diffuse_weight * base + fresnel * specular[:, None]) * n_dot_l[:, None]
     if layers is not None:
         term = _sheen_over(term, layers, n_dot_v, np.clip(n_dot_l, 0.0, 1.0), n_dot_h)
-        # KHR_materials_clearcoat takes the coat's Fresnel at N.V, not V.H (its Layering section)
-        coat = layers["clearcoat"] * coat_fresnel(n_dot_v)
+        # KHR_materials_clearcoat takes the coat's Fresnel at N.V, not V.H (its Layering
+        # section), about the coat's own normal where it has one
+        coat_n_dot_v, coat_n_dot_h, coat_n_dot_l = n_dot_v, n_dot_h, n_dot_l
+        if layers.get("clearcoat_normal") is not None:
+            coat_n = layers["clearcoat_normal"]
+            coat_n_dot_v = np.clip(_dot(coat_n, v), 0.0, 1.0)
+            coat_n_dot_h = np.clip(_dot(coat_n, h), 0.0, 1.0)
+            coat_n_dot_l = np.maximum(_dot(coat_n, l), 0.0)
+        coat = layers["clearcoat"] * coat_fresnel(coat_n_dot_v)
         coat_alpha = pbr_alpha(layers["clearcoat_roughness"])
-        coat_lobe = np.pi * ggx_distribution(n_dot_h, coat_alpha) * smith_visibility(
-            n_dot_v, np.clip(n_dot_l, 0.0, 1.0), coat_alpha)
-        term = term * (1.0 - coat)[:, None] + (coat * coat_lobe * n_dot_l)[:, None]
+        coat_lobe = np.pi * ggx_distribution(coat_n_dot_h, coat_alpha) * smith_visibility(
+            coat_n_dot_v, np.clip(coat_n_dot_l, 0.0, 1.0), coat_alpha)
+        term = term * (1.0 - coat)[:, None] + (coat * coat_lobe * coat_n_dot_l)[:, None]
     return np.where((n_dot_l > 0.0)[:, None], radiance * term, 0.0)
 
 
@@ -333,6 +340,8 @@ def pbr_layers(points: dict) -> dict | None:
     layers = {key: points[key] for key in LAYER_KEYS}
     if "anisotropy_t" in points:  # KHR_materials_anisotropy: its strength (P,), its direction (P, 3)
         layers.update(anisotropy=points["anisotropy"], anisotropy_t=points["anisotropy_t"])
+    if "clearcoat_normal" in points:  # the coat's own normal (P, 3), from clearcoatNormalTexture
+        layers["clearcoat_normal"] = points["clearcoat_normal"]
     return layers
 
 
@@ -368,8 +377,11 @@ def pbr_ambient(n: np.ndarray, v: np.ndarray, base: np.ndarray, metallic: np.nda
     sheen = sheen_fit.evaluate(n_dot_v, layers["sheen_roughness"])
     sheen_through = np.maximum(1.0 - layers["sheen_color"].max(axis=1) * sheen, 0.0)
     sheened = (diffuse + specular) * sheen_through[:, None] + layers["sheen_color"] * sheen[:, None]
-    coat_scale, coat_bias, _ = ambient_fit.evaluate(n_dot_v, layers["clearcoat_roughness"])
-    through = 1.0 - layers["clearcoat"] * coat_fresnel(n_dot_v)
+    coat_n_dot_v = n_dot_v
+    if layers.get("clearcoat_normal") is not None:  # the coat's own normal
+        coat_n_dot_v = np.clip(_dot(layers["clearcoat_normal"], v), 0.0, 1.0)
+    coat_scale, coat_bias, _ = ambient_fit.evaluate(coat_n_dot_v, layers["clearcoat_roughness"])
+    through = 1.0 - layers["clearcoat"] * coat_fresnel(coat_n_dot_v)
     coat = layers["clearcoat"] * (0.04 * coat_scale + coat_bias)
     return sheened * through[:, None] + coat[:, None]
 

@@ -271,7 +271,8 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
         set_uniforms(program, u_anisotropy=material.anisotropy, u_anisotropy_direction=material.anisotropy_direction())
     if material.iridescence > 0.0:
         set_uniforms(program, u_iridescence=material.iridescence, u_iridescence_ior=material.iridescence_ior,
-                     u_iridescence_thickness=material.iridescence_thickness)
+                     u_iridescence_thickness=material.iridescence_thickness,
+                     u_iridescence_thickness_min=material.iridescence_thickness_min)
     if material.transmissive:
         distance = material.attenuation_distance
         set_uniforms(program, u_transmission=material.transmission, u_transmission_ior=material.ior,
@@ -286,6 +287,8 @@ def bind_material(program, material, materials: MaterialsInput) -> None:
         set_uniforms(program, **{f"u_{key}_st": (*source.uv_scale, *source.uv_offset), f"u_{key}_skew": source.uv_skew})
         if key == "normal_map":
             set_uniforms(program, u_normal_strength=source.strength * material.normal_scale)
+        if key == "clearcoat_normal_map":
+            set_uniforms(program, u_clearcoat_normal_strength=source.strength)
 
 
 def _sampler_state(texture, material, source) -> None:

@@ -40,13 +40,16 @@ TEXTURE_UNITS = {
     "u_anisotropy_map": 42,
     # the opaque scene behind transmissive surfaces (passes/transmission.py)
     "u_transmission_source": 43,
+    "u_transmission_map": 44, "u_thickness_map": 45, "u_iridescence_map": 46, "u_iridescence_thickness_map": 47,
+    "u_clearcoat_normal_map": 48,
     # the shadow casters' back faces (render.shadows.casters: solid), plain depth
-    "u_shadow_back": 44, "u_shadow_back_2": 45,
+    "u_shadow_back": 49, "u_shadow_back_2": 50,
 }
 # maps only the pbr model reads
 PBR_MAPS = ("metallic_roughness_map", "roughness_map", "metallic_map", "clearcoat_map", "clearcoat_roughness_map",
             "sheen_color_map", "sheen_roughness_map", "specular_factor_map", "specular_color_map",
-            "specular_glossiness_map", "anisotropy_map")
+            "specular_glossiness_map", "anisotropy_map", "transmission_map", "thickness_map",
+            "iridescence_map", "iridescence_thickness_map", "clearcoat_normal_map")
 
 
 @dataclass(frozen=True)

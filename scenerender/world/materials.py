@@ -43,9 +43,15 @@ MAP_KEYS = ("diffuse_map", "specular_map", "normal_map", "opacity_map", "metalli
 # multiplies its layer's factor by one channel (clearcoat red, clearcoat_roughness green,
 # sheen_roughness and specular_factor alpha) or by its colour (sheen_color, specular_color);
 # specular_glossiness is KHR_materials_pbrSpecularGlossiness's texture (mesh.gltf); anisotropy's
-# red and green are a direction in the tangent frame (0..1 for -1..1), blue its strength
+# red and green are a direction in the tangent frame (0..1 for -1..1), blue its strength;
+# KHR_materials_transmission's red multiplies transmission, KHR_materials_volume's green thickness;
+# KHR_materials_iridescence's red multiplies iridescence, its thickness map's green mixes the
+# film's thickness from iridescence_thickness_min to iridescence_thickness; clearcoat_normal is
+# the coat's own tangent-space normal map (KHR_materials_clearcoat clearcoatNormalTexture)
 LAYER_MAP_KEYS = ("clearcoat_map", "clearcoat_roughness_map", "sheen_color_map", "sheen_roughness_map",
-                  "specular_factor_map", "specular_color_map", "specular_glossiness_map", "anisotropy_map")
+                  "specular_factor_map", "specular_color_map", "specular_glossiness_map", "anisotropy_map",
+                  "transmission_map", "thickness_map", "iridescence_map", "iridescence_thickness_map",
+                  "clearcoat_normal_map")
 MAP_KEYS += LAYER_MAP_KEYS
 # the maps that change the dielectric's F0 (PBR_DIELECTRIC_SPECULAR)
 SPECULAR_MAPS = ("specular_factor_map", "specular_color_map", "specular_glossiness_map")
@@ -55,7 +61,9 @@ SRGB_MAPS = {"diffuse_map": True, "specular_map": True, "normal_map": False, "op
              "metallic_map": False,
              "clearcoat_map": False, "clearcoat_roughness_map": False, "sheen_color_map": True,
              "sheen_roughness_map": False, "specular_factor_map": False, "specular_color_map": True,
-             "specular_glossiness_map": True, "anisotropy_map": False}
+             "specular_glossiness_map": True, "anisotropy_map": False, "transmission_map": False,
+             "thickness_map": False, "iridescence_map": False, "iridescence_thickness_map": False,
+             "clearcoat_normal_map": False}
 # a scene's key for a map, where it is not the map's own name
 SPEC_MAP_ALIASES = {"base_color_map": "diffuse_map"}
 SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
@@ -63,7 +71,8 @@ SHADINGS = ("phong", "blinn_phong", "pbr", "unlit")
 LAYER_KEYS = ("ior", "specular_factor", "specular_color", "clearcoat", "clearcoat_roughness", "sheen_color",
               "sheen_roughness")
 LAYER_KEYS += ("anisotropy", "anisotropy_rotation")  # KHR_materials_anisotropy
-LAYER_KEYS += ("iridescence", "iridescence_ior", "iridescence_thickness")  # KHR_materials_iridescence
+LAYER_KEYS += ("iridescence", "iridescence_ior", "iridescence_thickness",  # KHR_materials_iridescence
+               "iridescence_thickness_min")
 # light through the surface and its volume (KHR_materials_transmission, KHR_materials_volume)
 TRANSMISSION_KEYS = ("transmission", "thickness", "attenuation_color", "attenuation_distance")
 
@@ -78,7 +87,7 @@ class TextureSource:
     uv_skew:   (2,) float, the off-diagonal terms of a rotated texture transform (glTF's
                ``KHR_texture_transform``): coordinates become
                ``(s.x u + k.x v + o.x, k.y u + s.y v + o.y)``.
-    strength:  bump multiplier (MTL ``-bm``), normal maps only.
+    strength:  bump multiplier (MTL ``-bm``; the coat's normal map: glTF's ``scale``), normal maps only.
     embedded:  the image is held by the mesh file (a glTF), keyed by ``path``, which names no
                file; it was decoded with the mesh.
     uv_set:    the mesh's texture coordinates it reads: 0 (``uvs``) or 1 (``uvs1``, glTF
@@ -161,6 +170,7 @@ class Material:
     iridescence: float = 0.0
     iridescence_ior: float = 1.3
     iridescence_thickness: float = 400.0
+    iridescence_thickness_min: float = 100.0  # the thickness map's 0 (its 1 is iridescence_thickness)
     # light through it (docs/scene-notes.md, "Transmission and volume"): the share of the
     # diffuse part that passes through; a volume's thickness (0: thin-walled) and its
     # Beer-Lambert colour reached after attenuation_distance (inf: clear)
@@ -188,8 +198,9 @@ class Material:
 
     @property
     def needs_tangents(self) -> bool:
-        """It reads the mesh's tangent frame: a normal map, or an anisotropy's direction."""
-        return "normal_map" in self.maps or self.anisotropy > 0.0
+        """It reads the mesh's tangent frame: a normal map (the coat's too), or an anisotropy's
+        direction."""
+        return "normal_map" in self.maps or "clearcoat_normal_map" in self.maps or self.anisotropy > 0.0
 
     def anisotropy_direction(self) -> tuple[float, float]:
         """(cos, sin) of ``anisotropy_rotation``: the direction in the tangent frame."""
@@ -321,7 +332,8 @@ def apply_gltf(material: Material, gltf, location: SourceLocation | None = None)
         material.maps[key] = TextureSource(
             path=None if texture.image is None else Path(texture.image), srgb=SRGB_MAPS[key],
             uv_scale=tuple(texture.uv_scale), uv_offset=tuple(texture.uv_offset), uv_skew=tuple(texture.uv_skew),
-            mtl_location=location, embedded=True, uv_set=texture.tex_coord)
+            mtl_location=location, embedded=True, uv_set=texture.tex_coord,
+            strength=float(texture.scale) if key == "clearcoat_normal_map" else 1.0)
     if "normal_map" in textures:
         material.normal_scale = float(textures["normal_map"].scale)
     if "occlusion_map" in textures:

@@ -155,7 +155,12 @@ vec3 pbr_environment_specular(vec3 n, vec3 v, Surface s, PbrAmbientWeights w) {
 #endif
 #ifdef PBR_CLEARCOAT
     // the coat's reflection by the split sum (also where the base's is sampled)
-    specular += w.coat * env_specular(env_dominant_direction(n, v, s.clearcoat_roughness), s.clearcoat_roughness);
+#ifdef PBR_COAT_NORMAL
+    vec3 coat_n = s.clearcoat_normal;
+#else
+    vec3 coat_n = n;
+#endif
+    specular += w.coat * env_specular(env_dominant_direction(coat_n, v, s.clearcoat_roughness), s.clearcoat_roughness);
 #endif
     return specular;
 }

@@ -87,6 +87,30 @@ uniform vec4 u_specular_glossiness_map_st;
 uniform sampler2D u_specular_color_map;  // specularColorTexture: rgb (sRGB) times specular_color
 uniform vec4 u_specular_color_map_st;
 #endif
+#ifdef HAS_TRANSMISSION_MAP
+uniform sampler2D u_transmission_map;  // KHR_materials_transmission transmissionTexture: red times transmission
+uniform vec4 u_transmission_map_st;
+#endif
+#ifdef HAS_CLEARCOAT_NORMAL_MAP
+uniform sampler2D u_clearcoat_normal_map;  // clearcoatNormalTexture: the coat's own tangent-space normal
+uniform vec4 u_clearcoat_normal_map_st;
+uniform float u_clearcoat_normal_strength;  // its scale
+#endif
+#if defined(PBR_CLEARCOAT) && defined(HAS_CLEARCOAT_NORMAL_MAP)
+#define PBR_COAT_NORMAL  // the coat's normal is its map's, the rest keeps the surface's
+#endif
+#ifdef HAS_IRIDESCENCE_MAP
+uniform sampler2D u_iridescence_map;  // KHR_materials_iridescence iridescenceTexture: red times iridescence
+uniform vec4 u_iridescence_map_st;
+#endif
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+uniform sampler2D u_iridescence_thickness_map;  // iridescenceThicknessTexture: green mixes min .. max
+uniform vec4 u_iridescence_thickness_map_st;
+#endif
+#ifdef HAS_THICKNESS_MAP
+uniform sampler2D u_thickness_map;  // KHR_materials_volume thicknessTexture: green times thickness
+uniform vec4 u_thickness_map_st;
+#endif
 
 // The texture coordinates each map reads: the mesh's set 0 (``uv``), or set 1 where the
 // map asks for it (glTF texCoord: 1; <MAP>_UV1).
@@ -178,6 +202,31 @@ in vec2 v_uv1;
 #else
 #define UV_OF_u_specular_color_map(uv) (uv)
 #endif
+#ifdef TRANSMISSION_MAP_UV1
+#define UV_OF_u_transmission_map(uv) v_uv1
+#else
+#define UV_OF_u_transmission_map(uv) (uv)
+#endif
+#ifdef CLEARCOAT_NORMAL_MAP_UV1
+#define UV_OF_u_clearcoat_normal_map(uv) v_uv1
+#else
+#define UV_OF_u_clearcoat_normal_map(uv) (uv)
+#endif
+#ifdef IRIDESCENCE_MAP_UV1
+#define UV_OF_u_iridescence_map(uv) v_uv1
+#else
+#define UV_OF_u_iridescence_map(uv) (uv)
+#endif
+#ifdef IRIDESCENCE_THICKNESS_MAP_UV1
+#define UV_OF_u_iridescence_thickness_map(uv) v_uv1
+#else
+#define UV_OF_u_iridescence_thickness_map(uv) (uv)
+#endif
+#ifdef THICKNESS_MAP_UV1
+#define UV_OF_u_thickness_map(uv) v_uv1
+#else
+#define UV_OF_u_thickness_map(uv) (uv)
+#endif
 
 // Texture coordinates for a map: MTL -s/-o scale and offset, then the wrap mode. Mirrored
 // wrap folds coordinates here (a triangle wave, so derivatives stay continuous).
@@ -243,6 +292,21 @@ uniform vec2 u_specular_glossiness_map_skew;
 #ifdef HAS_ANISOTROPY_MAP
 uniform vec2 u_anisotropy_map_skew;
 #endif
+#ifdef HAS_TRANSMISSION_MAP
+uniform vec2 u_transmission_map_skew;
+#endif
+#ifdef HAS_THICKNESS_MAP
+uniform vec2 u_thickness_map_skew;
+#endif
+#ifdef HAS_IRIDESCENCE_MAP
+uniform vec2 u_iridescence_map_skew;
+#endif
+#ifdef HAS_CLEARCOAT_NORMAL_MAP
+uniform vec2 u_clearcoat_normal_map_skew;
+#endif
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+uniform vec2 u_iridescence_thickness_map_skew;
+#endif
 
 vec2 map_uv(vec2 uv, vec4 st, vec2 skew) {
     vec2 t = vec2(uv.x * st.x + uv.y * skew.x, uv.x * skew.y + uv.y * st.y) + st.zw;
@@ -271,6 +335,9 @@ struct Surface {
     float clearcoat;
     float clearcoat_roughness;
 #endif
+#ifdef PBR_COAT_NORMAL
+    vec3 clearcoat_normal;  // unit, in the world: from its map over the geometric normal (forward.frag)
+#endif
 #ifdef PBR_SHEEN
     vec3 sheen_color;
     float sheen_roughness;
@@ -284,6 +351,12 @@ struct Surface {
     float iridescence;
     float iridescence_ior;
     float iridescence_thickness;  // nanometres
+#endif
+#ifdef PBR_TRANSMISSION
+    float transmission;
+#ifdef TRANSMISSION_VOLUME
+    float thickness;
+#endif
 #endif
 #endif
 };
@@ -309,14 +382,24 @@ uniform float u_sheen_roughness;
 uniform float u_iridescence;           // KHR_materials_iridescence: its weight,
 uniform float u_iridescence_ior;       // the film's index of refraction
 uniform float u_iridescence_thickness; // and thickness, nanometres
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+uniform float u_iridescence_thickness_min;  // the thickness where its map's green is 0
+#endif
+#endif
+#ifdef PBR_TRANSMISSION
+uniform float u_transmission;  // the share of the diffuse part that lets light through
+#ifdef TRANSMISSION_VOLUME
+uniform float u_thickness;     // the volume's, scene units
+#endif
 #endif
 #ifdef PBR_ANISOTROPY
 uniform float u_anisotropy;            // KHR_materials_anisotropy's strength
 uniform vec2 u_anisotropy_direction;   // (cos, sin) of its rotation from the tangent
 #endif
 
-// The layers' factors times their maps (KHR_materials_specular, _clearcoat, _sheen
-// textures); a material without maps takes its factors as they are.
+// The layers' factors times their maps (KHR_materials_specular, _clearcoat, _sheen,
+// _anisotropy, _iridescence, _transmission, _volume textures); a material without maps takes its
+// factors as they are.
 void sample_layers(inout Surface s, vec2 uv) {
 #ifdef PBR_DIELECTRIC_SPECULAR
     s.dielectric_f0 = u_dielectric_f0;
@@ -375,6 +458,25 @@ void sample_layers(inout Surface s, vec2 uv) {
     s.iridescence = u_iridescence;
     s.iridescence_ior = u_iridescence_ior;
     s.iridescence_thickness = u_iridescence_thickness;
+#ifdef HAS_IRIDESCENCE_MAP
+    s.iridescence *= texture(u_iridescence_map, MAP_UV(u_iridescence_map, uv)).r;
+#endif
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+    s.iridescence_thickness = mix(u_iridescence_thickness_min, u_iridescence_thickness,
+                                  texture(u_iridescence_thickness_map, MAP_UV(u_iridescence_thickness_map, uv)).g);
+#endif
+#endif
+#ifdef PBR_TRANSMISSION
+    s.transmission = u_transmission;
+#ifdef HAS_TRANSMISSION_MAP
+    s.transmission *= texture(u_transmission_map, MAP_UV(u_transmission_map, uv)).r;
+#endif
+#ifdef TRANSMISSION_VOLUME
+    s.thickness = u_thickness;
+#ifdef HAS_THICKNESS_MAP
+    s.thickness *= texture(u_thickness_map, MAP_UV(u_thickness_map, uv)).g;
+#endif
+#endif
 #endif
 }
 
@@ -449,6 +551,18 @@ vec3 mapped_normal(vec3 n, vec4 tangent, vec2 uv) {
     vec3 b = cross(n, t) * tangent.w;
     vec3 m = texture(u_normal_map, MAP_UV(u_normal_map, uv)).xyz * 2.0 - 1.0;
     m.xy *= u_normal_strength;
+    return safe_normalize(mat3(t, b, n) * m, n);
+}
+#endif
+
+#ifdef PBR_COAT_NORMAL
+// The clear coat's normal (KHR_materials_clearcoat clearcoatNormalTexture): its tangent-space
+// map over the geometric normal n, not the base's normal map (the specification)
+vec3 coat_mapped_normal(vec3 n, vec4 tangent, vec2 uv) {
+    vec3 t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3(1.0, 0.0, 0.0));
+    vec3 b = cross(n, t) * tangent.w;
+    vec3 m = texture(u_clearcoat_normal_map, MAP_UV(u_clearcoat_normal_map, uv)).xyz * 2.0 - 1.0;
+    m.xy *= u_clearcoat_normal_strength;
     return safe_normalize(mat3(t, b, n) * m, n);
 }
 #endif

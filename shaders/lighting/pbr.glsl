@@ -49,7 +49,6 @@ const float PBR_MIN_ALPHA = 0.002;
 
 // the layers' values are the Surface's (lighting/material.glsl, sample_layers)
 #ifdef PBR_TRANSMISSION
-uniform float u_transmission;  // the share of the diffuse part that lets light through
 uniform float u_transmission_ior;
 #endif
 
@@ -74,6 +73,10 @@ struct PbrView {
     float coat_alpha2;
     float coat_view_term;
     float coat;  // c Fc(N.V): the share of every light the coat takes
+#ifdef PBR_COAT_NORMAL
+    vec3 coat_normal;      // the coat's own (its map's); N.V above is then the coat's
+    float coat_n_dot_v;
+#endif
 #endif
 #ifdef PBR_SHEEN
     float sheen_alpha;
@@ -98,6 +101,9 @@ struct PbrView {
     float through_view_term;  // view_term at alpha_t
     vec3 through_f0;          // the dielectric's Fresnel
     float through_f90;
+#ifdef TRANSMISSION_VOLUME
+    float thickness;          // the volume's at the point (its map's)
+#endif
 #endif
 };
 
@@ -139,13 +145,20 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
 #endif
     p.diffuse = s.base * (1.0 - s.metallic);
 #ifdef PBR_TRANSMISSION
-    p.diffuse *= 1.0 - u_transmission;
+    p.diffuse *= 1.0 - s.transmission;
 #endif
 #ifdef PBR_CLEARCOAT
     float coat_alpha = max(s.clearcoat_roughness * s.clearcoat_roughness, PBR_MIN_ALPHA);
     p.coat_alpha2 = coat_alpha * coat_alpha;
+#ifdef PBR_COAT_NORMAL
+    p.coat_normal = s.clearcoat_normal;
+    p.coat_n_dot_v = clamp(dot(s.clearcoat_normal, v), 0.0, 1.0);
+    p.coat_view_term = sqrt(p.coat_n_dot_v * p.coat_n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
+    p.coat = coat_fresnel(s.clearcoat, p.coat_n_dot_v);
+#else
     p.coat_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.coat_alpha2) + p.coat_alpha2);
     p.coat = coat_fresnel(s.clearcoat, p.n_dot_v);
+#endif
 #endif
 #ifdef PBR_SHEEN
     p.sheen_color = s.sheen_color;
@@ -158,7 +171,10 @@ PbrView pbr_view(vec3 n, vec3 v, Surface s) {
     p.iridescence = s.iridescence;
 #endif
 #ifdef PBR_TRANSMISSION
-    p.through_tint = s.base * (1.0 - s.metallic) * u_transmission;
+    p.through_tint = s.base * (1.0 - s.metallic) * s.transmission;
+#ifdef TRANSMISSION_VOLUME
+    p.thickness = s.thickness;
+#endif
     float through_alpha = max(alpha * clamp(2.0 * u_transmission_ior - 2.0, 0.0, 1.0), PBR_MIN_ALPHA);
     p.through_alpha2 = through_alpha * through_alpha;
     p.through_view_term = sqrt(p.n_dot_v * p.n_dot_v * (1.0 - p.through_alpha2) + p.through_alpha2);
@@ -228,7 +244,16 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
     layered = layered * through + p.sheen_color * sheen_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.sheen_alpha);
 #endif
 #ifdef PBR_CLEARCOAT
+#ifdef PBR_COAT_NORMAL
+    // the coat's lobe about its own normal (none where the light is below it)
+    float coat_n_dot_l = dot(p.coat_normal, l);
+    float coat_specular = coat_n_dot_l > 0.0
+        ? coat_lobe(dot(p.coat_normal, l_plus_v) * inverse_length, coat_n_dot_l, p.coat_n_dot_v, p.coat_alpha2,
+                    p.coat_view_term) * coat_n_dot_l / n_dot_l
+        : 0.0;
+#else
     float coat_specular = coat_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
+#endif
     layered = layered * (1.0 - p.coat) + p.coat * coat_specular;
 #endif
     return layered * n_dot_l;
@@ -315,7 +340,7 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     w.diffuse = mix(w.diffuse, s.base * (1.0 - s.metallic) * (1.0 - max(film.r, max(film.g, film.b))), s.iridescence);
 #endif
 #ifdef PBR_TRANSMISSION
-    w.diffuse *= 1.0 - u_transmission;
+    w.diffuse *= 1.0 - s.transmission;
 #endif
 #if defined(PBR_SHEEN) || defined(PBR_CLEARCOAT)
     w.base_scale = 1.0;
@@ -325,8 +350,13 @@ PbrAmbientWeights pbr_ambient_weights(vec3 n, vec3 v, Surface s) {
     w.sheen = s.sheen_color * sheen_albedo(n_dot_v, s.sheen_roughness);
 #endif
 #ifdef PBR_CLEARCOAT
-    vec2 coat_scale_bias = ambient_specular(n_dot_v, s.clearcoat_roughness);
-    float coat_through = 1.0 - coat_fresnel(s.clearcoat, n_dot_v);
+#ifdef PBR_COAT_NORMAL
+    float coat_n_dot_v = clamp(dot(s.clearcoat_normal, v), 0.0, 1.0);
+#else
+    float coat_n_dot_v = n_dot_v;
+#endif
+    vec2 coat_scale_bias = ambient_specular(coat_n_dot_v, s.clearcoat_roughness);
+    float coat_through = 1.0 - coat_fresnel(s.clearcoat, coat_n_dot_v);
     w.base_scale *= coat_through;
 #ifdef PBR_SHEEN
     w.sheen *= coat_through;

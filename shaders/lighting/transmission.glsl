@@ -13,20 +13,26 @@
 // A light behind the surface shines through it (light_through, called per light from
 // lighting/direct.glsl): pbr.glsl's BTDF, for a volume from where the refracted ray leaves
 // it, as the Sample Viewer takes it.
+// The transmission and the thickness are the Surface's (lighting/material.glsl's
+// sample_layers: their factors times their maps).
 uniform sampler2D u_transmission_source;
 #ifdef TRANSMISSION_VOLUME
-uniform float u_thickness;
 uniform vec3 u_attenuation_color;
 uniform float u_attenuation_distance;  // 0: no attenuation (an infinite distance)
 #endif
 uniform mat4 u_view_proj;  // camera-relative world -> clip (mesh/mesh.vert's)
 
-// From the point to where the view's refracted ray leaves the volume: 0 for a thin wall
-vec3 transmission_ray(vec3 n, vec3 v) {
+// From the point to where the view's refracted ray leaves a volume ``thickness`` thick
+vec3 transmission_ray(vec3 n, vec3 v, float thickness) {
+    return safe_normalize(refract(-v, n, 1.0 / u_transmission_ior), -v) * thickness;
+}
+
+// The volume's thickness at the point: 0 for a thin wall
+float surface_thickness(Surface s) {
 #ifdef TRANSMISSION_VOLUME
-    return safe_normalize(refract(-v, n, 1.0 / u_transmission_ior), -v) * u_thickness;
+    return s.thickness;
 #else
-    return vec3(0.0);
+    return 0.0;
 #endif
 }
 
@@ -38,8 +44,8 @@ vec3 volume_attenuation(float path) {
 #endif
 
 // The opaque scene seen through the surface at camera-relative ``position``
-vec3 transmitted_radiance(vec3 position, vec3 n, vec3 v, float roughness) {
-    vec3 ray = transmission_ray(n, v);
+vec3 transmitted_radiance(vec3 position, vec3 n, vec3 v, float roughness, float thickness) {
+    vec3 ray = transmission_ray(n, v, thickness);
     vec4 clip = u_view_proj * vec4(position + ray, 1.0);
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
     float width = float(textureSize(u_transmission_source, 0).x);
@@ -57,12 +63,13 @@ vec3 transmitted_radiance(vec3 position, vec3 n, vec3 v, float roughness) {
 // direction is taken from where the refracted ray leaves it (a directional light's does
 // not change), attenuated over the thickness; its radiance stays the point's.
 vec3 light_through(vec3 to_light, bool directional, vec3 radiance, vec3 n, vec3 v, PbrView p) {
-    vec3 l = directional ? to_light : safe_normalize(to_light - transmission_ray(n, v), -n);
-    vec3 through = radiance * pbr_through(n, l, v, p);
 #ifdef TRANSMISSION_VOLUME
-    through *= volume_attenuation(u_thickness);
+    vec3 l = directional ? to_light : safe_normalize(to_light - transmission_ray(n, v, p.thickness), -n);
+    return radiance * pbr_through(n, l, v, p) * volume_attenuation(p.thickness);
+#else
+    vec3 l = directional ? to_light : safe_normalize(to_light, -n);
+    return radiance * pbr_through(n, l, v, p);
 #endif
-    return through;
 }
 
 // What the surface lets through towards the eye: (1 - metallic) transmission base
@@ -75,6 +82,6 @@ vec3 pbr_transmission(vec3 position, vec3 n, vec3 v, Surface s) {
 #else
     vec3 reflected = vec3(0.04 * scale_bias.x + scale_bias.y);
 #endif
-    vec3 weight = (1.0 - s.metallic) * u_transmission * s.base * (1.0 - reflected);
-    return weight * transmitted_radiance(position, n, v, s.roughness);
+    vec3 weight = (1.0 - s.metallic) * s.transmission * s.base * (1.0 - reflected);
+    return weight * transmitted_radiance(position, n, v, s.roughness, surface_thickness(s));
 }

@@ -75,6 +75,9 @@ void main() {
 #else
     // two-sided: a face seen from behind is lit as if its normal pointed at the viewer
     vec3 n = safe_normalize(gl_FrontFacing ? v_normal : -v_normal);
+#ifdef PBR_COAT_NORMAL
+    s.clearcoat_normal = coat_mapped_normal(n, gl_FrontFacing ? v_tangent : vec4(-v_tangent.xyz, v_tangent.w), v_uv);
+#endif
 #ifdef HAS_NORMAL_MAP
     n = mapped_normal(n, gl_FrontFacing ? v_tangent : vec4(-v_tangent.xyz, v_tangent.w), v_uv);
 #endif

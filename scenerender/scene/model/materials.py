@@ -63,6 +63,7 @@ class MaterialSpec(StrictModel):
     iridescence: number(0, 1) | None = None  # KHR_materials_iridescence
     iridescence_ior: number(1, MAX_IOR) | None = None
     iridescence_thickness: number(0, 10000) | None = None  # nanometres
+    iridescence_thickness_min: number(0, 10000) | None = None  # the thickness map's 0
     # the layers' maps (the extensions' textures): each multiplies its layer's value
     clearcoat_map: ImagePath | None = None
     clearcoat_roughness_map: ImagePath | None = None
@@ -71,6 +72,11 @@ class MaterialSpec(StrictModel):
     specular_factor_map: ImagePath | None = None
     specular_color_map: ImagePath | None = None
     anisotropy_map: ImagePath | None = None
+    transmission_map: ImagePath | None = None
+    thickness_map: ImagePath | None = None
+    iridescence_map: ImagePath | None = None
+    clearcoat_normal_map: ImagePath | None = None
+    iridescence_thickness_map: ImagePath | None = None
     # light through the surface (KHR_materials_transmission) and through its volume
     # (KHR_materials_volume): docs/scene-notes.md, "Transmission and volume"
     transmission: number(0, 1) | None = None
