@@ -78,8 +78,13 @@ VARIANTS = {
                        "l_diffuse=mix(l_diffuse,transmittedLight,materialInfo.transmissionFactor);":
                        "l_diffuse=mix(l_diffuse,transmittedLight/max(vec3(1.0)-dielectric_fresnel,vec3(1e-4)),"
                        "materialInfo.transmissionFactor);"},
+    # KHR_materials_pbrSpecularGlossiness: c_diff = diffuse (1 - max(specular)), as its
+    # specification writes (the shipped viewer takes the diffuse as it is)
+    "diffuse_share": {"vec3 l_diffuse=lightIntensity*NdotL*BRDF_lambertian(baseColor.rgb);":
+                      "vec3 l_diffuse=lightIntensity*NdotL*BRDF_lambertian(baseColor.rgb*(1.0-max3(u_SpecularFactor)));"},
 }
-DIAGNOSTICS = (("sheen", "sheen_table"), ("transmission", "through_cosine"), ("volume", "through_cosine"))
+DIAGNOSTICS = (("sheen", "sheen_table"), ("transmission", "through_cosine"), ("volume", "through_cosine"),
+               ("specular_glossiness", "diffuse_share"))
 CHROMIUM_ARGUMENTS = ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--use-angle=swiftshader",
                       "--enable-unsafe-swiftshader", "--window-size=1200,800")
 
@@ -247,7 +252,8 @@ def write_page_table(table: str, about: dict, mode: str) -> None:
 
 
 VARIANT_NOTES = {"sheen_table": "the viewer with its sheen albedo table uploaded",
-                 "through_cosine": "the viewer's light through a transmissive surface with N.L and one Fresnel, as scenerender's"}
+                 "through_cosine": "the viewer's light through a transmissive surface with N.L and one Fresnel, as scenerender's",
+                 "diffuse_share": "the viewer's specular-glossiness diffuse times 1 - max(specular), as the extension writes"}
 
 
 def chosen_models(names) -> list:

@@ -105,6 +105,23 @@ MODELS = (
                                           "attenuationDistance": distance})
                 for thickness, distance in ((0.0, 1.0), (0.3, 1.0), (0.8, 1.0), (0.8, 0.25))),
           backdrop=True, labels=("thickness 0", "0.3", "0.8", "0.8, distance 0.25")),
+    Model("iridescence", "KHR_materials_iridescence: a film of ior 1.3 over a dark dielectric at roughness 0.25, "
+                         "200, 400 and 600 nm thick, and 400 nm over gold metal",
+          tuple(pbr(base, metallic, 0.25, KHR_materials_iridescence={
+                    "iridescenceFactor": 1.0, "iridescenceIor": 1.3, "iridescenceThicknessMaximum": thickness})
+                for base, metallic, thickness in ((BLUE, 0.0, 200.0), (BLUE, 0.0, 400.0), (BLUE, 0.0, 600.0),
+                                                  (GOLD, 1.0, 400.0))),
+          labels=("200 nm", "400 nm", "600 nm", "gold, 400 nm")),
+    Model("specular_glossiness", "KHR_materials_pbrSpecularGlossiness (no metallic-roughness block): a red "
+                                 "diffuse under grey specular 0.04 at glossiness 0.3 and 0.75, gold specular, "
+                                 "a coloured specular",
+          tuple({"extensions": {"KHR_materials_pbrSpecularGlossiness": {
+                    "diffuseFactor": diffuse, "specularFactor": specular, "glossinessFactor": gloss}}}
+                for diffuse, specular, gloss in (([0.6, 0.05, 0.03, 1.0], [0.04, 0.04, 0.04], 0.3),
+                                                 ([0.6, 0.05, 0.03, 1.0], [0.04, 0.04, 0.04], 0.75),
+                                                 ([0.0, 0.0, 0.0, 1.0], [1.0, 0.71, 0.29], 0.75),
+                                                 ([0.1, 0.1, 0.3, 1.0], [0.3, 0.5, 0.2], 0.6))),
+          labels=("gloss 0.3", "gloss 0.75", "gold specular", "coloured specular")),
 )
 
 
