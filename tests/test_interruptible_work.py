@@ -20,6 +20,7 @@ from click.testing import CliRunner
 import scenerender
 from conftest import skip_without_gl
 from scenerender.cli import main
+from scenerender.errors import display_path
 from scenerender.rendering import steps as steps_module
 from scenerender.rendering.pass_context import PassContext
 from scenerender.rendering.passes import environment, shadow
@@ -336,7 +337,7 @@ def test_the_prefilter_limit_refuses_the_scene_before_rendering(tmp_path):
                                        "--limit", "prefilter_lookups=1000000000"])
     assert result.exit_code == 2, result.output
     assert result.stderr.strip() == (
-        f"error: {scene_path}:3:63: lights[0].samples: the prefilter's count of texture lookups at 2048 px and "
+        f"error: {display_path(scene_path)}:3:63: lights[0].samples: the prefilter's count of texture lookups at 2048 px and "
         "4096 samples is 42,951,770,112, over the limit of 1,000,000,000 (raise with --limit prefilter_lookups=N)")
     assert not (tmp_path / "out").exists()
     # the default lets the scene format's largest through
