@@ -13,6 +13,7 @@ scenerender/mesh/gltf.py lists them; another model is one ``Model(...)`` line in
 """
 from __future__ import annotations
 
+import math
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -43,7 +44,8 @@ class Model:
     name: the file's stem; title: what the row shows; materials: up to four dicts as
     glTF writes a material (``pbrMetallicRoughness``, ``extensions``); backdrop: coloured
     bars behind the row (what a transmissive sphere shows through itself); rig: the lights,
-    "three" (``three_lights``) or "spot" (``spot_light``)."""
+    "three" (``three_lights``) or "spot" (``spot_light``); tangents: write each sphere's
+    tangent frame (``sphere_tangents``), so that both renderers turn the same one."""
 
     name: str
     title: str
@@ -51,6 +53,7 @@ class Model:
     backdrop: bool = False
     labels: tuple = field(default=())
     rig: str = "three"
+    tangents: bool = False  # the spheres carry a TANGENT (what KHR_materials_anisotropy turns in)
 
     def extensions(self) -> set[str]:
         return {name for material in self.materials for name in material.get("extensions", {})}
@@ -122,6 +125,12 @@ MODELS = (
                                                  ([0.0, 0.0, 0.0, 1.0], [1.0, 0.71, 0.29], 0.75),
                                                  ([0.1, 0.1, 0.3, 1.0], [0.3, 0.5, 0.2], 0.6))),
           labels=("gloss 0.3", "gloss 0.75", "gold specular", "coloured specular")),
+    Model("anisotropy", "KHR_materials_anisotropy on gold metal at roughness 0.3: strength 0, 0.5 and 0.9 "
+                        "along the spheres' circles of latitude, 0.9 turned 90 degrees",
+          tuple(pbr(GOLD, 1.0, 0.3, KHR_materials_anisotropy={"anisotropyStrength": strength,
+                                                              "anisotropyRotation": rotation})
+                for strength, rotation in ((0.0, 0.0), (0.5, 0.0), (0.9, 0.0), (0.9, math.pi / 2))),
+          labels=("strength 0", "0.5", "0.9", "0.9 turned 90 degrees"), tangents=True),
 )
 
 
@@ -188,6 +197,16 @@ def sphere_columns(width: int) -> list[tuple[int, int]]:
     return list(zip(cuts, cuts[1:]))
 
 
+def sphere_tangents(sphere: trimesh.Trimesh) -> np.ndarray:
+    """(N, 4) float64 unit tangents along the circles of latitude about +y (w = 1), and +x at
+    the poles, where those circles shrink to a point."""
+    normals = np.asarray(sphere.vertex_normals, dtype=np.float64)
+    along = np.cross([0.0, 1.0, 0.0], normals)
+    length = np.linalg.norm(along, axis=1, keepdims=True)
+    along = np.where(length > 1e-6, along / np.maximum(length, 1e-12), [1.0, 0.0, 0.0])
+    return np.hstack([along, np.ones((len(along), 1))])
+
+
 def write_model(model: Model, path: Path) -> Path:
     """``model`` as a GLB at ``path``: its spheres (icospheres, 2,562 vertices each, smooth
     normals), backdrop, camera and lights."""
@@ -197,7 +216,10 @@ def write_model(model: Model, path: Path) -> Path:
         for extension in fields.get("extensions", {}):
             builder.uses(extension)
         material = builder.material(**fields)
-        builder.node(builder.mesh(builder.primitive(sphere, material)), translation=[x, 0.0, 0.0])
+        primitive = builder.primitive(sphere, material)
+        if model.tangents:
+            primitive["attributes"]["TANGENT"] = builder.accessor(sphere_tangents(sphere), "VEC4")
+        builder.node(builder.mesh(primitive), translation=[x, 0.0, 0.0])
     if model.backdrop:
         add_backdrop(builder)
     add_camera(builder)
