@@ -107,7 +107,7 @@ struct PbrView {
 #endif
 };
 
-#ifdef PBR_DIELECTRIC_SPECULAR
+#if defined(PBR_DIELECTRIC_SPECULAR) || defined(PBR_TRANSMISSION)
 vec3 fresnel_schlick_f90(vec3 f0, vec3 f90, float v_dot_h) {
     float m = 1.0 - v_dot_h;
     float m2 = m * m;
@@ -115,13 +115,15 @@ vec3 fresnel_schlick_f90(vec3 f0, vec3 f90, float v_dot_h) {
 }
 #endif
 
-#ifdef PBR_CLEARCOAT
-// pi D V of the coat at roughness alpha^2 = coat_alpha2 (pbr_direct's lobe)
-float coat_lobe(float n_dot_h, float n_dot_l, float n_dot_v, float alpha2, float view_term) {
+// pi D V of GGX at roughness alpha^2 = alpha2 (pbr_direct's lobe), view_term the view's
+// sqrt((N.V)^2 (1 - alpha2) + alpha2): the coat's, the transmitted light's, a sphere light's
+float ggx_lobe(float n_dot_h, float n_dot_l, float n_dot_v, float alpha2, float view_term) {
     float k = 1.0 - n_dot_h * n_dot_h * (1.0 - alpha2);
     float light_term = n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - alpha2) + alpha2);
-    return 0.5 * alpha2 / (k * k * (n_dot_l * view_term + light_term));
+    return 0.5 * alpha2 / max(k * k * (n_dot_l * view_term + light_term), 1e-20);
 }
+
+#ifdef PBR_CLEARCOAT
 
 // c Fc: how much of the light a coat of weight c takes at an angle of cosine ``cosine``
 float coat_fresnel(float c, float cosine) {
@@ -248,11 +250,11 @@ vec3 pbr_direct(vec3 n, vec3 l, vec3 v, float n_dot_l, PbrView p) {
     // the coat's lobe about its own normal (none where the light is below it)
     float coat_n_dot_l = dot(p.coat_normal, l);
     float coat_specular = coat_n_dot_l > 0.0
-        ? coat_lobe(dot(p.coat_normal, l_plus_v) * inverse_length, coat_n_dot_l, p.coat_n_dot_v, p.coat_alpha2,
+        ? ggx_lobe(dot(p.coat_normal, l_plus_v) * inverse_length, coat_n_dot_l, p.coat_n_dot_v, p.coat_alpha2,
                     p.coat_view_term) * coat_n_dot_l / n_dot_l
         : 0.0;
 #else
-    float coat_specular = coat_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
+    float coat_specular = ggx_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.coat_alpha2, p.coat_view_term);
 #endif
     layered = layered * (1.0 - p.coat) + p.coat * coat_specular;
 #endif
@@ -276,12 +278,8 @@ vec3 pbr_through(vec3 n, vec3 l, vec3 v, PbrView p) {
     float inverse_length = inversesqrt(max(length2, 1e-20));
     float n_dot_h = dot(n, l_plus_v) * inverse_length;
     float v_dot_h = min(0.5 * length2 * inverse_length, 1.0);
-    float k = 1.0 - n_dot_h * n_dot_h * (1.0 - p.through_alpha2);
-    float light_term = p.n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - p.through_alpha2) + p.through_alpha2);
-    float specular = 0.5 * p.through_alpha2 / max(k * k * (n_dot_l * p.through_view_term + light_term), 1e-20);
-    float m = 1.0 - v_dot_h;
-    float m2 = m * m;
-    vec3 fresnel = p.through_f0 + (p.through_f90 - p.through_f0) * (m2 * m2 * m);
+    float specular = ggx_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.through_alpha2, p.through_view_term);
+    vec3 fresnel = fresnel_schlick_f90(p.through_f0, vec3(p.through_f90), v_dot_h);
     return p.through_tint * (1.0 - fresnel) * (specular * n_dot_l);
 }
 #endif

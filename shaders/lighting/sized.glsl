@@ -58,9 +58,7 @@ vec3 pbr_sized(vec3 n, vec3 ls, vec3 v, float diffuse_cos, float normalization, 
     float inverse_length = inversesqrt(max(length2, 1e-20));
     float n_dot_h = dot(n, l_plus_v) * inverse_length;
     float v_dot_h = min(0.5 * length2 * inverse_length, 1.0);
-    float k = 1.0 - n_dot_h * n_dot_h * (1.0 - p.alpha2);
-    float light_term = p.n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - p.alpha2) + p.alpha2);
-    float specular = 0.5 * p.alpha2 / max(k * k * (n_dot_l * p.view_term + light_term), 1e-20);
+    float specular = ggx_lobe(n_dot_h, n_dot_l, p.n_dot_v, p.alpha2, p.view_term);
     vec3 fresnel = fresnel_schlick(p.f0, v_dot_h);
     return p.diffuse * (1.0 - fresnel) * diffuse_cos + fresnel * (specular * normalization * n_dot_l);
 }
