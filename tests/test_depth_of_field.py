@@ -16,25 +16,10 @@ from scenerender.raytrace import render_reference
 from scenerender.world.camera import CameraState, perspective
 from scenerender.rendering.renderer import plan
 from scenerender.world.lens import Film, lens_radius, through_lens
-
-WIDTH, HEIGHT, FOV, SENSOR = 160, 120, 40.0, 36.0
-# the focal length in pixels, and where three points sit across the image
-FOCAL_PX = WIDTH / 2 / (math.tan(math.radians(FOV) / 2) * WIDTH / HEIGHT)
-COLUMNS = (36, 80, 124)
-
+from lens_points import COLUMNS, FOV, HEIGHT, WIDTH, disc, points_scene, thin_lens_coc_px
 
 def _points_scene(depths, aperture, focus, samples=256, radius_px=0.5) -> str:
-    """Tiny unlit white spheres (``radius_px`` in radius) at ``depths`` in front of a camera at the
-    origin looking down -Z, one at each of COLUMNS on the middle row."""
-    objects = []
-    for column, depth in zip(COLUMNS, depths):
-        x = (column + 0.5 - WIDTH / 2) / FOCAL_PX * depth
-        objects.append(f"  - {{mesh: {{primitive: sphere, radius: {radius_px * depth / FOCAL_PX:.6g}}}, "
-                       f"position: [{x:.6g}, 0, {-depth:.6g}], material: {{diffuse: [1, 1, 1], unlit: true}}}}")
-    lens = f", aperture: {aperture}, focus_distance: {focus}" if aperture is not None else ""
-    return (f"render: {{size: [{WIDTH}, {HEIGHT}], samples: 4, background: [0, 0, 0], film_samples: {samples}}}\n"
-            f"camera: {{position: [0, 0, 0], target: [0, 0, -1], fov: {FOV}, near: 0.01, far: 10{lens}}}\n"
-            "lights: []\nobjects:\n" + "\n".join(objects) + "\n")
+    return points_scene(depths, aperture, focus, f", film_samples: {samples}", radius_px)
 
 
 def _render(gl, text: str) -> np.ndarray:
@@ -51,16 +36,6 @@ def _spread(light: np.ndarray, column: int) -> float:
     return float((band * (x - mean) ** 2).sum() / band.sum())
 
 
-def thin_lens_coc_px(depth: float, focus: float, aperture: float) -> float:
-    """The circle of confusion's diameter in pixels, by the thin-lens equation: the
-    focal length f from 1/f = 1/v + 1/focus (v: the image distance at which the sensor
-    spans the field of view), the aperture f / N, c = A f |depth - focus| / (depth (focus - f))."""
-    image_distance = SENSOR * 1e-3 * FOCAL_PX / WIDTH
-    f = image_distance * focus / (image_distance + focus)
-    coc = (f / aperture) * f * abs(depth - focus) / (depth * (focus - f))
-    return coc / (SENSOR * 1e-3) * WIDTH
-
-
 def test_a_point_out_of_focus_is_a_disc_the_circle_of_confusion_wide(gl):
     """Three points at 0.25, 0.35 and 1.5 (focus 0.5, f/1): each disc's diameter, from its
     horizontal spread (a uniform disc of diameter D has variance D^2 / 16), less the
@@ -73,16 +48,6 @@ def test_a_point_out_of_focus_is_a_disc_the_circle_of_confusion_wide(gl):
         diameter = 4.0 * math.sqrt(_spread(blurred, column) - _spread(sharp, column))
         assert expected > 4.0
         assert diameter == pytest.approx(expected, rel=0.10), (depth, diameter, expected)
-
-
-def _disc(light: np.ndarray, column: int) -> tuple:
-    """The centroid (x, y) and the mean squared distance from it (px^2) of the light in
-    the 40 px band around ``column``."""
-    band = light[:, column - 20:column + 20]
-    y, x = np.mgrid[:band.shape[0], :band.shape[1]]
-    total = band.sum()
-    cx, cy = (band * x).sum() / total, (band * y).sum() / total
-    return cx, cy, float((band * ((x - cx) ** 2 + (y - cy) ** 2)).sum() / total)
 
 
 @pytest.mark.parametrize("samples", [8, 16])
@@ -98,8 +63,8 @@ def test_few_lens_samples_give_the_thin_lens_disc_centred(gl, samples):
     for aperture in (0.5, 1.0):
         blurred = _render(gl, _points_scene(depths, aperture, focus, samples=samples, radius_px=1.5))
         for column, depth in zip(COLUMNS[:2], depths):
-            sx, sy, sharp_moment = _disc(sharp, column)
-            bx, by, moment = _disc(blurred, column)
+            sx, sy, sharp_moment = disc(sharp, column)
+            bx, by, moment = disc(blurred, column)
             diameter = math.sqrt(8.0 * (moment - sharp_moment))
             expected = thin_lens_coc_px(depth, focus, aperture)
             assert diameter == pytest.approx(expected, rel=0.03), (aperture, depth, diameter, expected)
@@ -231,7 +196,7 @@ def test_the_gather_spreads_each_point_by_its_own_circle(gl, depths):
         text = _points_scene(depths, aperture, 0.5, samples=64, radius_px=1.5)
         blurred = _render(gl, text.replace("film_samples: 64}", "film_samples: 64, depth_of_field: gather}"))
         for column, depth in zip(COLUMNS, depths):
-            growth = math.sqrt(max(8.0 * (_disc(blurred, column)[2] - _disc(sharp, column)[2]), 0.0))
+            growth = math.sqrt(max(8.0 * (disc(blurred, column)[2] - disc(sharp, column)[2]), 0.0))
             if depth == 0.5:
                 assert growth <= 2.0, (aperture, growth)
             else:

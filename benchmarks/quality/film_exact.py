@@ -46,9 +46,9 @@ def _import_tree(tree: Path) -> None:
     sys.path.insert(0, str(ROOT / "benchmarks"))
 
 
-WIDTH, HEIGHT, FOV, SENSOR = 160, 120, 40.0, 36.0
-FOCAL_PX = WIDTH / 2 / (math.tan(math.radians(FOV) / 2) * WIDTH / HEIGHT)
-COLUMNS = (36, 80, 124)
+sys.path.insert(0, str(ROOT / "tests"))
+from lens_points import COLUMNS, disc, points_scene, thin_lens_coc_px  # noqa: E402  (the lens tests' scene)
+
 DEPTHS, FOCUS = (0.3, 1.5, 0.5), 0.5
 APERTURES = (0.5, 1.0)
 
@@ -101,24 +101,6 @@ median frame, the variants of a group taking turns frame by frame in one process
 """
 
 
-def thin_lens_px(depth: float, aperture: float) -> float:
-    image_distance = SENSOR * 1e-3 * FOCAL_PX / WIDTH
-    f = image_distance * FOCUS / (image_distance + FOCUS)
-    return (f / aperture) * f * abs(depth - FOCUS) / (depth * (FOCUS - f)) / (SENSOR * 1e-3) * WIDTH
-
-
-def points_scene(aperture, overrides: str) -> str:
-    objects = []
-    for column, depth in zip(COLUMNS, DEPTHS):
-        x = (column + 0.5 - WIDTH / 2) / FOCAL_PX * depth
-        objects.append(f"  - {{mesh: {{primitive: sphere, radius: {1.5 * depth / FOCAL_PX:.6g}}}, "
-                       f"position: [{x:.6g}, 0, {-depth:.6g}], material: {{diffuse: [1, 1, 1], unlit: true}}}}")
-    lens = f", aperture: {aperture}, focus_distance: {FOCUS}" if aperture is not None else ""
-    return (f"render: {{size: [{WIDTH}, {HEIGHT}], samples: 4, background: [0, 0, 0]{overrides}}}\n"
-            f"camera: {{position: [0, 0, 0], target: [0, 0, -1], fov: {FOV}, near: 0.01, far: 10{lens}}}\n"
-            "lights: []\nobjects:\n" + "\n".join(objects) + "\n")
-
-
 def render_levels(gl, text: str, frame: int = 0, overrides=()) -> np.ndarray:
     """(H, W) int: the 8-bit frame's red channel."""
     import scenerender
@@ -134,27 +116,19 @@ def render(gl, text: str, frame: int = 0, overrides=()) -> np.ndarray:
     return srgb_decode(render_levels(gl, text, frame, overrides) / 255.0)
 
 
-def disc(light: np.ndarray, column: int) -> tuple:
-    band = light[:, column - 20:column + 20]
-    y, x = np.mgrid[:band.shape[0], :band.shape[1]]
-    total = band.sum()
-    cx, cy = (band * x).sum() / total, (band * y).sum() / total
-    return cx, cy, float((band * ((x - cx) ** 2 + (y - cy) ** 2)).sum() / total)
-
-
 def lens_errors(gl, overrides: str) -> dict:
     """The worst disc ratio to the thin lens, centroid offset (px) and in-focus growth (px)."""
-    sharp = render(gl, points_scene(None, ""))
+    sharp = render(gl, points_scene(DEPTHS, None, None, radius_px=1.5))
     ratios, offsets, growth = [], [], []
     for aperture in APERTURES:
-        blurred = render(gl, points_scene(aperture, overrides))
+        blurred = render(gl, points_scene(DEPTHS, aperture, FOCUS, overrides, radius_px=1.5))
         for column, depth in zip(COLUMNS, DEPTHS):
             (sx, sy, sharp_moment), (bx, by, moment) = disc(sharp, column), disc(blurred, column)
             diameter = math.sqrt(max(8.0 * (moment - sharp_moment), 0.0))
             if depth == FOCUS:
                 growth.append(diameter)
             else:
-                ratios.append(diameter / thin_lens_px(depth, aperture))
+                ratios.append(diameter / thin_lens_coc_px(depth, FOCUS, aperture))
                 offsets.append(math.hypot(bx - sx, by - sy))
     worst = max(ratios, key=lambda r: abs(r - 1.0))
     return {"disc_ratio_worst": worst, "disc_ratio_range": [min(ratios), max(ratios)],
