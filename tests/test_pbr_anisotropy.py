@@ -8,23 +8,15 @@ import math
 import numpy as np
 import pytest
 
-import scenerender
 from conftest import render
 from gltf_files import GlbBuilder, sphere, sphere_uv
 from scenerender.raytrace import render_reference, shading
 from scenerender.rendering.features import material_defines
 from scenerender.tools.quality import frame_errors
+from pbr_glb_scene import glb_scene, render_glb
 from white_furnace import white_furnace
 
-SCENE = """
-render: {size: [96, 72], samples: 4, shading: pbr, background: [0, 0, 0]}
-camera: {position: [0, 0, 4], target: [0, 0, 0], fov: 40}
-lights:
-  - {type: point, position: [0.6, 0.8, 4], intensity: 16, attenuation: [0, 0, 1]}
-  - {type: ambient, color: [0.15, 0.15, 0.15]}
-objects:
-  - mesh: model.glb
-"""
+SCENE = glb_scene()
 
 
 def brushed_glb(path, anisotropy: dict | None, roughness: float = 0.45, texture: np.ndarray | None = None):
@@ -45,12 +37,6 @@ def brushed_glb(path, anisotropy: dict | None, roughness: float = 0.45, texture:
     return builder.write(path)
 
 
-def _linear(gl, tmp_path):
-    loaded = scenerender.Scene.from_yaml(SCENE, tmp_path)
-    with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
-        return loaded, renderer.render(0)
-
-
 def _extent(image: np.ndarray) -> tuple[int, int]:
     """(columns, rows) the highlight (above half its peak) spans."""
     bright = image.mean(axis=2) > 0.5 * image.mean(axis=2).max()
@@ -62,15 +48,15 @@ def test_the_highlight_stretches_along_the_anisotropy_direction(gl, tmp_path):
     # round highlight without it; along the tangent (round the sphere: across the image)
     # with it; along the bitangent (down the image) at a rotation of 90 degrees
     brushed_glb(tmp_path / "model.glb", None, roughness=0.3)
-    width, height = _extent(_linear(gl, tmp_path)[1].linear[..., :3])
+    width, height = _extent(render_glb(gl, tmp_path)[1].linear[..., :3])
     assert abs(width - height) <= 2
     brushed_glb(tmp_path / "model.glb", {"anisotropyStrength": 0.8}, roughness=0.3)
-    loaded, frame = _linear(gl, tmp_path)
+    loaded, frame = render_glb(gl, tmp_path)
     assert "PBR_ANISOTROPY" in material_defines(loaded.world.materials()[0], "pbr")
     width, height = _extent(frame.linear[..., :3])
     assert width > 4 * height
     brushed_glb(tmp_path / "model.glb", {"anisotropyStrength": 0.8, "anisotropyRotation": np.pi / 2}, roughness=0.3)
-    width, height = _extent(_linear(gl, tmp_path)[1].linear[..., :3])
+    width, height = _extent(render_glb(gl, tmp_path)[1].linear[..., :3])
     assert height > 4 * width
 
 
@@ -79,7 +65,7 @@ def test_gpu_matches_the_reference(gl, tmp_path, rotation):
     # the layers' tolerances (tests/test_pbr_layers.py) at roughness 0.45; at 0.3 the
     # highlight's thin line gives 1.7 % and 0.27-0.39 % inside (docs/scene-notes.md)
     brushed_glb(tmp_path / "model.glb", {"anisotropyStrength": 0.8, "anisotropyRotation": rotation})
-    loaded, frame = _linear(gl, tmp_path)
+    loaded, frame = render_glb(gl, tmp_path)
     errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
     assert errors["rmse_linear"] < 1.5, errors
     assert errors["interior_rmse"] < 0.25, errors
@@ -157,7 +143,7 @@ def test_gpu_matches_the_reference_with_a_texture(gl, tmp_path):
     pixels[..., 2] = np.round(np.linspace(128, 255, 8))[:, None]
     pixels[..., 3] = 255
     brushed_glb(tmp_path / "model.glb", {"anisotropyStrength": 0.8, "anisotropyRotation": 0.4}, texture=pixels)
-    loaded, frame = _linear(gl, tmp_path)
+    loaded, frame = render_glb(gl, tmp_path)
     assert "anisotropy_map" in loaded.world.materials()[0].maps
     errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
     assert errors["rmse_linear"] < 1.5, errors

@@ -6,23 +6,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import scenerender
 from conftest import render
 from gltf_files import GlbBuilder, sphere
 from scenerender.raytrace import render_reference, shading
 from scenerender.rendering.features import material_defines
 from scenerender.tools.quality import frame_errors
+from pbr_glb_scene import glb_scene, render_glb
 from white_furnace import white_furnace
 
-SCENE = """
-render: {size: [96, 72], samples: 4, shading: pbr, background: [0, 0, 0]}
-camera: {position: [0, 0, 4], target: [0, 0, 0], fov: 40}
-lights:
-  - {type: point, position: [0.6, 0.8, 4], intensity: 16, attenuation: [0, 0, 1]}
-  - {type: ambient, color: [0.3, 0.3, 0.3]}
-objects:
-  - mesh: model.glb
-"""
+SCENE = glb_scene(ambient=0.3)
 # a black dielectric under a film of index 1.8, 600 nm: its reflection alone, coloured
 SOAP = {"iridescenceFactor": 1.0, "iridescenceIor": 1.8, "iridescenceThicknessMaximum": 600}
 
@@ -40,19 +32,13 @@ def film_glb(path, iridescence: dict | None, metallic: float = 0.0):
     return builder.write(path)
 
 
-def _frame(gl, tmp_path):
-    loaded = scenerender.Scene.from_yaml(SCENE, tmp_path)
-    with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
-        return loaded, renderer.render(0)
-
-
 def test_the_film_colours_the_reflection(gl, tmp_path):
     # without the film a black dielectric's highlight is grey (F0 0.04 in every channel);
     # with it, coloured, and its hue changes from the middle to the rim
     film_glb(tmp_path / "model.glb", None)
-    plain = _frame(gl, tmp_path)[1].linear[..., :3]
+    plain = render_glb(gl, tmp_path)[1].linear[..., :3]
     film_glb(tmp_path / "model.glb", SOAP)
-    loaded, frame = _frame(gl, tmp_path)
+    loaded, frame = render_glb(gl, tmp_path)
     assert "PBR_IRIDESCENCE" in material_defines(loaded.world.materials()[0], "pbr")
     film = frame.linear[..., :3]
     peak = np.unravel_index(np.argmax(plain.mean(axis=2)), plain.shape[:2])
@@ -68,7 +54,7 @@ def test_gpu_matches_the_reference(gl, tmp_path, metallic):
     # the layers' tolerances (tests/test_pbr_layers.py)
     film_glb(tmp_path / "model.glb", {**SOAP, "iridescenceIor": 1.3, "iridescenceThicknessMaximum": 400}
              if metallic else SOAP, metallic)
-    loaded, frame = _frame(gl, tmp_path)
+    loaded, frame = render_glb(gl, tmp_path)
     errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
     assert errors["rmse_linear"] < 1.5, errors
     assert errors["interior_rmse"] < 0.25, errors

@@ -18,16 +18,9 @@ from scenerender.cli import main
 from scenerender.raytrace import render_reference
 from scenerender.rendering.features import material_defines
 from scenerender.tools.quality import frame_errors
+from pbr_glb_scene import glb_scene, render_glb
 
-SCENE = """
-render: {size: [96, 72], samples: 4, shading: pbr, background: [0, 0, 0]}
-camera: {position: [0, 0, 4], target: [0, 0, 0], fov: 40}
-lights:
-  - {type: point, position: [0.6, 0.8, 4], intensity: 16, attenuation: [0, 0, 1]}
-  - {type: ambient, color: [0.15, 0.15, 0.15]}
-objects:
-  - mesh: model.glb
-"""
+SCENE = glb_scene()
 
 # (extension, its factors, the texture's key): each layer strong enough to see
 TEXTURED = {
@@ -76,19 +69,13 @@ def textured_glb(path, extension: str, factors: dict, key: str | None, pixels: n
     return builder.write(path)
 
 
-def _frame(gl, tmp_path):
-    loaded = scenerender.Scene.from_yaml(SCENE, tmp_path)
-    with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
-        return loaded, renderer.render(0)
-
-
 @pytest.mark.parametrize("name", list(TEXTURED))
 def test_gpu_matches_the_reference_with_each_layer_texture(gl, tmp_path, name):
     # the layers' stated tolerances (tests/test_pbr_layers.py: linear RMSE of the image 1.5 %,
     # 2.5 % with a sheen, 0.25 % inside surfaces), a texture that rises across the sphere
     extension, factors, key = TEXTURED[name]
     textured_glb(tmp_path / "model.glb", extension, factors, key, gradient())
-    loaded, frame = _frame(gl, tmp_path)
+    loaded, frame = render_glb(gl, tmp_path)
     errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
     assert errors["rmse_linear"] < (2.5 if "sheen" in name else 1.5), errors
     assert errors["interior_rmse"] < 0.25, errors
@@ -101,9 +88,9 @@ def test_each_texture_changes_the_picture_and_a_white_one_does_not(gl, tmp_path,
     # with the gradient texture: a different picture
     extension, factors, key = TEXTURED[name]
     textured_glb(tmp_path / "model.glb", extension, factors, None)
-    plain = _frame(gl, tmp_path)[1].pixels
+    plain = render_glb(gl, tmp_path)[1].pixels
     textured_glb(tmp_path / "model.glb", extension, factors, key, np.full((4, 4, 4), 255, np.uint8))
-    loaded, white = _frame(gl, tmp_path)
+    loaded, white = render_glb(gl, tmp_path)
     map_key = {"specular": "specular_factor"}.get(name, name) + "_map"
     assert f"HAS_{map_key.upper()}" in material_defines(loaded.world.materials()[0], "pbr")
     if name == "specular_color":
@@ -111,7 +98,7 @@ def test_each_texture_changes_the_picture_and_a_white_one_does_not(gl, tmp_path,
     else:
         assert np.array_equal(white.pixels, plain)
     textured_glb(tmp_path / "model.glb", extension, factors, key, gradient())
-    varied = _frame(gl, tmp_path)[1].pixels
+    varied = render_glb(gl, tmp_path)[1].pixels
     assert np.abs(varied.astype(int) - plain).max() > 10
 
 
@@ -149,7 +136,7 @@ def test_gpu_matches_the_reference_through_texcoord_1_and_a_transform(gl, tmp_pa
     material = scene(SCENE, base_dir=tmp_path).world.materials()[0]
     assert material.maps["sheen_color_map"].uv_set == 1
     assert {"SHEEN_COLOR_MAP_UV1", "UV_AFFINE"} <= set(material_defines(material, "pbr"))
-    loaded, frame = _frame(gl, tmp_path)
+    loaded, frame = render_glb(gl, tmp_path)
     errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
     assert errors["rmse_linear"] < 2.5 and errors["interior_rmse"] < 0.25, errors
 
@@ -158,7 +145,7 @@ def test_the_scene_keys_set_the_same_maps_as_the_extensions(gl, tmp_path):
     # a gradient along u alone, so the two coordinate conventions read the same texels
     extension, factors, key = TEXTURED["clearcoat"]
     textured_glb(tmp_path / "model.glb", extension, factors, key, gradient())
-    from_file = _frame(gl, tmp_path)[1].pixels
+    from_file = render_glb(gl, tmp_path)[1].pixels
     Image.fromarray(gradient()).save(tmp_path / "coat.png")
     textured_glb(tmp_path / "model.glb", extension, factors, None)
     text = SCENE.replace("  - mesh: model.glb", "  - {mesh: model.glb, material_overrides: {layered: "
@@ -180,11 +167,11 @@ def test_the_film_takes_its_minimum_thickness_where_its_texture_is_0_and_its_max
     halves = np.zeros((4, 64, 4), np.uint8)
     halves[:, 32:] = 255
     textured_glb(tmp_path / "model.glb", extension, {**factors, "iridescenceThicknessMinimum": 250}, key, halves)
-    textured = _frame(gl, tmp_path)[1].pixels.astype(int)
+    textured = render_glb(gl, tmp_path)[1].pixels.astype(int)
     alone = {}
     for thickness in (250, 600):
         textured_glb(tmp_path / "model.glb", extension, {**factors, "iridescenceThicknessMaximum": thickness}, None)
-        alone[thickness] = _frame(gl, tmp_path)[1].pixels.astype(int)
+        alone[thickness] = render_glb(gl, tmp_path)[1].pixels.astype(int)
     left, right = (slice(16, 56), slice(0, 44)), (slice(16, 56), slice(52, None))
     assert np.array_equal(textured[left], alone[250][left])
     assert np.array_equal(textured[right], alone[600][right])
@@ -194,7 +181,7 @@ def test_the_film_takes_its_minimum_thickness_where_its_texture_is_0_and_its_max
 def test_the_iridescence_scene_keys_set_the_same_as_the_file(gl, tmp_path):
     extension, factors, key = TEXTURED["iridescence_thickness"]
     textured_glb(tmp_path / "model.glb", extension, {**factors, "iridescenceThicknessMinimum": 250}, key, gradient())
-    from_file = _frame(gl, tmp_path)[1].pixels
+    from_file = render_glb(gl, tmp_path)[1].pixels
     Image.fromarray(gradient()).save(tmp_path / "film.png")
     textured_glb(tmp_path / "model.glb", extension, factors, None)
     text = SCENE.replace("  - mesh: model.glb", "  - {mesh: model.glb, material_overrides: {layered: "
@@ -225,10 +212,10 @@ def test_a_flat_coat_normal_map_gives_the_coat_without_one(gl, tmp_path):
     # 255 (at the coat's highlight, which that moves); the coat's own normal, on a surface
     # without a normal map of its own
     textured_glb(tmp_path / "model.glb", "KHR_materials_clearcoat", COAT, None)
-    plain = _frame(gl, tmp_path)[1].pixels.astype(int)
+    plain = render_glb(gl, tmp_path)[1].pixels.astype(int)
     textured_glb(tmp_path / "model.glb", "KHR_materials_clearcoat", COAT, "clearcoatNormalTexture",
                  coat_normals(FLAT, FLAT))
-    loaded, flat = _frame(gl, tmp_path)
+    loaded, flat = render_glb(gl, tmp_path)
     assert {"HAS_CLEARCOAT_NORMAL_MAP", "HAS_TANGENTS"} <= set(material_defines(loaded.world.materials()[0], "pbr"))
     assert np.abs(flat.pixels.astype(int) - plain).max() <= 3
 
@@ -239,10 +226,10 @@ def test_the_coats_normal_map_moves_its_highlight_on_the_gpu_as_in_the_reference
     # tolerances (linear RMSE of the image 1.5 %, inside surfaces 0.25 %; measured 0.41 /
     # 0.18 %; at 30 degrees 0.85 / 0.56 %: a sharp highlight at the rim, shaded once a pixel)
     textured_glb(tmp_path / "model.glb", "KHR_materials_clearcoat", COAT, None)
-    plain = _frame(gl, tmp_path)[1].pixels.astype(int)
+    plain = render_glb(gl, tmp_path)[1].pixels.astype(int)
     textured_glb(tmp_path / "model.glb", "KHR_materials_clearcoat", COAT, "clearcoatNormalTexture",
                  coat_normals(FLAT, TILTED), scale=1.0)
-    loaded, frame = _frame(gl, tmp_path)
+    loaded, frame = render_glb(gl, tmp_path)
     changed = np.abs(frame.pixels.astype(int) - plain).max(axis=2)
     assert changed[:, 52:].max() > 10  # the tilted half
     assert changed[16:56, :44].max() <= 3  # the flat half (as the flat map above)

@@ -13,6 +13,7 @@ from gltf_files import GlbBuilder, sphere
 from scenerender.raytrace import render_reference, shading
 from scenerender.rendering.features import material_defines
 from scenerender.tools.quality import frame_errors
+from pbr_glb_scene import glb_scene
 from white_furnace import white_furnace
 
 
@@ -30,23 +31,10 @@ def layered_glb(path, **extensions):
 
 
 # the light just above the eye: a highlight near the middle of the sphere, near normal incidence
-SCENE = """
-render: {{size: [{w}, {h}], samples: 4, shading: pbr, background: [0, 0, 0]}}
-camera: {{position: [0, 0, 4], target: [0, 0, 0], fov: 40}}
-lights:
-  - {{type: point, position: [0.6, 0.8, 4], intensity: 16, attenuation: [0, 0, 1]}}
-  - {{type: ambient, color: [0.15, 0.15, 0.15]}}
-objects:
-  - mesh: model.glb
-"""
-
-
-def _scene_text(width=96, height=72) -> str:
-    return SCENE.format(w=width, h=height)
 
 
 def _linear(gl, tmp_path, width=96, height=72):
-    loaded = scene(_scene_text(width, height), base_dir=tmp_path)
+    loaded = scene(glb_scene(width, height), base_dir=tmp_path)
     with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
         return renderer.render(0).linear[..., :3]
 
@@ -102,12 +90,12 @@ def test_a_sheen_brightens_the_grazing_rim(gl, tmp_path):
 
 def test_a_material_without_layers_compiles_and_renders_as_before(gl, tmp_path):
     layered_glb(tmp_path / "model.glb")
-    plain = render(gl, _scene_text(), base_dir=tmp_path)[0]
+    plain = render(gl, glb_scene(), base_dir=tmp_path)[0]
     layered_glb(tmp_path / "model.glb", KHR_materials_ior={"ior": 1.5}, KHR_materials_specular={},
                 KHR_materials_clearcoat={"clearcoatFactor": 0.0}, KHR_materials_sheen={"sheenRoughnessFactor": 0.5})
-    defaults = render(gl, _scene_text(), base_dir=tmp_path)[0]
+    defaults = render(gl, glb_scene(), base_dir=tmp_path)[0]
     assert np.array_equal(plain, defaults)
-    material = scene(_scene_text(), base_dir=tmp_path).world.materials()[0]
+    material = scene(glb_scene(), base_dir=tmp_path).world.materials()[0]
     assert not any(key.startswith("PBR_") for key in material_defines(material, "pbr"))
 
 
@@ -137,7 +125,7 @@ SHEEN_RMSE_LINEAR = 2.5
 @pytest.mark.parametrize("name", list(LAYERS))
 def test_gpu_matches_the_reference_with_each_layer(gl, tmp_path, name):
     layered_glb(tmp_path / "model.glb", **LAYERS[name])
-    loaded = scenerender.Scene.from_yaml(_scene_text(), tmp_path)
+    loaded = scenerender.Scene.from_yaml(glb_scene(), tmp_path)
     with scenerender.Renderer(loaded, gl=gl, want_linear=True) as renderer:
         frame = renderer.render(0)
     errors = frame_errors(render_reference(loaded, 0, spp=3), frame.pixels, frame.linear, with_flip=False)
@@ -147,11 +135,11 @@ def test_gpu_matches_the_reference_with_each_layer(gl, tmp_path, name):
 
 def test_the_scene_keys_set_the_same_layers_as_the_extensions(gl, tmp_path):
     layered_glb(tmp_path / "model.glb", **LAYERS["specular"], **LAYERS["clearcoat"], **LAYERS["sheen"])
-    from_file = render(gl, _scene_text(), base_dir=tmp_path)[0]
+    from_file = render(gl, glb_scene(), base_dir=tmp_path)[0]
     layered_glb(tmp_path / "model.glb")
     keys = ("{material_overrides: {paint: {ior: 2.0, specular_factor: 0.5, specular_color: [1.0, 0.6, 0.2], "
             "clearcoat: 0.8, clearcoat_roughness: 0.3, sheen_color: [0.9, 0.8, 0.7], sheen_roughness: 0.5}}}")
-    text = _scene_text().replace("  - mesh: model.glb", f"  - {{mesh: model.glb, {keys[1:-1]}}}")
+    text = glb_scene().replace("  - mesh: model.glb", f"  - {{mesh: model.glb, {keys[1:-1]}}}")
     from_keys = render(gl, text, base_dir=tmp_path)[0]
     assert np.array_equal(from_file, from_keys)
 

@@ -10,21 +10,15 @@ import pytest
 import scenerender
 from conftest import scene
 from gltf_files import GlbBuilder, sphere, sphere_uv
+from scenerender.colorspace import srgb_decode
 from scenerender.raytrace import render_reference, shading
 from scenerender.tools.quality import frame_errors
+from pbr_glb_scene import glb_scene
 
 SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 GOLDISH = {"diffuseFactor": [0.5, 0.3, 0.2, 1.0], "specularFactor": [0.9, 0.6, 0.3], "glossinessFactor": 0.7}
 
-SCENE = """
-render: {size: [96, 72], samples: 4, shading: pbr, background: [0, 0, 0]}
-camera: {position: [0, 0, 4], target: [0, 0, 0], fov: 40}
-lights:
-  - {type: point, position: [0.6, 0.8, 4], intensity: 16, attenuation: [0, 0, 1]}
-  - {type: ambient, color: [0.15, 0.15, 0.15]}
-objects:
-  - mesh: model.glb
-"""
+SCENE = glb_scene()
 
 
 def specular_glossiness_glb(path, values: dict | None, base: dict | None = None, textures: dict | None = None):
@@ -130,10 +124,6 @@ def test_gpu_matches_the_reference(gl, tmp_path):
     assert errors["interior_rmse"] < 0.25, errors
 
 
-def _srgb_decode(value: float) -> float:
-    return value / 12.92 if value <= 0.04045 else ((value + 0.055) / 1.055) ** 2.4
-
-
 def test_the_specular_glossiness_texture_gives_what_its_texel_as_factors_gives(gl, tmp_path):
     # one texel everywhere: specular (sRGB) 200, 150, 100 and glossiness 0.6 (alpha 153),
     # times the factors, against those products given as factors (whose conversion is the
@@ -144,7 +134,7 @@ def test_the_specular_glossiness_texture_gives_what_its_texel_as_factors_gives(g
         "specularGlossinessTexture": np.tile(texel, (4, 4, 1))})
     textured = _linear(gl, tmp_path)
     products = {"diffuseFactor": values["diffuseFactor"],
-                "specularFactor": [f * _srgb_decode(t / 255.0) for f, t in zip(values["specularFactor"], texel[:3])],
+                "specularFactor": [f * float(srgb_decode(t / 255.0)) for f, t in zip(values["specularFactor"], texel[:3])],
                 "glossinessFactor": values["glossinessFactor"] * texel[3] / 255.0}
     specular_glossiness_glb(tmp_path / "model.glb", products)
     factors = _linear(gl, tmp_path)
