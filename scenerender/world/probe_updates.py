@@ -5,8 +5,9 @@ probes that see it change most near it: the bake (rendering/passes/indirect.py) 
 again only the probes within TOUCH_CELLS cell diagonals of what moved (the union of its
 bounds before and after, widened by that much), at most ``budget`` of them a frame, the
 probes that have waited longest first. Changes that light the whole grid (a light of any
-kind moving or changing, as none has a finite range; an emissive colour; the ambient
-light; the environment) touch every probe. The other probes, which see what moved only
+kind moving or changing, a light with a `range` too, which could bound what it
+touches but does not yet; an emissive colour; the ambient light; the environment) touch
+every probe. The other probes, which see what moved only
 from further away, are drawn again in frames where nothing changes, so that a scene that
 comes to rest ends as a full bake would leave it; then each bounce after the first is
 worked out again over every probe, one bounce a frame (a partial update relights only the
