@@ -260,13 +260,20 @@ def read_gltf(source: GltfSource, label: str, read_file, variant: str | None = N
     return result
 
 
+def file_extension_list(header: dict, extension: str, key: str) -> list:
+    """The list ``key`` of the file-level ``extension`` (KHR_lights_punctual's lights,
+    KHR_materials_variants' variants): empty where the file has none. Raises GltfProblem
+    where the extension is no object or the list no list."""
+    found = json_object(json_object(header.get("extensions", {}), "extensions").get(extension, {}), extension)
+    values = found.get(key, [])
+    if not isinstance(values, list):
+        raise GltfProblem(f"{extension}.{key} is not a list")
+    return values
+
+
 def variant_names(header: dict) -> list[str]:
     """The names of the file's KHR_materials_variants, in its order (empty without any)."""
-    extension = json_object(json_object(header.get("extensions", {}), "extensions").get(VARIANTS_EXTENSION, {}),
-                        VARIANTS_EXTENSION)
-    variants = extension.get("variants", [])
-    if not isinstance(variants, list):
-        raise GltfProblem(f"{VARIANTS_EXTENSION}.variants is not a list")
+    variants = file_extension_list(header, VARIANTS_EXTENSION, "variants")
     return [_text(json_object(v, "a variant").get("name")) or f"variant{i}" for i, v in enumerate(variants)]
 
 

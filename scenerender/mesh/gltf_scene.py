@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from scenerender.mesh.gltf import GltfProblem, is_index, json_object
+from scenerender.mesh.gltf import GltfProblem, file_extension_list, is_index, json_object
 from scenerender.mesh.gltf_geometry import placed_nodes
 
 LIGHTS_EXTENSION = "KHR_lights_punctual"
@@ -54,11 +54,7 @@ class GltfCamera:
 
 def file_lights(header: dict) -> list[GltfLight]:
     """The lights the default scene's nodes hold, in node order (depth first)."""
-    extension = json_object(json_object(header.get("extensions", {}), "extensions").get(LIGHTS_EXTENSION, {}),
-                        LIGHTS_EXTENSION)
-    lights = extension.get("lights", [])
-    if not isinstance(lights, list):
-        raise GltfProblem(f"{LIGHTS_EXTENSION}.lights is not a list")
+    lights = file_extension_list(header, LIGHTS_EXTENSION, "lights")
     found = []
     for index, node, _ in placed_nodes(header):
         reference = json_object(node.get("extensions", {}), f"nodes[{index}].extensions").get(LIGHTS_EXTENSION)
