@@ -156,17 +156,23 @@ def read_gltf_clips(path: Path, assets: AssetPolicy) -> tuple[dict, list, list]:
         raise UserError(f"cannot read its animations: {_short(exc)}", SourceLocation(shown)) from None
 
 
+def gltf_header(path: Path, assets: AssetPolicy) -> dict:
+    """The glTF JSON of the file ``path`` (through the root guard, mesh.gltf.split_glb),
+    for what needs only the JSON: its cameras, lights and variants. Raises UserError naming
+    the file where it cannot be read."""
+    path = Path(path)
+    _check_mesh_file(path, assets, SourceLocation(display_path(path)))
+    return _gltf_json(read_regular_file(path, "mesh file"), path).header
+
+
 def gltf_variants(path: Path, assets: AssetPolicy) -> list[str]:
     """The KHR_materials_variants names of the glTF file ``path`` (empty without any).
     Raises UserError naming the file where it cannot be read."""
-    path = Path(path)
-    shown = display_path(path)
-    _check_mesh_file(path, assets, SourceLocation(shown))
-    source = _gltf_json(read_regular_file(path, "mesh file"), path)
+    header = gltf_header(path, assets)
     try:
-        return variant_names(source.header)
+        return variant_names(header)
     except GltfProblem as exc:
-        raise UserError(f"cannot read its variants: {exc}", SourceLocation(shown)) from None
+        raise UserError(f"cannot read its variants: {exc}", SourceLocation(display_path(path))) from None
 
 
 def _gltf_json(raw: bytes, path: Path) -> GltfSource:

@@ -16,7 +16,7 @@ from scenerender.mesh.budget import TriangleBudget
 from scenerender.mesh.gltf import GltfProblem
 from scenerender.mesh.gltf_geometry import placed_nodes
 from scenerender.mesh.gltf_scene import file_cameras, file_lights
-from scenerender.mesh.loader import gltf_variants, load_gltf_nodes, read_gltf_clips
+from scenerender.mesh.loader import gltf_header, gltf_variants, load_gltf_nodes, read_gltf_clips
 from scenerender.scene import LoadedScene
 from scenerender.scene.image_files import DEFAULT_MAX_PIXELS
 from scenerender.scene.messages import single_error
@@ -300,7 +300,7 @@ class _Loader:
         """The glTF JSON of object ``index``'s file (its clip player's where it plays one)."""
         if index in self.players:
             return self.players[index].header
-        return read_gltf_clips(obj.mesh, self.scene.assets)[0]
+        return gltf_header(obj.mesh, self.scene.assets)
 
     def _file_values(self, read, header: dict, path: tuple) -> list:
         try:
